@@ -1,0 +1,131 @@
+//! The error type of `hycont-core`.
+
+use crate::system::Mode;
+
+/// Everything that can go wrong in `hycont-core`.
+///
+/// Every variant names the offending value so that the message alone tells the user what to fix.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum Error {
+    /// A slice had the wrong length.
+    #[error("{what} has length {found}, expected {expected}")]
+    DimensionMismatch {
+        /// What was measured (e.g. "initial state").
+        what: &'static str,
+        /// The length the system requires.
+        expected: usize,
+        /// The length that was passed.
+        found: usize,
+    },
+    /// An input contained NaN or an infinity.
+    #[error("{what}[{index}] = {value} is not finite")]
+    NonFinite {
+        /// What was checked (e.g. "initial state", "parameters").
+        what: &'static str,
+        /// Index of the first non-finite entry.
+        index: usize,
+        /// The offending value.
+        value: f64,
+    },
+    /// A setting is out of its valid range.
+    #[error("invalid setting {name} = {value}: {reason}")]
+    InvalidSetting {
+        /// Name of the setting.
+        name: &'static str,
+        /// The rejected value.
+        value: f64,
+        /// Why it was rejected (e.g. "must be > 0").
+        reason: &'static str,
+    },
+    /// A model parameter is out of its valid range.
+    #[error("parameter {name} = {value} is out of range: {reason}")]
+    ParameterOutOfRange {
+        /// Name of the parameter.
+        name: &'static str,
+        /// The rejected value.
+        value: f64,
+        /// The valid range, in words.
+        reason: &'static str,
+    },
+    /// The integration interval is empty or reversed.
+    #[error("end time {t_end} is before start time {t0}")]
+    InvalidTimeSpan {
+        /// Start time.
+        t0: f64,
+        /// Requested end time.
+        t_end: f64,
+    },
+    /// A mode handle does not belong to the system.
+    #[error("mode {mode} does not exist (the system has {count} modes)")]
+    InvalidMode {
+        /// The offending mode.
+        mode: Mode,
+        /// Number of modes of the system.
+        count: usize,
+    },
+    /// The vector field returned a non-finite value during integration.
+    #[error(
+        "vector field of mode {mode} returned {value} in component {index} at t = {t} (state {state:?})"
+    )]
+    NonFiniteVectorField {
+        /// Time of the failing evaluation.
+        t: f64,
+        /// Mode being integrated.
+        mode: Mode,
+        /// Component that was not finite.
+        index: usize,
+        /// The value returned.
+        value: f64,
+        /// The state at which the vector field was evaluated.
+        state: Vec<f64>,
+    },
+    /// The step size fell below what floating point can resolve.
+    #[error("step size {h} underflowed at t = {t} in mode {mode}")]
+    StepSizeUnderflow {
+        /// Time at which it happened.
+        t: f64,
+        /// The step size that was too small.
+        h: f64,
+        /// Mode being integrated.
+        mode: Mode,
+    },
+    /// An event transition was requested by the system that it cannot carry out.
+    #[error("event transition at t = {t} from mode {mode} is invalid: {reason}")]
+    InvalidTransition {
+        /// Time of the event.
+        t: f64,
+        /// Mode before the event.
+        mode: Mode,
+        /// Explanation.
+        reason: String,
+    },
+}
+
+/// Shorthand for `Result<T, hycont_core::Error>`.
+pub type Result<T> = std::result::Result<T, Error>;
+
+/// Returns an error naming the first non-finite entry of `values`.
+pub(crate) fn check_finite(what: &'static str, values: &[f64]) -> Result<()> {
+    match values.iter().position(|v| !v.is_finite()) {
+        Some(index) => Err(Error::NonFinite {
+            what,
+            index,
+            value: values[index],
+        }),
+        None => Ok(()),
+    }
+}
+
+/// Returns an error if `values` does not have length `expected`.
+pub(crate) fn check_len(what: &'static str, values: &[f64], expected: usize) -> Result<()> {
+    if values.len() == expected {
+        Ok(())
+    } else {
+        Err(Error::DimensionMismatch {
+            what,
+            expected,
+            found: values.len(),
+        })
+    }
+}

@@ -1,0 +1,50 @@
+//! # hycont-core
+//!
+//! Hybrid (impacting, piecewise-smooth) dynamical systems and their event-driven simulation: the
+//! foundation of [hycont](https://docs.rs/hycont), a library for numerical continuation of
+//! periodic orbits of hybrid systems.
+//!
+//! - [`HybridSystem`] and [`HybridJacobians`]: modes, vector fields, events with crossing
+//!   directions, resets (jumps), Zeno transitions, and their first derivatives;
+//!   [`FiniteDifferences`] supplies missing derivatives and [`check_derivatives`] checks supplied
+//!   ones against central differences.
+//! - [`Simulator`]: DOP853 ([`Dop853`]) with events located on the 7th-order dense output,
+//!   restart guard after jumps, terminal events, stroboscopic sampling, Zeno detection, and
+//!   variational equations with saltation matrices.
+//!
+//! Library functions return [`Result`] with the typed [`Error`]; nothing here panics on bad input.
+#![deny(missing_docs)]
+#![warn(clippy::pedantic)]
+#![allow(
+    clippy::module_name_repetitions,
+    clippy::many_single_char_names,
+    clippy::similar_names,
+    clippy::cast_precision_loss,
+    clippy::cast_possible_truncation,
+    clippy::cast_possible_wrap,
+    clippy::cast_sign_loss,
+    clippy::float_cmp,
+    clippy::needless_range_loop,
+    clippy::doc_markdown,
+    // `!(x > 0.0)` deliberately rejects NaN as well.
+    clippy::neg_cmp_op_on_partial_ord,
+    // The Runge-Kutta stage kernels must inline into the stepper to unroll.
+    clippy::inline_always,
+    clippy::too_many_lines,
+    clippy::single_match_else
+)]
+
+pub mod error;
+pub mod simulate;
+pub mod system;
+
+pub use error::{Error, Result};
+pub use simulate::{
+    Dop853, EventRecord, NonFiniteEvaluation, SampleTimes, Sensitivities, SensitivityMatrices,
+    SimulationSettings, SimulationStats, Simulator, StepperStats, StopReason, TimeSeries,
+    Trajectory, ZenoRecord, ZenoSettings,
+};
+pub use system::{
+    DerivativeCheck, DerivativeKind, DerivativeMismatch, Direction, EventAction, EventId,
+    EventSpec, FiniteDifferences, HybridJacobians, HybridSystem, Mode, ParamId, check_derivatives,
+};

@@ -1,0 +1,684 @@
+//! Event-driven simulation of hybrid systems.
+//!
+//! [`Simulator`] integrates a [`HybridSystem`] with the [`Dop853`] stepper, locates events on the
+//! dense output, applies resets, switches modes, detects Zeno accumulation, samples the state at
+//! prescribed times and optionally integrates the variational equations (with saltation matrices
+//! at jumps). See [`SimulationSettings`] for the knobs and [`Trajectory`] for the result.
+
+mod dop853;
+mod settings;
+mod tableau;
+mod trajectory;
+mod variational;
+
+pub use dop853::{Dop853, NonFiniteEvaluation, StepperStats};
+pub use settings::{SampleTimes, Sensitivities, SimulationSettings, ZenoSettings};
+pub use trajectory::{
+    EventRecord, SensitivityMatrices, SimulationStats, StopReason, TimeSeries, Trajectory,
+    ZenoRecord,
+};
+
+use crate::error::{Error, Result, check_finite, check_len};
+use crate::system::{Direction, EventAction, EventId, HybridJacobians, HybridSystem, Mode};
+use variational::{Extension, Plain, Variational};
+
+/// Fractions of a step probed for an excursion to the pre-crossing side of an event function
+/// that starts a segment on its zero (restart guard): $2^{-40}, \dots, 2^{-1}$ and $j/8$.
+fn probe_fractions() -> [f64; 47] {
+    let mut out = [0.0; 47];
+    for (k, o) in out.iter_mut().take(40).enumerate() {
+        *o = 2f64.powi(k as i32 - 40);
+    }
+    for j in 1..8 {
+        out[39 + j] = j as f64 / 8.0;
+    }
+    out.sort_by(f64::total_cmp);
+    out
+}
+
+/// Per-event bookkeeping of the current segment.
+#[derive(Debug, Clone, Copy)]
+struct EventState {
+    id: EventId,
+    direction: Direction,
+    value: f64,
+    /// The event function started the segment on (or within the guard band of) zero.
+    at_zero: bool,
+}
+
+/// The event-driven simulator. Holds its work space, so that repeated runs do not allocate per
+/// step (and reuse buffers across runs of the same dimension).
+///
+/// # Example: a bouncing ball coming to rest
+/// ```
+/// use hycont_core::{Direction, EventAction, EventId, EventSpec, HybridSystem, Mode,
+///                   SimulationSettings, Simulator, StopReason};
+///
+/// struct Ball;
+/// impl HybridSystem for Ball {
+///     fn state_dim(&self) -> usize { 2 }
+///     fn parameter_names(&self) -> &[&'static str] { &["g", "e"] }
+///     fn mode_count(&self) -> usize { 2 }
+///     fn mode_name(&self, m: Mode) -> &'static str { ["flight", "rest"][m.0] }
+///     fn events(&self, m: Mode) -> &[EventId] { if m.0 == 0 { &[EventId(0)] } else { &[] } }
+///     fn event_spec(&self, _: EventId) -> EventSpec {
+///         EventSpec { name: "impact", direction: Direction::Falling,
+///                     action: EventAction::Jump { to: Mode(0) } }
+///     }
+///     fn vector_field(&self, m: Mode, x: &[f64], p: &[f64], out: &mut [f64]) {
+///         if m.0 == 0 { out[0] = x[1]; out[1] = -p[0]; } else { out.fill(0.0); }
+///     }
+///     fn event(&self, _: EventId, x: &[f64], _: &[f64]) -> f64 { x[0] }
+///     fn reset(&self, _: EventId, x: &[f64], p: &[f64], out: &mut [f64]) {
+///         out[0] = x[0];
+///         out[1] = -p[1] * x[1];
+///     }
+///     fn zeno_transition(&self, _: Mode, _: EventId, _: &[f64], _: &[f64], out: &mut [f64])
+///         -> Option<Mode> { out.fill(0.0); Some(Mode(1)) }
+/// }
+///
+/// let (g, e, v0) = (9.81, 0.5, 1.0);
+/// let mut sim = Simulator::new(SimulationSettings::default()).unwrap();
+/// let traj = sim.run(&Ball, Mode(0), 0.0, &[0.0, v0], &[g, e], 5.0).unwrap();
+/// assert_eq!(traj.stop, StopReason::EndReached);
+/// // Flights 2 v0 e^k / g accumulate at t = 2 v0 / (g (1 - e)).
+/// let t_rest = 2.0 * v0 / (g * (1.0 - e));
+/// assert!((traj.zeno[0].t_accumulation - t_rest).abs() < 1e-9);
+/// ```
+#[derive(Debug, Clone)]
+pub struct Simulator {
+    settings: SimulationSettings,
+    stepper: Dop853,
+    y0: Vec<f64>,
+    y_minus: Vec<f64>,
+    y_plus: Vec<f64>,
+    x_probe: Vec<f64>,
+    zeno_out: Vec<f64>,
+    events: Vec<EventState>,
+}
+
+impl Simulator {
+    /// A simulator with the given settings.
+    ///
+    /// # Errors
+    /// [`Error::InvalidSetting`] if the settings are invalid.
+    pub fn new(settings: SimulationSettings) -> Result<Self> {
+        settings.validate()?;
+        Ok(Self {
+            settings,
+            stepper: Dop853::new(0),
+            y0: Vec::new(),
+            y_minus: Vec::new(),
+            y_plus: Vec::new(),
+            x_probe: Vec::new(),
+            zeno_out: Vec::new(),
+            events: Vec::new(),
+        })
+    }
+
+    /// The settings.
+    #[must_use]
+    pub fn settings(&self) -> &SimulationSettings {
+        &self.settings
+    }
+
+    /// Simulates `system` from state `x0` in `mode` at time `t0` until `t_end` (or a terminal
+    /// event, an unresolved Zeno accumulation, or the step limit).
+    ///
+    /// # Errors
+    /// Wrong dimensions, non-finite inputs, `t_end < t0`, an invalid mode, a vector field that
+    /// returns a non-finite value (the error says when and where), or a step-size underflow.
+    pub fn run<S: HybridSystem + ?Sized>(
+        &mut self,
+        system: &S,
+        mode: Mode,
+        t0: f64,
+        x0: &[f64],
+        p: &[f64],
+        t_end: f64,
+    ) -> Result<Trajectory> {
+        let mut ext = Plain {
+            n: system.state_dim(),
+        };
+        self.run_impl(
+            system,
+            &mut ext,
+            mode,
+            t0,
+            x0,
+            p,
+            t_end,
+            Sensitivities::None,
+        )
+    }
+
+    /// Like [`Simulator::run`], integrating the variational equations as well; the trajectory's
+    /// `sensitivities` then hold $\partial x(t_f)/\partial x_0$ (and $\partial x(t_f)/\partial p$),
+    /// saltation matrices included.
+    ///
+    /// # Errors
+    /// As [`Simulator::run`], and [`Error::InvalidTransition`] when an event is crossed
+    /// tangentially (the saltation matrix is undefined at grazing).
+    #[allow(clippy::too_many_arguments)]
+    pub fn run_with_sensitivities<S: HybridJacobians + ?Sized>(
+        &mut self,
+        system: &S,
+        mode: Mode,
+        t0: f64,
+        x0: &[f64],
+        p: &[f64],
+        t_end: f64,
+        which: Sensitivities,
+    ) -> Result<Trajectory> {
+        let (n, np) = (system.state_dim(), system.parameter_count());
+        match which {
+            Sensitivities::None => self.run(system, mode, t0, x0, p, t_end),
+            Sensitivities::State | Sensitivities::StateAndParameters => {
+                let mut ext = Variational::new(n, np, which == Sensitivities::StateAndParameters);
+                self.run_impl(system, &mut ext, mode, t0, x0, p, t_end, which)
+            }
+        }
+    }
+
+    fn validate_inputs<S: HybridSystem + ?Sized>(
+        system: &S,
+        mode: Mode,
+        t0: f64,
+        x0: &[f64],
+        p: &[f64],
+        t_end: f64,
+    ) -> Result<()> {
+        if mode.0 >= system.mode_count() {
+            return Err(Error::InvalidMode {
+                mode,
+                count: system.mode_count(),
+            });
+        }
+        check_len("initial state", x0, system.state_dim())?;
+        check_len("parameters", p, system.parameter_count())?;
+        check_finite("initial state", x0)?;
+        check_finite("parameters", p)?;
+        check_finite("start time", &[t0])?;
+        check_finite("end time", &[t_end])?;
+        if t_end < t0 {
+            return Err(Error::InvalidTimeSpan { t0, t_end });
+        }
+        Ok(())
+    }
+
+    /// Evaluates the events of `mode` at the start of a segment and flags those starting on zero.
+    fn start_segment<S: HybridSystem + ?Sized>(
+        events: &mut Vec<EventState>,
+        system: &S,
+        mode: Mode,
+        x: &[f64],
+        p: &[f64],
+    ) {
+        events.clear();
+        let scale = 1.0 + x.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        let guard = 1e-9 * scale;
+        for &id in system.events(mode) {
+            let value = system.event(id, x, p);
+            events.push(EventState {
+                id,
+                direction: system.event_spec(id).direction,
+                value,
+                at_zero: value.abs() <= guard,
+            });
+        }
+    }
+
+    #[allow(clippy::too_many_arguments, clippy::too_many_lines)]
+    fn run_impl<S: HybridSystem + ?Sized, E: Extension<S>>(
+        &mut self,
+        system: &S,
+        ext: &mut E,
+        mut mode: Mode,
+        t0: f64,
+        x0: &[f64],
+        p: &[f64],
+        t_end: f64,
+        which: Sensitivities,
+    ) -> Result<Trajectory> {
+        Self::validate_inputs(system, mode, t0, x0, p, t_end)?;
+        let n = system.state_dim();
+        let na = ext.dim();
+        let s = self.settings.clone();
+        if self.stepper.dim() != na {
+            self.stepper = Dop853::new(na);
+        }
+        self.stepper.reset_stats();
+        let n_err = if s.sensitivities_in_error { na } else { n };
+        self.stepper.set_tolerances(s.rtol, s.atol, n_err);
+        self.y0.resize(na, 0.0);
+        self.y_minus.resize(na, 0.0);
+        self.y_plus.resize(na, 0.0);
+        self.x_probe.resize(na, 0.0);
+        self.zeno_out.resize(n, 0.0);
+        ext.initial(x0, &mut self.y0);
+
+        let mut samples = TimeSeries::new(n);
+        let mut steps = TimeSeries::new(n);
+        let mut event_log = Vec::new();
+        let mut zeno_log = Vec::new();
+        let mut stats = SimulationStats::default();
+        let mut sensitivities_valid = true;
+        let mut next_sample = s.samples.map(|st| st.first_index_from(t0));
+        let probes = probe_fractions();
+
+        let to_error = |e: NonFiniteEvaluation, mode: Mode| Error::NonFiniteVectorField {
+            t: e.t,
+            mode,
+            index: e.index,
+            value: e.value,
+            state: e.state[..n].to_vec(),
+        };
+
+        let mut t = t0;
+        if s.record_steps {
+            steps.push(t, mode, &self.y0);
+        }
+        {
+            let mut rhs = |_t: f64, y: &[f64], dy: &mut [f64]| ext.rhs(system, mode, p, y, dy);
+            self.stepper
+                .start(&mut rhs, t, &self.y0)
+                .map_err(|e| to_error(e, mode))?;
+        }
+        Self::start_segment(&mut self.events, system, mode, &self.y0[..n], p);
+        let span = (t_end - t0).max(f64::MIN_POSITIVE);
+        let mut h = match s.h_initial {
+            Some(h) => h.min(span),
+            None => {
+                let mut rhs = |_t: f64, y: &[f64], dy: &mut [f64]| ext.rhs(system, mode, p, y, dy);
+                self.stepper
+                    .initial_step(&mut rhs, 1.0, s.h_max.min(span))
+                    .map_err(|e| to_error(e, mode))?
+            }
+        };
+
+        // Zeno bookkeeping.
+        let mut last_jump: Option<f64> = None;
+        let mut last_interval: Option<f64> = None;
+        let mut contracting = 0usize;
+
+        let stop = 'outer: loop {
+            // Samples at the current time (only the very first point; later samples are emitted
+            // on the step that reaches them).
+            if let (Some(st), Some(k)) = (s.samples, next_sample.as_mut())
+                && st.time(*k) <= t
+                && t == t0
+            {
+                samples.push(t, mode, self.stepper.state());
+                *k += 1;
+            }
+            if t >= t_end {
+                break StopReason::EndReached;
+            }
+            if stats_steps(&self.stepper) >= s.max_steps {
+                break StopReason::StepLimit { t };
+            }
+            let remaining = t_end - t;
+            h = h.min(s.h_max);
+            let last = 1.01 * h >= remaining;
+            if last {
+                h = remaining;
+            }
+            if h <= 4.0 * f64::EPSILON * t.abs().max(1.0) && !last {
+                return Err(Error::StepSizeUnderflow { t, h, mode });
+            }
+            let mut rhs = |_t: f64, y: &[f64], dy: &mut [f64]| ext.rhs(system, mode, p, y, dy);
+            let err = self
+                .stepper
+                .attempt(&mut rhs, h)
+                .map_err(|e| to_error(e, mode))?;
+            let h_next = self.stepper.next_step_size(h, err);
+            if err > 1.0 {
+                self.stepper.reject();
+                h = h_next;
+                continue;
+            }
+            self.stepper
+                .accept(&mut rhs)
+                .map_err(|e| to_error(e, mode))?;
+            let t_new = if last { t_end } else { t + h };
+
+            // --- Event detection on the pending step.
+            let mut earliest: Option<(f64, usize)> = None;
+            for idx in 0..self.events.len() {
+                let ev = self.events[idx];
+                let g_new = system.event(ev.id, &self.stepper.new_state()[..n], p);
+                let bracket = if ev.at_zero {
+                    let want = match ev.direction.sign_before() {
+                        Some(sg) => sg,
+                        None if g_new != 0.0 => -g_new.signum(),
+                        None => continue,
+                    };
+                    if g_new * want > 0.0 {
+                        None
+                    } else {
+                        // Look for an excursion to the pre-crossing side inside the step.
+                        self.stepper
+                            .prepare_dense(&mut rhs)
+                            .map_err(|e| to_error(e, mode))?;
+                        let mut found = None;
+                        for &fr in &probes {
+                            let tp = t + fr * (t_new - t);
+                            self.stepper.dense(tp, &mut self.x_probe[..n]);
+                            let gp = system.event(ev.id, &self.x_probe[..n], p);
+                            match found {
+                                None if gp * want > 0.0 => found = Some((tp, gp, t_new, g_new)),
+                                Some((ta, ga, _, _)) if gp * want <= 0.0 => {
+                                    found = Some((ta, ga, tp, gp));
+                                    break;
+                                }
+                                _ => {}
+                            }
+                        }
+                        found
+                    }
+                } else if ev.direction.is_crossing(ev.value, g_new) {
+                    Some((t, ev.value, t_new, g_new))
+                } else {
+                    None
+                };
+                if let Some((ta, ga, tb, gb)) = bracket {
+                    self.stepper
+                        .prepare_dense(&mut rhs)
+                        .map_err(|e| to_error(e, mode))?;
+                    let tol = s.event_tolerance * tb.abs().max(1.0);
+                    let stepper = &self.stepper;
+                    let probe = &mut self.x_probe;
+                    let te = locate_root(ta, ga, tb, gb, tol, |tau| {
+                        stepper.dense(tau, &mut probe[..n]);
+                        system.event(ev.id, &probe[..n], p)
+                    });
+                    if earliest.is_none_or(|(t_best, _)| te < t_best) {
+                        earliest = Some((te, idx));
+                    }
+                }
+            }
+
+            let t_stop = earliest.map_or(t_new, |(te, _)| te);
+            // --- Samples inside (t, t_stop].
+            if let (Some(st), Some(k)) = (s.samples, next_sample.as_mut()) {
+                while st.time(*k) <= t_stop {
+                    let ts = st.time(*k);
+                    if ts == t_new && earliest.is_none() {
+                        samples.push(ts, mode, self.stepper.new_state());
+                    } else {
+                        self.stepper
+                            .prepare_dense(&mut rhs)
+                            .map_err(|e| to_error(e, mode))?;
+                        self.stepper.dense(ts, &mut self.x_probe[..n]);
+                        samples.push(ts, mode, &self.x_probe);
+                    }
+                    *k += 1;
+                }
+            }
+
+            let Some((te, idx)) = earliest else {
+                // --- No event: commit the step.
+                if s.record_steps {
+                    steps.push(t_new, mode, self.stepper.new_state());
+                }
+                for ev in &mut self.events {
+                    let g = system.event(ev.id, &self.stepper.new_state()[..n], p);
+                    ev.value = g;
+                    if ev.at_zero {
+                        let scale = 1.0
+                            + self.stepper.new_state()[..n]
+                                .iter()
+                                .fold(0.0f64, |m, v| m.max(v.abs()));
+                        ev.at_zero = g.abs() <= 1e-9 * scale;
+                    }
+                }
+                self.stepper.commit();
+                t = t_new;
+                h = h_next;
+                continue;
+            };
+
+            // --- An event at te.
+            let ev = self.events[idx];
+            stats.events += 1;
+            self.stepper
+                .prepare_dense(&mut rhs)
+                .map_err(|e| to_error(e, mode))?;
+            self.stepper.dense(te, &mut self.y_minus);
+            if s.record_steps {
+                steps.push(te, mode, &self.y_minus);
+            }
+            match system.event_spec(ev.id).action {
+                EventAction::Terminal => {
+                    if s.record_events {
+                        event_log.push(EventRecord {
+                            t: te,
+                            event: ev.id,
+                            mode_before: mode,
+                            mode_after: None,
+                            state_before: self.y_minus[..n].to_vec(),
+                            state_after: self.y_minus[..n].to_vec(),
+                        });
+                    }
+                    self.y_plus.copy_from_slice(&self.y_minus);
+                    t = te;
+                    break 'outer StopReason::TerminalEvent {
+                        event: ev.id,
+                        t: te,
+                    };
+                }
+                EventAction::Jump { to } => {
+                    if to.0 >= system.mode_count() {
+                        return Err(Error::InvalidTransition {
+                            t: te,
+                            mode,
+                            reason: format!("{} leads to mode {to}, which does not exist", ev.id),
+                        });
+                    }
+                    ext.jump(
+                        system,
+                        ev.id,
+                        mode,
+                        to,
+                        te,
+                        p,
+                        &self.y_minus,
+                        &mut self.y_plus,
+                    )?;
+                    stats.jumps += 1;
+                    if s.record_events {
+                        event_log.push(EventRecord {
+                            t: te,
+                            event: ev.id,
+                            mode_before: mode,
+                            mode_after: Some(to),
+                            state_before: self.y_minus[..n].to_vec(),
+                            state_after: self.y_plus[..n].to_vec(),
+                        });
+                    }
+                    mode = to;
+                    t = te;
+
+                    // Zeno detection.
+                    let mut zeno = None;
+                    if let Some(prev) = last_jump {
+                        let interval = te - prev;
+                        let mut ratio = f64::NAN;
+                        if let Some(prev_interval) = last_interval {
+                            ratio = interval / prev_interval;
+                            if ratio <= s.zeno.max_ratio {
+                                contracting += 1;
+                            } else {
+                                contracting = 0;
+                            }
+                        }
+                        last_interval = Some(interval);
+                        let remaining_time = interval * ratio / (1.0 - ratio);
+                        if (contracting >= s.zeno.min_contracting
+                            && remaining_time <= s.zeno.horizon)
+                            || interval <= s.zeno.min_interval * te.abs().max(1.0)
+                        {
+                            let t_acc = if remaining_time.is_finite() && remaining_time >= 0.0 {
+                                te + remaining_time
+                            } else {
+                                te
+                            };
+                            zeno = Some(t_acc);
+                        }
+                    }
+                    last_jump = Some(te);
+                    if let Some(t_acc) = zeno {
+                        match system.zeno_transition(
+                            mode,
+                            ev.id,
+                            &self.y_plus[..n],
+                            p,
+                            &mut self.zeno_out,
+                        ) {
+                            Some(m2) if m2.0 < system.mode_count() => {
+                                stats.zeno_transitions += 1;
+                                sensitivities_valid = false;
+                                zeno_log.push(ZenoRecord {
+                                    t: te,
+                                    t_accumulation: t_acc,
+                                    event: ev.id,
+                                    mode_after: m2,
+                                    state_after: self.zeno_out.clone(),
+                                });
+                                mode = m2;
+                                self.y_plus[..n].copy_from_slice(&self.zeno_out);
+                                last_jump = None;
+                                last_interval = None;
+                                contracting = 0;
+                            }
+                            Some(m2) => {
+                                return Err(Error::InvalidTransition {
+                                    t: te,
+                                    mode,
+                                    reason: format!(
+                                        "Zeno transition to mode {m2}, which does not exist"
+                                    ),
+                                });
+                            }
+                            None => {
+                                t = te;
+                                break 'outer StopReason::ZenoAccumulation {
+                                    event: ev.id,
+                                    t: te,
+                                };
+                            }
+                        }
+                    }
+                    if s.record_steps {
+                        steps.push(te, mode, &self.y_plus);
+                    }
+                    let mut rhs =
+                        |_t: f64, y: &[f64], dy: &mut [f64]| ext.rhs(system, mode, p, y, dy);
+                    self.stepper
+                        .start(&mut rhs, te, &self.y_plus)
+                        .map_err(|e| to_error(e, mode))?;
+                    Self::start_segment(&mut self.events, system, mode, &self.y_plus[..n], p);
+                    h = h_next.min(h);
+                }
+            }
+        };
+
+        let stepper_stats = self.stepper.stats();
+        stats.steps = stepper_stats.accepted_steps;
+        stats.rejected_steps = stepper_stats.rejected_steps;
+        stats.rhs_evaluations = stepper_stats.rhs_evaluations;
+        stats.dense_outputs = stepper_stats.dense_outputs;
+        let final_aug: &[f64] = match stop {
+            StopReason::TerminalEvent { .. } | StopReason::ZenoAccumulation { .. } => &self.y_plus,
+            _ => self.stepper.state(),
+        };
+        let sensitivities = if which == Sensitivities::None || !sensitivities_valid {
+            None
+        } else {
+            let np = system.parameter_count();
+            let state = final_aug[n..n + n * n].to_vec();
+            let params = (which == Sensitivities::StateAndParameters)
+                .then(|| final_aug[n + n * n..n + n * n + n * np].to_vec());
+            Some(SensitivityMatrices { n, state, params })
+        };
+        Ok(Trajectory {
+            stop,
+            t_final: t,
+            mode_final: mode,
+            state_final: final_aug[..n].to_vec(),
+            samples,
+            steps,
+            events: event_log,
+            zeno: zeno_log,
+            sensitivities,
+            stats,
+        })
+    }
+}
+
+fn stats_steps(stepper: &Dop853) -> u64 {
+    let st = stepper.stats();
+    st.accepted_steps + st.rejected_steps
+}
+
+/// Locates the crossing of `g` in `[a, b]`, where `g(a)` is strictly on the pre-crossing side and
+/// `g(b)` on the other side or zero, by the Illinois method with a bisection safeguard. Returns a
+/// time on the post-crossing side within `tol` of the crossing.
+pub(crate) fn locate_root(
+    mut a: f64,
+    mut ga: f64,
+    mut b: f64,
+    mut gb: f64,
+    tol: f64,
+    mut g: impl FnMut(f64) -> f64,
+) -> f64 {
+    // The pre-crossing sign (g(a) is strictly non-zero); zero counts as post-crossing.
+    let pre = ga.signum();
+    let post = |v: f64| v == 0.0 || v.signum() != pre;
+    let mut side = 0i8;
+    for _ in 0..200 {
+        if b - a <= tol {
+            break;
+        }
+        let width = b - a;
+        let mut c = if ga == gb {
+            0.5 * (a + b)
+        } else {
+            (a * gb - b * ga) / (gb - ga)
+        };
+        // Keep c strictly inside, at least tol/2 from the ends, so the bracket shrinks below tol.
+        let margin = (0.5 * tol).min(0.25 * width);
+        c = c.clamp(a + margin, b - margin);
+        let gc = g(c);
+        if post(gc) {
+            // c is on the post-crossing side (or on zero): new right end.
+            b = c;
+            gb = gc;
+            if side == -1 {
+                ga *= 0.5;
+            }
+            side = -1;
+        } else {
+            a = c;
+            ga = gc;
+            if side == 1 {
+                gb *= 0.5;
+            }
+            side = 1;
+        }
+        // Bisection safeguard when the bracket shrinks slowly.
+        if b - a > 0.5 * width {
+            let m = 0.5 * (a + b);
+            let gm = g(m);
+            if post(gm) {
+                b = m;
+                gb = gm;
+            } else {
+                a = m;
+                ga = gm;
+            }
+            side = 0;
+        }
+    }
+    b
+}

@@ -1,0 +1,194 @@
+//! What a simulation returns.
+
+use crate::system::{EventId, Mode};
+use serde::{Deserialize, Serialize};
+
+/// Why a simulation ended.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub enum StopReason {
+    /// The requested end time was reached.
+    EndReached,
+    /// A terminal event was crossed (e.g. the block overturned).
+    TerminalEvent {
+        /// The event.
+        event: EventId,
+        /// Its time.
+        t: f64,
+    },
+    /// Jumps accumulated and the system defines no Zeno transition for them.
+    ZenoAccumulation {
+        /// The accumulating event (the last one).
+        event: EventId,
+        /// Time of the last jump before stopping.
+        t: f64,
+    },
+    /// The step limit of the settings was reached.
+    StepLimit {
+        /// Time reached.
+        t: f64,
+    },
+}
+
+/// A time series of states with their modes, stored flat (one allocation per series, not per
+/// point).
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+pub struct TimeSeries {
+    dim: usize,
+    /// Times.
+    pub t: Vec<f64>,
+    /// Mode at each time.
+    pub mode: Vec<Mode>,
+    /// States, `dim` values per time.
+    pub x: Vec<f64>,
+}
+
+impl TimeSeries {
+    /// An empty series of states of dimension `dim`.
+    #[must_use]
+    pub fn new(dim: usize) -> Self {
+        Self {
+            dim,
+            ..Self::default()
+        }
+    }
+
+    /// Appends a point (the first `dim` components of `x`).
+    pub fn push(&mut self, t: f64, mode: Mode, x: &[f64]) {
+        self.t.push(t);
+        self.mode.push(mode);
+        self.x.extend_from_slice(&x[..self.dim]);
+    }
+
+    /// Number of points.
+    #[must_use]
+    pub fn len(&self) -> usize {
+        self.t.len()
+    }
+
+    /// Whether there are no points.
+    #[must_use]
+    pub fn is_empty(&self) -> bool {
+        self.t.is_empty()
+    }
+
+    /// State dimension.
+    #[must_use]
+    pub fn dim(&self) -> usize {
+        self.dim
+    }
+
+    /// State of point `i`.
+    ///
+    /// # Panics
+    /// If `i >= len()`.
+    #[must_use]
+    pub fn state(&self, i: usize) -> &[f64] {
+        &self.x[i * self.dim..(i + 1) * self.dim]
+    }
+
+    /// Iterates over `(t, mode, state)`.
+    pub fn iter(&self) -> impl Iterator<Item = (f64, Mode, &[f64])> + '_ {
+        self.t
+            .iter()
+            .zip(&self.mode)
+            .zip(self.x.chunks_exact(self.dim.max(1)))
+            .map(|((&t, &m), x)| (t, m, x))
+    }
+}
+
+/// One crossing of an event.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct EventRecord {
+    /// Time of the crossing.
+    pub t: f64,
+    /// The event.
+    pub event: EventId,
+    /// Mode before.
+    pub mode_before: Mode,
+    /// Mode after (`None` for a terminal event).
+    pub mode_after: Option<Mode>,
+    /// State just before (on the event surface, to the event tolerance).
+    pub state_before: Vec<f64>,
+    /// State just after the reset (equal to `state_before` for a terminal event).
+    pub state_after: Vec<f64>,
+}
+
+/// A switch to another mode after jumps accumulated (Zeno behaviour).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct ZenoRecord {
+    /// Time of the last resolved jump, where the switch happened.
+    pub t: f64,
+    /// Predicted accumulation time of the jumps (geometric extrapolation).
+    pub t_accumulation: f64,
+    /// The accumulating event.
+    pub event: EventId,
+    /// Mode switched to.
+    pub mode_after: Mode,
+    /// State switched to.
+    pub state_after: Vec<f64>,
+}
+
+/// Work and event counters of a simulation.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub struct SimulationStats {
+    /// Accepted steps.
+    pub steps: u64,
+    /// Rejected step attempts.
+    pub rejected_steps: u64,
+    /// Right-hand side evaluations (of the possibly augmented system).
+    pub rhs_evaluations: u64,
+    /// Steps whose dense output was built.
+    pub dense_outputs: u64,
+    /// Event crossings located.
+    pub events: u64,
+    /// Jumps applied.
+    pub jumps: u64,
+    /// Zeno transitions.
+    pub zeno_transitions: u64,
+}
+
+/// Sensitivities at the final time, column-major.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct SensitivityMatrices {
+    /// State dimension $n$.
+    pub n: usize,
+    /// $\Phi = \partial x(t_f) / \partial x_0$, $n \times n$ (saltation matrices applied at every
+    /// jump).
+    pub state: Vec<f64>,
+    /// $\partial x(t_f) / \partial p$, $n \times n_p$, if requested.
+    pub params: Option<Vec<f64>>,
+}
+
+impl SensitivityMatrices {
+    /// Entry $(i, j)$ of $\Phi$.
+    #[must_use]
+    pub fn state_entry(&self, i: usize, j: usize) -> f64 {
+        self.state[i + j * self.n]
+    }
+}
+
+/// The result of a simulation.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Trajectory {
+    /// Why it ended.
+    pub stop: StopReason,
+    /// Final time.
+    pub t_final: f64,
+    /// Final mode.
+    pub mode_final: Mode,
+    /// Final state.
+    pub state_final: Vec<f64>,
+    /// Samples at the prescribed times (empty if none were asked for).
+    pub samples: TimeSeries,
+    /// Every accepted step, with both sides of every jump (empty unless recorded).
+    pub steps: TimeSeries,
+    /// Every event crossing (empty unless recorded).
+    pub events: Vec<EventRecord>,
+    /// Zeno transitions.
+    pub zeno: Vec<ZenoRecord>,
+    /// Sensitivities at the final time, if requested and defined (a Zeno transition leaves them
+    /// undefined: `None`).
+    pub sensitivities: Option<SensitivityMatrices>,
+    /// Counters.
+    pub stats: SimulationStats,
+}

@@ -1,0 +1,566 @@
+//! Hybrid dynamical systems: modes, vector fields, events, resets and their Jacobians.
+//!
+//! A hybrid system has a continuous state $x \in \mathbb{R}^n$, parameters $p \in \mathbb{R}^{n_p}$
+//! and a finite set of modes. In mode $m$ the state obeys $\dot x = f_m(x, p)$. Each mode has a set
+//! of events $h_e(x, p) = 0$, each with a crossing direction; when one is crossed the system either
+//! stops ([`EventAction::Terminal`]) or applies the reset (jump) $x^+ = g_e(x^-, p)$ and continues
+//! in the event's target mode ([`EventAction::Jump`]).
+//!
+//! Capabilities are split into traits: [`HybridSystem`] (evaluation) and [`HybridJacobians`]
+//! (first derivatives, needed for variational equations, saltation matrices and Newton's method).
+//! A system without analytic derivatives gets them by central differences through
+//! [`FiniteDifferences`]; [`check_derivatives`] compares supplied derivatives against central
+//! differences (COCO's `chkderiv`).
+//!
+//! Jacobians are dense, column-major: entry $(i, j)$ of an $r \times c$ matrix is `out[i + j * r]`.
+
+use serde::{Deserialize, Serialize};
+use std::fmt;
+
+/// A typed handle to a mode of a hybrid system (an index into the system's modes).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
+pub struct Mode(pub usize);
+
+impl fmt::Display for Mode {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "#{}", self.0)
+    }
+}
+
+/// A typed handle to an event (an index into the system's events).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
+pub struct EventId(pub usize);
+
+impl fmt::Display for EventId {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "event #{}", self.0)
+    }
+}
+
+/// A typed handle to a parameter: its index in the parameter vector.
+///
+/// Resolve names once with [`HybridSystem::parameter_id`] and keep the handle.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
+pub struct ParamId(pub usize);
+
+impl ParamId {
+    /// Index of the parameter in the parameter vector.
+    #[must_use]
+    pub fn index(self) -> usize {
+        self.0
+    }
+}
+
+/// Which sign changes of an event function count as a crossing.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
+pub enum Direction {
+    /// From negative to positive.
+    Rising,
+    /// From positive to negative.
+    Falling,
+    /// Either way.
+    Either,
+}
+
+impl Direction {
+    /// Whether going from value `before` to value `after` is a crossing in this direction.
+    ///
+    /// A crossing starts strictly on one side and ends on the other side or on zero.
+    ///
+    /// ```
+    /// use hycont_core::Direction;
+    /// assert!(Direction::Falling.is_crossing(0.5, -1e-3));
+    /// assert!(!Direction::Rising.is_crossing(0.5, -1e-3));
+    /// assert!(!Direction::Either.is_crossing(0.0, 1.0));
+    /// ```
+    #[must_use]
+    pub fn is_crossing(self, before: f64, after: f64) -> bool {
+        let rising = before < 0.0 && after >= 0.0;
+        let falling = before > 0.0 && after <= 0.0;
+        match self {
+            Direction::Rising => rising,
+            Direction::Falling => falling,
+            Direction::Either => rising || falling,
+        }
+    }
+
+    /// The sign an event function has before a crossing in this direction (`None` for `Either`).
+    #[must_use]
+    pub fn sign_before(self) -> Option<f64> {
+        match self {
+            Direction::Rising => Some(-1.0),
+            Direction::Falling => Some(1.0),
+            Direction::Either => None,
+        }
+    }
+}
+
+/// What happens when an event is crossed.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
+pub enum EventAction {
+    /// Apply the event's reset map and continue in mode `to`.
+    Jump {
+        /// The mode that follows the event.
+        to: Mode,
+    },
+    /// Stop the simulation (for example: the block has overturned).
+    Terminal,
+}
+
+/// Static description of an event.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct EventSpec {
+    /// A short name for messages and output (e.g. `"impact+"`).
+    pub name: &'static str,
+    /// Which crossings count.
+    pub direction: Direction,
+    /// What a crossing does.
+    pub action: EventAction,
+}
+
+/// A hybrid dynamical system: modes, vector fields, events and resets.
+///
+/// Hot-path methods write into caller-provided buffers and must not allocate.
+///
+/// # Example: a bouncing ball
+/// ```
+/// use hycont_core::{Direction, EventAction, EventId, EventSpec, HybridSystem, Mode};
+///
+/// /// Height y, velocity v; y'' = -g; impact at y = 0 with v -> -e v. Parameters: g, e.
+/// struct Ball;
+/// impl HybridSystem for Ball {
+///     fn state_dim(&self) -> usize { 2 }
+///     fn parameter_names(&self) -> &[&'static str] { &["g", "e"] }
+///     fn mode_count(&self) -> usize { 1 }
+///     fn mode_name(&self, _: Mode) -> &'static str { "flight" }
+///     fn events(&self, _: Mode) -> &[EventId] { &[EventId(0)] }
+///     fn event_spec(&self, _: EventId) -> EventSpec {
+///         EventSpec { name: "impact", direction: Direction::Falling,
+///                     action: EventAction::Jump { to: Mode(0) } }
+///     }
+///     fn vector_field(&self, _: Mode, x: &[f64], p: &[f64], out: &mut [f64]) {
+///         out[0] = x[1];
+///         out[1] = -p[0];
+///     }
+///     fn event(&self, _: EventId, x: &[f64], _: &[f64]) -> f64 { x[0] }
+///     fn reset(&self, _: EventId, x: &[f64], p: &[f64], out: &mut [f64]) {
+///         out[0] = x[0];
+///         out[1] = -p[1] * x[1];
+///     }
+/// }
+/// assert_eq!(Ball.parameter_id("e").map(|p| p.index()), Some(1));
+/// ```
+pub trait HybridSystem {
+    /// Dimension $n$ of the continuous state.
+    fn state_dim(&self) -> usize;
+
+    /// Names of the parameters, in the order of the parameter vector.
+    fn parameter_names(&self) -> &[&'static str];
+
+    /// Number of parameters $n_p$.
+    fn parameter_count(&self) -> usize {
+        self.parameter_names().len()
+    }
+
+    /// Resolves a parameter name to a typed handle (do this once, not in loops).
+    fn parameter_id(&self, name: &str) -> Option<ParamId> {
+        self.parameter_names()
+            .iter()
+            .position(|n| *n == name)
+            .map(ParamId)
+    }
+
+    /// Number of modes; valid modes are `Mode(0)..Mode(mode_count() - 1)`.
+    fn mode_count(&self) -> usize;
+
+    /// A short name of a mode (e.g. `"+"`).
+    fn mode_name(&self, mode: Mode) -> &'static str;
+
+    /// The events monitored while in `mode`.
+    fn events(&self, mode: Mode) -> &[EventId];
+
+    /// Direction, action and name of an event.
+    fn event_spec(&self, event: EventId) -> EventSpec;
+
+    /// Writes $f_m(x, p)$ into `out` (length $n$).
+    fn vector_field(&self, mode: Mode, x: &[f64], p: &[f64], out: &mut [f64]);
+
+    /// The event function $h_e(x, p)$.
+    fn event(&self, event: EventId, x: &[f64], p: &[f64]) -> f64;
+
+    /// Writes the reset $g_e(x, p)$ into `out`. The default is the identity.
+    fn reset(&self, event: EventId, x: &[f64], p: &[f64], out: &mut [f64]) {
+        let _ = (event, p);
+        out.copy_from_slice(x);
+    }
+
+    /// Where to go when the jumps of `event` accumulate (Zeno behaviour) in `mode`.
+    ///
+    /// The simulator calls this when it detects an accumulation of `event` (see
+    /// [`crate::ZenoSettings`]); `x` is the state right after the last jump. Return the mode to
+    /// continue in and write its initial state into `out`, or return `None` (the default) to end
+    /// the simulation with [`crate::StopReason::ZenoAccumulation`].
+    fn zeno_transition(
+        &self,
+        mode: Mode,
+        event: EventId,
+        x: &[f64],
+        p: &[f64],
+        out: &mut [f64],
+    ) -> Option<Mode> {
+        let _ = (mode, event, x, p, out);
+        None
+    }
+}
+
+/// First derivatives of a [`HybridSystem`].
+///
+/// All matrices are column-major; `dp` arguments are `None` when parameter derivatives are not
+/// needed, so implementations can skip that work.
+pub trait HybridJacobians: HybridSystem {
+    /// $\partial f_m / \partial x$ into `dx` ($n \times n$) and $\partial f_m / \partial p$ into
+    /// `dp` ($n \times n_p$).
+    fn vector_field_jacobian(
+        &self,
+        mode: Mode,
+        x: &[f64],
+        p: &[f64],
+        dx: &mut [f64],
+        dp: Option<&mut [f64]>,
+    );
+
+    /// $\partial h_e / \partial x$ into `dx` (length $n$) and $\partial h_e / \partial p$ into `dp`
+    /// (length $n_p$).
+    fn event_gradient(
+        &self,
+        event: EventId,
+        x: &[f64],
+        p: &[f64],
+        dx: &mut [f64],
+        dp: Option<&mut [f64]>,
+    );
+
+    /// $\partial g_e / \partial x$ into `dx` ($n \times n$) and $\partial g_e / \partial p$ into
+    /// `dp` ($n \times n_p$). The default is the identity's: $I$ and $0$.
+    fn reset_jacobian(
+        &self,
+        event: EventId,
+        x: &[f64],
+        p: &[f64],
+        dx: &mut [f64],
+        dp: Option<&mut [f64]>,
+    ) {
+        let _ = (event, p);
+        let n = x.len();
+        dx.fill(0.0);
+        for i in 0..n {
+            dx[i + i * n] = 1.0;
+        }
+        if let Some(dp) = dp {
+            dp.fill(0.0);
+        }
+    }
+}
+
+/// Relative step for central differences: $\epsilon^{1/3}$, scaled by $\max(1, |v|)$.
+fn fd_step(v: f64) -> f64 {
+    f64::EPSILON.cbrt() * v.abs().max(1.0)
+}
+
+/// Central-difference Jacobian of `func: R^m -> R^r` at `v`, column-major into `out` ($r \times m$).
+fn central_difference(
+    v: &[f64],
+    rows: usize,
+    out: &mut [f64],
+    mut func: impl FnMut(&[f64], &mut [f64]),
+) {
+    let mut w = v.to_vec();
+    let mut plus = vec![0.0; rows];
+    let mut minus = vec![0.0; rows];
+    for j in 0..v.len() {
+        let h = fd_step(v[j]);
+        w[j] = v[j] + h;
+        let hp = w[j] - v[j];
+        func(&w, &mut plus);
+        w[j] = v[j] - h;
+        let hm = v[j] - w[j];
+        func(&w, &mut minus);
+        w[j] = v[j];
+        for i in 0..rows {
+            out[i + j * rows] = (plus[i] - minus[i]) / (hp + hm);
+        }
+    }
+}
+
+/// Gives any [`HybridSystem`] derivatives by central differences.
+///
+/// Accuracy is about $\epsilon^{2/3} \approx 4 \cdot 10^{-11}$ relative for smooth functions, which
+/// is enough for Newton's method and for checking analytic Jacobians, but analytic Jacobians are
+/// faster and exact; supply them for production models.
+///
+/// ```
+/// use hycont_core::{FiniteDifferences, HybridJacobians, HybridSystem, Mode, EventId, EventSpec,
+///                   Direction, EventAction};
+/// struct Decay;
+/// impl HybridSystem for Decay {
+///     fn state_dim(&self) -> usize { 1 }
+///     fn parameter_names(&self) -> &[&'static str] { &["k"] }
+///     fn mode_count(&self) -> usize { 1 }
+///     fn mode_name(&self, _: Mode) -> &'static str { "only" }
+///     fn events(&self, _: Mode) -> &[EventId] { &[] }
+///     fn event_spec(&self, _: EventId) -> EventSpec { unreachable!() }
+///     fn vector_field(&self, _: Mode, x: &[f64], p: &[f64], out: &mut [f64]) { out[0] = -p[0] * x[0]; }
+///     fn event(&self, _: EventId, _: &[f64], _: &[f64]) -> f64 { unreachable!() }
+/// }
+/// let fd = FiniteDifferences::new(Decay);
+/// let (mut dx, mut dp) = ([0.0], [0.0]);
+/// fd.vector_field_jacobian(Mode(0), &[2.0], &[3.0], &mut dx, Some(&mut dp));
+/// assert!((dx[0] + 3.0).abs() < 1e-8 && (dp[0] + 2.0).abs() < 1e-8);
+/// ```
+#[derive(Debug, Clone)]
+pub struct FiniteDifferences<S> {
+    inner: S,
+}
+
+impl<S: HybridSystem> FiniteDifferences<S> {
+    /// Wraps a system.
+    #[must_use]
+    pub fn new(inner: S) -> Self {
+        Self { inner }
+    }
+
+    /// The wrapped system.
+    #[must_use]
+    pub fn inner(&self) -> &S {
+        &self.inner
+    }
+}
+
+impl<S: HybridSystem> HybridSystem for FiniteDifferences<S> {
+    fn state_dim(&self) -> usize {
+        self.inner.state_dim()
+    }
+    fn parameter_names(&self) -> &[&'static str] {
+        self.inner.parameter_names()
+    }
+    fn parameter_count(&self) -> usize {
+        self.inner.parameter_count()
+    }
+    fn parameter_id(&self, name: &str) -> Option<ParamId> {
+        self.inner.parameter_id(name)
+    }
+    fn mode_count(&self) -> usize {
+        self.inner.mode_count()
+    }
+    fn mode_name(&self, mode: Mode) -> &'static str {
+        self.inner.mode_name(mode)
+    }
+    fn events(&self, mode: Mode) -> &[EventId] {
+        self.inner.events(mode)
+    }
+    fn event_spec(&self, event: EventId) -> EventSpec {
+        self.inner.event_spec(event)
+    }
+    fn vector_field(&self, mode: Mode, x: &[f64], p: &[f64], out: &mut [f64]) {
+        self.inner.vector_field(mode, x, p, out);
+    }
+    fn event(&self, event: EventId, x: &[f64], p: &[f64]) -> f64 {
+        self.inner.event(event, x, p)
+    }
+    fn reset(&self, event: EventId, x: &[f64], p: &[f64], out: &mut [f64]) {
+        self.inner.reset(event, x, p, out);
+    }
+    fn zeno_transition(
+        &self,
+        mode: Mode,
+        event: EventId,
+        x: &[f64],
+        p: &[f64],
+        out: &mut [f64],
+    ) -> Option<Mode> {
+        self.inner.zeno_transition(mode, event, x, p, out)
+    }
+}
+
+impl<S: HybridSystem> HybridJacobians for FiniteDifferences<S> {
+    fn vector_field_jacobian(
+        &self,
+        mode: Mode,
+        x: &[f64],
+        p: &[f64],
+        dx: &mut [f64],
+        dp: Option<&mut [f64]>,
+    ) {
+        let n = x.len();
+        central_difference(x, n, dx, |w, out| {
+            self.inner.vector_field(mode, w, p, out);
+        });
+        if let Some(dp) = dp {
+            central_difference(p, n, dp, |w, out| {
+                self.inner.vector_field(mode, x, w, out);
+            });
+        }
+    }
+
+    fn event_gradient(
+        &self,
+        event: EventId,
+        x: &[f64],
+        p: &[f64],
+        dx: &mut [f64],
+        dp: Option<&mut [f64]>,
+    ) {
+        central_difference(x, 1, dx, |w, out| out[0] = self.inner.event(event, w, p));
+        if let Some(dp) = dp {
+            central_difference(p, 1, dp, |w, out| out[0] = self.inner.event(event, x, w));
+        }
+    }
+
+    fn reset_jacobian(
+        &self,
+        event: EventId,
+        x: &[f64],
+        p: &[f64],
+        dx: &mut [f64],
+        dp: Option<&mut [f64]>,
+    ) {
+        let n = x.len();
+        central_difference(x, n, dx, |w, out| self.inner.reset(event, w, p, out));
+        if let Some(dp) = dp {
+            central_difference(p, n, dp, |w, out| self.inner.reset(event, x, w, out));
+        }
+    }
+}
+
+/// Which derivative an entry of a [`DerivativeCheck`] refers to.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+pub enum DerivativeKind {
+    /// $\partial f_m / \partial x$.
+    VectorFieldState,
+    /// $\partial f_m / \partial p$.
+    VectorFieldParams,
+    /// $\partial h_e / \partial x$ of the given event.
+    EventState(EventId),
+    /// $\partial h_e / \partial p$ of the given event.
+    EventParams(EventId),
+    /// $\partial g_e / \partial x$ of the given event.
+    ResetState(EventId),
+    /// $\partial g_e / \partial p$ of the given event.
+    ResetParams(EventId),
+}
+
+/// The worst disagreement between a supplied derivative and central differences.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct DerivativeMismatch {
+    /// Which derivative.
+    pub kind: DerivativeKind,
+    /// Row of the entry.
+    pub row: usize,
+    /// Column of the entry.
+    pub col: usize,
+    /// The supplied value.
+    pub supplied: f64,
+    /// The central-difference value.
+    pub numeric: f64,
+    /// `|supplied - numeric| / (1 + |numeric|)`.
+    pub error: f64,
+}
+
+/// Result of [`check_derivatives`]: the largest scaled error over all checked entries.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct DerivativeCheck {
+    /// The worst entry per derivative kind checked.
+    pub worst: Vec<DerivativeMismatch>,
+}
+
+impl DerivativeCheck {
+    /// The largest scaled error $|a - d| / (1 + |d|)$ over all checked entries.
+    #[must_use]
+    pub fn max_error(&self) -> f64 {
+        self.worst.iter().map(|m| m.error).fold(0.0, f64::max)
+    }
+}
+
+fn compare(
+    kind: DerivativeKind,
+    rows: usize,
+    supplied: &[f64],
+    numeric: &[f64],
+) -> DerivativeMismatch {
+    let mut worst = DerivativeMismatch {
+        kind,
+        row: 0,
+        col: 0,
+        supplied: supplied.first().copied().unwrap_or(0.0),
+        numeric: numeric.first().copied().unwrap_or(0.0),
+        error: 0.0,
+    };
+    for (k, (&a, &d)) in supplied.iter().zip(numeric).enumerate() {
+        let error = (a - d).abs() / (1.0 + d.abs());
+        if error > worst.error || error.is_nan() {
+            worst = DerivativeMismatch {
+                kind,
+                row: k % rows,
+                col: k / rows,
+                supplied: a,
+                numeric: d,
+                error: if error.is_nan() { f64::INFINITY } else { error },
+            };
+        }
+    }
+    worst
+}
+
+/// Compares a system's supplied derivatives in `mode` at `(x, p)` against central differences
+/// (vector field, and event gradients and reset Jacobians of every event of the mode).
+///
+/// Central differences have a truncation error of order $h^2 \|f'''\|$ with
+/// $h = \epsilon^{1/3} \max(1, |v|)$, so agreement to about `1e-7` (scaled) is expected for
+/// well-scaled smooth functions.
+///
+/// # Panics
+/// Never; slices of the wrong length are a programming error caught by debug assertions in the
+/// system's own code.
+pub fn check_derivatives<S: HybridJacobians + ?Sized>(
+    system: &S,
+    mode: Mode,
+    x: &[f64],
+    p: &[f64],
+) -> DerivativeCheck {
+    let n = system.state_dim();
+    let np = system.parameter_count();
+    let mut worst = Vec::new();
+    let mut ax = vec![0.0; n * n];
+    let mut ap = vec![0.0; n * np];
+    let mut nx = vec![0.0; n * n];
+    let mut npm = vec![0.0; n * np];
+
+    system.vector_field_jacobian(mode, x, p, &mut ax, Some(&mut ap));
+    central_difference(x, n, &mut nx, |w, out| system.vector_field(mode, w, p, out));
+    central_difference(p, n, &mut npm, |w, out| {
+        system.vector_field(mode, x, w, out);
+    });
+    worst.push(compare(DerivativeKind::VectorFieldState, n, &ax, &nx));
+    worst.push(compare(DerivativeKind::VectorFieldParams, n, &ap, &npm));
+
+    for &e in system.events(mode) {
+        let mut gx = vec![0.0; n];
+        let mut gp = vec![0.0; np];
+        let mut ngx = vec![0.0; n];
+        let mut ngp = vec![0.0; np];
+        system.event_gradient(e, x, p, &mut gx, Some(&mut gp));
+        central_difference(x, 1, &mut ngx, |w, out| out[0] = system.event(e, w, p));
+        central_difference(p, 1, &mut ngp, |w, out| out[0] = system.event(e, x, w));
+        worst.push(compare(DerivativeKind::EventState(e), 1, &gx, &ngx));
+        worst.push(compare(DerivativeKind::EventParams(e), 1, &gp, &ngp));
+
+        if let EventAction::Jump { .. } = system.event_spec(e).action {
+            system.reset_jacobian(e, x, p, &mut ax, Some(&mut ap));
+            central_difference(x, n, &mut nx, |w, out| system.reset(e, w, p, out));
+            central_difference(p, n, &mut npm, |w, out| system.reset(e, x, w, out));
+            worst.push(compare(DerivativeKind::ResetState(e), n, &ax, &nx));
+            worst.push(compare(DerivativeKind::ResetParams(e), n, &ap, &npm));
+        }
+    }
+    DerivativeCheck { worst }
+}

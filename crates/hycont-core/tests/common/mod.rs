@@ -1,0 +1,176 @@
+//! Test models, each paired with its closed-form reference solution.
+#![allow(dead_code)]
+
+use hycont_core::{
+    Direction, EventAction, EventId, EventSpec, HybridJacobians, HybridSystem, Mode,
+};
+
+/// Bouncing ball: height y, velocity v; y'' = -g; impact at y = 0 (falling) with v -> -e v.
+/// Parameters (g, e). Mode 0 flight, mode 1 rest (Zeno target).
+///
+/// Reference: from (0, v0), flight k (k = 0, 1, ...) lasts 2 v0 e^k / g, so the impacts are at
+/// t_k = (2 v0 / g) (1 - e^(k+1)) / (1 - e) and accumulate at 2 v0 / (g (1 - e)).
+pub struct Ball {
+    pub zeno_rest: bool,
+}
+
+impl HybridSystem for Ball {
+    fn state_dim(&self) -> usize {
+        2
+    }
+    fn parameter_names(&self) -> &[&'static str] {
+        &["g", "e"]
+    }
+    fn mode_count(&self) -> usize {
+        2
+    }
+    fn mode_name(&self, m: Mode) -> &'static str {
+        ["flight", "rest"][m.0]
+    }
+    fn events(&self, m: Mode) -> &[EventId] {
+        if m.0 == 0 { &[EventId(0)] } else { &[] }
+    }
+    fn event_spec(&self, _: EventId) -> EventSpec {
+        EventSpec {
+            name: "impact",
+            direction: Direction::Falling,
+            action: EventAction::Jump { to: Mode(0) },
+        }
+    }
+    fn vector_field(&self, m: Mode, x: &[f64], p: &[f64], out: &mut [f64]) {
+        if m.0 == 0 {
+            out[0] = x[1];
+            out[1] = -p[0];
+        } else {
+            out.fill(0.0);
+        }
+    }
+    fn event(&self, _: EventId, x: &[f64], _: &[f64]) -> f64 {
+        x[0]
+    }
+    fn reset(&self, _: EventId, x: &[f64], p: &[f64], out: &mut [f64]) {
+        out[0] = x[0];
+        out[1] = -p[1] * x[1];
+    }
+    fn zeno_transition(
+        &self,
+        _: Mode,
+        _: EventId,
+        _: &[f64],
+        _: &[f64],
+        out: &mut [f64],
+    ) -> Option<Mode> {
+        if self.zeno_rest {
+            out.fill(0.0);
+            Some(Mode(1))
+        } else {
+            None
+        }
+    }
+}
+
+/// Impact oscillator: x'' = -k x for x > 0 with a wall at x = 0 (impact when x falls through 0,
+/// v -> -e v). Parameters (k, e). Optional terminal event at x = cap (rising).
+///
+/// Reference: from (0, v0 > 0), x(t) = (v0 e^j / w) sin(w (t - t_j)) on flight j with w = sqrt(k),
+/// so impacts are exactly at t_j = (j + 1) pi / w and the pre-impact velocity of impact j is
+/// -v0 e^j.
+pub struct ImpactOscillator {
+    pub cap: Option<f64>,
+}
+
+const IO_EVENTS_CAP: [EventId; 2] = [EventId(0), EventId(1)];
+
+impl HybridSystem for ImpactOscillator {
+    fn state_dim(&self) -> usize {
+        2
+    }
+    fn parameter_names(&self) -> &[&'static str] {
+        &["k", "e"]
+    }
+    fn mode_count(&self) -> usize {
+        1
+    }
+    fn mode_name(&self, _: Mode) -> &'static str {
+        "free"
+    }
+    fn events(&self, _: Mode) -> &[EventId] {
+        if self.cap.is_some() {
+            &IO_EVENTS_CAP
+        } else {
+            &IO_EVENTS_CAP[..1]
+        }
+    }
+    fn event_spec(&self, e: EventId) -> EventSpec {
+        if e.0 == 0 {
+            EventSpec {
+                name: "wall",
+                direction: Direction::Falling,
+                action: EventAction::Jump { to: Mode(0) },
+            }
+        } else {
+            EventSpec {
+                name: "cap",
+                direction: Direction::Rising,
+                action: EventAction::Terminal,
+            }
+        }
+    }
+    fn vector_field(&self, _: Mode, x: &[f64], p: &[f64], out: &mut [f64]) {
+        out[0] = x[1];
+        out[1] = -p[0] * x[0];
+    }
+    fn event(&self, e: EventId, x: &[f64], _: &[f64]) -> f64 {
+        if e.0 == 0 {
+            x[0]
+        } else {
+            x[0] - self.cap.unwrap_or(f64::INFINITY)
+        }
+    }
+    fn reset(&self, _: EventId, x: &[f64], p: &[f64], out: &mut [f64]) {
+        out[0] = x[0];
+        out[1] = -p[1] * x[1];
+    }
+}
+
+impl HybridJacobians for ImpactOscillator {
+    fn vector_field_jacobian(
+        &self,
+        _: Mode,
+        x: &[f64],
+        p: &[f64],
+        dx: &mut [f64],
+        dp: Option<&mut [f64]>,
+    ) {
+        dx.copy_from_slice(&[0.0, -p[0], 1.0, 0.0]);
+        if let Some(dp) = dp {
+            dp.copy_from_slice(&[0.0, -x[0], 0.0, 0.0]);
+        }
+    }
+    fn event_gradient(
+        &self,
+        _: EventId,
+        _: &[f64],
+        _: &[f64],
+        dx: &mut [f64],
+        dp: Option<&mut [f64]>,
+    ) {
+        dx.copy_from_slice(&[1.0, 0.0]);
+        if let Some(dp) = dp {
+            dp.fill(0.0);
+        }
+    }
+    fn reset_jacobian(
+        &self,
+        _: EventId,
+        x: &[f64],
+        p: &[f64],
+        dx: &mut [f64],
+        dp: Option<&mut [f64]>,
+    ) {
+        dx.copy_from_slice(&[1.0, 0.0, 0.0, -p[1]]);
+        if let Some(dp) = dp {
+            dp.copy_from_slice(&[0.0, 0.0, 0.0, -x[1]]);
+        }
+    }
+}

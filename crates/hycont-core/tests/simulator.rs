@@ -1,0 +1,462 @@
+//! The event-driven simulator against closed-form hybrid problems.
+
+mod common;
+
+use common::{Ball, ImpactOscillator};
+use hycont_core::{
+    Direction, Error, EventAction, EventId, EventSpec, FiniteDifferences, HybridSystem, Mode,
+    SampleTimes, Sensitivities, SimulationSettings, Simulator, StopReason,
+};
+use std::f64::consts::PI;
+
+fn sim() -> Simulator {
+    Simulator::new(SimulationSettings::default()).unwrap()
+}
+
+#[test]
+fn impact_oscillator_impact_times_are_exact() {
+    // x'' = -4 x (w = 2): impacts at (j + 1) pi / 2, pre-impact velocity -v0 e^j.
+    let (k, e, v0): (f64, f64, f64) = (4.0, 0.8, 1.5);
+    let w: f64 = k.sqrt();
+    let traj = sim()
+        .run(
+            &ImpactOscillator { cap: None },
+            Mode(0),
+            0.0,
+            &[0.0, v0],
+            &[k, e],
+            60.0,
+        )
+        .unwrap();
+    assert_eq!(traj.stop, StopReason::EndReached);
+    let n = traj.events.len();
+    assert_eq!(n, (60.0 * w / PI).floor() as usize, "number of impacts");
+    for (j, ev) in traj.events.iter().enumerate() {
+        let t_exact = (j + 1) as f64 * PI / w;
+        assert!(
+            (ev.t - t_exact).abs() <= 1e-10 * t_exact.max(1.0),
+            "impact {j}: t = {} vs {t_exact} (error {:e})",
+            ev.t,
+            ev.t - t_exact
+        );
+        let v_exact = -v0 * e.powi(j as i32);
+        assert!(
+            (ev.state_before[1] - v_exact).abs() <= 1e-9 * v0,
+            "impact {j}: v = {} vs {v_exact}",
+            ev.state_before[1]
+        );
+        assert!((ev.state_after[1] + e * ev.state_before[1]).abs() < 1e-15);
+    }
+}
+
+#[test]
+fn event_location_meets_the_stated_tolerance() {
+    // Location error is measured on the numerical solution: at the located time the event
+    // function h = x must satisfy |x| <= |x'| * dt with dt = 1e-13 * max(1, t) (the default
+    // tolerance, well inside the required 1e-12 relative). The global error against the closed
+    // form is the integrator's (rtol 1e-10 over ~130 impacts), checked separately.
+    let (k, e, v0) = (1.0, 0.999, 1.0);
+    let traj = sim()
+        .run(
+            &ImpactOscillator { cap: None },
+            Mode(0),
+            0.0,
+            &[0.0, v0],
+            &[k, e],
+            400.0,
+        )
+        .unwrap();
+    assert_eq!(traj.events.len(), 127);
+    for ev in &traj.events {
+        let dt_implied = ev.state_before[0].abs() / ev.state_before[1].abs();
+        assert!(
+            dt_implied <= 1e-13 * ev.t.max(1.0),
+            "impact at t = {}: x = {:e} implies a location error of {dt_implied:e}",
+            ev.t,
+            ev.state_before[0]
+        );
+        // Located on the post-crossing side (x <= 0), as documented.
+        assert!(ev.state_before[0] <= 0.0);
+    }
+    let worst_global = traj
+        .events
+        .iter()
+        .enumerate()
+        .map(|(j, ev)| (ev.t - (j + 1) as f64 * PI).abs() / ev.t)
+        .fold(0.0, f64::max);
+    assert!(
+        worst_global <= 1e-10,
+        "global relative impact-time error {worst_global:e}"
+    );
+}
+
+#[test]
+fn bouncing_ball_impacts_and_zeno_rest_time() {
+    let (g, e, v0) = (9.81, 0.7, 2.0);
+    let traj = sim()
+        .run(
+            &Ball { zeno_rest: true },
+            Mode(0),
+            0.0,
+            &[0.0, v0],
+            &[g, e],
+            5.0,
+        )
+        .unwrap();
+    assert_eq!(traj.stop, StopReason::EndReached);
+    assert_eq!(traj.mode_final, Mode(1));
+    for (k, ev) in traj.events.iter().enumerate() {
+        let t_exact = 2.0 * v0 / g * (1.0 - e.powi(k as i32 + 1)) / (1.0 - e);
+        // The ball is polynomial, so DOP853 is exact and only the location errors (1e-13 each,
+        // carried from impact to impact) remain.
+        assert!(
+            (ev.t - t_exact).abs() < 1e-11,
+            "impact {k}: {} vs {t_exact}",
+            ev.t
+        );
+    }
+    let t_rest = 2.0 * v0 / (g * (1.0 - e));
+    let z = &traj.zeno[0];
+    // Switched within the horizon (1e-9) of the accumulation point, which is predicted exactly.
+    assert!(
+        t_rest - z.t <= 1.1e-9 && z.t < t_rest,
+        "switch at {} vs {t_rest}",
+        z.t
+    );
+    assert!(
+        (z.t_accumulation - t_rest).abs() < 1e-10,
+        "predicted accumulation {} vs {t_rest}",
+        z.t_accumulation
+    );
+    assert_eq!(traj.state_final, vec![0.0, 0.0]);
+}
+
+#[test]
+fn zeno_without_transition_stops() {
+    let (g, e, v0) = (9.81, 0.5, 1.0);
+    let traj = sim()
+        .run(
+            &Ball { zeno_rest: false },
+            Mode(0),
+            0.0,
+            &[0.0, v0],
+            &[g, e],
+            5.0,
+        )
+        .unwrap();
+    assert!(
+        matches!(traj.stop, StopReason::ZenoAccumulation { .. }),
+        "{:?}",
+        traj.stop
+    );
+    assert!(traj.t_final < 2.0 * v0 / (g * (1.0 - e)));
+}
+
+#[test]
+fn terminal_event_stops_at_the_right_time() {
+    // x = (v0 / w) sin(w t) reaches cap at t = asin(cap w / v0) / w.
+    let (k, v0, cap) = (1.0, 1.0, 0.5);
+    let mut s = Simulator::new(SimulationSettings::default().rtol(1e-13).atol(1e-14)).unwrap();
+    let traj = s
+        .run(
+            &ImpactOscillator { cap: Some(cap) },
+            Mode(0),
+            0.0,
+            &[0.0, v0],
+            &[k, 0.5],
+            10.0,
+        )
+        .unwrap();
+    let t_exact = (cap / v0).asin();
+    match traj.stop {
+        StopReason::TerminalEvent { event, t } => {
+            assert_eq!(event, EventId(1));
+            assert!((t - t_exact).abs() < 1e-12, "t = {t} vs {t_exact}");
+        }
+        other => panic!("expected a terminal event, got {other:?}"),
+    }
+    assert!((traj.state_final[0] - cap).abs() < 1e-12);
+}
+
+#[test]
+fn stroboscopic_samples_use_dense_output() {
+    // Harmonic oscillator sampled every 0.7: compare to sin/cos, and check that sampling does not
+    // change the step sequence (same number of accepted steps as without samples).
+    let settings = SimulationSettings::default()
+        .rtol(1e-13)
+        .atol(1e-14)
+        .samples(SampleTimes::new(0.0, 0.7));
+    let mut s = Simulator::new(settings).unwrap();
+    let sys = ImpactOscillator { cap: None };
+    // Start at x = 1, v = 0: x = cos t never reaches the wall before t = pi/2; integrate to 1.5.
+    let traj = s
+        .run(&sys, Mode(0), 0.0, &[1.0, 0.0], &[1.0, 0.5], 1.5)
+        .unwrap();
+    assert_eq!(traj.samples.len(), 3); // t = 0, 0.7, 1.4
+    for (t, _, x) in traj.samples.iter() {
+        assert!(
+            (x[0] - t.cos()).abs() < 1e-12 && (x[1] + t.sin()).abs() < 1e-12,
+            "t = {t}: {x:?}"
+        );
+    }
+    let mut plain_sim =
+        Simulator::new(SimulationSettings::default().rtol(1e-13).atol(1e-14)).unwrap();
+    let plain = plain_sim
+        .run(&sys, Mode(0), 0.0, &[1.0, 0.0], &[1.0, 0.5], 1.5)
+        .unwrap();
+    assert_eq!(plain.stats.steps, traj.stats.steps);
+}
+
+/// A system with two events inside one long step: x' = 1, identity jumps at x = 0.3 and 0.6
+/// (the second listed first), to check time ordering.
+struct Ramp;
+impl HybridSystem for Ramp {
+    fn state_dim(&self) -> usize {
+        1
+    }
+    fn parameter_names(&self) -> &[&'static str] {
+        &[]
+    }
+    fn mode_count(&self) -> usize {
+        1
+    }
+    fn mode_name(&self, _: Mode) -> &'static str {
+        "ramp"
+    }
+    fn events(&self, _: Mode) -> &[EventId] {
+        &[EventId(1), EventId(0)]
+    }
+    fn event_spec(&self, _: EventId) -> EventSpec {
+        EventSpec {
+            name: "level",
+            direction: Direction::Rising,
+            action: EventAction::Jump { to: Mode(0) },
+        }
+    }
+    fn vector_field(&self, _: Mode, _: &[f64], _: &[f64], out: &mut [f64]) {
+        out[0] = 1.0;
+    }
+    fn event(&self, e: EventId, x: &[f64], _: &[f64]) -> f64 {
+        x[0] - [0.3, 0.6][e.0]
+    }
+}
+
+#[test]
+fn several_events_in_one_step_are_handled_in_time_order() {
+    let settings = SimulationSettings::default().h_initial(1.0);
+    let mut s = Simulator::new(settings).unwrap();
+    let traj = s.run(&Ramp, Mode(0), 0.0, &[0.0], &[], 1.0).unwrap();
+    let times: Vec<f64> = traj.events.iter().map(|e| e.t).collect();
+    assert_eq!(traj.events.len(), 2, "{times:?}");
+    assert_eq!(traj.events[0].event, EventId(0));
+    assert!((times[0] - 0.3).abs() < 1e-13 && (times[1] - 0.6).abs() < 1e-13);
+}
+
+#[test]
+fn sensitivities_match_finite_differences_across_impacts() {
+    let sys = ImpactOscillator { cap: None };
+    let (p, x0, t1) = ([2.0, 0.7], [0.3, 1.1], 12.3);
+    let traj = sim()
+        .run_with_sensitivities(
+            &sys,
+            Mode(0),
+            0.0,
+            &x0,
+            &p,
+            t1,
+            Sensitivities::StateAndParameters,
+        )
+        .unwrap();
+    assert!(traj.events.len() >= 4, "crosses several impacts");
+    let sens = traj.sensitivities.unwrap();
+    let flow = |x0: &[f64], p: &[f64]| {
+        sim()
+            .run(&sys, Mode(0), 0.0, x0, p, t1)
+            .unwrap()
+            .state_final
+    };
+    let h = 1e-6;
+    for j in 0..2 {
+        let (mut xp, mut xm) = (x0, x0);
+        xp[j] += h;
+        xm[j] -= h;
+        let (fp, fm) = (flow(&xp, &p), flow(&xm, &p));
+        for i in 0..2 {
+            let fd = (fp[i] - fm[i]) / (2.0 * h);
+            assert!(
+                (sens.state_entry(i, j) - fd).abs() < 1e-6 * (1.0 + fd.abs()),
+                "dx{i}/dx0_{j}: {} vs {fd}",
+                sens.state_entry(i, j)
+            );
+        }
+    }
+    let params = sens.params.unwrap();
+    for q in 0..2 {
+        let (mut pp, mut pm) = (p, p);
+        pp[q] += h;
+        pm[q] -= h;
+        let (fp, fm) = (flow(&x0, &pp), flow(&x0, &pm));
+        for i in 0..2 {
+            let fd = (fp[i] - fm[i]) / (2.0 * h);
+            let an = params[i + 2 * q];
+            assert!(
+                (an - fd).abs() < 1e-6 * (1.0 + fd.abs()),
+                "dx{i}/dp{q}: {an} vs {fd}"
+            );
+        }
+    }
+}
+
+#[test]
+fn finite_difference_wrapper_gives_the_same_sensitivities() {
+    let sys = ImpactOscillator { cap: None };
+    let (p, x0, t1) = ([2.0, 0.7], [0.3, 1.1], 5.0);
+    let exact = sim()
+        .run_with_sensitivities(&sys, Mode(0), 0.0, &x0, &p, t1, Sensitivities::State)
+        .unwrap()
+        .sensitivities
+        .unwrap();
+    let fd = sim()
+        .run_with_sensitivities(
+            &FiniteDifferences::new(ImpactOscillator { cap: None }),
+            Mode(0),
+            0.0,
+            &x0,
+            &p,
+            t1,
+            Sensitivities::State,
+        )
+        .unwrap()
+        .sensitivities
+        .unwrap();
+    for (a, b) in exact.state.iter().zip(&fd.state) {
+        assert!((a - b).abs() < 1e-7 * (1.0 + a.abs()), "{a} vs {b}");
+    }
+}
+
+#[test]
+fn bad_input_is_an_error_naming_the_value() {
+    let sys = ImpactOscillator { cap: None };
+    let mut s = sim();
+    let e = s
+        .run(&sys, Mode(0), 0.0, &[f64::NAN, 1.0], &[1.0, 0.5], 1.0)
+        .unwrap_err();
+    assert!(
+        matches!(
+            e,
+            Error::NonFinite {
+                what: "initial state",
+                index: 0,
+                ..
+            }
+        ),
+        "{e}"
+    );
+    let e = s
+        .run(&sys, Mode(0), 0.0, &[0.0], &[1.0, 0.5], 1.0)
+        .unwrap_err();
+    assert!(
+        matches!(
+            e,
+            Error::DimensionMismatch {
+                expected: 2,
+                found: 1,
+                ..
+            }
+        ),
+        "{e}"
+    );
+    let e = s
+        .run(&sys, Mode(0), 0.0, &[0.0, 1.0], &[1.0], 1.0)
+        .unwrap_err();
+    assert!(
+        matches!(
+            e,
+            Error::DimensionMismatch {
+                what: "parameters",
+                ..
+            }
+        ),
+        "{e}"
+    );
+    let e = s
+        .run(&sys, Mode(0), 2.0, &[0.0, 1.0], &[1.0, 0.5], 1.0)
+        .unwrap_err();
+    assert!(matches!(e, Error::InvalidTimeSpan { .. }), "{e}");
+    let e = s
+        .run(&sys, Mode(3), 0.0, &[0.0, 1.0], &[1.0, 0.5], 1.0)
+        .unwrap_err();
+    assert!(matches!(e, Error::InvalidMode { .. }), "{e}");
+    for settings in [
+        SimulationSettings::default().rtol(0.0),
+        SimulationSettings::default().atol(-1.0),
+        SimulationSettings::default().h_max(0.0),
+        SimulationSettings::default().samples(SampleTimes::new(0.0, -1.0)),
+    ] {
+        let e = Simulator::new(settings).unwrap_err();
+        assert!(matches!(e, Error::InvalidSetting { .. }), "{e}");
+    }
+}
+
+/// x' = -1 with a vector field that is NaN for x < 0 (sqrt).
+struct Sqrt;
+impl HybridSystem for Sqrt {
+    fn state_dim(&self) -> usize {
+        1
+    }
+    fn parameter_names(&self) -> &[&'static str] {
+        &[]
+    }
+    fn mode_count(&self) -> usize {
+        1
+    }
+    fn mode_name(&self, _: Mode) -> &'static str {
+        "m"
+    }
+    fn events(&self, _: Mode) -> &[EventId] {
+        &[]
+    }
+    fn event_spec(&self, _: EventId) -> EventSpec {
+        unreachable!()
+    }
+    fn vector_field(&self, _: Mode, x: &[f64], _: &[f64], out: &mut [f64]) {
+        out[0] = -1.0 + 0.0 * x[0].sqrt();
+    }
+    fn event(&self, _: EventId, _: &[f64], _: &[f64]) -> f64 {
+        unreachable!()
+    }
+}
+
+#[test]
+fn nan_mid_run_ends_with_an_error_saying_when_and_where() {
+    let e = sim()
+        .run(&Sqrt, Mode(0), 0.0, &[1.0], &[], 5.0)
+        .unwrap_err();
+    match &e {
+        Error::NonFiniteVectorField { t, state, mode, .. } => {
+            assert!(*t > 0.9 && *t < 5.0, "t = {t}");
+            assert!(state[0] < 0.0);
+            assert_eq!(*mode, Mode(0));
+        }
+        other => panic!("unexpected error {other}"),
+    }
+    assert!(e.to_string().contains("at t ="), "{e}");
+}
+
+#[test]
+fn step_limit_stops_gracefully() {
+    let settings = SimulationSettings::default().max_steps(10);
+    let traj = Simulator::new(settings)
+        .unwrap()
+        .run(
+            &ImpactOscillator { cap: None },
+            Mode(0),
+            0.0,
+            &[0.0, 1.0],
+            &[1.0, 0.5],
+            100.0,
+        )
+        .unwrap();
+    assert!(matches!(traj.stop, StopReason::StepLimit { .. }));
+    assert!(traj.t_final < 100.0);
+}

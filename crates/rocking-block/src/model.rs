@@ -1,0 +1,464 @@
+//! The harmonically forced rocking rigid block (the study's dimensionless eqs. (6)-(12)).
+//!
+//! State $z = (\varphi, \psi, r, s)$; parameters $p = (\omega, \alpha, \xi, \theta_b)$ in that
+//! order ([`OMEGA`], [`ALPHA`], [`XI`], [`THETA_B`]). The forcing phase $\beta$ is an initial
+//! condition, $(r, s) = (\sin\beta, \cos\beta)$, see [`initial_state`].
+//!
+//! Modes: [`PLUS`] (rocking about the right corner, $\varphi > 0$), [`MINUS`] (left corner,
+//! $\varphi < 0$) and [`REST`] (the block sits flat, $\varphi = \psi = 0$):
+//! $$\dot\varphi = \psi,\quad
+//!   \dot\psi = \tfrac34\left(\alpha\omega^2 r \sin(\theta_b \pm \varphi) \mp \cos(\theta_b \pm
+//!   \varphi) - \xi\psi\right)\ \text{(mode } \pm),$$
+//! $$\dot r = r + \omega s - r(r^2+s^2),\qquad \dot s = s - \omega r - s(r^2+s^2),$$
+//! with $\dot\varphi = \dot\psi = 0$ at rest. Events: impacts at $\varphi = 0$ (mode $+$ falling,
+//! mode $-$ rising) with reset $\psi \mapsto e\psi$ and a switch of sides, where
+//! $e = 1 - \tfrac32\sin^2(\pi/2 - \theta_b)$; overturning at $\varphi = \pm\pi/2$ (terminal);
+//! lift-off from rest when $\alpha\omega^2 r \tan\theta_b$ crosses $\pm 1$. Accumulating impacts
+//! (chatter) switch to [`REST`] (see [`hycont_core::ZenoSettings`] for the criterion).
+
+use hycont_core::{
+    Direction, Error, EventAction, EventId, EventSpec, HybridJacobians, HybridSystem, Mode,
+    ParamId, Result,
+};
+use serde::{Deserialize, Serialize};
+use std::f64::consts::FRAC_PI_2;
+
+/// Rocking about the right corner ($\varphi > 0$).
+pub const PLUS: Mode = Mode(0);
+/// Rocking about the left corner ($\varphi < 0$).
+pub const MINUS: Mode = Mode(1);
+/// At rest on the ground ($\varphi = \psi = 0$).
+pub const REST: Mode = Mode(2);
+
+/// Impact ending a flight in mode `+` ($\varphi \downarrow 0$); continues in mode `-`.
+pub const IMPACT_PLUS: EventId = EventId(0);
+/// Impact ending a flight in mode `-` ($\varphi \uparrow 0$); continues in mode `+`.
+pub const IMPACT_MINUS: EventId = EventId(1);
+/// Overturning to the right, $\varphi \uparrow \pi/2$ (terminal).
+pub const OVERTURN_POS: EventId = EventId(2);
+/// Overturning to the left, $\varphi \downarrow -\pi/2$ (terminal).
+pub const OVERTURN_NEG: EventId = EventId(3);
+/// Lift-off from rest into mode `+` ($\alpha\omega^2 r\tan\theta_b \uparrow 1$).
+pub const LIFT_OFF_PLUS: EventId = EventId(4);
+/// Lift-off from rest into mode `-` ($\alpha\omega^2 r\tan\theta_b \downarrow -1$).
+pub const LIFT_OFF_MINUS: EventId = EventId(5);
+
+/// Handle of the forcing frequency $\omega$.
+pub const OMEGA: ParamId = ParamId(0);
+/// Handle of the forcing amplitude $\alpha$.
+pub const ALPHA: ParamId = ParamId(1);
+/// Handle of the damping $\xi$.
+pub const XI: ParamId = ParamId(2);
+/// Handle of the slenderness angle $\theta_b$.
+pub const THETA_B: ParamId = ParamId(3);
+
+/// Default slenderness angle of the study (Table I), rad.
+pub const DEFAULT_THETA_B: f64 = 0.8795;
+/// Default dimensionless damping of the study (Table I made dimensionless).
+pub const DEFAULT_XI: f64 = 0.00022;
+
+const NAMES: [&str; 4] = ["omega", "alpha", "xi", "theta_b"];
+const EVENTS_PLUS: [EventId; 2] = [IMPACT_PLUS, OVERTURN_POS];
+const EVENTS_MINUS: [EventId; 2] = [IMPACT_MINUS, OVERTURN_NEG];
+const EVENTS_REST: [EventId; 2] = [LIFT_OFF_PLUS, LIFT_OFF_MINUS];
+
+/// Coefficient of restitution $e(\theta_b) = 1 - \tfrac32 \sin^2(\pi/2 - \theta_b)$.
+///
+/// ```
+/// let e = rocking_block::restitution(rocking_block::DEFAULT_THETA_B);
+/// assert!((e - 0.3902).abs() < 5e-4);
+/// ```
+#[must_use]
+pub fn restitution(theta_b: f64) -> f64 {
+    let c = (FRAC_PI_2 - theta_b).sin();
+    1.0 - 1.5 * c * c
+}
+
+/// $de/d\theta_b = 3 \sin(\pi/2-\theta_b)\cos(\pi/2-\theta_b)$.
+fn restitution_derivative(theta_b: f64) -> f64 {
+    let a = FRAC_PI_2 - theta_b;
+    3.0 * a.sin() * a.cos()
+}
+
+/// Parameters of the rocking block, defaulting to the study's (Table I, dimensionless).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Parameters {
+    /// Forcing frequency $\omega > 0$.
+    pub omega: f64,
+    /// Forcing amplitude $\alpha \ge 0$ (the study's range is $(0, 1.06]$).
+    pub alpha: f64,
+    /// Damping $\xi \ge 0$.
+    pub xi: f64,
+    /// Slenderness angle $\theta_b \in (\arccos\sqrt{2/3}, \pi/2)$ (so that $0 < e < 1$).
+    pub theta_b: f64,
+}
+
+impl Default for Parameters {
+    /// The study's start point: $\omega = 1.3$, $\alpha = 0.66$, $\xi = 0.00022$,
+    /// $\theta_b = 0.8795$.
+    fn default() -> Self {
+        Self {
+            omega: 1.3,
+            alpha: 0.66,
+            xi: DEFAULT_XI,
+            theta_b: DEFAULT_THETA_B,
+        }
+    }
+}
+
+impl Parameters {
+    /// Parameters at forcing `(omega, alpha)` with the study's damping and slenderness.
+    #[must_use]
+    pub fn new(omega: f64, alpha: f64) -> Self {
+        Self {
+            omega,
+            alpha,
+            ..Self::default()
+        }
+    }
+
+    /// Checks every parameter against its valid range.
+    ///
+    /// # Errors
+    /// [`Error::ParameterOutOfRange`] naming the offending parameter and value.
+    ///
+    /// ```
+    /// use rocking_block::Parameters;
+    /// assert!(Parameters::default().validate().is_ok());
+    /// let err = Parameters::new(-1.0, 0.66).validate().unwrap_err();
+    /// assert!(err.to_string().contains("omega = -1"));
+    /// ```
+    pub fn validate(&self) -> Result<()> {
+        let bad = |name, value, reason| {
+            Err(Error::ParameterOutOfRange {
+                name,
+                value,
+                reason,
+            })
+        };
+        if !(self.omega > 0.0 && self.omega.is_finite()) {
+            return bad("omega", self.omega, "must be > 0 and finite");
+        }
+        if !(self.alpha >= 0.0 && self.alpha.is_finite()) {
+            return bad("alpha", self.alpha, "must be >= 0 and finite");
+        }
+        if !(self.xi >= 0.0 && self.xi.is_finite()) {
+            return bad("xi", self.xi, "must be >= 0 and finite");
+        }
+        if !(self.theta_b > 0.0 && self.theta_b < FRAC_PI_2) {
+            return bad("theta_b", self.theta_b, "must be in (0, pi/2)");
+        }
+        if restitution(self.theta_b) <= 0.0 {
+            return bad(
+                "theta_b",
+                self.theta_b,
+                "gives restitution e = 1 - 3/2 cos^2(theta_b) <= 0; need theta_b > acos(sqrt(2/3)) = 0.6155",
+            );
+        }
+        Ok(())
+    }
+
+    /// The parameter vector in the model's order (`omega, alpha, xi, theta_b`).
+    #[must_use]
+    pub fn to_vec(&self) -> Vec<f64> {
+        vec![self.omega, self.alpha, self.xi, self.theta_b]
+    }
+
+    /// The static boundary $\pi/2 - \theta_b$: where the centre of mass passes over the pivot.
+    #[must_use]
+    pub fn static_boundary(&self) -> f64 {
+        FRAC_PI_2 - self.theta_b
+    }
+
+    /// The coefficient of restitution, see [`restitution`].
+    #[must_use]
+    pub fn restitution(&self) -> f64 {
+        restitution(self.theta_b)
+    }
+
+    /// Whether a block at rest can ever lift off on the forcing's limit cycle ($|r| \le 1$):
+    /// $\alpha\omega^2\tan\theta_b > 1$.
+    #[must_use]
+    pub fn lift_off_possible(&self) -> bool {
+        self.alpha * self.omega * self.omega * self.theta_b.tan() > 1.0
+    }
+
+    /// The forcing period $2\pi/\omega$.
+    #[must_use]
+    pub fn forcing_period(&self) -> f64 {
+        2.0 * std::f64::consts::PI / self.omega
+    }
+}
+
+/// The initial state $(\varphi_0, \psi_0, \sin\beta, \cos\beta)$ for forcing phase $\beta$.
+#[must_use]
+pub fn initial_state(phi0: f64, psi0: f64, beta: f64) -> [f64; 4] {
+    [phi0, psi0, beta.sin(), beta.cos()]
+}
+
+/// The mode a state starts in: by the sign of $\varphi$, then of $\psi$; at
+/// $\varphi = \psi = 0$ rest, unless the forcing already exceeds the lift-off threshold.
+#[must_use]
+pub fn initial_mode(x: &[f64; 4], params: &Parameters) -> Mode {
+    let [phi, psi, r, _] = *x;
+    if phi > 0.0 || (phi == 0.0 && psi > 0.0) {
+        PLUS
+    } else if phi < 0.0 || (phi == 0.0 && psi < 0.0) {
+        MINUS
+    } else {
+        rest_or_lift_off(params.alpha, params.omega, params.theta_b, r)
+    }
+}
+
+fn rest_or_lift_off(alpha: f64, omega: f64, theta_b: f64, r: f64) -> Mode {
+    let c = alpha * omega * omega * r * theta_b.tan();
+    if c > 1.0 {
+        PLUS
+    } else if c < -1.0 {
+        MINUS
+    } else {
+        REST
+    }
+}
+
+/// The rocking block as a [`HybridSystem`] with analytic [`HybridJacobians`].
+///
+/// ```
+/// use hycont_core::{SimulationSettings, Simulator};
+/// use rocking_block::{initial_mode, initial_state, Parameters, RockingBlock};
+/// let params = Parameters::new(1.3, 0.66);
+/// let x0 = initial_state(0.01, 0.0, 0.0);
+/// let mut sim = Simulator::new(SimulationSettings::default()).unwrap();
+/// let traj = sim
+///     .run(&RockingBlock, initial_mode(&x0, &params), 0.0, &x0, &params.to_vec(), 50.0)
+///     .unwrap();
+/// assert!(traj.stats.jumps > 0);
+/// ```
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct RockingBlock;
+
+impl HybridSystem for RockingBlock {
+    fn state_dim(&self) -> usize {
+        4
+    }
+
+    fn parameter_names(&self) -> &[&'static str] {
+        &NAMES
+    }
+
+    fn mode_count(&self) -> usize {
+        3
+    }
+
+    fn mode_name(&self, mode: Mode) -> &'static str {
+        match mode {
+            PLUS => "+",
+            MINUS => "-",
+            _ => "rest",
+        }
+    }
+
+    fn events(&self, mode: Mode) -> &[EventId] {
+        match mode {
+            PLUS => &EVENTS_PLUS,
+            MINUS => &EVENTS_MINUS,
+            _ => &EVENTS_REST,
+        }
+    }
+
+    fn event_spec(&self, event: EventId) -> EventSpec {
+        match event {
+            IMPACT_PLUS => EventSpec {
+                name: "impact+",
+                direction: Direction::Falling,
+                action: EventAction::Jump { to: MINUS },
+            },
+            IMPACT_MINUS => EventSpec {
+                name: "impact-",
+                direction: Direction::Rising,
+                action: EventAction::Jump { to: PLUS },
+            },
+            OVERTURN_POS => EventSpec {
+                name: "overturn+",
+                direction: Direction::Rising,
+                action: EventAction::Terminal,
+            },
+            OVERTURN_NEG => EventSpec {
+                name: "overturn-",
+                direction: Direction::Falling,
+                action: EventAction::Terminal,
+            },
+            LIFT_OFF_PLUS => EventSpec {
+                name: "lift-off+",
+                direction: Direction::Rising,
+                action: EventAction::Jump { to: PLUS },
+            },
+            _ => EventSpec {
+                name: "lift-off-",
+                direction: Direction::Falling,
+                action: EventAction::Jump { to: MINUS },
+            },
+        }
+    }
+
+    #[inline]
+    fn vector_field(&self, mode: Mode, x: &[f64], p: &[f64], out: &mut [f64]) {
+        let (phi, psi, r, s) = (x[0], x[1], x[2], x[3]);
+        let (omega, alpha, xi, theta_b) = (p[0], p[1], p[2], p[3]);
+        let rho2 = r * r + s * s;
+        out[2] = r + omega * s - r * rho2;
+        out[3] = s - omega * r - s * rho2;
+        let a = alpha * omega * omega * r;
+        match mode {
+            PLUS => {
+                let (sn, cs) = (theta_b + phi).sin_cos();
+                out[0] = psi;
+                out[1] = 0.75 * (a * sn - cs - xi * psi);
+            }
+            MINUS => {
+                let (sn, cs) = (theta_b - phi).sin_cos();
+                out[0] = psi;
+                out[1] = 0.75 * (a * sn + cs - xi * psi);
+            }
+            _ => {
+                out[0] = 0.0;
+                out[1] = 0.0;
+            }
+        }
+    }
+
+    fn event(&self, event: EventId, x: &[f64], p: &[f64]) -> f64 {
+        match event {
+            IMPACT_PLUS | IMPACT_MINUS => x[0],
+            OVERTURN_POS => x[0] - FRAC_PI_2,
+            OVERTURN_NEG => x[0] + FRAC_PI_2,
+            LIFT_OFF_PLUS => p[1] * p[0] * p[0] * x[2] * p[3].tan() - 1.0,
+            _ => p[1] * p[0] * p[0] * x[2] * p[3].tan() + 1.0,
+        }
+    }
+
+    fn reset(&self, event: EventId, x: &[f64], p: &[f64], out: &mut [f64]) {
+        out.copy_from_slice(x);
+        if event == IMPACT_PLUS || event == IMPACT_MINUS {
+            out[1] = restitution(p[3]) * x[1];
+        }
+    }
+
+    fn zeno_transition(
+        &self,
+        _mode: Mode,
+        _event: EventId,
+        x: &[f64],
+        p: &[f64],
+        out: &mut [f64],
+    ) -> Option<Mode> {
+        out.copy_from_slice(x);
+        out[0] = 0.0;
+        out[1] = 0.0;
+        Some(rest_or_lift_off(p[1], p[0], p[3], x[2]))
+    }
+}
+
+impl HybridJacobians for RockingBlock {
+    fn vector_field_jacobian(
+        &self,
+        mode: Mode,
+        x: &[f64],
+        p: &[f64],
+        dx: &mut [f64],
+        dp: Option<&mut [f64]>,
+    ) {
+        let (phi, psi, r, s) = (x[0], x[1], x[2], x[3]);
+        let (omega, alpha, xi, theta_b) = (p[0], p[1], p[2], p[3]);
+        dx.fill(0.0);
+        // Column-major, 4 x 4: dx[i + 4 j] = d f_i / d x_j.
+        dx[2] = 1.0 - 3.0 * r * r - s * s;
+        dx[2 + 4 * 3] = omega - 2.0 * r * s;
+        dx[3] = -omega - 2.0 * r * s;
+        dx[3 + 4 * 3] = 1.0 - r * r - 3.0 * s * s;
+        let aw2 = alpha * omega * omega;
+        // (sin, cos) of the pivot angle and the sign of phi in it.
+        let (sn, cs, sign) = match mode {
+            PLUS => {
+                let (sn, cs) = (theta_b + phi).sin_cos();
+                (sn, cs, 1.0)
+            }
+            MINUS => {
+                let (sn, cs) = (theta_b - phi).sin_cos();
+                (sn, cs, -1.0)
+            }
+            _ => (0.0, 0.0, 0.0),
+        };
+        let moving = mode == PLUS || mode == MINUS;
+        if moving {
+            dx[4] = 1.0; // d phi' / d psi
+            // psi' = 3/4 (aw2 r sin(tb + sign phi) - sign cos(tb + sign phi) - xi psi)
+            dx[1] = 0.75 * (aw2 * r * cs * sign + sn);
+            dx[1 + 4] = -0.75 * xi;
+            dx[1 + 4 * 2] = 0.75 * aw2 * sn;
+        }
+        if let Some(dp) = dp {
+            dp.fill(0.0);
+            // Column-major, 4 x 4: dp[i + 4 q].
+            dp[2] = s;
+            dp[3] = -r;
+            if moving {
+                dp[1] = 0.75 * 2.0 * alpha * omega * r * sn;
+                dp[1 + 4] = 0.75 * omega * omega * r * sn;
+                dp[1 + 4 * 2] = -0.75 * psi;
+                dp[1 + 4 * 3] = 0.75 * (aw2 * r * cs + sign * sn);
+            }
+        }
+    }
+
+    fn event_gradient(
+        &self,
+        event: EventId,
+        x: &[f64],
+        p: &[f64],
+        dx: &mut [f64],
+        dp: Option<&mut [f64]>,
+    ) {
+        dx.fill(0.0);
+        let (omega, alpha, theta_b) = (p[0], p[1], p[3]);
+        let lift = event == LIFT_OFF_PLUS || event == LIFT_OFF_MINUS;
+        if lift {
+            dx[2] = alpha * omega * omega * theta_b.tan();
+        } else {
+            dx[0] = 1.0;
+        }
+        if let Some(dp) = dp {
+            dp.fill(0.0);
+            if lift {
+                let (r, t) = (x[2], theta_b.tan());
+                dp[0] = 2.0 * alpha * omega * r * t;
+                dp[1] = omega * omega * r * t;
+                dp[3] = alpha * omega * omega * r * (1.0 + t * t);
+            }
+        }
+    }
+
+    fn reset_jacobian(
+        &self,
+        event: EventId,
+        x: &[f64],
+        p: &[f64],
+        dx: &mut [f64],
+        dp: Option<&mut [f64]>,
+    ) {
+        dx.fill(0.0);
+        for i in 0..4 {
+            dx[i + 4 * i] = 1.0;
+        }
+        let impact = event == IMPACT_PLUS || event == IMPACT_MINUS;
+        if impact {
+            dx[1 + 4] = restitution(p[3]);
+        }
+        if let Some(dp) = dp {
+            dp.fill(0.0);
+            if impact {
+                dp[1 + 4 * 3] = restitution_derivative(p[3]) * x[1];
+            }
+        }
+    }
+}

@@ -1,0 +1,189 @@
+//! SVG figures (plotters, SVG backend only: no system libraries needed).
+
+use crate::error::{Error, Result};
+use crate::model::{MINUS, PLUS, Parameters};
+use hycont_core::{Mode, Trajectory};
+use plotters::prelude::*;
+use std::path::Path;
+
+/// Colour of a mode: `+` blue, `-` red, rest grey.
+fn mode_colour(mode: Mode) -> RGBColor {
+    match mode {
+        PLUS => RGBColor(31, 119, 180),
+        MINUS => RGBColor(214, 39, 40),
+        _ => RGBColor(110, 110, 110),
+    }
+}
+
+/// A piece of trajectory in one mode: `(t, phi, psi)` points.
+struct Piece {
+    mode: Mode,
+    points: Vec<(f64, f64, f64)>,
+}
+
+/// A jump in the phase plane: `(pre, post)` points `(phi, psi)`.
+type Jump = ((f64, f64), (f64, f64));
+
+/// Splits a trajectory's dense samples at its events into single-mode pieces, and returns the
+/// jumps `(pre, post)` in the phase plane.
+fn pieces(traj: &Trajectory) -> (Vec<Piece>, Vec<Jump>) {
+    let mut pieces = Vec::new();
+    let mut jumps = Vec::new();
+    let mut samples = traj.samples.iter().peekable();
+    let mut current = Piece {
+        mode: traj
+            .samples
+            .mode
+            .first()
+            .copied()
+            .unwrap_or(traj.mode_final),
+        points: Vec::new(),
+    };
+    let mut breaks: Vec<(f64, Mode, Vec<f64>, Vec<f64>)> = traj
+        .events
+        .iter()
+        .filter_map(|e| {
+            e.mode_after
+                .map(|m| (e.t, m, e.state_before.clone(), e.state_after.clone()))
+        })
+        .collect();
+    breaks.extend(traj.zeno.iter().map(|z| {
+        (
+            z.t,
+            z.mode_after,
+            z.state_after.clone(),
+            z.state_after.clone(),
+        )
+    }));
+    breaks.sort_by(|a, b| a.0.total_cmp(&b.0));
+    for (t, mode_after, pre, post) in breaks {
+        while let Some((ts, _, x)) = samples.next_if(|(ts, _, _)| *ts < t) {
+            current.points.push((ts, x[0], x[1]));
+        }
+        current.points.push((t, pre[0], pre[1]));
+        jumps.push(((pre[0], pre[1]), (post[0], post[1])));
+        let next = Piece {
+            mode: mode_after,
+            points: vec![(t, post[0], post[1])],
+        };
+        pieces.push(std::mem::replace(&mut current, next));
+    }
+    for (ts, _, x) in samples {
+        current.points.push((ts, x[0], x[1]));
+    }
+    current
+        .points
+        .push((traj.t_final, traj.state_final[0], traj.state_final[1]));
+    pieces.push(current);
+    (pieces, jumps)
+}
+
+fn plot_err(path: &Path, e: impl std::fmt::Display) -> Error {
+    Error::Plot {
+        path: path.to_path_buf(),
+        message: e.to_string(),
+    }
+}
+
+fn range(values: impl Iterator<Item = f64>) -> (f64, f64) {
+    let (lo, hi) = values.fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| {
+        (lo.min(v), hi.max(v))
+    });
+    if !lo.is_finite() || !hi.is_finite() {
+        return (-1.0, 1.0);
+    }
+    let pad = 0.05 * (hi - lo).max(1e-3);
+    (lo - pad, hi + pad)
+}
+
+/// Draws the time series $\varphi(t)$ (top) and the phase portrait $(\varphi, \psi)$ (bottom) of a
+/// simulation with dense samples, segments coloured by mode and impacts drawn as jumps; the
+/// static boundary $\pm(\pi/2 - \theta_b)$ is marked.
+///
+/// # Errors
+/// [`Error::Plot`] if the file cannot be written.
+pub fn trajectory_svg(
+    path: &Path,
+    title: &str,
+    traj: &Trajectory,
+    params: &Parameters,
+) -> Result<()> {
+    let (pieces, jumps) = pieces(traj);
+    let root = SVGBackend::new(path, (1000, 900)).into_drawing_area();
+    root.fill(&WHITE).map_err(|e| plot_err(path, e))?;
+    let (upper, lower) = root.split_vertically(420);
+    let boundary = params.static_boundary();
+
+    let t0 = pieces
+        .first()
+        .and_then(|p| p.points.first())
+        .map_or(0.0, |p| p.0);
+    let t1 = traj.t_final.max(t0 + 1e-9);
+    let (phi_lo, phi_hi) = range(
+        pieces
+            .iter()
+            .flat_map(|p| p.points.iter().map(|q| q.1))
+            .chain([boundary, -boundary]),
+    );
+    let mut chart = ChartBuilder::on(&upper)
+        .caption(title, ("sans-serif", 20))
+        .margin(12)
+        .x_label_area_size(35)
+        .y_label_area_size(55)
+        .build_cartesian_2d(t0..t1, phi_lo..phi_hi)
+        .map_err(|e| plot_err(path, e))?;
+    chart
+        .configure_mesh()
+        .x_desc("t")
+        .y_desc("phi")
+        .draw()
+        .map_err(|e| plot_err(path, e))?;
+    for b in [boundary, -boundary] {
+        chart
+            .draw_series(LineSeries::new(
+                [(t0, b), (t1, b)],
+                ShapeStyle::from(&BLACK.mix(0.4)).stroke_width(1),
+            ))
+            .map_err(|e| plot_err(path, e))?;
+    }
+    for piece in &pieces {
+        chart
+            .draw_series(LineSeries::new(
+                piece.points.iter().map(|q| (q.0, q.1)),
+                mode_colour(piece.mode).stroke_width(2),
+            ))
+            .map_err(|e| plot_err(path, e))?;
+    }
+
+    let (psi_lo, psi_hi) = range(pieces.iter().flat_map(|p| p.points.iter().map(|q| q.2)));
+    let mut phase = ChartBuilder::on(&lower)
+        .margin(12)
+        .x_label_area_size(35)
+        .y_label_area_size(55)
+        .build_cartesian_2d(phi_lo..phi_hi, psi_lo..psi_hi)
+        .map_err(|e| plot_err(path, e))?;
+    phase
+        .configure_mesh()
+        .x_desc("phi")
+        .y_desc("psi")
+        .draw()
+        .map_err(|e| plot_err(path, e))?;
+    for piece in &pieces {
+        phase
+            .draw_series(LineSeries::new(
+                piece.points.iter().map(|q| (q.1, q.2)),
+                mode_colour(piece.mode).stroke_width(2),
+            ))
+            .map_err(|e| plot_err(path, e))?;
+    }
+    for (pre, post) in &jumps {
+        phase
+            .draw_series(LineSeries::new(
+                [*pre, *post],
+                ShapeStyle::from(&BLACK.mix(0.5)).stroke_width(1),
+            ))
+            .map_err(|e| plot_err(path, e))?;
+    }
+    root.present().map_err(|e| plot_err(path, e))?;
+    Ok(())
+}

@@ -1,0 +1,194 @@
+//! Simulating the rocking block from an initial condition, and summarising the outcome.
+
+use crate::error::Result;
+use crate::model::{
+    IMPACT_MINUS, IMPACT_PLUS, OVERTURN_NEG, OVERTURN_POS, Parameters, REST, RockingBlock,
+    initial_mode, initial_state,
+};
+use hycont_core::{
+    Error as CoreError, HybridSystem, SampleTimes, SimulationSettings, SimulationStats, Simulator,
+    StopReason, Trajectory,
+};
+use serde::{Deserialize, Serialize};
+
+/// How a simulation ended, physically.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Outcome {
+    /// Still moving at the end time (possibly with rest phases, if lift-off is possible).
+    Running,
+    /// At rest at the end time, and lift-off is impossible ($\alpha\omega^2\tan\theta_b \le 1$):
+    /// rest is absorbing.
+    Rest,
+    /// Overturned to the right ($\varphi = \pi/2$).
+    OverturnPos,
+    /// Overturned to the left ($\varphi = -\pi/2$).
+    OverturnNeg,
+}
+
+/// What to simulate.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct SimulationRequest {
+    /// Model parameters.
+    pub params: Parameters,
+    /// Initial angle $\varphi_0$.
+    pub phi0: f64,
+    /// Initial angular velocity $\psi_0$.
+    pub psi0: f64,
+    /// Forcing phase $\beta$: $(r_0, s_0) = (\sin\beta, \cos\beta)$.
+    pub beta: f64,
+    /// Explicit forcing-oscillator state $(r_0, s_0)$, overriding `beta` (e.g. to start from a
+    /// state printed in the study).
+    pub forcing_state: Option<[f64; 2]>,
+    /// Duration in forcing periods $2\pi/\omega$.
+    pub periods: f64,
+    /// Relative tolerance.
+    pub rtol: f64,
+    /// Absolute tolerance.
+    pub atol: f64,
+    /// Dense samples per forcing period kept for plots and `max_abs_phi` (0: stroboscopic only).
+    pub points_per_period: usize,
+}
+
+impl Default for SimulationRequest {
+    /// The study's start point $(\omega, \alpha) = (1.3, 0.66)$ from
+    /// $\varphi_0 = 0.01, \psi_0 = 0, \beta = 0$, 100 periods, `rtol = 1e-10`, `atol = 1e-12`.
+    fn default() -> Self {
+        Self {
+            params: Parameters::default(),
+            phi0: 0.01,
+            psi0: 0.0,
+            beta: 0.0,
+            forcing_state: None,
+            periods: 100.0,
+            rtol: 1e-10,
+            atol: 1e-12,
+            points_per_period: 0,
+        }
+    }
+}
+
+/// Summary of a simulation (the `simulate --json` output).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct SimulationReport {
+    /// Physical outcome.
+    pub outcome: Outcome,
+    /// Parameters used.
+    pub parameters: Parameters,
+    /// Initial condition $(\varphi_0, \psi_0, r_0, s_0)$.
+    pub initial_state: [f64; 4],
+    /// Final time.
+    pub t_end: f64,
+    /// Number of impacts.
+    pub impacts: u64,
+    /// Final state $(\varphi, \psi, r, s)$.
+    pub final_state: Vec<f64>,
+    /// Final mode: `"+"`, `"-"` or `"rest"`.
+    pub final_mode: String,
+    /// Times at which chattering impacts accumulated and the block came to rest.
+    pub rest_times: Vec<f64>,
+    /// Stroboscopic samples $(\varphi, \psi)$ at $t = 2\pi k/\omega$.
+    pub strobe: Vec<[f64; 2]>,
+    /// Largest $|\varphi|$ seen (over the dense samples and the events; only with dense samples).
+    pub max_abs_phi: Option<f64>,
+    /// Work counters.
+    pub stats: SimulationStats,
+}
+
+/// Simulates the block and returns the report and the full trajectory.
+///
+/// # Errors
+/// Invalid parameters or tolerances, non-finite initial conditions, or an integration failure.
+///
+/// ```
+/// use rocking_block::{simulate, Outcome, Parameters, SimulationRequest};
+/// // Forcing too weak to lift the block: it stays at rest.
+/// let req = SimulationRequest { params: Parameters::new(1.3, 0.3), phi0: 0.0, periods: 5.0,
+///                               ..SimulationRequest::default() };
+/// let (report, _) = simulate(&req).unwrap();
+/// assert_eq!(report.outcome, Outcome::Rest);
+/// assert_eq!(report.impacts, 0);
+/// ```
+pub fn simulate(req: &SimulationRequest) -> Result<(SimulationReport, Trajectory)> {
+    req.params.validate()?;
+    let [r0, s0] = req
+        .forcing_state
+        .unwrap_or([req.beta.sin(), req.beta.cos()]);
+    for (name, value) in [
+        ("phi0", req.phi0),
+        ("psi0", req.psi0),
+        ("beta", req.beta),
+        ("r0", r0),
+        ("s0", s0),
+    ] {
+        if !value.is_finite() {
+            return Err(CoreError::NonFinite {
+                what: name,
+                index: 0,
+                value,
+            }
+            .into());
+        }
+    }
+    if !(req.periods >= 0.0 && req.periods.is_finite()) {
+        return Err(crate::Error::InvalidArgument {
+            name: "periods",
+            value: req.periods.to_string(),
+            reason: "must be >= 0 and finite",
+        });
+    }
+    let period = req.params.forcing_period();
+    let per = req.points_per_period.max(1);
+    let settings = SimulationSettings::default()
+        .rtol(req.rtol)
+        .atol(req.atol)
+        .samples(SampleTimes::new(0.0, period / per as f64));
+    let mut sim = Simulator::new(settings)?;
+    let mut x0 = initial_state(req.phi0, req.psi0, req.beta);
+    x0[2] = r0;
+    x0[3] = s0;
+    let mode = initial_mode(&x0, &req.params);
+    let p = req.params.to_vec();
+    let traj = sim.run(&RockingBlock, mode, 0.0, &x0, &p, req.periods * period)?;
+
+    let outcome = match traj.stop {
+        StopReason::TerminalEvent { event, .. } if event == OVERTURN_POS => Outcome::OverturnPos,
+        StopReason::TerminalEvent { event, .. } if event == OVERTURN_NEG => Outcome::OverturnNeg,
+        _ if traj.mode_final == REST && !req.params.lift_off_possible() => Outcome::Rest,
+        _ => Outcome::Running,
+    };
+    let impacts = traj
+        .events
+        .iter()
+        .filter(|e| e.event == IMPACT_PLUS || e.event == IMPACT_MINUS)
+        .count() as u64;
+    let strobe = traj
+        .samples
+        .iter()
+        .enumerate()
+        .filter(|(i, _)| i % per == 0)
+        .map(|(_, (_, _, x))| [x[0], x[1]])
+        .collect();
+    let max_abs_phi = (req.points_per_period > 0).then(|| {
+        let dense = traj.samples.iter().map(|(_, _, x)| x[0].abs());
+        let events = traj.events.iter().map(|e| e.state_before[0].abs());
+        dense
+            .chain(events)
+            .chain(std::iter::once(traj.state_final[0].abs()))
+            .fold(0.0, f64::max)
+    });
+    let report = SimulationReport {
+        outcome,
+        parameters: req.params,
+        initial_state: x0,
+        t_end: traj.t_final,
+        impacts,
+        final_state: traj.state_final.clone(),
+        final_mode: RockingBlock.mode_name(traj.mode_final).to_string(),
+        rest_times: traj.zeno.iter().map(|z| z.t_accumulation).collect(),
+        strobe,
+        max_abs_phi,
+        stats: traj.stats,
+    };
+    Ok((report, traj))
+}
