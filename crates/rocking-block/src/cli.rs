@@ -80,6 +80,16 @@ pub struct SimulateArgs {
     pub svg: Option<PathBuf>,
 }
 
+/// Creates the parent directory of an output file, if needed.
+fn ensure_parent(path: &Path) -> Result<()> {
+    match path.parent() {
+        Some(dir) if !dir.as_os_str().is_empty() => {
+            std::fs::create_dir_all(dir).map_err(io_err(dir))
+        }
+        _ => Ok(()),
+    }
+}
+
 fn io_err(path: &Path) -> impl FnOnce(std::io::Error) -> Error + '_ {
     move |source| Error::Io {
         path: path.to_path_buf(),
@@ -120,6 +130,7 @@ fn run_simulate(args: &SimulateArgs, out: &mut dyn Write) -> Result<()> {
     };
     let (report, traj) = simulate(&req)?;
     if let Some(path) = &args.csv {
+        ensure_parent(path)?;
         let mut text = String::from("t,mode,phi,psi,r,s\n");
         for (t, mode, x) in traj.samples.iter() {
             let name = crate::model::RockingBlock.mode_name(mode);
@@ -128,6 +139,7 @@ fn run_simulate(args: &SimulateArgs, out: &mut dyn Write) -> Result<()> {
         std::fs::write(path, text).map_err(io_err(path))?;
     }
     if let Some(path) = &args.svg {
+        ensure_parent(path)?;
         let title = format!(
             "rocking block: omega = {}, alpha = {}, phi0 = {}, psi0 = {} ({:?})",
             params.omega, params.alpha, args.phi0, args.psi0, report.outcome

@@ -7,7 +7,10 @@
 //!
 //! ```
 //! use rocking_block::{simulate, Outcome, SimulationRequest};
-//! let (report, _) = simulate(&SimulationRequest { periods: 20.0, ..Default::default() }).unwrap();
+//! // (omega, alpha) = (1.3, 0.66) from phi0 = 0.01 with forcing phase beta = pi/2: the block
+//! // settles on an asymmetric period-1 orbit.
+//! let req = SimulationRequest { beta: std::f64::consts::FRAC_PI_2, periods: 20.0, ..Default::default() };
+//! let (report, _) = simulate(&req).unwrap();
 //! assert_eq!(report.outcome, Outcome::Running);
 //! ```
 #![deny(missing_docs)]
@@ -20,8 +23,8 @@ pub mod simulation;
 
 pub use error::{Error, Result};
 pub use model::{
-    ALPHA, IMPACT_MINUS, IMPACT_PLUS, LIFT_OFF_MINUS, LIFT_OFF_PLUS, MINUS, OMEGA, OVERTURN_NEG,
-    OVERTURN_POS, PLUS, Parameters, REST, RockingBlock, THETA_B, XI, initial_mode, initial_state,
-    restitution,
+    ALPHA, DEFAULT_THETA_B, DEFAULT_XI, IMPACT_MINUS, IMPACT_PLUS, LIFT_OFF_MINUS, LIFT_OFF_PLUS,
+    MINUS, OMEGA, OVERTURN_NEG, OVERTURN_POS, PLUS, Parameters, REST, RockingBlock, THETA_B, XI,
+    initial_mode, initial_state, restitution,
 };
 pub use simulation::{Outcome, SimulationReport, SimulationRequest, simulate};

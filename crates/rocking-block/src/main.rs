@@ -26,9 +26,14 @@ fn main() -> ExitCode {
                 let _ = e.print();
                 return ExitCode::SUCCESS;
             }
+            // One line: clap's message without the usage block, whitespace collapsed.
             let text = e.to_string();
-            let first = text.lines().next().unwrap_or("invalid arguments");
-            eprintln!("rocking-block: {}", first.trim_start_matches("error: "));
+            let body = text.split("\n\nUsage").next().unwrap_or(&text);
+            let line = body.split_whitespace().collect::<Vec<_>>().join(" ");
+            eprintln!(
+                "rocking-block: {} (see --help)",
+                line.trim_start_matches("error: ")
+            );
             return ExitCode::from(2);
         }
     };

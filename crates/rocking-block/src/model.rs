@@ -372,9 +372,9 @@ impl HybridJacobians for RockingBlock {
         let (omega, alpha, xi, theta_b) = (p[0], p[1], p[2], p[3]);
         dx.fill(0.0);
         // Column-major, 4 x 4: dx[i + 4 j] = d f_i / d x_j.
-        dx[2] = 1.0 - 3.0 * r * r - s * s;
+        dx[2 + 4 * 2] = 1.0 - 3.0 * r * r - s * s;
         dx[2 + 4 * 3] = omega - 2.0 * r * s;
-        dx[3] = -omega - 2.0 * r * s;
+        dx[3 + 4 * 2] = -omega - 2.0 * r * s;
         dx[3 + 4 * 3] = 1.0 - r * r - 3.0 * s * s;
         let aw2 = alpha * omega * omega;
         // (sin, cos) of the pivot angle and the sign of phi in it.

@@ -69,7 +69,8 @@ fn combine<const K: usize>(out: &mut [f64], terms: [(f64, &[f64]); K]) {
 /// of the two embedded estimates (orders 5 and 3) weighted by
 /// $a_{tol} + r_{tol} \max(|y_0|, |y_1|)$.
 /// A step is accepted when $\mathrm{err} \le 1$; the new step is $h \cdot \min(6, \max(1/3,
-/// 0.9\, \mathrm{err}^{-1/8}))$ (no growth right after a rejection).
+/// 0.9\, \mathrm{err}^{-(1/8 - 0.2\beta)}\, \mathrm{err}_{old}^{\beta}))$ (no growth right after a
+/// rejection), with the PI parameter $\beta$ of [`Dop853::set_controller_beta`].
 ///
 /// ```
 /// use hycont_core::Dop853;
@@ -112,6 +113,8 @@ pub struct Dop853 {
     cont: [Vec<f64>; 8],
     dense_ready: bool,
     last_rejected: bool,
+    err_old: f64,
+    controller_beta: f64,
     stats: StepperStats,
 }
 
@@ -152,6 +155,8 @@ impl Dop853 {
             cont: std::array::from_fn(|_| v()),
             dense_ready: false,
             last_rejected: false,
+            err_old: 1e-4,
+            controller_beta: 0.0,
             stats: StepperStats::default(),
         }
     }
@@ -168,6 +173,13 @@ impl Dop853 {
         self.rtol = rtol;
         self.atol = atol;
         self.n_err = error_components.clamp(1, self.n);
+    }
+
+    /// Sets the PI step-size controller's $\beta$ (Hairer's `WORK(4)`, `0` = pure I-control, the
+    /// stepper's default): $h_{new} = h \cdot 0.9\, \mathrm{err}^{-(1/8 - 0.2\beta)}\,
+    /// \mathrm{err}_{old}^{\beta}$.
+    pub fn set_controller_beta(&mut self, beta: f64) {
+        self.controller_beta = beta;
     }
 
     /// Work counters since construction or the last [`Dop853::reset_stats`].
@@ -245,6 +257,7 @@ impl Dop853 {
         self.y.copy_from_slice(y);
         self.dense_ready = false;
         self.last_rejected = false;
+        self.err_old = 1e-4;
         Self::eval(rhs, &mut self.stats, t, &self.y, &mut self.f)
     }
 
@@ -474,12 +487,15 @@ impl Dop853 {
         const SAFE: f64 = 0.9;
         const MIN_FACTOR: f64 = 0.333;
         const MAX_FACTOR: f64 = 6.0;
+        let beta = self.controller_beta;
         if err <= 1.0 {
             let mut factor = if err == 0.0 {
                 MAX_FACTOR
             } else {
-                (SAFE * err.powf(-1.0 / 8.0)).clamp(MIN_FACTOR, MAX_FACTOR)
+                (SAFE * err.powf(-(1.0 / 8.0 - 0.2 * beta)) * self.err_old.powf(beta))
+                    .clamp(MIN_FACTOR, MAX_FACTOR)
             };
+            self.err_old = err.max(1e-4);
             if self.last_rejected {
                 factor = factor.min(1.0);
             }

@@ -250,6 +250,7 @@ impl Simulator {
         self.stepper.reset_stats();
         let n_err = if s.sensitivities_in_error { na } else { n };
         self.stepper.set_tolerances(s.rtol, s.atol, n_err);
+        self.stepper.set_controller_beta(s.controller_beta);
         self.y0.resize(na, 0.0);
         self.y_minus.resize(na, 0.0);
         self.y_plus.resize(na, 0.0);

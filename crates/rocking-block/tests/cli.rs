@@ -1,0 +1,79 @@
+//! The `rocking-block` command line: output contract and error behaviour.
+
+use std::process::Command;
+
+fn bin() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_rocking-block"))
+}
+
+#[test]
+fn simulate_json_has_the_documented_fields() {
+    let out = bin()
+        .args([
+            "simulate", "--omega", "1.3", "--alpha", "0.66", "--phi0", "0.01", "--psi0", "0",
+        ])
+        .args(["--beta", "1.5707963267948966", "--periods", "10", "--json"])
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(v["outcome"], "running");
+    assert!(v["t_end"].as_f64().unwrap() > 48.0);
+    assert!(v["impacts"].as_u64().unwrap() > 5);
+    assert_eq!(v["final_state"].as_array().unwrap().len(), 4);
+    let strobe = v["strobe"].as_array().unwrap();
+    assert_eq!(strobe.len(), 11); // t = 0, T, ..., 10 T
+    assert_eq!(strobe[0][0], 0.01);
+    for key in ["steps", "rejected_steps", "rhs_evaluations", "events"] {
+        assert!(v["stats"][key].is_u64(), "stats.{key}");
+    }
+}
+
+#[test]
+fn simulate_writes_csv_and_svg() {
+    let dir = std::env::temp_dir().join(format!("rocking-block-cli-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let (csv, svg) = (dir.join("run.csv"), dir.join("run.svg"));
+    let out = bin()
+        .args(["simulate", "--periods", "3", "--beta", "1.57", "--csv"])
+        .arg(&csv)
+        .arg("--svg")
+        .arg(&svg)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let text = std::fs::read_to_string(&csv).unwrap();
+    assert!(text.starts_with("t,mode,phi,psi,r,s\n"));
+    assert!(text.lines().count() > 500);
+    let svg_text = std::fs::read_to_string(&svg).unwrap();
+    assert!(svg_text.contains("<svg") && svg_text.contains("polyline"));
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+fn assert_one_line_usage_error(args: &[&str], needle: &str) {
+    let out = bin().args(args).output().unwrap();
+    assert_eq!(out.status.code(), Some(2), "{args:?}");
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(err.trim_end().lines().count(), 1, "{args:?}: {err}");
+    assert!(err.contains(needle), "{args:?}: {err}");
+    assert!(!err.contains("panicked") && !err.contains("backtrace"));
+}
+
+#[test]
+fn bad_arguments_give_one_line_and_exit_code_2() {
+    assert_one_line_usage_error(&["simulate", "--omega", "abc"], "--omega");
+    assert_one_line_usage_error(&["simulate", "--omega", "-1"], "omega = -1");
+    assert_one_line_usage_error(&["simulate", "--theta-b", "2"], "theta_b");
+    assert_one_line_usage_error(&["simulate", "--rtol", "0"], "rtol");
+    assert_one_line_usage_error(&["simulate", "--periods", "nan"], "periods");
+    assert_one_line_usage_error(&["simulate", "--r0", "1"], "--s0");
+    assert_one_line_usage_error(&["frobnicate"], "frobnicate");
+}
