@@ -400,11 +400,18 @@ impl Simulator {
             }
 
             let t_stop = earliest.map_or(t_new, |(te, _)| te);
+            // A sample that coincides with the end time up to rounding (k * period computed
+            // differently from t_end) belongs to this run.
+            let sample_limit = if earliest.is_none() && last {
+                t_stop + 8.0 * f64::EPSILON * t_stop.abs().max(1.0)
+            } else {
+                t_stop
+            };
             // --- Samples inside (t, t_stop].
             if let (Some(st), Some(k)) = (s.samples, next_sample.as_mut()) {
-                while st.time(*k) <= t_stop {
+                while st.time(*k) <= sample_limit {
                     let ts = st.time(*k);
-                    if ts == t_new && earliest.is_none() {
+                    if ts >= t_new && earliest.is_none() {
                         samples.push(ts, mode, self.stepper.new_state());
                     } else {
                         self.stepper
