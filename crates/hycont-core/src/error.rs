@@ -90,6 +90,34 @@ pub enum Error {
         /// Mode being integrated.
         mode: Mode,
     },
+    /// A periodic-orbit signature is inconsistent with the system or the data.
+    #[error("invalid orbit signature at segment {segment}: {reason}")]
+    InvalidSignature {
+        /// The offending segment.
+        segment: usize,
+        /// What is wrong.
+        reason: String,
+    },
+    /// A trajectory does not (yet) repeat, so no periodic orbit can be read off it.
+    #[error("not periodic: {reason}")]
+    NotPeriodic {
+        /// Why.
+        reason: String,
+    },
+    /// Newton's method did not converge.
+    #[error("Newton's method failed: {reason} (after {} iterations)", history.len())]
+    NewtonFailed {
+        /// Why.
+        reason: String,
+        /// The iterations done.
+        history: Vec<crate::problem::NewtonIteration>,
+    },
+    /// A linear system could not be solved.
+    #[error("singular linear system: {reason}")]
+    SingularMatrix {
+        /// What failed.
+        reason: String,
+    },
     /// An event transition was requested by the system that it cannot carry out.
     #[error("event transition at t = {t} from mode {mode} is invalid: {reason}")]
     InvalidTransition {

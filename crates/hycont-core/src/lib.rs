@@ -31,10 +31,15 @@
     // The Runge-Kutta stage kernels must inline into the stepper to unroll.
     clippy::inline_always,
     clippy::too_many_lines,
-    clippy::single_match_else
+    clippy::single_match_else,
+    // `expect`s in this crate guard internal invariants, not inputs.
+    clippy::missing_panics_doc
 )]
 
 pub mod error;
+pub mod linalg;
+pub mod orbit;
+pub mod problem;
 pub mod simulate;
 pub mod system;
 
@@ -46,5 +51,6 @@ pub use simulate::{
 };
 pub use system::{
     DerivativeCheck, DerivativeKind, DerivativeMismatch, Direction, EventAction, EventId,
-    EventSpec, FiniteDifferences, HybridJacobians, HybridSystem, Mode, ParamId, check_derivatives,
+    EventSpec, FiniteDifferences, HybridJacobians, HybridSystem, Mode, ParamId, Z2Symmetry,
+    check_derivatives,
 };

@@ -118,6 +118,28 @@ pub struct EventSpec {
     pub action: EventAction,
 }
 
+/// A linear $\mathbb{Z}_2$ symmetry $S$ of a hybrid system ($S^2 = I$): $S f_m(x) = f_{\sigma(m)}(Sx)$,
+/// events and resets map accordingly.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Z2Symmetry {
+    /// $S$, column-major $n \times n$.
+    pub matrix: Vec<f64>,
+    /// $\sigma$: the image of each mode.
+    pub modes: Vec<Mode>,
+    /// The image of each event.
+    pub events: Vec<EventId>,
+}
+
+impl Z2Symmetry {
+    /// Writes $S x$ into `out`.
+    pub fn apply(&self, x: &[f64], out: &mut [f64]) {
+        let n = x.len();
+        for (i, o) in out.iter_mut().enumerate() {
+            *o = (0..n).map(|j| self.matrix[i + j * n] * x[j]).sum();
+        }
+    }
+}
+
 /// A hybrid dynamical system: modes, vector fields, events and resets.
 ///
 /// Hot-path methods write into caller-provided buffers and must not allocate.
@@ -192,6 +214,19 @@ pub trait HybridSystem {
     fn reset(&self, event: EventId, x: &[f64], p: &[f64], out: &mut [f64]) {
         let _ = (event, p);
         out.copy_from_slice(x);
+    }
+
+    /// The system's $\mathbb{Z}_2$ symmetry, if it has one (default: none).
+    fn symmetry(&self) -> Option<Z2Symmetry> {
+        None
+    }
+
+    /// Floquet multipliers every periodic orbit of period `period` has for structural reasons, as
+    /// `(re, im)`; the default is the flow direction's multiplier 1 of an autonomous system.
+    /// Stability is judged on the others.
+    fn trivial_multipliers(&self, p: &[f64], period: f64) -> Vec<(f64, f64)> {
+        let _ = (p, period);
+        vec![(1.0, 0.0)]
     }
 
     /// Where to go when the jumps of `event` accumulate (Zeno behaviour) in `mode`.
@@ -379,6 +414,12 @@ impl<S: HybridSystem> HybridSystem for FiniteDifferences<S> {
         out: &mut [f64],
     ) -> Option<Mode> {
         self.inner.zeno_transition(mode, event, x, p, out)
+    }
+    fn symmetry(&self) -> Option<Z2Symmetry> {
+        self.inner.symmetry()
+    }
+    fn trivial_multipliers(&self, p: &[f64], period: f64) -> Vec<(f64, f64)> {
+        self.inner.trivial_multipliers(p, period)
     }
 }
 

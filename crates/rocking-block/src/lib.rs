@@ -18,6 +18,7 @@
 pub mod cli;
 pub mod error;
 pub mod model;
+pub mod orbits;
 pub mod plot;
 pub mod simulation;
 

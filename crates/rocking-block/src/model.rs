@@ -18,7 +18,7 @@
 
 use hycont_core::{
     Direction, Error, EventAction, EventId, EventSpec, HybridJacobians, HybridSystem, Mode,
-    ParamId, Result,
+    ParamId, Result, Z2Symmetry,
 };
 use serde::{Deserialize, Serialize};
 use std::f64::consts::FRAC_PI_2;
@@ -342,6 +342,33 @@ impl HybridSystem for RockingBlock {
         if event == IMPACT_PLUS || event == IMPACT_MINUS {
             out[1] = restitution(p[3]) * x[1];
         }
+    }
+
+    /// $S(\varphi, \psi, r, s) = -(\varphi, \psi, r, s)$, swapping the modes `+`/`-` and the
+    /// events accordingly.
+    fn symmetry(&self) -> Option<Z2Symmetry> {
+        let mut matrix = vec![0.0; 16];
+        for i in 0..4 {
+            matrix[i + 4 * i] = -1.0;
+        }
+        Some(Z2Symmetry {
+            matrix,
+            modes: vec![MINUS, PLUS, REST],
+            events: vec![
+                IMPACT_MINUS,
+                IMPACT_PLUS,
+                OVERTURN_NEG,
+                OVERTURN_POS,
+                LIFT_OFF_MINUS,
+                LIFT_OFF_PLUS,
+            ],
+        })
+    }
+
+    /// The forcing oscillator's multipliers: 1 (its phase, the flow direction) and
+    /// $e^{-2T}$ (its amplitude, which relaxes at rate 2).
+    fn trivial_multipliers(&self, _p: &[f64], period: f64) -> Vec<(f64, f64)> {
+        vec![(1.0, 0.0), ((-2.0 * period).exp(), 0.0)]
     }
 
     fn zeno_transition(

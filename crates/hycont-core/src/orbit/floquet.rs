@@ -1,0 +1,145 @@
+//! Floquet multipliers of hybrid periodic orbits.
+//!
+//! The monodromy matrix of an orbit with segments $k = 0, \dots, K-1$ is
+//! $$M = S_{K-1} \Phi_{K-1} \cdots S_1 \Phi_1 S_0 \Phi_0,$$
+//! with $\Phi_k$ the flow Jacobian of segment $k$ and $S_k$ the saltation matrix of its end
+//! ($I$ at interior points). Its eigenvalues are the Floquet multipliers; the system's structural
+//! ones ([`crate::HybridSystem::trivial_multipliers`], e.g. 1 for the flow direction) are flagged
+//! and excluded from the stability verdict.
+
+use crate::error::Result;
+use crate::linalg::eigenvalues;
+use crate::system::{HybridJacobians, HybridSystem};
+use serde::{Deserialize, Serialize};
+
+use super::PeriodicOrbit;
+use super::signature::SegmentEnd;
+
+/// Floquet multipliers of a periodic orbit.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Floquet {
+    /// All multipliers `(re, im)`, by decreasing modulus.
+    pub multipliers: Vec<(f64, f64)>,
+    /// Whether each multiplier is one of the system's trivial (structural) multipliers.
+    pub trivial: Vec<bool>,
+    /// Number of non-trivial multipliers outside the unit circle.
+    pub unstable: usize,
+    /// The monodromy matrix (column-major), at the start of segment 0.
+    pub monodromy: Vec<f64>,
+}
+
+impl Floquet {
+    /// Whether all non-trivial multipliers are inside the unit circle.
+    #[must_use]
+    pub fn stable(&self) -> bool {
+        self.unstable == 0
+    }
+
+    /// The non-trivial multipliers.
+    pub fn nontrivial(&self) -> impl Iterator<Item = (f64, f64)> + '_ {
+        self.multipliers
+            .iter()
+            .zip(&self.trivial)
+            .filter(|(_, t)| !**t)
+            .map(|(m, _)| *m)
+    }
+
+    /// Multipliers of a monodromy matrix, with the system's trivial ones flagged (each trivial
+    /// value claims the closest multiplier not yet claimed).
+    ///
+    /// # Errors
+    /// If the eigenvalue iteration fails.
+    pub fn from_monodromy<S: HybridSystem + ?Sized>(
+        system: &S,
+        params: &[f64],
+        period: f64,
+        monodromy: Vec<f64>,
+    ) -> Result<Self> {
+        let n = system.state_dim();
+        let multipliers = eigenvalues(n, &monodromy)?;
+        let mut trivial = vec![false; n];
+        for (tr, ti) in system.trivial_multipliers(params, period) {
+            let best = multipliers
+                .iter()
+                .enumerate()
+                .filter(|(i, _)| !trivial[*i])
+                .min_by(|a, b| {
+                    let da = (a.1.0 - tr).hypot(a.1.1 - ti);
+                    let db = (b.1.0 - tr).hypot(b.1.1 - ti);
+                    da.total_cmp(&db)
+                })
+                .map(|(i, _)| i);
+            if let Some(i) = best {
+                trivial[i] = true;
+            }
+        }
+        let unstable = multipliers
+            .iter()
+            .zip(&trivial)
+            .filter(|((re, im), t)| !**t && re.hypot(*im) > 1.0)
+            .count();
+        Ok(Self {
+            multipliers,
+            trivial,
+            unstable,
+            monodromy,
+        })
+    }
+}
+
+/// $C = A B$ for column-major $n \times n$ matrices.
+pub(crate) fn matmul(n: usize, a: &[f64], b: &[f64]) -> Vec<f64> {
+    let mut c = vec![0.0; n * n];
+    for j in 0..n {
+        for l in 0..n {
+            let blj = b[l + j * n];
+            if blj != 0.0 {
+                for i in 0..n {
+                    c[i + j * n] += a[i + l * n] * blj;
+                }
+            }
+        }
+    }
+    c
+}
+
+/// The saltation matrix $S_k$ at the end of segment `k` (identity for interior points).
+pub(crate) fn saltation<S: HybridJacobians + ?Sized>(
+    system: &S,
+    orbit: &PeriodicOrbit,
+    k: usize,
+    end_state: &[f64],
+) -> Vec<f64> {
+    let n = system.state_dim();
+    let p = &orbit.params;
+    let segs = orbit.signature.segments();
+    let mut s = vec![0.0; n * n];
+    match segs[k].end {
+        SegmentEnd::Interior { .. } => {
+            for i in 0..n {
+                s[i + i * n] = 1.0;
+            }
+        }
+        SegmentEnd::Event(e) => {
+            let next_mode = orbit.signature.next_mode(system, k);
+            let mut fm = vec![0.0; n];
+            let mut fp = vec![0.0; n];
+            let mut hx = vec![0.0; n];
+            let mut gx = vec![0.0; n * n];
+            let mut xp = vec![0.0; n];
+            system.vector_field(segs[k].mode, end_state, p, &mut fm);
+            system.event_gradient(e, end_state, p, &mut hx, None);
+            system.reset(e, end_state, p, &mut xp);
+            system.reset_jacobian(e, end_state, p, &mut gx, None);
+            system.vector_field(next_mode, &xp, p, &mut fp);
+            let denom: f64 = hx.iter().zip(&fm).map(|(a, b)| a * b).sum();
+            for j in 0..n {
+                for i in 0..n {
+                    let gxf: f64 = (0..n).map(|l| gx[i + l * n] * fm[l]).sum();
+                    s[i + j * n] = gx[i + j * n] + (fp[i] - gxf) * hx[j] / denom;
+                }
+            }
+        }
+    }
+    s
+}

@@ -1,0 +1,133 @@
+//! A single mode of a hybrid system as a system of its own: the flow of one segment, optionally
+//! stopped at the segment's end condition or split at interior points.
+
+use super::signature::SegmentEnd;
+use crate::system::{
+    Direction, EventAction, EventId, EventSpec, HybridJacobians, HybridSystem, Mode,
+};
+
+const STOP: EventId = EventId(0);
+const SPLIT: EventId = EventId(1);
+const NONE: [EventId; 0] = [];
+const ONLY_STOP: [EventId; 1] = [STOP];
+const ONLY_SPLIT: [EventId; 1] = [SPLIT];
+const BOTH: [EventId; 2] = [STOP, SPLIT];
+
+/// Mode `mode` of `system`, as a one-mode system whose events are: optionally the segment's end
+/// condition (terminal, `EventId(0)`), and optionally an interior condition `x[c] = v` that is
+/// recorded as an identity jump (`EventId(1)`).
+pub(crate) struct SegmentFlow<'a, S: ?Sized> {
+    pub system: &'a S,
+    pub mode: Mode,
+    pub stop: Option<SegmentEnd>,
+    pub split: Option<(usize, f64)>,
+}
+
+impl<'a, S: HybridSystem + ?Sized> SegmentFlow<'a, S> {
+    pub(crate) fn plain(system: &'a S, mode: Mode) -> Self {
+        Self {
+            system,
+            mode,
+            stop: None,
+            split: None,
+        }
+    }
+}
+
+impl<S: HybridSystem + ?Sized> HybridSystem for SegmentFlow<'_, S> {
+    fn state_dim(&self) -> usize {
+        self.system.state_dim()
+    }
+    fn parameter_names(&self) -> &[&'static str] {
+        self.system.parameter_names()
+    }
+    fn mode_count(&self) -> usize {
+        1
+    }
+    fn mode_name(&self, _: Mode) -> &'static str {
+        self.system.mode_name(self.mode)
+    }
+    fn events(&self, _: Mode) -> &[EventId] {
+        match (self.stop.is_some(), self.split.is_some()) {
+            (false, false) => &NONE,
+            (true, false) => &ONLY_STOP,
+            (false, true) => &ONLY_SPLIT,
+            (true, true) => &BOTH,
+        }
+    }
+    fn event_spec(&self, event: EventId) -> EventSpec {
+        if event == STOP {
+            let direction = match self.stop {
+                Some(SegmentEnd::Event(e)) => self.system.event_spec(e).direction,
+                _ => Direction::Either,
+            };
+            EventSpec {
+                name: "segment end",
+                direction,
+                action: EventAction::Terminal,
+            }
+        } else {
+            EventSpec {
+                name: "interior point",
+                direction: Direction::Either,
+                action: EventAction::Jump { to: Mode(0) },
+            }
+        }
+    }
+    #[inline]
+    fn vector_field(&self, _: Mode, x: &[f64], p: &[f64], out: &mut [f64]) {
+        self.system.vector_field(self.mode, x, p, out);
+    }
+    fn event(&self, event: EventId, x: &[f64], p: &[f64]) -> f64 {
+        if event == STOP {
+            match self.stop {
+                Some(SegmentEnd::Event(e)) => self.system.event(e, x, p),
+                Some(SegmentEnd::Interior { component, value }) => x[component] - value,
+                None => 1.0,
+            }
+        } else {
+            let (c, v) = self.split.unwrap_or((0, 0.0));
+            x[c] - v
+        }
+    }
+    fn trivial_multipliers(&self, p: &[f64], period: f64) -> Vec<(f64, f64)> {
+        self.system.trivial_multipliers(p, period)
+    }
+}
+
+impl<S: HybridJacobians + ?Sized> HybridJacobians for SegmentFlow<'_, S> {
+    #[inline]
+    fn vector_field_jacobian(
+        &self,
+        _: Mode,
+        x: &[f64],
+        p: &[f64],
+        dx: &mut [f64],
+        dp: Option<&mut [f64]>,
+    ) {
+        self.system.vector_field_jacobian(self.mode, x, p, dx, dp);
+    }
+    fn event_gradient(
+        &self,
+        event: EventId,
+        x: &[f64],
+        p: &[f64],
+        dx: &mut [f64],
+        dp: Option<&mut [f64]>,
+    ) {
+        match (event == STOP, self.stop) {
+            (true, Some(SegmentEnd::Event(e))) => self.system.event_gradient(e, x, p, dx, dp),
+            _ => {
+                let c = match (event == STOP, self.stop) {
+                    (true, Some(SegmentEnd::Interior { component, .. })) => component,
+                    _ => self.split.map_or(0, |s| s.0),
+                };
+                dx.fill(0.0);
+                dx[c] = 1.0;
+                if let Some(dp) = dp {
+                    dp.fill(0.0);
+                }
+            }
+        }
+    }
+}

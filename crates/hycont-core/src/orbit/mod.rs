@@ -1,0 +1,153 @@
+//! Hybrid periodic orbits: signatures, multi-segment boundary-value problems, Floquet multipliers.
+//!
+//! ```text
+//! Trajectory ──PeriodicOrbit::from_simulation──▶ PeriodicOrbit ──solve_shooting──▶ OrbitSolution
+//!                                                     (signature, starts,            (orbit, Floquet,
+//!                                                      durations, params)              Newton history)
+//! ```
+
+mod floquet;
+mod flow;
+mod periodic_orbit;
+mod shooting;
+mod signature;
+mod symmetry;
+
+pub use floquet::Floquet;
+pub use periodic_orbit::PeriodicOrbit;
+pub use shooting::{Shooting, ShootingSettings};
+pub use signature::{Closure, SegmentEnd, SegmentSpec, Signature};
+pub use symmetry::{SymmetricSolution, solve_symmetric_shooting};
+
+use crate::error::Result;
+use crate::problem::{
+    Activity, NewtonIteration, NewtonSettings, Problem, UnknownMonitor, ZeroFunction, newton,
+};
+use crate::simulate::{Sensitivities, SimulationSettings, Simulator};
+use crate::system::{HybridJacobians, Mode};
+use flow::SegmentFlow;
+use serde::{Deserialize, Serialize};
+
+/// A solved periodic orbit.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct OrbitSolution {
+    /// The orbit.
+    pub orbit: PeriodicOrbit,
+    /// Its Floquet multipliers.
+    pub floquet: Floquet,
+    /// The Newton iterations that found it.
+    pub newton: Vec<NewtonIteration>,
+    /// $\|F\|_\infty$ at the solution.
+    pub residual: f64,
+}
+
+/// Packs an orbit into the shooting unknowns `[x_0 .. x_{K-1}, T_0 .. T_{K-1}, p]`.
+#[must_use]
+pub fn pack(orbit: &PeriodicOrbit) -> Vec<f64> {
+    let mut u: Vec<f64> = orbit.starts.iter().flatten().copied().collect();
+    u.extend_from_slice(&orbit.durations);
+    u.extend_from_slice(&orbit.params);
+    u
+}
+
+/// Unpacks shooting unknowns into an orbit with the signature of `like`.
+#[must_use]
+pub fn unpack(like: &PeriodicOrbit, u: &[f64]) -> PeriodicOrbit {
+    let k = like.segment_count();
+    let n = like.starts[0].len();
+    PeriodicOrbit {
+        signature: like.signature.clone(),
+        starts: (0..k).map(|i| u[i * n..(i + 1) * n].to_vec()).collect(),
+        durations: u[k * n..k * n + k].to_vec(),
+        params: u[k * (n + 1)..k * (n + 1) + like.params.len()].to_vec(),
+    }
+}
+
+/// The shooting problem of an orbit: the [`Shooting`] equations with every parameter held by an
+/// inactive monitor named after it.
+///
+/// # Errors
+/// Invalid settings.
+pub fn shooting_problem<'a, S: HybridJacobians + ?Sized>(
+    system: &'a S,
+    guess: &PeriodicOrbit,
+    settings: ShootingSettings,
+) -> Result<Problem<'a>> {
+    let shooting = Shooting::new(system, guess.signature.clone(), settings)?;
+    let nu = shooting.unknowns();
+    let first_param = shooting.param_index(0);
+    let mut problem = Problem::new(nu);
+    problem.add_part(Box::new(shooting), (0..nu).collect())?;
+    for (q, name) in system.parameter_names().iter().enumerate() {
+        problem.add_monitor(
+            name,
+            Box::new(UnknownMonitor),
+            vec![first_param + q],
+            Activity::Inactive(guess.params[q]),
+        )?;
+    }
+    Ok(problem)
+}
+
+/// Solves for the periodic orbit near `guess` by multiple shooting and Newton's method, and
+/// computes its Floquet multipliers.
+///
+/// # Errors
+/// [`crate::Error::NewtonFailed`] (with the history) if Newton does not converge, or an
+/// integration error.
+pub fn solve_shooting<S: HybridJacobians + ?Sized>(
+    system: &S,
+    guess: &PeriodicOrbit,
+    settings: ShootingSettings,
+    newton_settings: &NewtonSettings,
+) -> Result<OrbitSolution> {
+    guess.validate(system)?;
+    let mut problem = shooting_problem(system, guess, settings)?;
+    let sol = newton(&mut problem, &pack(guess), newton_settings)?;
+    let orbit = unpack(guess, &sol.u);
+    let floquet = monodromy_by_shooting(system, &orbit, settings)?;
+    Ok(OrbitSolution {
+        orbit,
+        floquet,
+        newton: sol.history,
+        residual: sol.residual,
+    })
+}
+
+/// Floquet multipliers of `orbit` from its segments' flow Jacobians and saltation matrices.
+///
+/// # Errors
+/// Integration or eigenvalue failures.
+pub fn monodromy_by_shooting<S: HybridJacobians + ?Sized>(
+    system: &S,
+    orbit: &PeriodicOrbit,
+    settings: ShootingSettings,
+) -> Result<Floquet> {
+    let n = system.state_dim();
+    let mut sim = Simulator::new(
+        SimulationSettings::default()
+            .rtol(settings.rtol)
+            .atol(settings.atol)
+            .record_events(false),
+    )?;
+    let mut m = vec![0.0; n * n];
+    for i in 0..n {
+        m[i + i * n] = 1.0;
+    }
+    for (k, seg) in orbit.signature.segments().iter().enumerate() {
+        let flow = SegmentFlow::plain(system, seg.mode);
+        let traj = sim.run_with_sensitivities(
+            &flow,
+            Mode(0),
+            0.0,
+            &orbit.starts[k],
+            &orbit.params,
+            orbit.durations[k],
+            Sensitivities::State,
+        )?;
+        let phi = traj.sensitivities.expect("requested").state;
+        let s = floquet::saltation(system, orbit, k, &traj.state_final);
+        m = floquet::matmul(n, &floquet::matmul(n, &s, &phi), &m);
+    }
+    Floquet::from_monodromy(system, &orbit.params, orbit.period(), m)
+}

@@ -1,0 +1,330 @@
+//! A hybrid periodic orbit: signature, segment start states, durations and parameters.
+
+use super::flow::SegmentFlow;
+use super::signature::{SegmentEnd, SegmentSpec, Signature};
+use crate::error::{Error, Result, check_finite, check_len};
+use crate::simulate::{SimulationSettings, Simulator, StopReason, TimeSeries, Trajectory};
+use crate::system::{EventAction, HybridSystem, Mode};
+use serde::{Deserialize, Serialize};
+
+/// A (candidate) hybrid periodic orbit: segment $k$ starts at `starts[k]` in
+/// `signature.segments()[k].mode` and lasts `durations[k]`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct PeriodicOrbit {
+    /// The signature.
+    pub signature: Signature,
+    /// Start state of each segment.
+    pub starts: Vec<Vec<f64>>,
+    /// Duration of each segment.
+    pub durations: Vec<f64>,
+    /// Parameters.
+    pub params: Vec<f64>,
+}
+
+fn simulator(settings: &SimulationSettings) -> Result<Simulator> {
+    Simulator::new(settings.clone())
+}
+
+impl PeriodicOrbit {
+    /// An orbit from its parts, checked for consistent dimensions and finite values.
+    ///
+    /// # Errors
+    /// Wrong dimensions, non-finite values or non-positive durations.
+    pub fn new<S: HybridSystem + ?Sized>(
+        system: &S,
+        signature: Signature,
+        starts: Vec<Vec<f64>>,
+        durations: Vec<f64>,
+        params: Vec<f64>,
+    ) -> Result<Self> {
+        let k = signature.len();
+        if starts.len() != k || durations.len() != k {
+            return Err(Error::DimensionMismatch {
+                what: "segment starts/durations",
+                expected: k,
+                found: starts.len().min(durations.len()),
+            });
+        }
+        for x in &starts {
+            check_len("segment start", x, system.state_dim())?;
+            check_finite("segment start", x)?;
+        }
+        check_len("parameters", &params, system.parameter_count())?;
+        check_finite("parameters", &params)?;
+        if let Some((i, &d)) = durations
+            .iter()
+            .enumerate()
+            .find(|(_, d)| !(d.is_finite() && **d > 0.0))
+        {
+            return Err(Error::InvalidSignature {
+                segment: i,
+                reason: format!("duration {d} must be positive and finite"),
+            });
+        }
+        Ok(Self {
+            signature,
+            starts,
+            durations,
+            params,
+        })
+    }
+
+    /// The period (sum of the durations).
+    #[must_use]
+    pub fn period(&self) -> f64 {
+        self.durations.iter().sum()
+    }
+
+    /// Number of segments.
+    #[must_use]
+    pub fn segment_count(&self) -> usize {
+        self.durations.len()
+    }
+
+    /// Builds an orbit from the tail of a simulation that has converged to a periodic orbit:
+    /// the last jump is matched with the latest earlier jump of the same event whose post-jump
+    /// state agrees to `tol` (relative, max-norm); the jumps in between define the signature,
+    /// durations and start states. The trajectory must have recorded its events.
+    ///
+    /// # Errors
+    /// [`Error::NotPeriodic`] if no repetition is found within `tol`.
+    pub fn from_simulation<S: HybridSystem + ?Sized>(
+        system: &S,
+        trajectory: &Trajectory,
+        params: &[f64],
+        tol: f64,
+    ) -> Result<Self> {
+        let ev = &trajectory.events;
+        let jumps: Vec<_> = ev.iter().filter(|e| e.mode_after.is_some()).collect();
+        let Some(last) = jumps.last() else {
+            return Err(Error::NotPeriodic {
+                reason: "the trajectory has no jumps".into(),
+            });
+        };
+        let close = |a: &[f64], b: &[f64]| {
+            let scale = 1.0 + a.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+            a.iter().zip(b).all(|(u, v)| (u - v).abs() <= tol * scale)
+        };
+        let i_last = jumps.len() - 1;
+        let Some(i_prev) = (0..i_last).rev().find(|&j| {
+            jumps[j].event == last.event && close(&jumps[j].state_after, &last.state_after)
+        }) else {
+            return Err(Error::NotPeriodic {
+                reason: format!(
+                    "no earlier jump of {} repeats the last post-jump state to {tol:e}",
+                    last.event
+                ),
+            });
+        };
+        let cycle = &jumps[i_prev..=i_last];
+        let mut segments = Vec::new();
+        let mut starts = Vec::new();
+        let mut durations = Vec::new();
+        for w in cycle.windows(2) {
+            segments.push(SegmentSpec {
+                mode: w[0].mode_after.expect("jumps have a target mode"),
+                end: SegmentEnd::Event(w[1].event),
+            });
+            starts.push(w[0].state_after.clone());
+            durations.push(w[1].t - w[0].t);
+        }
+        let signature = Signature::new(system, segments)?;
+        Self::new(system, signature, starts, durations, params.to_vec())
+    }
+
+    /// Builds an orbit by integrating from `x0` along `signature` (each segment until its end
+    /// condition, at most `max_duration` long), e.g. from a guess of one point of the orbit.
+    /// The last segment's end state need not return to `x0`: Newton closes the orbit.
+    ///
+    /// # Errors
+    /// If a segment does not reach its end condition within `max_duration`, or integration fails.
+    pub fn from_initial_state<S: HybridSystem + ?Sized>(
+        system: &S,
+        signature: Signature,
+        x0: &[f64],
+        params: &[f64],
+        max_duration: f64,
+        settings: &SimulationSettings,
+    ) -> Result<Self> {
+        check_len("initial state", x0, system.state_dim())?;
+        let mut sim = simulator(settings)?;
+        let mut x = x0.to_vec();
+        let mut starts = Vec::new();
+        let mut durations = Vec::new();
+        for (k, seg) in signature.segments().iter().enumerate() {
+            starts.push(x.clone());
+            let flow = SegmentFlow {
+                system,
+                mode: seg.mode,
+                stop: Some(seg.end),
+                split: None,
+            };
+            let traj = sim.run(&flow, Mode(0), 0.0, &x, params, max_duration)?;
+            let StopReason::TerminalEvent { t, .. } = traj.stop else {
+                return Err(Error::InvalidSignature {
+                    segment: k,
+                    reason: format!(
+                        "the end condition is not reached within {max_duration} from {x:?}"
+                    ),
+                });
+            };
+            durations.push(t);
+            x.clone_from(&traj.state_final);
+            if let SegmentEnd::Event(e) = seg.end {
+                let mut y = vec![0.0; x.len()];
+                system.reset(e, &x, params, &mut y);
+                x = y;
+            }
+        }
+        Self::new(system, signature, starts, durations, params.to_vec())
+    }
+
+    /// Splits every segment at the interior points where state component `component` crosses
+    /// `value` (e.g. $\psi = 0$: the extrema of $\varphi$), by integrating each segment.
+    ///
+    /// # Errors
+    /// If integration fails.
+    pub fn with_interior_points<S: HybridSystem + ?Sized>(
+        &self,
+        system: &S,
+        component: usize,
+        value: f64,
+        settings: &SimulationSettings,
+    ) -> Result<Self> {
+        let mut sim = simulator(&settings.clone().record_events(true))?;
+        let mut segments = Vec::new();
+        let mut starts = Vec::new();
+        let mut durations = Vec::new();
+        for (k, seg) in self.signature.segments().iter().enumerate() {
+            let flow = SegmentFlow {
+                system,
+                mode: seg.mode,
+                stop: None,
+                split: Some((component, value)),
+            };
+            let traj = sim.run(
+                &flow,
+                Mode(0),
+                0.0,
+                &self.starts[k],
+                &self.params,
+                self.durations[k],
+            )?;
+            let mut t_prev = 0.0;
+            let mut x_prev = self.starts[k].clone();
+            // Crossings too close to the segment's ends are the end's own (e.g. psi = 0 at a
+            // grazing impact); keep interior ones only.
+            let margin = 1e-9 * self.durations[k].max(1.0);
+            for e in &traj.events {
+                if e.t <= margin || e.t >= self.durations[k] - margin {
+                    continue;
+                }
+                segments.push(SegmentSpec {
+                    mode: seg.mode,
+                    end: SegmentEnd::Interior { component, value },
+                });
+                starts.push(x_prev.clone());
+                durations.push(e.t - t_prev);
+                t_prev = e.t;
+                x_prev.clone_from(&e.state_after);
+            }
+            segments.push(*seg);
+            starts.push(x_prev);
+            durations.push(self.durations[k] - t_prev);
+        }
+        let signature = Signature::new(system, segments)?;
+        Self::new(system, signature, starts, durations, self.params.clone())
+    }
+
+    /// Merges interior points back: the orbit with events only (durations summed).
+    ///
+    /// # Errors
+    /// Never for a valid orbit (kept fallible for signature validation).
+    pub fn without_interior_points<S: HybridSystem + ?Sized>(&self, system: &S) -> Result<Self> {
+        let k = self.segment_count();
+        // Start at a segment that follows an event, so that merged segments do not wrap.
+        let first = (0..k)
+            .find(|&i| {
+                matches!(
+                    self.signature.segments()[(i + k - 1) % k].end,
+                    SegmentEnd::Event(_)
+                )
+            })
+            .unwrap_or(0);
+        let mut segments = Vec::new();
+        let mut starts = Vec::new();
+        let mut durations: Vec<f64> = Vec::new();
+        let mut open = false;
+        for j in 0..k {
+            let i = (first + j) % k;
+            let seg = self.signature.segments()[i];
+            if !open {
+                starts.push(self.starts[i].clone());
+                durations.push(0.0);
+                open = true;
+            }
+            *durations.last_mut().expect("pushed above") += self.durations[i];
+            if let SegmentEnd::Event(_) = seg.end {
+                segments.push(seg);
+                open = false;
+            }
+        }
+        if open {
+            // No event at all: a smooth orbit split at interior points only.
+            let seg = self.signature.segments()[(first + k - 1) % k];
+            segments.push(seg);
+        }
+        let signature = Signature::new(system, segments)?;
+        Self::new(system, signature, starts, durations, self.params.clone())
+    }
+
+    /// Dense samples of each segment (`points` per segment, both ends included), e.g. for plots.
+    ///
+    /// # Errors
+    /// If integration fails.
+    pub fn sample<S: HybridSystem + ?Sized>(
+        &self,
+        system: &S,
+        points: usize,
+        settings: &SimulationSettings,
+    ) -> Result<Vec<TimeSeries>> {
+        let points = points.max(2);
+        let mut out = Vec::new();
+        let mut t0 = 0.0;
+        for (k, seg) in self.signature.segments().iter().enumerate() {
+            let d = self.durations[k];
+            let s = settings
+                .clone()
+                .samples(crate::SampleTimes::new(0.0, d / (points - 1) as f64));
+            let mut sim = simulator(&s)?;
+            let flow = SegmentFlow::plain(system, seg.mode);
+            let traj = sim.run(&flow, Mode(0), 0.0, &self.starts[k], &self.params, d)?;
+            let mut ts = TimeSeries::new(system.state_dim());
+            for (t, _, x) in traj.samples.iter() {
+                ts.push(t0 + t, seg.mode, x);
+            }
+            t0 += d;
+            out.push(ts);
+        }
+        Ok(out)
+    }
+
+    /// Checks that `system`'s event actions still match the signature (e.g. after editing).
+    ///
+    /// # Errors
+    /// As [`Signature::new`].
+    pub fn validate<S: HybridSystem + ?Sized>(&self, system: &S) -> Result<()> {
+        Signature::new(system, self.signature.segments().to_vec()).map(|_| ())?;
+        for seg in self.signature.segments() {
+            if let SegmentEnd::Event(e) = seg.end
+                && system.event_spec(e).action == EventAction::Terminal
+            {
+                return Err(Error::InvalidSignature {
+                    segment: 0,
+                    reason: "terminal event in a periodic orbit".into(),
+                });
+            }
+        }
+        Ok(())
+    }
+}

@@ -1,0 +1,283 @@
+//! Multiple shooting for hybrid periodic orbits, on the simulator's variational equations.
+//!
+//! Unknowns (local order): the segment start states $x_0, \dots, x_{K-1}$ ($n$ each), the
+//! durations $T_0, \dots, T_{K-1}$, and the parameters $p$. With $y_k = \phi_{m_k}(x_k, T_k; p)$
+//! the flow of segment $k$'s mode, the equations of segment $k$ are
+//! - for an event end $e$: $g_e(y_k, p) - x_{k+1} = 0$ and $h_e(y_k, p) = 0$;
+//! - for an interior end $x_c = v$: $y_k - x_{k+1} = 0$ and $(y_k)_c - v = 0$,
+//!
+//! with $x_K \equiv x_0$ (or $x_K \equiv S x_0$ for half of a symmetric orbit, see
+//! [`Closure`]). The Jacobian uses $\Phi_k = \partial y_k/\partial x_k$,
+//! $\partial y_k / \partial p$ and $\partial y_k/\partial T_k = f_{m_k}(y_k)$.
+
+use super::signature::{Closure, SegmentEnd, Signature};
+use crate::error::{Error, Result};
+use crate::orbit::flow::SegmentFlow;
+use crate::problem::ZeroFunction;
+use crate::simulate::{Sensitivities, SimulationSettings, Simulator};
+use crate::system::{HybridJacobians, Mode};
+
+/// Settings of the shooting discretisation: integration tolerances of each segment.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct ShootingSettings {
+    /// Relative tolerance (default `1e-12`).
+    pub rtol: f64,
+    /// Absolute tolerance (default `1e-14`).
+    pub atol: f64,
+}
+
+impl Default for ShootingSettings {
+    fn default() -> Self {
+        Self {
+            rtol: 1e-12,
+            atol: 1e-14,
+        }
+    }
+}
+
+/// The shooting equations of a hybrid periodic orbit (a [`ZeroFunction`]).
+pub struct Shooting<'a, S: ?Sized> {
+    system: &'a S,
+    signature: Signature,
+    n: usize,
+    np: usize,
+    sim: Simulator,
+    /// $S$ for a symmetric closure (column-major), else `None`.
+    closure: Option<Vec<f64>>,
+    // Work space.
+    gx: Vec<f64>,
+    gp: Vec<f64>,
+    hx: Vec<f64>,
+    hp: Vec<f64>,
+    fy: Vec<f64>,
+    gy: Vec<f64>,
+}
+
+impl<'a, S: HybridJacobians + ?Sized> Shooting<'a, S> {
+    /// The shooting equations of orbits with `signature`.
+    ///
+    /// # Errors
+    /// Invalid settings.
+    pub fn new(system: &'a S, signature: Signature, settings: ShootingSettings) -> Result<Self> {
+        let sim = Simulator::new(
+            SimulationSettings::default()
+                .rtol(settings.rtol)
+                .atol(settings.atol)
+                .record_events(false),
+        )?;
+        let (n, np) = (system.state_dim(), system.parameter_count());
+        let closure = match signature.closure() {
+            Closure::Periodic => None,
+            Closure::Symmetric => system.symmetry().map(|s| s.matrix),
+        };
+        Ok(Self {
+            system,
+            signature,
+            n,
+            np,
+            sim,
+            closure,
+            gx: vec![0.0; n * n],
+            gp: vec![0.0; n * np],
+            hx: vec![0.0; n],
+            hp: vec![0.0; np],
+            fy: vec![0.0; n],
+            gy: vec![0.0; n],
+        })
+    }
+
+    /// Index of segment `k`'s start state in the local unknowns.
+    #[must_use]
+    pub fn start_index(&self, k: usize) -> usize {
+        k * self.n
+    }
+
+    /// Index of segment `k`'s duration in the local unknowns.
+    #[must_use]
+    pub fn duration_index(&self, k: usize) -> usize {
+        self.signature.len() * self.n + k
+    }
+
+    /// Index of parameter `q` in the local unknowns.
+    #[must_use]
+    pub fn param_index(&self, q: usize) -> usize {
+        self.signature.len() * (self.n + 1) + q
+    }
+
+    fn segment_mode(&self, k: usize) -> Mode {
+        self.signature.segments()[k].mode
+    }
+}
+
+impl<S: HybridJacobians + ?Sized> ZeroFunction for Shooting<'_, S> {
+    fn unknowns(&self) -> usize {
+        self.signature.len() * (self.n + 1) + self.np
+    }
+
+    fn equations(&self) -> usize {
+        self.signature.len() * (self.n + 1)
+    }
+
+    fn jacobian_pattern(&self) -> Vec<(usize, usize)> {
+        let (n, np, kk) = (self.n, self.np, self.signature.len());
+        let mut out = Vec::new();
+        for k in 0..kk {
+            let r0 = k * (n + 1);
+            let next = (k + 1) % kk;
+            for i in 0..=n {
+                for j in 0..n {
+                    out.push((r0 + i, self.start_index(k) + j));
+                }
+                out.push((r0 + i, self.duration_index(k)));
+                for q in 0..np {
+                    out.push((r0 + i, self.param_index(q)));
+                }
+                if i < n {
+                    if k + 1 == kk && self.closure.is_some() {
+                        for j in 0..n {
+                            out.push((r0 + i, self.start_index(0) + j));
+                        }
+                    } else {
+                        out.push((r0 + i, self.start_index(next) + i));
+                    }
+                }
+            }
+        }
+        out
+    }
+
+    fn evaluate(
+        &mut self,
+        u: &[f64],
+        residual: &mut [f64],
+        jacobian: Option<&mut [f64]>,
+    ) -> Result<()> {
+        let (n, np, kk) = (self.n, self.np, self.signature.len());
+        let p = u[self.param_index(0)..self.param_index(0) + np].to_vec();
+        let want = jacobian.is_some();
+        let mut jac = jacobian;
+        let mut pos = 0usize;
+        for k in 0..kk {
+            let mode = self.segment_mode(k);
+            let x = &u[self.start_index(k)..self.start_index(k) + n];
+            let t = u[self.duration_index(k)];
+            if !(t > 0.0) {
+                return Err(Error::InvalidSignature {
+                    segment: k,
+                    reason: format!("duration {t} is not positive"),
+                });
+            }
+            let flow = SegmentFlow::plain(self.system, mode);
+            let which = if want {
+                Sensitivities::StateAndParameters
+            } else {
+                Sensitivities::None
+            };
+            let traj = self
+                .sim
+                .run_with_sensitivities(&flow, Mode(0), 0.0, x, &p, t, which)?;
+            let y = &traj.state_final;
+            self.system.vector_field(mode, y, &p, &mut self.fy);
+            let wrap = k + 1 == kk;
+            let next: Vec<f64> = match (&self.closure, wrap) {
+                (Some(sm), true) => (0..n)
+                    .map(|i| {
+                        (0..n)
+                            .map(|j| sm[i + j * n] * u[self.start_index(0) + j])
+                            .sum()
+                    })
+                    .collect(),
+                _ => u[self.start_index((k + 1) % kk)..self.start_index((k + 1) % kk) + n].to_vec(),
+            };
+            let r0 = k * (n + 1);
+            let end = self.signature.segments()[k].end;
+            match end {
+                SegmentEnd::Event(e) => {
+                    self.system.reset(e, y, &p, &mut self.gy);
+                    for i in 0..n {
+                        residual[r0 + i] = self.gy[i] - next[i];
+                    }
+                    residual[r0 + n] = self.system.event(e, y, &p);
+                }
+                SegmentEnd::Interior { component, value } => {
+                    for i in 0..n {
+                        residual[r0 + i] = y[i] - next[i];
+                    }
+                    residual[r0 + n] = y[component] - value;
+                }
+            }
+            let Some(jac) = jac.as_deref_mut() else {
+                continue;
+            };
+            let sens = traj
+                .sensitivities
+                .as_ref()
+                .expect("sensitivities were requested");
+            let phi = &sens.state;
+            let phi_p = sens
+                .params
+                .as_ref()
+                .expect("parameter sensitivities requested");
+            // Row operator: A (n x n) applied to the segment's derivatives, plus constant
+            // parameter terms.
+            match end {
+                SegmentEnd::Event(e) => {
+                    self.system
+                        .reset_jacobian(e, y, &p, &mut self.gx, Some(&mut self.gp));
+                    self.system
+                        .event_gradient(e, y, &p, &mut self.hx, Some(&mut self.hp));
+                }
+                SegmentEnd::Interior { component, .. } => {
+                    self.gx.fill(0.0);
+                    for i in 0..n {
+                        self.gx[i + i * n] = 1.0;
+                    }
+                    self.gp.fill(0.0);
+                    self.hx.fill(0.0);
+                    self.hx[component] = 1.0;
+                    self.hp.fill(0.0);
+                }
+            }
+            for i in 0..=n {
+                // Row i of the operator: gx row i for i < n, hx for i = n.
+                let row = |j: usize| -> f64 {
+                    if i < n {
+                        self.gx[i + j * n]
+                    } else {
+                        self.hx[j]
+                    }
+                };
+                for j in 0..n {
+                    jac[pos] = (0..n).map(|l| row(l) * phi[l + j * n]).sum();
+                    pos += 1;
+                }
+                jac[pos] = (0..n).map(|l| row(l) * self.fy[l]).sum();
+                pos += 1;
+                for q in 0..np {
+                    let direct = if i < n {
+                        self.gp[i + q * n]
+                    } else {
+                        self.hp[q]
+                    };
+                    jac[pos] = direct + (0..n).map(|l| row(l) * phi_p[l + q * n]).sum::<f64>();
+                    pos += 1;
+                }
+                if i < n {
+                    match (&self.closure, wrap) {
+                        (Some(sm), true) => {
+                            for j in 0..n {
+                                jac[pos] = -sm[i + j * n];
+                                pos += 1;
+                            }
+                        }
+                        _ => {
+                            jac[pos] = -1.0;
+                            pos += 1;
+                        }
+                    }
+                }
+            }
+        }
+        Ok(())
+    }
+}

@@ -1,0 +1,205 @@
+//! $\mathbb{Z}_2$-symmetric orbits: recognition, images, and the half-orbit problem.
+//!
+//! An orbit is symmetric when $S$ maps it to itself shifted by half a period: with $2K$
+//! segments, segment $k + K$ is the $S$-image of segment $k$. Then the period map is the square of
+//! the half map $P_{1/2} = S \circ \phi_{T/2}$, whose multipliers $\mu$ satisfy $\mu^2 = \lambda$:
+//! $\mu = -1$ marks a symmetry-breaking branch point, $\mu = +1$ a fold.
+
+use super::signature::{Closure, SegmentEnd, SegmentSpec, Signature};
+use super::{
+    Floquet, OrbitSolution, PeriodicOrbit, ShootingSettings, floquet, monodromy_by_shooting,
+};
+use crate::error::{Error, Result};
+use crate::problem::NewtonSettings;
+use crate::system::{HybridJacobians, HybridSystem, Z2Symmetry};
+use serde::{Deserialize, Serialize};
+
+fn symmetry_of<S: HybridSystem + ?Sized>(system: &S) -> Result<Z2Symmetry> {
+    system.symmetry().ok_or_else(|| Error::InvalidSignature {
+        segment: 0,
+        reason: "the system has no symmetry".into(),
+    })
+}
+
+fn image_segment(sym: &Z2Symmetry, n: usize, seg: &SegmentSpec) -> SegmentSpec {
+    SegmentSpec {
+        mode: sym.modes[seg.mode.0],
+        end: match seg.end {
+            SegmentEnd::Event(e) => SegmentEnd::Event(sym.events[e.0]),
+            // x_c = v maps to (S x)_c = S_cc v for the signed-permutation symmetries supported.
+            SegmentEnd::Interior { component, value } => SegmentEnd::Interior {
+                component,
+                value: sym.matrix[component + component * n] * value,
+            },
+        },
+    }
+}
+
+impl PeriodicOrbit {
+    /// The $S$-image of the orbit: modes and events mapped, start states $S x_k$, same durations.
+    ///
+    /// # Errors
+    /// If the system has no symmetry.
+    pub fn symmetric_image<S: HybridSystem + ?Sized>(&self, system: &S) -> Result<Self> {
+        let sym = symmetry_of(system)?;
+        let n = system.state_dim();
+        let segments = self
+            .signature
+            .segments()
+            .iter()
+            .map(|s| image_segment(&sym, n, s))
+            .collect();
+        let starts = self
+            .starts
+            .iter()
+            .map(|x| {
+                let mut y = vec![0.0; n];
+                sym.apply(x, &mut y);
+                y
+            })
+            .collect();
+        let signature = Signature::with_closure(system, segments, self.signature.closure())?;
+        Self::new(
+            system,
+            signature,
+            starts,
+            self.durations.clone(),
+            self.params.clone(),
+        )
+    }
+
+    /// Whether the orbit is $\mathbb{Z}_2$-symmetric to `tol` (relative): $2K$ segments with
+    /// segment $k + K$ the image of segment $k$.
+    #[must_use]
+    pub fn is_symmetric<S: HybridSystem + ?Sized>(&self, system: &S, tol: f64) -> bool {
+        let Some(sym) = system.symmetry() else {
+            return false;
+        };
+        let kk = self.segment_count();
+        if !kk.is_multiple_of(2) || self.signature.closure() != Closure::Periodic {
+            return false;
+        }
+        let h = kk / 2;
+        let n = system.state_dim();
+        let mut y = vec![0.0; n];
+        (0..h).all(|k| {
+            let a = &self.signature.segments()[k];
+            let b = &self.signature.segments()[k + h];
+            sym.apply(&self.starts[k], &mut y);
+            let scale = 1.0 + y.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+            image_segment(&sym, n, a) == *b
+                && (self.durations[k] - self.durations[k + h]).abs()
+                    <= tol * self.durations[k].max(1.0)
+                && y.iter()
+                    .zip(&self.starts[k + h])
+                    .all(|(u, v)| (u - v).abs() <= tol * scale)
+        })
+    }
+
+    /// The first half of a symmetric orbit, as a half orbit with [`Closure::Symmetric`].
+    ///
+    /// # Errors
+    /// If the orbit is not symmetric to `tol`.
+    pub fn half_of_symmetric<S: HybridSystem + ?Sized>(
+        &self,
+        system: &S,
+        tol: f64,
+    ) -> Result<Self> {
+        if !self.is_symmetric(system, tol) {
+            return Err(Error::InvalidSignature {
+                segment: 0,
+                reason: format!("the orbit is not symmetric to {tol:e}"),
+            });
+        }
+        let h = self.segment_count() / 2;
+        let signature = Signature::with_closure(
+            system,
+            self.signature.segments()[..h].to_vec(),
+            Closure::Symmetric,
+        )?;
+        Self::new(
+            system,
+            signature,
+            self.starts[..h].to_vec(),
+            self.durations[..h].to_vec(),
+            self.params.clone(),
+        )
+    }
+
+    /// The full orbit of a half orbit ([`Closure::Symmetric`]): the half followed by its image.
+    ///
+    /// # Errors
+    /// If the orbit is not a half orbit or the system has no symmetry.
+    pub fn unfold_symmetric<S: HybridSystem + ?Sized>(&self, system: &S) -> Result<Self> {
+        if self.signature.closure() != Closure::Symmetric {
+            return Err(Error::InvalidSignature {
+                segment: 0,
+                reason: "not a half orbit (closure is periodic)".into(),
+            });
+        }
+        let image = self.symmetric_image(system)?;
+        let mut segments = self.signature.segments().to_vec();
+        segments.extend_from_slice(image.signature.segments());
+        let mut starts = self.starts.clone();
+        starts.extend(image.starts);
+        let mut durations = self.durations.clone();
+        durations.extend(image.durations);
+        let signature = Signature::new(system, segments)?;
+        Self::new(system, signature, starts, durations, self.params.clone())
+    }
+}
+
+/// A solved symmetric orbit.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct SymmetricSolution {
+    /// The full orbit, with the full period's multipliers ($\lambda = \mu^2$).
+    pub full: OrbitSolution,
+    /// The half orbit.
+    pub half: PeriodicOrbit,
+    /// Multipliers $\mu$ of the half map $S \circ \phi_{T/2}$, with the trivial ones flagged
+    /// ($\mu = -1$: symmetry-breaking branch point; $\mu = +1$: fold).
+    pub half_floquet: Floquet,
+}
+
+/// Solves the half-orbit problem of a symmetric orbit by shooting (half the unknowns of the full
+/// problem), and returns the full orbit with both the half-map and the full multipliers.
+///
+/// # Errors
+/// As [`super::solve_shooting`]; the guess must have a [`Closure::Symmetric`] signature.
+pub fn solve_symmetric_shooting<S: HybridJacobians + ?Sized>(
+    system: &S,
+    half_guess: &PeriodicOrbit,
+    settings: ShootingSettings,
+    newton_settings: &NewtonSettings,
+) -> Result<SymmetricSolution> {
+    if half_guess.signature.closure() != Closure::Symmetric {
+        return Err(Error::InvalidSignature {
+            segment: 0,
+            reason: "the half-orbit guess needs a symmetric closure".into(),
+        });
+    }
+    let mut problem = super::shooting_problem(system, half_guess, settings)?;
+    let sol = crate::problem::newton(&mut problem, &super::pack(half_guess), newton_settings)?;
+    let half = super::unpack(half_guess, &sol.u);
+    let n = system.state_dim();
+    let sym = symmetry_of(system)?;
+    // Half map Jacobian: S M_half (the wrap saltation already maps into sigma(m_0)).
+    let m_half = monodromy_by_shooting(system, &half, settings)?.monodromy;
+    let half_map = floquet::matmul(n, &sym.matrix, &m_half);
+    let half_period = half.period();
+    let half_floquet =
+        Floquet::from_monodromy(system, &half.params, half_period, half_map.clone())?;
+    let full_m = floquet::matmul(n, &half_map, &half_map);
+    let full_orbit = half.unfold_symmetric(system)?;
+    let floquet = Floquet::from_monodromy(system, &half.params, full_orbit.period(), full_m)?;
+    Ok(SymmetricSolution {
+        full: OrbitSolution {
+            orbit: full_orbit,
+            floquet,
+            newton: sol.history,
+            residual: sol.residual,
+        },
+        half,
+        half_floquet,
+    })
+}

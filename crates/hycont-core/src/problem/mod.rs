@@ -1,0 +1,462 @@
+//! Zero problems composed of parts, COCO-style.
+//!
+//! A [`Problem`] has unknowns $u \in \mathbb{R}^N$ and equations $F(u) = 0$ assembled from
+//! - parts ([`ZeroFunction`]), each owning a list of the problem's unknowns (its local slice,
+//!   possibly shared with other parts, e.g. parameters) and a block of equations with a fixed
+//!   sparse Jacobian pattern;
+//! - monitor functions ([`MonitorFunction`]) $\mu_i = \psi_i(u)$: inactive monitors hold their value
+//!   (one equation $\psi_i(u) - \mu_i = 0$ with $\mu_i$ fixed), active monitors are free (their
+//!   $\mu_i$ becomes an extra unknown). Parameters enter as monitors of single unknowns.
+//!
+//! The Jacobian is sparse with a fixed pattern; its symbolic LU is computed once
+//! ([`crate::linalg::SparsePattern`]) and reused by every Newton step ([`newton`]).
+
+mod newton;
+
+pub use newton::{NewtonIteration, NewtonSettings, NewtonSolution, newton};
+
+use crate::error::{Error, Result};
+use crate::linalg::{SparseLu, SparsePattern};
+
+/// A block of equations over a list of the problem's unknowns.
+pub trait ZeroFunction {
+    /// Number of unknowns the part reads (the length of its local `u`).
+    fn unknowns(&self) -> usize;
+    /// Number of equations.
+    fn equations(&self) -> usize;
+    /// The Jacobian's non-zero entries as `(equation, local unknown)` pairs; fixed for the life
+    /// of the part.
+    fn jacobian_pattern(&self) -> Vec<(usize, usize)>;
+    /// Evaluates the residual (length [`ZeroFunction::equations`]) and, if asked, the Jacobian's
+    /// values in the order of [`ZeroFunction::jacobian_pattern`].
+    ///
+    /// # Errors
+    /// If the evaluation fails (e.g. an integration error in shooting).
+    fn evaluate(
+        &mut self,
+        u: &[f64],
+        residual: &mut [f64],
+        jacobian: Option<&mut [f64]>,
+    ) -> Result<()>;
+}
+
+/// A scalar function $\psi(u)$ of some of the problem's unknowns.
+pub trait MonitorFunction {
+    /// Number of unknowns the monitor reads.
+    fn unknowns(&self) -> usize;
+    /// The value, and the gradient (length [`MonitorFunction::unknowns`]) if asked.
+    ///
+    /// # Errors
+    /// If the evaluation fails.
+    fn evaluate(&mut self, u: &[f64], gradient: Option<&mut [f64]>) -> Result<f64>;
+}
+
+/// A monitor of a single unknown: $\psi(u) = u_0$ (how parameters enter a problem).
+#[derive(Debug, Clone, Copy, Default)]
+pub struct UnknownMonitor;
+
+impl MonitorFunction for UnknownMonitor {
+    fn unknowns(&self) -> usize {
+        1
+    }
+    fn evaluate(&mut self, u: &[f64], gradient: Option<&mut [f64]>) -> Result<f64> {
+        if let Some(g) = gradient {
+            g[0] = 1.0;
+        }
+        Ok(u[0])
+    }
+}
+
+/// Handle of a part of a [`Problem`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct PartId(pub usize);
+
+/// Handle of a monitor function of a [`Problem`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct MonitorId(pub usize);
+
+/// Whether a monitor's value is held fixed or free.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Activity {
+    /// Held at the given value (adds an equation).
+    Inactive(f64),
+    /// Free (its value is an extra unknown); the number is the initial value.
+    Active(f64),
+}
+
+struct Part<'a> {
+    function: Box<dyn ZeroFunction + 'a>,
+    unknowns: Vec<usize>,
+    row: usize,
+    pattern: Vec<(usize, usize)>,
+}
+
+struct Monitor<'a> {
+    name: String,
+    function: Box<dyn MonitorFunction + 'a>,
+    unknowns: Vec<usize>,
+    activity: Activity,
+}
+
+/// A zero problem $F(u) = 0$ composed of parts and monitor functions.
+///
+/// ```
+/// use hycont_core::problem::{Activity, Problem, UnknownMonitor, ZeroFunction, newton, NewtonSettings};
+/// // x^2 - l = 0 with the parameter l held at 4 by an inactive monitor.
+/// struct Fold;
+/// impl ZeroFunction for Fold {
+///     fn unknowns(&self) -> usize { 2 }
+///     fn equations(&self) -> usize { 1 }
+///     fn jacobian_pattern(&self) -> Vec<(usize, usize)> { vec![(0, 0), (0, 1)] }
+///     fn evaluate(&mut self, u: &[f64], r: &mut [f64], j: Option<&mut [f64]>) -> hycont_core::Result<()> {
+///         r[0] = u[0] * u[0] - u[1];
+///         if let Some(j) = j { j[0] = 2.0 * u[0]; j[1] = -1.0; }
+///         Ok(())
+///     }
+/// }
+/// let mut problem = Problem::new(2);
+/// problem.add_part(Box::new(Fold), vec![0, 1]).unwrap();
+/// let l = problem.add_monitor("l", Box::new(UnknownMonitor), vec![1], Activity::Inactive(4.0)).unwrap();
+/// let sol = newton(&mut problem, &[1.5, 4.0], &NewtonSettings::default()).unwrap();
+/// assert!((sol.u[0] - 2.0).abs() < 1e-12);
+/// assert_eq!(problem.monitor_value(l, &sol.u).unwrap(), 4.0);
+/// ```
+pub struct Problem<'a> {
+    base_unknowns: usize,
+    parts: Vec<Part<'a>>,
+    monitors: Vec<Monitor<'a>>,
+    pattern: Option<SparsePattern>,
+}
+
+impl std::fmt::Debug for Problem<'_> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Problem")
+            .field("unknowns", &self.unknowns())
+            .field("equations", &self.equations())
+            .field("parts", &self.parts.len())
+            .field(
+                "monitors",
+                &self
+                    .monitors
+                    .iter()
+                    .map(|m| (&m.name, m.activity))
+                    .collect::<Vec<_>>(),
+            )
+            .finish()
+    }
+}
+
+impl<'a> Problem<'a> {
+    /// A problem with `unknowns` base unknowns and no equations yet.
+    #[must_use]
+    pub fn new(unknowns: usize) -> Self {
+        Self {
+            base_unknowns: unknowns,
+            parts: Vec::new(),
+            monitors: Vec::new(),
+            pattern: None,
+        }
+    }
+
+    fn check_indices(&self, what: &'static str, idx: &[usize], expected: usize) -> Result<()> {
+        if idx.len() != expected {
+            return Err(Error::DimensionMismatch {
+                what,
+                expected,
+                found: idx.len(),
+            });
+        }
+        if let Some(&bad) = idx.iter().find(|&&i| i >= self.base_unknowns) {
+            return Err(Error::InvalidSetting {
+                name: what,
+                value: bad as f64,
+                reason: "unknown index out of range",
+            });
+        }
+        Ok(())
+    }
+
+    /// Adds a part reading the unknowns `unknowns` (global indices, in the part's local order).
+    ///
+    /// # Errors
+    /// If the index list has the wrong length or an index is out of range.
+    pub fn add_part(
+        &mut self,
+        function: Box<dyn ZeroFunction + 'a>,
+        unknowns: Vec<usize>,
+    ) -> Result<PartId> {
+        self.check_indices("part unknowns", &unknowns, function.unknowns())?;
+        let row = self.parts.iter().map(|p| p.function.equations()).sum();
+        let pattern = function.jacobian_pattern();
+        self.parts.push(Part {
+            function,
+            unknowns,
+            row,
+            pattern,
+        });
+        self.pattern = None;
+        Ok(PartId(self.parts.len() - 1))
+    }
+
+    /// Adds a monitor function $\mu = \psi(u)$ over `unknowns`.
+    ///
+    /// # Errors
+    /// If the index list has the wrong length or an index is out of range.
+    pub fn add_monitor(
+        &mut self,
+        name: &str,
+        function: Box<dyn MonitorFunction + 'a>,
+        unknowns: Vec<usize>,
+        activity: Activity,
+    ) -> Result<MonitorId> {
+        self.check_indices("monitor unknowns", &unknowns, function.unknowns())?;
+        self.monitors.push(Monitor {
+            name: name.to_string(),
+            function,
+            unknowns,
+            activity,
+        });
+        self.pattern = None;
+        Ok(MonitorId(self.monitors.len() - 1))
+    }
+
+    /// Resolves a monitor by name (do it once, keep the handle).
+    #[must_use]
+    pub fn monitor_id(&self, name: &str) -> Option<MonitorId> {
+        self.monitors
+            .iter()
+            .position(|m| m.name == name)
+            .map(MonitorId)
+    }
+
+    /// Makes a monitor active or inactive (changes the number of unknowns if its activity changes
+    /// kind).
+    pub fn set_activity(&mut self, id: MonitorId, activity: Activity) {
+        let m = &mut self.monitors[id.0];
+        if std::mem::discriminant(&m.activity) != std::mem::discriminant(&activity) {
+            self.pattern = None;
+        }
+        m.activity = activity;
+    }
+
+    /// The activity of a monitor.
+    #[must_use]
+    pub fn activity(&self, id: MonitorId) -> Activity {
+        self.monitors[id.0].activity
+    }
+
+    /// Number of base unknowns (without the active monitors' values).
+    #[must_use]
+    pub fn base_unknowns(&self) -> usize {
+        self.base_unknowns
+    }
+
+    /// Total number of unknowns: base unknowns plus one per active monitor.
+    #[must_use]
+    pub fn unknowns(&self) -> usize {
+        self.base_unknowns
+            + self
+                .monitors
+                .iter()
+                .filter(|m| matches!(m.activity, Activity::Active(_)))
+                .count()
+    }
+
+    /// Total number of equations: the parts' plus one per monitor.
+    #[must_use]
+    pub fn equations(&self) -> usize {
+        self.parts
+            .iter()
+            .map(|p| p.function.equations())
+            .sum::<usize>()
+            + self.monitors.len()
+    }
+
+    /// Index of each active monitor's value in the unknown vector.
+    fn active_slots(&self) -> Vec<Option<usize>> {
+        let mut next = self.base_unknowns;
+        self.monitors
+            .iter()
+            .map(|m| match m.activity {
+                Activity::Active(_) => {
+                    next += 1;
+                    Some(next - 1)
+                }
+                Activity::Inactive(_) => None,
+            })
+            .collect()
+    }
+
+    /// Extends a base unknown vector with the active monitors' initial values.
+    #[must_use]
+    pub fn initial_unknowns(&self, base: &[f64]) -> Vec<f64> {
+        let mut u = base[..self.base_unknowns].to_vec();
+        for m in &self.monitors {
+            if let Activity::Active(v) = m.activity {
+                u.push(v);
+            }
+        }
+        u
+    }
+
+    /// The Jacobian's `(row, col)` entries, in the order values are produced.
+    fn global_pattern(&self) -> Vec<(usize, usize)> {
+        let mut entries = Vec::new();
+        for part in &self.parts {
+            for &(r, c) in &part.pattern {
+                entries.push((part.row + r, part.unknowns[c]));
+            }
+        }
+        let row0 = self.equations() - self.monitors.len();
+        let slots = self.active_slots();
+        for (k, m) in self.monitors.iter().enumerate() {
+            for &c in &m.unknowns {
+                entries.push((row0 + k, c));
+            }
+            if let Some(slot) = slots[k] {
+                entries.push((row0 + k, slot));
+            }
+        }
+        entries
+    }
+
+    /// The sparse pattern of the Jacobian (built, with its symbolic analysis, on first use).
+    ///
+    /// # Errors
+    /// If the pattern is invalid.
+    pub fn pattern(&mut self) -> Result<&mut SparsePattern> {
+        if self.pattern.is_none() {
+            let entries = self.global_pattern();
+            self.pattern = Some(SparsePattern::new(
+                self.equations(),
+                self.unknowns(),
+                &entries,
+            )?);
+        }
+        Ok(self.pattern.as_mut().expect("pattern built above"))
+    }
+
+    /// Evaluates $F(u)$ and, if asked, the Jacobian values in pattern order.
+    ///
+    /// # Errors
+    /// Wrong dimensions, or a failing part or monitor.
+    pub fn evaluate(
+        &mut self,
+        u: &[f64],
+        residual: &mut [f64],
+        jacobian: Option<&mut Vec<f64>>,
+    ) -> Result<()> {
+        crate::error::check_len("unknowns", u, self.unknowns())?;
+        crate::error::check_len("residual", residual, self.equations())?;
+        let mut jac = jacobian;
+        if let Some(j) = jac.as_deref_mut() {
+            j.clear();
+        }
+        let mut local_u = Vec::new();
+        for part in &mut self.parts {
+            local_u.clear();
+            local_u.extend(part.unknowns.iter().map(|&i| u[i]));
+            let rows = part.function.equations();
+            let res = &mut residual[part.row..part.row + rows];
+            match jac.as_deref_mut() {
+                Some(j) => {
+                    let start = j.len();
+                    j.resize(start + part.pattern.len(), 0.0);
+                    part.function
+                        .evaluate(&local_u, res, Some(&mut j[start..]))?;
+                }
+                None => part.function.evaluate(&local_u, res, None)?,
+            }
+        }
+        let row0 = residual.len() - self.monitors.len();
+        let slots = self.active_slots();
+        let mut grad = Vec::new();
+        for (k, m) in self.monitors.iter_mut().enumerate() {
+            local_u.clear();
+            local_u.extend(m.unknowns.iter().map(|&i| u[i]));
+            grad.resize(m.unknowns.len(), 0.0);
+            let want = jac.is_some();
+            let value = m
+                .function
+                .evaluate(&local_u, if want { Some(&mut grad) } else { None })?;
+            let target = match (m.activity, slots[k]) {
+                (Activity::Inactive(v), _) => v,
+                (Activity::Active(_), Some(slot)) => u[slot],
+                (Activity::Active(_), None) => unreachable!("active monitors have a slot"),
+            };
+            residual[row0 + k] = value - target;
+            if let Some(j) = jac.as_deref_mut() {
+                j.extend_from_slice(&grad);
+                if slots[k].is_some() {
+                    j.push(-1.0);
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// The value of a monitor at `u`.
+    ///
+    /// # Errors
+    /// If the monitor fails.
+    pub fn monitor_value(&mut self, id: MonitorId, u: &[f64]) -> Result<f64> {
+        let m = &mut self.monitors[id.0];
+        let local: Vec<f64> = m.unknowns.iter().map(|&i| u[i]).collect();
+        m.function.evaluate(&local, None)
+    }
+
+    /// Factorises the Jacobian at `u` (square problems); also returns the residual.
+    ///
+    /// # Errors
+    /// A failing evaluation or a singular Jacobian.
+    pub fn factorize(&mut self, u: &[f64], residual: &mut [f64]) -> Result<SparseLu> {
+        let mut values = Vec::new();
+        self.evaluate(u, residual, Some(&mut values))?;
+        self.pattern()?.factorize(&values)
+    }
+
+    /// Dense Jacobian at `u` (row-major rows of length `unknowns()`), for checks and small
+    /// problems.
+    ///
+    /// # Errors
+    /// A failing evaluation.
+    pub fn dense_jacobian(&mut self, u: &[f64]) -> Result<Vec<Vec<f64>>> {
+        let mut values = Vec::new();
+        let mut residual = vec![0.0; self.equations()];
+        self.evaluate(u, &mut residual, Some(&mut values))?;
+        let mut out = vec![vec![0.0; self.unknowns()]; self.equations()];
+        for (&(r, c), v) in self.global_pattern().iter().zip(&values) {
+            out[r][c] += v;
+        }
+        Ok(out)
+    }
+
+    /// Compares the assembled Jacobian with central differences of $F$ at `u`; returns the
+    /// largest scaled error $|J_{ij} - D_{ij}| / (1 + |D_{ij}|)$ and its position.
+    ///
+    /// # Errors
+    /// A failing evaluation.
+    pub fn check_jacobian(&mut self, u: &[f64], rel_step: f64) -> Result<(f64, usize, usize)> {
+        let jac = self.dense_jacobian(u)?;
+        let m = self.equations();
+        let (mut rp, mut rm) = (vec![0.0; m], vec![0.0; m]);
+        let mut w = u.to_vec();
+        let mut worst = (0.0, 0, 0);
+        for c in 0..u.len() {
+            let h = rel_step * u[c].abs().max(1.0);
+            w[c] = u[c] + h;
+            self.evaluate(&w, &mut rp, None)?;
+            w[c] = u[c] - h;
+            self.evaluate(&w, &mut rm, None)?;
+            w[c] = u[c];
+            for r in 0..m {
+                let d = (rp[r] - rm[r]) / (2.0 * h);
+                let err = (jac[r][c] - d).abs() / (1.0 + d.abs());
+                if err > worst.0 {
+                    worst = (err, r, c);
+                }
+            }
+        }
+        Ok(worst)
+    }
+}

@@ -1,0 +1,176 @@
+//! Damped Newton's method on a square [`Problem`], with the sparse LU's symbolic analysis reused
+//! across iterations.
+
+use super::Problem;
+use crate::error::{Error, Result};
+
+/// Settings of [`newton`]: a validated builder with `Default`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct NewtonSettings {
+    /// Converged when $\|\Delta u\|_\infty \le$ `tol` $\cdot (1 + \|u\|_\infty)$ and
+    /// $\|F\|_\infty \le$ `residual_tol` (defaults `1e-10`, `1e-10`).
+    pub tol: f64,
+    /// See `tol`.
+    pub residual_tol: f64,
+    /// Iteration limit (default 20).
+    pub max_iterations: usize,
+    /// Smallest damping factor tried before giving up on a step (default `1/64`).
+    pub min_damping: f64,
+}
+
+impl Default for NewtonSettings {
+    fn default() -> Self {
+        Self {
+            tol: 1e-10,
+            residual_tol: 1e-10,
+            max_iterations: 20,
+            min_damping: 1.0 / 64.0,
+        }
+    }
+}
+
+impl NewtonSettings {
+    fn validate(&self) -> Result<()> {
+        let bad = |name, value, reason| {
+            Err(Error::InvalidSetting {
+                name,
+                value,
+                reason,
+            })
+        };
+        if !(self.tol > 0.0) {
+            return bad("newton.tol", self.tol, "must be > 0");
+        }
+        if !(self.residual_tol > 0.0) {
+            return bad("newton.residual_tol", self.residual_tol, "must be > 0");
+        }
+        if self.max_iterations == 0 {
+            return bad("newton.max_iterations", 0.0, "must be >= 1");
+        }
+        if !(self.min_damping > 0.0 && self.min_damping <= 1.0) {
+            return bad("newton.min_damping", self.min_damping, "must be in (0, 1]");
+        }
+        Ok(())
+    }
+}
+
+/// One Newton iteration, for the history kept in results and errors.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct NewtonIteration {
+    /// $\|F(u_k)\|_\infty$ before the step.
+    pub residual: f64,
+    /// $\|\Delta u\|_\infty$ of the full Newton step.
+    pub step: f64,
+    /// Damping factor used.
+    pub damping: f64,
+}
+
+/// A converged Newton solve.
+#[derive(Debug, Clone, PartialEq)]
+pub struct NewtonSolution {
+    /// The solution.
+    pub u: Vec<f64>,
+    /// $\|F(u)\|_\infty$ at the solution.
+    pub residual: f64,
+    /// The iterations.
+    pub history: Vec<NewtonIteration>,
+}
+
+fn max_abs(v: &[f64]) -> f64 {
+    v.iter().fold(0.0f64, |m, x| m.max(x.abs()))
+}
+
+/// Solves the square problem $F(u) = 0$ from `u0` by damped Newton: full steps while the residual
+/// decreases, halved (down to `min_damping`) otherwise.
+///
+/// # Errors
+/// [`Error::NewtonFailed`] (with the iteration history) on divergence or the iteration limit;
+/// [`Error::SingularMatrix`] if the Jacobian is singular; [`Error::DimensionMismatch`] if the
+/// problem is not square or `u0` has the wrong length.
+pub fn newton(
+    problem: &mut Problem<'_>,
+    u0: &[f64],
+    settings: &NewtonSettings,
+) -> Result<NewtonSolution> {
+    settings.validate()?;
+    let (m, n) = (problem.equations(), problem.unknowns());
+    if m != n {
+        return Err(Error::DimensionMismatch {
+            what: "equations (Newton needs a square problem)",
+            expected: n,
+            found: m,
+        });
+    }
+    crate::error::check_len("initial unknowns", u0, n)?;
+    crate::error::check_finite("initial unknowns", u0)?;
+    let mut u = u0.to_vec();
+    let mut f = vec![0.0; m];
+    let mut trial_f = vec![0.0; m];
+    let mut trial = vec![0.0; n];
+    let mut history = Vec::new();
+    for _ in 0..settings.max_iterations {
+        let lu = problem.factorize(&u, &mut f)?;
+        let res = max_abs(&f);
+        let mut du: Vec<f64> = f.iter().map(|v| -v).collect();
+        lu.solve_in_place(&mut du)?;
+        let step = max_abs(&du);
+        let scale = 1.0 + max_abs(&u);
+        if step <= settings.tol * scale && res <= settings.residual_tol {
+            history.push(NewtonIteration {
+                residual: res,
+                step,
+                damping: 0.0,
+            });
+            return Ok(NewtonSolution {
+                u,
+                residual: res,
+                history,
+            });
+        }
+        // Damping: accept the first factor that does not increase the residual too much.
+        let mut damping = 1.0;
+        loop {
+            for i in 0..n {
+                trial[i] = u[i] + damping * du[i];
+            }
+            let ok = problem.evaluate(&trial, &mut trial_f, None).is_ok()
+                && trial_f.iter().all(|v| v.is_finite());
+            let trial_res = if ok { max_abs(&trial_f) } else { f64::INFINITY };
+            // Sufficient decrease, or already at the residual tolerance (round-off level).
+            if trial_res <= (1.0 - 1e-4 * damping) * res || trial_res <= settings.residual_tol {
+                break;
+            }
+            if damping <= settings.min_damping {
+                history.push(NewtonIteration {
+                    residual: res,
+                    step,
+                    damping,
+                });
+                return Err(Error::NewtonFailed {
+                    reason: format!(
+                        "no damped step reduces the residual {res:e} (smallest damping {damping})"
+                    ),
+                    history,
+                });
+            }
+            damping *= 0.5;
+        }
+        history.push(NewtonIteration {
+            residual: res,
+            step,
+            damping,
+        });
+        u.copy_from_slice(&trial);
+    }
+    let res = {
+        problem.evaluate(&u, &mut f, None)?;
+        max_abs(&f)
+    };
+    Err(Error::NewtonFailed {
+        reason: format!(
+            "no convergence in {} iterations (residual {res:e})",
+            settings.max_iterations
+        ),
+        history,
+    })
+}
