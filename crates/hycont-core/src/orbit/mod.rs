@@ -6,6 +6,7 @@
 //!                                                      durations, params)              Newton history)
 //! ```
 
+mod collocation;
 mod floquet;
 mod flow;
 mod periodic_orbit;
@@ -13,6 +14,10 @@ mod shooting;
 mod signature;
 mod symmetry;
 
+pub use collocation::{
+    Collocation, CollocationSettings, CollocationSolution, Mesh, gauss_legendre_points,
+    solve_collocation,
+};
 pub use floquet::Floquet;
 pub use periodic_orbit::PeriodicOrbit;
 pub use shooting::{Shooting, ShootingSettings};

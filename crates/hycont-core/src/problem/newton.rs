@@ -1,5 +1,6 @@
 //! Damped Newton's method on a square [`Problem`], with the sparse LU's symbolic analysis reused
-//! across iterations.
+//! across iterations and, optionally, the numeric factorisation too (chord steps) while the
+//! residual contracts fast.
 
 use super::Problem;
 use crate::error::{Error, Result};
@@ -16,6 +17,9 @@ pub struct NewtonSettings {
     pub max_iterations: usize,
     /// Smallest damping factor tried before giving up on a step (default `1/64`).
     pub min_damping: f64,
+    /// Reuse the last Jacobian factorisation (a chord step) while each step reduces the residual
+    /// by at least this factor; `0` always refactorises (default `0.1`).
+    pub chord_contraction: f64,
 }
 
 impl Default for NewtonSettings {
@@ -25,6 +29,7 @@ impl Default for NewtonSettings {
             residual_tol: 1e-10,
             max_iterations: 20,
             min_damping: 1.0 / 64.0,
+            chord_contraction: 0.1,
         }
     }
 }
@@ -50,6 +55,13 @@ impl NewtonSettings {
         if !(self.min_damping > 0.0 && self.min_damping <= 1.0) {
             return bad("newton.min_damping", self.min_damping, "must be in (0, 1]");
         }
+        if !(0.0..1.0).contains(&self.chord_contraction) {
+            return bad(
+                "newton.chord_contraction",
+                self.chord_contraction,
+                "must be in [0, 1)",
+            );
+        }
         Ok(())
     }
 }
@@ -63,6 +75,8 @@ pub struct NewtonIteration {
     pub step: f64,
     /// Damping factor used.
     pub damping: f64,
+    /// Whether the Jacobian was factorised for this step (false: chord step).
+    pub factorized: bool,
 }
 
 /// A converged Newton solve.
@@ -76,12 +90,21 @@ pub struct NewtonSolution {
     pub history: Vec<NewtonIteration>,
 }
 
+impl NewtonSolution {
+    /// Number of Jacobian factorisations done.
+    #[must_use]
+    pub fn factorizations(&self) -> usize {
+        self.history.iter().filter(|h| h.factorized).count()
+    }
+}
+
 fn max_abs(v: &[f64]) -> f64 {
     v.iter().fold(0.0f64, |m, x| m.max(x.abs()))
 }
 
 /// Solves the square problem $F(u) = 0$ from `u0` by damped Newton: full steps while the residual
-/// decreases, halved (down to `min_damping`) otherwise.
+/// decreases sufficiently, halved (down to `min_damping`) otherwise. Converged when a step is
+/// below `tol` and the residual at the new point below `residual_tol`.
 ///
 /// # Errors
 /// [`Error::NewtonFailed`] (with the iteration history) on divergence or the iteration limit;
@@ -107,44 +130,48 @@ pub fn newton(
     let mut f = vec![0.0; m];
     let mut trial_f = vec![0.0; m];
     let mut trial = vec![0.0; n];
+    let mut du = vec![0.0; n];
     let mut history = Vec::new();
+    // Residual at u, if already known from the previous accepted step.
+    let mut known_residual = false;
+    let mut chord = false;
     for _ in 0..settings.max_iterations {
-        let lu = problem.factorize(&u, &mut f)?;
+        if chord {
+            if !known_residual {
+                problem.evaluate(&u, &mut f, None)?;
+            }
+        } else {
+            problem.factorize(&u, &mut f)?;
+        }
         let res = max_abs(&f);
-        let mut du: Vec<f64> = f.iter().map(|v| -v).collect();
-        lu.solve_in_place(&mut du)?;
+        for (d, v) in du.iter_mut().zip(&f) {
+            *d = -v;
+        }
+        problem.solve_in_place(&mut du)?;
         let step = max_abs(&du);
         let scale = 1.0 + max_abs(&u);
-        if step <= settings.tol * scale && res <= settings.residual_tol {
-            history.push(NewtonIteration {
-                residual: res,
-                step,
-                damping: 0.0,
-            });
-            return Ok(NewtonSolution {
-                u,
-                residual: res,
-                history,
-            });
-        }
-        // Damping: accept the first factor that does not increase the residual too much.
+        // Damping: accept the first factor that reduces the residual sufficiently.
         let mut damping = 1.0;
-        loop {
+        let trial_res = loop {
             for i in 0..n {
                 trial[i] = u[i] + damping * du[i];
             }
             let ok = problem.evaluate(&trial, &mut trial_f, None).is_ok()
                 && trial_f.iter().all(|v| v.is_finite());
             let trial_res = if ok { max_abs(&trial_f) } else { f64::INFINITY };
-            // Sufficient decrease, or already at the residual tolerance (round-off level).
             if trial_res <= (1.0 - 1e-4 * damping) * res || trial_res <= settings.residual_tol {
-                break;
+                break trial_res;
+            }
+            if chord {
+                // A poor chord step: refactorise instead of damping.
+                break f64::NAN;
             }
             if damping <= settings.min_damping {
                 history.push(NewtonIteration {
                     residual: res,
                     step,
                     damping,
+                    factorized: true,
                 });
                 return Err(Error::NewtonFailed {
                     reason: format!(
@@ -154,22 +181,37 @@ pub fn newton(
                 });
             }
             damping *= 0.5;
+        };
+        if trial_res.is_nan() {
+            chord = false;
+            known_residual = false;
+            continue;
         }
         history.push(NewtonIteration {
             residual: res,
             step,
             damping,
+            factorized: !chord,
         });
-        u.copy_from_slice(&trial);
+        std::mem::swap(&mut u, &mut trial);
+        std::mem::swap(&mut f, &mut trial_f);
+        known_residual = true;
+        if damping == 1.0 && step <= settings.tol * scale && trial_res <= settings.residual_tol {
+            return Ok(NewtonSolution {
+                u,
+                residual: trial_res,
+                history,
+            });
+        }
+        chord = damping == 1.0
+            && settings.chord_contraction > 0.0
+            && trial_res <= settings.chord_contraction * res;
     }
-    let res = {
-        problem.evaluate(&u, &mut f, None)?;
-        max_abs(&f)
-    };
     Err(Error::NewtonFailed {
         reason: format!(
-            "no convergence in {} iterations (residual {res:e})",
-            settings.max_iterations
+            "no convergence in {} iterations (residual {:e})",
+            settings.max_iterations,
+            max_abs(&f)
         ),
         history,
     })

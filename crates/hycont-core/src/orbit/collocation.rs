@@ -1,0 +1,868 @@
+//! Orthogonal collocation for hybrid periodic orbits (COCO's `coll`, AUTO's scheme).
+//!
+//! Segment $k$ is rescaled to $\tau \in [0, 1]$, $t = T_k \tau$, and split into `ntst` mesh
+//! intervals $[\tau_j, \tau_{j+1}]$ of length $h_j$. On each interval the solution is the
+//! polynomial of degree `ncol` through `ncol + 1` equidistant nodes (nodes at interval ends are
+//! shared, so the piecewise polynomial is continuous), and it satisfies the ODE at the `ncol`
+//! Gauss-Legendre points $z_c$ of the interval:
+//! $$\sum_i L_i'(z_c)\, x_{j,i} = h_j T_k\, f\Big(\sum_i L_i(z_c)\, x_{j,i}, p\Big).$$
+//! The segment ends satisfy the same event and jump conditions as in [`super::Shooting`].
+//! The error at the mesh points is $O(h^{2\,\mathrm{ncol}})$ (superconvergence).
+
+use super::floquet::{Floquet, matmul, saltation};
+use super::signature::{Closure, SegmentEnd, Signature};
+use super::{OrbitSolution, PeriodicOrbit};
+use crate::error::{Error, Result};
+use crate::linalg::SparsePattern;
+use crate::problem::{Activity, NewtonSettings, Problem, UnknownMonitor, ZeroFunction, newton};
+use crate::simulate::{SimulationSettings, Simulator};
+use crate::system::{HybridJacobians, Mode};
+use serde::{Deserialize, Serialize};
+
+/// Settings of the collocation discretisation.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+pub struct CollocationSettings {
+    /// Mesh intervals per segment (default 20).
+    pub ntst: usize,
+    /// Collocation points per interval, the polynomial degree (default 4; 1 to 7).
+    pub ncol: usize,
+    /// Mesh adaptations after the first solve (default 1): each equidistributes the error
+    /// estimate and solves again.
+    pub adapt: usize,
+}
+
+impl Default for CollocationSettings {
+    fn default() -> Self {
+        Self {
+            ntst: 20,
+            ncol: 4,
+            adapt: 1,
+        }
+    }
+}
+
+impl CollocationSettings {
+    /// Checks the invariants.
+    ///
+    /// # Errors
+    /// [`Error::InvalidSetting`] for `ntst == 0` or `ncol` outside `1..=7`.
+    pub fn validate(&self) -> Result<()> {
+        if self.ntst == 0 {
+            return Err(Error::InvalidSetting {
+                name: "collocation.ntst",
+                value: 0.0,
+                reason: "must be >= 1",
+            });
+        }
+        if !(1..=7).contains(&self.ncol) {
+            return Err(Error::InvalidSetting {
+                name: "collocation.ncol",
+                value: self.ncol as f64,
+                reason: "must be in 1..=7",
+            });
+        }
+        Ok(())
+    }
+}
+
+/// Gauss-Legendre points on $(0, 1)$.
+#[must_use]
+pub fn gauss_legendre_points(m: usize) -> Vec<f64> {
+    let mut out = Vec::with_capacity(m);
+    for i in 1..=m {
+        // Newton's method on P_m from the Chebyshev-like guess.
+        let mut x = (std::f64::consts::PI * (i as f64 - 0.25) / (m as f64 + 0.5)).cos();
+        for _ in 0..100 {
+            let (mut p0, mut p1) = (1.0, x);
+            for k in 2..=m {
+                let p2 = ((2 * k - 1) as f64 * x * p1 - (k - 1) as f64 * p0) / k as f64;
+                p0 = p1;
+                p1 = p2;
+            }
+            let pm = if m == 0 { 1.0 } else { p1 };
+            let pm1 = if m == 1 { 1.0 } else { p0 };
+            let dp = m as f64 * (x * pm - pm1) / (x * x - 1.0);
+            let dx = pm / dp;
+            x -= dx;
+            if dx.abs() < 1e-16 {
+                break;
+            }
+        }
+        out.push(0.5 * (1.0 - x));
+    }
+    out.sort_by(f64::total_cmp);
+    out
+}
+
+/// Lagrange basis on `ncol + 1` equidistant nodes of $[0, 1]$, tabulated at the Gauss points.
+#[derive(Debug, Clone)]
+struct Basis {
+    ncol: usize,
+    /// `l[c][i]` = $L_i(z_c)$.
+    l: Vec<Vec<f64>>,
+    /// `dl[c][i]` = $L_i'(z_c)$.
+    dl: Vec<Vec<f64>>,
+    /// $L_i^{(\mathrm{ncol})}$ (constant).
+    dn: Vec<f64>,
+}
+
+fn lagrange(nodes: &[f64], i: usize, z: f64) -> f64 {
+    nodes
+        .iter()
+        .enumerate()
+        .filter(|(m, _)| *m != i)
+        .map(|(_, &zm)| (z - zm) / (nodes[i] - zm))
+        .product()
+}
+
+fn lagrange_derivative(nodes: &[f64], i: usize, z: f64) -> f64 {
+    let mut sum = 0.0;
+    for k in 0..nodes.len() {
+        if k == i {
+            continue;
+        }
+        let mut prod = 1.0 / (nodes[i] - nodes[k]);
+        for (m, &zm) in nodes.iter().enumerate() {
+            if m != i && m != k {
+                prod *= (z - zm) / (nodes[i] - zm);
+            }
+        }
+        sum += prod;
+    }
+    sum
+}
+
+impl Basis {
+    fn new(ncol: usize) -> Self {
+        let nodes: Vec<f64> = (0..=ncol).map(|i| i as f64 / ncol as f64).collect();
+        let z = gauss_legendre_points(ncol);
+        let l = z
+            .iter()
+            .map(|&zc| (0..=ncol).map(|i| lagrange(&nodes, i, zc)).collect())
+            .collect();
+        let dl = z
+            .iter()
+            .map(|&zc| {
+                (0..=ncol)
+                    .map(|i| lagrange_derivative(&nodes, i, zc))
+                    .collect()
+            })
+            .collect();
+        let fact: f64 = (1..=ncol).map(|k| k as f64).product();
+        let dn = (0..=ncol)
+            .map(|i| {
+                let denom: f64 = (0..=ncol)
+                    .filter(|&m| m != i)
+                    .map(|m| nodes[i] - nodes[m])
+                    .product();
+                fact / denom
+            })
+            .collect();
+        Self { ncol, l, dl, dn }
+    }
+
+    fn nodes(&self) -> Vec<f64> {
+        (0..=self.ncol)
+            .map(|i| i as f64 / self.ncol as f64)
+            .collect()
+    }
+}
+
+/// A collocation mesh of one segment: $0 = \tau_0 < \dots < \tau_{\mathrm{ntst}} = 1$.
+pub type Mesh = Vec<f64>;
+
+/// The collocation equations of a hybrid periodic orbit (a [`ZeroFunction`]).
+///
+/// Local unknowns: for each segment its `ntst * ncol + 1` node states, then the durations, then
+/// the parameters.
+pub struct Collocation<'a, S: ?Sized> {
+    system: &'a S,
+    signature: Signature,
+    basis: Basis,
+    meshes: Vec<Mesh>,
+    n: usize,
+    np: usize,
+    closure: Option<Vec<f64>>,
+    // Work space.
+    xi: Vec<f64>,
+    f: Vec<f64>,
+    a: Vec<f64>,
+    fp: Vec<f64>,
+    gx: Vec<f64>,
+    gp: Vec<f64>,
+    hx: Vec<f64>,
+    hp: Vec<f64>,
+    gy: Vec<f64>,
+}
+
+impl<'a, S: HybridJacobians + ?Sized> Collocation<'a, S> {
+    /// Collocation equations with the given per-segment meshes and degree.
+    ///
+    /// # Errors
+    /// Invalid meshes or degree.
+    pub fn new(
+        system: &'a S,
+        signature: Signature,
+        meshes: Vec<Mesh>,
+        ncol: usize,
+    ) -> Result<Self> {
+        CollocationSettings {
+            ntst: 1,
+            ncol,
+            adapt: 0,
+        }
+        .validate()?;
+        if meshes.len() != signature.len()
+            || meshes.iter().any(|m| {
+                m.len() < 2
+                    || m[0] != 0.0
+                    || *m.last().expect("len >= 2") != 1.0
+                    || m.windows(2).any(|w| !(w[1] > w[0]))
+            })
+        {
+            return Err(Error::InvalidSetting {
+                name: "collocation mesh",
+                value: meshes.len() as f64,
+                reason: "one increasing mesh from 0 to 1 per segment is required",
+            });
+        }
+        let (n, np) = (system.state_dim(), system.parameter_count());
+        let closure = match signature.closure() {
+            Closure::Periodic => None,
+            Closure::Symmetric => system.symmetry().map(|s| s.matrix),
+        };
+        Ok(Self {
+            system,
+            signature,
+            basis: Basis::new(ncol),
+            meshes,
+            n,
+            np,
+            closure,
+            xi: vec![0.0; n],
+            f: vec![0.0; n],
+            a: vec![0.0; n * n],
+            fp: vec![0.0; n * np],
+            gx: vec![0.0; n * n],
+            gp: vec![0.0; n * np],
+            hx: vec![0.0; n],
+            hp: vec![0.0; np],
+            gy: vec![0.0; n],
+        })
+    }
+
+    fn nodes_in(&self, k: usize) -> usize {
+        (self.meshes[k].len() - 1) * self.basis.ncol + 1
+    }
+
+    /// Index of the first node value of segment `k` in the local unknowns.
+    #[must_use]
+    pub fn segment_offset(&self, k: usize) -> usize {
+        (0..k).map(|l| self.nodes_in(l) * self.n).sum()
+    }
+
+    /// Index of segment `k`'s duration.
+    #[must_use]
+    pub fn duration_index(&self, k: usize) -> usize {
+        self.segment_offset(self.signature.len()) + k
+    }
+
+    /// Index of parameter `q`.
+    #[must_use]
+    pub fn param_index(&self, q: usize) -> usize {
+        self.segment_offset(self.signature.len()) + self.signature.len() + q
+    }
+
+    fn row_offset(&self, k: usize) -> usize {
+        (0..k)
+            .map(|l| (self.nodes_in(l) - 1) * self.n + self.n + 1)
+            .sum()
+    }
+
+    /// The meshes.
+    #[must_use]
+    pub fn meshes(&self) -> &[Mesh] {
+        &self.meshes
+    }
+}
+
+impl<S: HybridJacobians + ?Sized> ZeroFunction for Collocation<'_, S> {
+    fn unknowns(&self) -> usize {
+        self.param_index(0) + self.np
+    }
+
+    fn equations(&self) -> usize {
+        self.row_offset(self.signature.len())
+    }
+
+    fn jacobian_pattern(&self) -> Vec<(usize, usize)> {
+        let (n, np, ncol) = (self.n, self.np, self.basis.ncol);
+        let kk = self.signature.len();
+        let mut out = Vec::new();
+        for k in 0..kk {
+            let off = self.segment_offset(k);
+            let r0 = self.row_offset(k);
+            let ntst = self.meshes[k].len() - 1;
+            for j in 0..ntst {
+                for c in 0..ncol {
+                    for i in 0..n {
+                        let row = r0 + (j * ncol + c) * n + i;
+                        for node in 0..=ncol {
+                            for comp in 0..n {
+                                out.push((row, off + (j * ncol + node) * n + comp));
+                            }
+                        }
+                        out.push((row, self.duration_index(k)));
+                        for q in 0..np {
+                            out.push((row, self.param_index(q)));
+                        }
+                    }
+                }
+            }
+            // Boundary rows: n continuity + 1 end condition.
+            let rb = r0 + ntst * ncol * n;
+            let last = off + (self.nodes_in(k) - 1) * n;
+            let next_off = self.segment_offset((k + 1) % kk);
+            for i in 0..=n {
+                for comp in 0..n {
+                    out.push((rb + i, last + comp));
+                }
+                for q in 0..np {
+                    out.push((rb + i, self.param_index(q)));
+                }
+                if i < n {
+                    if k + 1 == kk && self.closure.is_some() {
+                        for comp in 0..n {
+                            out.push((rb + i, next_off + comp));
+                        }
+                    } else {
+                        out.push((rb + i, next_off + i));
+                    }
+                }
+            }
+        }
+        out
+    }
+
+    fn evaluate(
+        &mut self,
+        u: &[f64],
+        residual: &mut [f64],
+        jacobian: Option<&mut [f64]>,
+    ) -> Result<()> {
+        let (n, np, ncol) = (self.n, self.np, self.basis.ncol);
+        let kk = self.signature.len();
+        let p = u[self.param_index(0)..self.param_index(0) + np].to_vec();
+        let mut jac = jacobian;
+        let mut pos = 0usize;
+        for k in 0..kk {
+            let mode = self.signature.segments()[k].mode;
+            let off = self.segment_offset(k);
+            let r0 = self.row_offset(k);
+            let t_k = u[self.duration_index(k)];
+            let ntst = self.meshes[k].len() - 1;
+            for j in 0..ntst {
+                let h = self.meshes[k][j + 1] - self.meshes[k][j];
+                let base = off + j * ncol * n;
+                for c in 0..ncol {
+                    // xi = p(z_c)
+                    for comp in 0..n {
+                        self.xi[comp] = (0..=ncol)
+                            .map(|node| self.basis.l[c][node] * u[base + node * n + comp])
+                            .sum();
+                    }
+                    self.system.vector_field(mode, &self.xi, &p, &mut self.f);
+                    let row = r0 + (j * ncol + c) * n;
+                    for i in 0..n {
+                        let dp: f64 = (0..=ncol)
+                            .map(|node| self.basis.dl[c][node] * u[base + node * n + i])
+                            .sum();
+                        residual[row + i] = dp - h * t_k * self.f[i];
+                    }
+                    if let Some(jac) = jac.as_deref_mut() {
+                        self.system.vector_field_jacobian(
+                            mode,
+                            &self.xi,
+                            &p,
+                            &mut self.a,
+                            Some(&mut self.fp),
+                        );
+                        for i in 0..n {
+                            for node in 0..=ncol {
+                                for comp in 0..n {
+                                    let mut v =
+                                        -h * t_k * self.a[i + comp * n] * self.basis.l[c][node];
+                                    if comp == i {
+                                        v += self.basis.dl[c][node];
+                                    }
+                                    jac[pos] = v;
+                                    pos += 1;
+                                }
+                            }
+                            jac[pos] = -h * self.f[i];
+                            pos += 1;
+                            for q in 0..np {
+                                jac[pos] = -h * t_k * self.fp[i + q * n];
+                                pos += 1;
+                            }
+                        }
+                    }
+                }
+            }
+            // Boundary conditions at the segment's end.
+            let rb = r0 + ntst * ncol * n;
+            let last = off + (self.nodes_in(k) - 1) * n;
+            let y = u[last..last + n].to_vec();
+            let next_off = self.segment_offset((k + 1) % kk);
+            let wrap = k + 1 == kk;
+            let next: Vec<f64> = match (&self.closure, wrap) {
+                (Some(sm), true) => (0..n)
+                    .map(|i| (0..n).map(|j| sm[i + j * n] * u[next_off + j]).sum())
+                    .collect(),
+                _ => u[next_off..next_off + n].to_vec(),
+            };
+            let end = self.signature.segments()[k].end;
+            match end {
+                SegmentEnd::Event(e) => {
+                    self.system.reset(e, &y, &p, &mut self.gy);
+                    for i in 0..n {
+                        residual[rb + i] = self.gy[i] - next[i];
+                    }
+                    residual[rb + n] = self.system.event(e, &y, &p);
+                }
+                SegmentEnd::Interior { component, value } => {
+                    for i in 0..n {
+                        residual[rb + i] = y[i] - next[i];
+                    }
+                    residual[rb + n] = y[component] - value;
+                }
+            }
+            let Some(jac) = jac.as_deref_mut() else {
+                continue;
+            };
+            match end {
+                SegmentEnd::Event(e) => {
+                    self.system
+                        .reset_jacobian(e, &y, &p, &mut self.gx, Some(&mut self.gp));
+                    self.system
+                        .event_gradient(e, &y, &p, &mut self.hx, Some(&mut self.hp));
+                }
+                SegmentEnd::Interior { component, .. } => {
+                    self.gx.fill(0.0);
+                    for i in 0..n {
+                        self.gx[i + i * n] = 1.0;
+                    }
+                    self.gp.fill(0.0);
+                    self.hx.fill(0.0);
+                    self.hx[component] = 1.0;
+                    self.hp.fill(0.0);
+                }
+            }
+            for i in 0..=n {
+                for comp in 0..n {
+                    jac[pos] = if i < n {
+                        self.gx[i + comp * n]
+                    } else {
+                        self.hx[comp]
+                    };
+                    pos += 1;
+                }
+                for q in 0..np {
+                    jac[pos] = if i < n {
+                        self.gp[i + q * n]
+                    } else {
+                        self.hp[q]
+                    };
+                    pos += 1;
+                }
+                if i < n {
+                    match (&self.closure, wrap) {
+                        (Some(sm), true) => {
+                            for comp in 0..n {
+                                jac[pos] = -sm[i + comp * n];
+                                pos += 1;
+                            }
+                        }
+                        _ => {
+                            jac[pos] = -1.0;
+                            pos += 1;
+                        }
+                    }
+                }
+            }
+        }
+        Ok(())
+    }
+}
+
+/// A periodic orbit solved by collocation: the orbit (segment starts and durations read off the
+/// collocation solution), the meshes and node values, and multipliers from the condensed
+/// collocation Jacobian.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct CollocationSolution {
+    /// The orbit, multipliers (from the collocation Jacobian) and Newton history.
+    pub solution: OrbitSolution,
+    /// The final mesh of each segment.
+    pub meshes: Vec<Mesh>,
+    /// The node states of each segment (`ntst * ncol + 1` states of length $n$, flattened).
+    pub nodes: Vec<Vec<f64>>,
+    /// The settings used.
+    pub settings: CollocationSettings,
+}
+
+fn uniform_mesh(ntst: usize) -> Mesh {
+    (0..=ntst).map(|j| j as f64 / ntst as f64).collect()
+}
+
+/// Node states of each segment of `orbit` on the given meshes, by simulating the segments.
+fn initial_nodes<S: HybridJacobians + ?Sized>(
+    system: &S,
+    orbit: &PeriodicOrbit,
+    meshes: &[Mesh],
+    ncol: usize,
+) -> Result<Vec<Vec<f64>>> {
+    let n = system.state_dim();
+    let basis_nodes: Vec<f64> = (0..=ncol).map(|i| i as f64 / ncol as f64).collect();
+    let mut out = Vec::new();
+    for (k, seg) in orbit.signature.segments().iter().enumerate() {
+        let taus: Vec<f64> = meshes[k]
+            .windows(2)
+            .flat_map(|w| {
+                let (a, b) = (w[0], w[1]);
+                basis_nodes[..ncol].iter().map(move |z| a + z * (b - a))
+            })
+            .chain(std::iter::once(1.0))
+            .collect();
+        // Uniform meshes: one run with the node times as samples (dense output); otherwise
+        // integrate from node to node.
+        let flow = super::flow::SegmentFlow::plain(system, seg.mode);
+        let uniform = meshes[k]
+            .windows(2)
+            .all(|w| ((w[1] - w[0]) - 1.0 / (meshes[k].len() - 1) as f64).abs() < 1e-14);
+        let mut vals = Vec::with_capacity(taus.len() * n);
+        if uniform {
+            let step = orbit.durations[k] / (taus.len() - 1) as f64;
+            let mut sim = Simulator::new(
+                SimulationSettings::default()
+                    .rtol(1e-12)
+                    .atol(1e-14)
+                    .samples(crate::simulate::SampleTimes::new(0.0, step)),
+            )?;
+            let traj = sim.run(
+                &flow,
+                Mode(0),
+                0.0,
+                &orbit.starts[k],
+                &orbit.params,
+                orbit.durations[k],
+            )?;
+            for (_, _, x) in traj.samples.iter().take(taus.len()) {
+                vals.extend_from_slice(x);
+            }
+            while vals.len() < taus.len() * n {
+                vals.extend_from_slice(&traj.state_final);
+            }
+        } else {
+            let mut sim = Simulator::new(SimulationSettings::default().rtol(1e-12).atol(1e-14))?;
+            let mut x = orbit.starts[k].clone();
+            let mut t_prev = 0.0;
+            for &tau in &taus {
+                let t = tau * orbit.durations[k];
+                if t > t_prev {
+                    let traj = sim.run(&flow, Mode(0), t_prev, &x, &orbit.params, t)?;
+                    x.clone_from(&traj.state_final);
+                    t_prev = t;
+                }
+                vals.extend_from_slice(&x);
+            }
+        }
+        out.push(vals);
+    }
+    Ok(out)
+}
+
+fn collocation_problem<'a, S: HybridJacobians + ?Sized>(
+    system: &'a S,
+    orbit: &PeriodicOrbit,
+    meshes: Vec<Mesh>,
+    ncol: usize,
+) -> Result<(Problem<'a>, usize)> {
+    let coll = Collocation::new(system, orbit.signature.clone(), meshes, ncol)?;
+    let nu = coll.unknowns();
+    let first_param = coll.param_index(0);
+    let mut problem = Problem::new(nu);
+    problem.add_part(Box::new(coll), (0..nu).collect())?;
+    for (q, name) in system.parameter_names().iter().enumerate() {
+        problem.add_monitor(
+            name,
+            Box::new(UnknownMonitor),
+            vec![first_param + q],
+            Activity::Inactive(orbit.params[q]),
+        )?;
+    }
+    Ok((problem, first_param))
+}
+
+fn pack_nodes(nodes: &[Vec<f64>], orbit: &PeriodicOrbit) -> Vec<f64> {
+    let mut u: Vec<f64> = nodes.iter().flatten().copied().collect();
+    u.extend_from_slice(&orbit.durations);
+    u.extend_from_slice(&orbit.params);
+    u
+}
+
+fn unpack_nodes(
+    u: &[f64],
+    like: &PeriodicOrbit,
+    sizes: &[usize],
+    n: usize,
+) -> (Vec<Vec<f64>>, PeriodicOrbit) {
+    let mut nodes = Vec::new();
+    let mut pos = 0;
+    for &m in sizes {
+        nodes.push(u[pos..pos + m * n].to_vec());
+        pos += m * n;
+    }
+    let kk = sizes.len();
+    let durations = u[pos..pos + kk].to_vec();
+    let params = u[pos + kk..pos + kk + like.params.len()].to_vec();
+    let starts = nodes.iter().map(|v| v[..n].to_vec()).collect();
+    (
+        nodes,
+        PeriodicOrbit {
+            signature: like.signature.clone(),
+            starts,
+            durations,
+            params,
+        },
+    )
+}
+
+/// Evaluates the piecewise polynomial of one segment at $\tau$.
+fn eval_piecewise(nodes: &[f64], mesh: &[f64], ncol: usize, n: usize, tau: f64, out: &mut [f64]) {
+    let ntst = mesh.len() - 1;
+    let j = match mesh.partition_point(|&m| m <= tau) {
+        0 => 0,
+        idx => (idx - 1).min(ntst - 1),
+    };
+    let h = mesh[j + 1] - mesh[j];
+    let z = (tau - mesh[j]) / h;
+    let basis_nodes: Vec<f64> = (0..=ncol).map(|i| i as f64 / ncol as f64).collect();
+    for comp in 0..n {
+        out[comp] = (0..=ncol)
+            .map(|i| lagrange(&basis_nodes, i, z) * nodes[(j * ncol + i) * n + comp])
+            .sum();
+    }
+}
+
+/// A new mesh equidistributing the error estimate
+/// $\|x^{(\mathrm{ncol}+1)}\|^{1/(\mathrm{ncol}+1)}$, the $(\mathrm{ncol}+1)$-th derivative
+/// estimated from jumps of the piecewise polynomial's `ncol`-th derivative (as in AUTO).
+fn adapted_mesh(nodes: &[f64], mesh: &[f64], basis: &Basis, n: usize) -> Mesh {
+    let ncol = basis.ncol;
+    let ntst = mesh.len() - 1;
+    // ncol-th derivative (in tau) on each interval.
+    let d: Vec<Vec<f64>> = (0..ntst)
+        .map(|j| {
+            let h = mesh[j + 1] - mesh[j];
+            (0..n)
+                .map(|comp| {
+                    (0..=ncol)
+                        .map(|i| basis.dn[i] * nodes[(j * ncol + i) * n + comp])
+                        .sum::<f64>()
+                        / h.powi(ncol as i32)
+                })
+                .collect()
+        })
+        .collect();
+    let jump = |a: usize, b: usize| -> f64 {
+        let dist = 0.5 * (mesh[a + 1] - mesh[a] + mesh[b + 1] - mesh[b]);
+        (0..n)
+            .map(|c| ((d[b][c] - d[a][c]) / dist).abs())
+            .fold(0.0, f64::max)
+    };
+    let density: Vec<f64> = (0..ntst)
+        .map(|j| {
+            let left = if j > 0 { jump(j - 1, j) } else { 0.0 };
+            let right = if j + 1 < ntst { jump(j, j + 1) } else { 0.0 };
+            let both = if j > 0 && j + 1 < ntst {
+                0.5 * (left + right)
+            } else {
+                left.max(right)
+            };
+            both.powf(1.0 / (ncol + 1) as f64)
+        })
+        .collect();
+    let total: f64 = density
+        .iter()
+        .zip(mesh.windows(2))
+        .map(|(w, m)| w * (m[1] - m[0]))
+        .sum();
+    if !(total > 0.0) || ntst < 2 {
+        return mesh.to_vec();
+    }
+    // Mix with a uniform density (10 %) so that no interval grows unboundedly.
+    let floor = 0.1 * total;
+    let dens: Vec<f64> = density.iter().map(|w| w + floor).collect();
+    let total: f64 = dens
+        .iter()
+        .zip(mesh.windows(2))
+        .map(|(w, m)| w * (m[1] - m[0]))
+        .sum();
+    let mut out = vec![0.0];
+    let mut acc = 0.0;
+    let mut j = 0;
+    for k in 1..ntst {
+        let target = total * k as f64 / ntst as f64;
+        while j < ntst && acc + dens[j] * (mesh[j + 1] - mesh[j]) < target {
+            acc += dens[j] * (mesh[j + 1] - mesh[j]);
+            j += 1;
+        }
+        let j_c = j.min(ntst - 1);
+        out.push(mesh[j_c] + (target - acc) / dens[j_c]);
+    }
+    out.push(1.0);
+    out
+}
+
+/// Solves for the periodic orbit near `guess` by collocation (then `settings.adapt` mesh
+/// adaptations), with Floquet multipliers from the condensed collocation Jacobian.
+///
+/// # Errors
+/// As [`super::solve_shooting`]; invalid settings.
+pub fn solve_collocation<S: HybridJacobians + ?Sized>(
+    system: &S,
+    guess: &PeriodicOrbit,
+    settings: CollocationSettings,
+    newton_settings: &NewtonSettings,
+) -> Result<CollocationSolution> {
+    settings.validate()?;
+    guess.validate(system)?;
+    let n = system.state_dim();
+    let kk = guess.segment_count();
+    let mut meshes: Vec<Mesh> = (0..kk).map(|_| uniform_mesh(settings.ntst)).collect();
+    let mut nodes = initial_nodes(system, guess, &meshes, settings.ncol)?;
+    let mut orbit = guess.clone();
+    let basis = Basis::new(settings.ncol);
+    let sizes = vec![settings.ntst * settings.ncol + 1; kk];
+    let mut history = Vec::new();
+    let mut residual = 0.0;
+    for pass in 0..=settings.adapt {
+        if pass > 0 {
+            // Move to the adapted meshes, interpolating the current solution.
+            let new_meshes: Vec<Mesh> = (0..kk)
+                .map(|k| adapted_mesh(&nodes[k], &meshes[k], &basis, n))
+                .collect();
+            let bn = basis.nodes();
+            let mut new_nodes = Vec::new();
+            for k in 0..kk {
+                let mut vals = Vec::new();
+                let mut x = vec![0.0; n];
+                for w in new_meshes[k].windows(2) {
+                    for z in &bn[..settings.ncol] {
+                        eval_piecewise(
+                            &nodes[k],
+                            &meshes[k],
+                            settings.ncol,
+                            n,
+                            w[0] + z * (w[1] - w[0]),
+                            &mut x,
+                        );
+                        vals.extend_from_slice(&x);
+                    }
+                }
+                vals.extend_from_slice(&nodes[k][nodes[k].len() - n..]);
+                new_nodes.push(vals);
+            }
+            meshes = new_meshes;
+            nodes = new_nodes;
+        }
+        let (mut problem, _) = collocation_problem(system, &orbit, meshes.clone(), settings.ncol)?;
+        let sol = newton(&mut problem, &pack_nodes(&nodes, &orbit), newton_settings)?;
+        let (nd, ob) = unpack_nodes(&sol.u, &orbit, &sizes, n);
+        nodes = nd;
+        orbit = ob;
+        residual = sol.residual;
+        history.extend(sol.history);
+    }
+    let floquet = condensed_floquet(system, &orbit, &meshes, &nodes, settings.ncol)?;
+    Ok(CollocationSolution {
+        solution: OrbitSolution {
+            orbit,
+            floquet,
+            newton: history,
+            residual,
+        },
+        meshes,
+        nodes,
+        settings,
+    })
+}
+
+/// Multipliers from the collocation Jacobian: for each segment, the linear map from its first
+/// node to its last node defined by the linearised collocation equations (durations and
+/// parameters fixed) — the discrete $\Phi_k$ — combined with the saltation matrices.
+fn condensed_floquet<S: HybridJacobians + ?Sized>(
+    system: &S,
+    orbit: &PeriodicOrbit,
+    meshes: &[Mesh],
+    nodes: &[Vec<f64>],
+    ncol: usize,
+) -> Result<Floquet> {
+    let n = system.state_dim();
+    let mut m = vec![0.0; n * n];
+    for i in 0..n {
+        m[i + i * n] = 1.0;
+    }
+    for (k, seg) in orbit.signature.segments().iter().enumerate() {
+        // A one-segment collocation part; its Jacobian's node columns give the block system.
+        let sig = Signature::new(
+            system,
+            vec![super::SegmentSpec {
+                mode: seg.mode,
+                end: SegmentEnd::Interior {
+                    component: 0,
+                    value: 0.0,
+                },
+            }],
+        )?;
+        let mut coll = Collocation::new(system, sig, vec![meshes[k].clone()], ncol)?;
+        let nodes_k = nodes[k].len() / n;
+        let rows = (nodes_k - 1) * n; // collocation equations only
+        let mut u = nodes[k].clone();
+        u.push(orbit.durations[k]);
+        u.extend_from_slice(&orbit.params);
+        let mut res = vec![0.0; coll.equations()];
+        let pattern = coll.jacobian_pattern();
+        let mut vals = vec![0.0; pattern.len()];
+        coll.evaluate(&u, &mut res, Some(&mut vals))?;
+        // Split columns: node 0 (n) | other nodes ((nodes_k - 1) n); rows: collocation only.
+        let mut entries = Vec::new();
+        let mut values = Vec::new();
+        let mut rhs = vec![0.0; rows * n];
+        for (&(r, c), &v) in pattern.iter().zip(&vals) {
+            if r >= rows || c >= nodes_k * n {
+                continue;
+            }
+            if c < n {
+                rhs[r + c * rows] -= v;
+            } else {
+                entries.push((r, c - n));
+                values.push(v);
+            }
+        }
+        let mut pat = SparsePattern::new(rows, rows, &entries)?;
+        pat.factorize(&values)?;
+        pat.solve_many_in_place(&mut rhs, n)?;
+        // Phi_k: the last node's block.
+        let mut phi = vec![0.0; n * n];
+        for j in 0..n {
+            for i in 0..n {
+                phi[i + j * n] = rhs[(rows - n) + i + j * rows];
+            }
+        }
+        let end_state = &nodes[k][nodes[k].len() - n..];
+        let s = saltation(system, orbit, k, end_state);
+        m = matmul(n, &matmul(n, &s, &phi), &m);
+    }
+    Floquet::from_monodromy(system, &orbit.params, orbit.period(), m)
+}
