@@ -24,6 +24,78 @@ pub struct Cli {
 pub enum Command {
     /// Simulate the block from an initial condition (event-driven, DOP853).
     Simulate(SimulateArgs),
+    /// Compute a periodic orbit (Newton on a multi-segment boundary-value problem) with its
+    /// Floquet multipliers.
+    Orbit(OrbitArgs),
+    /// Reproduce a figure of the study: writes DIR/figN.json and DIR/figN.svg.
+    Figure(FigureArgs),
+}
+
+/// Orbit kinds on the command line.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum KindArg {
+    /// The symmetric period-1 orbit.
+    Symmetric,
+    /// The asymmetric period-1 orbit leaning to phi > 0.
+    AsymmetricPos,
+    /// The asymmetric period-1 orbit leaning to phi < 0.
+    AsymmetricNeg,
+    /// The orbit a simulation settles on (from --phi0, --psi0, --beta).
+    Simulate,
+}
+
+/// Discretisations on the command line.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum MethodArg {
+    /// Orthogonal collocation.
+    Collocation,
+    /// Multiple shooting.
+    Shooting,
+}
+
+/// Arguments of `rocking-block orbit`.
+#[derive(Debug, Args)]
+pub struct OrbitArgs {
+    /// Forcing frequency omega (> 0).
+    #[arg(long, default_value_t = 1.3, allow_negative_numbers = true)]
+    pub omega: f64,
+    /// Forcing amplitude alpha (>= 0).
+    #[arg(long, default_value_t = 0.66, allow_negative_numbers = true)]
+    pub alpha: f64,
+    /// Which orbit.
+    #[arg(long, value_enum, default_value_t = KindArg::Symmetric)]
+    pub kind: KindArg,
+    /// Discretisation of the boundary-value problem.
+    #[arg(long, value_enum, default_value_t = MethodArg::Collocation)]
+    pub method: MethodArg,
+    /// Collocation: mesh intervals per segment.
+    #[arg(long, default_value_t = 20)]
+    pub ntst: usize,
+    /// Collocation: points per interval.
+    #[arg(long, default_value_t = 4)]
+    pub ncol: usize,
+    /// Initial angle for --kind simulate.
+    #[arg(long, default_value_t = 0.01, allow_negative_numbers = true)]
+    pub phi0: f64,
+    /// Initial angular velocity for --kind simulate.
+    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
+    pub psi0: f64,
+    /// Forcing phase for --kind simulate.
+    #[arg(long, default_value_t = std::f64::consts::FRAC_PI_2, allow_negative_numbers = true)]
+    pub beta: f64,
+    /// Print the orbit as JSON on stdout.
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// Arguments of `rocking-block figure`.
+#[derive(Debug, Args)]
+pub struct FigureArgs {
+    /// Figure number (2 to 10) or `all`.
+    pub which: String,
+    /// Output directory.
+    #[arg(long, default_value = "results")]
+    pub out: PathBuf,
 }
 
 /// Arguments of `rocking-block simulate`.
@@ -104,7 +176,99 @@ fn io_err(path: &Path) -> impl FnOnce(std::io::Error) -> Error + '_ {
 pub fn run(cli: Cli, out: &mut dyn Write) -> Result<()> {
     match cli.command {
         Command::Simulate(args) => run_simulate(&args, out),
+        Command::Orbit(args) => run_orbit(&args, out),
+        Command::Figure(args) => run_figure(&args, out),
     }
+}
+
+fn run_orbit(args: &OrbitArgs, out: &mut dyn Write) -> Result<()> {
+    use crate::orbits::{OrbitKind, orbit};
+    let params = Parameters::new(args.omega, args.alpha);
+    params.validate()?;
+    let settings = hycont_core::orbit::CollocationSettings {
+        ntst: args.ntst,
+        ncol: args.ncol,
+        adapt: 1,
+    };
+    settings.validate()?;
+    let (kind, name) = match args.kind {
+        KindArg::Symmetric => (OrbitKind::Symmetric, "symmetric"),
+        KindArg::AsymmetricPos => (OrbitKind::AsymmetricPos, "asymmetric-pos"),
+        KindArg::AsymmetricNeg => (OrbitKind::AsymmetricNeg, "asymmetric-neg"),
+        KindArg::Simulate => (OrbitKind::Simulate, "simulate"),
+    };
+    let mut found = orbit(&params, kind, Some((args.phi0, args.psi0, args.beta)))?;
+    if args.method == MethodArg::Collocation {
+        found = found.by_collocation(settings)?;
+    }
+    let report = found.report(name)?;
+    let stdout_err = |source| Error::Io {
+        path: PathBuf::from("<stdout>"),
+        source,
+    };
+    if args.json {
+        let text = serde_json::to_string_pretty(&report).expect("report serialises");
+        writeln!(out, "{text}").map_err(stdout_err)?;
+    } else {
+        writeln!(
+            out,
+            "{name} orbit at omega = {}, alpha = {} ({:?}): period {:.10}, amp {:.10}, {}",
+            args.omega,
+            args.alpha,
+            args.method,
+            report.period,
+            report.amp,
+            if report.stable { "stable" } else { "unstable" }
+        )
+        .map_err(stdout_err)?;
+        for s in &report.segments {
+            writeln!(
+                out,
+                "  flight {}: {:.10} from {:?}",
+                s.mode, s.duration, s.start
+            )
+            .map_err(stdout_err)?;
+        }
+        for (m, t) in report.multipliers.iter().zip(&report.trivial) {
+            writeln!(
+                out,
+                "  multiplier {:+.10e} {:+.10e}i{}",
+                m[0],
+                m[1],
+                if *t { " (trivial)" } else { "" }
+            )
+            .map_err(stdout_err)?;
+        }
+    }
+    Ok(())
+}
+
+fn run_figure(args: &FigureArgs, out: &mut dyn Write) -> Result<()> {
+    let which: Vec<u32> = if args.which == "all" {
+        crate::figures::AVAILABLE.to_vec()
+    } else {
+        vec![args.which.parse().map_err(|_| Error::InvalidArgument {
+            name: "figure",
+            value: args.which.clone(),
+            reason: "expected a figure number (2 to 10) or `all`",
+        })?]
+    };
+    for n in which {
+        let files = crate::figures::figure(n, &args.out)?;
+        for f in files.files {
+            writeln!(out, "wrote {}", f.display()).map_err(|source| Error::Io {
+                path: PathBuf::from("<stdout>"),
+                source,
+            })?;
+        }
+    }
+    if args.which == "all" {
+        eprintln!(
+            "rocking-block: figures 3 to 10 are not available yet (continuation and sampling are \
+             still to come); wrote the available ones"
+        );
+    }
+    Ok(())
 }
 
 fn run_simulate(args: &SimulateArgs, out: &mut dyn Write) -> Result<()> {

@@ -17,6 +17,7 @@
 
 pub mod cli;
 pub mod error;
+pub mod figures;
 pub mod model;
 pub mod orbits;
 pub mod plot;

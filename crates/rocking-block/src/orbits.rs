@@ -4,8 +4,9 @@
 use crate::error::Result;
 use crate::model::{IMPACT_PLUS, PLUS, Parameters, RockingBlock, initial_mode, initial_state};
 use hycont_core::orbit::{
-    Closure, OrbitSolution, PeriodicOrbit, SegmentEnd, SegmentSpec, ShootingSettings, Signature,
-    SymmetricSolution, solve_shooting, solve_symmetric_shooting,
+    Closure, CollocationSettings, OrbitSolution, PeriodicOrbit, SegmentEnd, SegmentSpec,
+    ShootingSettings, Signature, SymmetricSolution, solve_collocation, solve_shooting,
+    solve_symmetric_collocation, solve_symmetric_shooting,
 };
 use hycont_core::problem::NewtonSettings;
 use hycont_core::{HybridSystem, SimulationSettings, Simulator};
@@ -14,6 +15,15 @@ use std::f64::consts::{FRAC_PI_2, PI};
 
 /// Index of $\psi$ in the state: interior points $\psi = 0$ are the extrema of $\varphi$.
 const PSI: usize = 1;
+
+/// How to discretise the orbit's boundary-value problem.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+pub enum Method {
+    /// Multiple shooting on the simulator's variational equations.
+    Shooting,
+    /// Orthogonal collocation with the given settings.
+    Collocation(CollocationSettings),
+}
 
 /// Which periodic orbit to compute.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
@@ -332,6 +342,29 @@ pub fn orbit(
 }
 
 impl RockingOrbit {
+    /// The same orbit re-solved by collocation (multipliers from the collocation Jacobian; for a
+    /// symmetric orbit the half-orbit problem is solved by collocation too).
+    ///
+    /// # Errors
+    /// If the collocation Newton solve fails.
+    pub fn by_collocation(&self, settings: CollocationSettings) -> Result<Self> {
+        let orbit = &self.solution.orbit;
+        if self.half_multipliers.is_some() {
+            let half = orbit.half_of_symmetric(&RockingBlock, 1e-8)?;
+            let sol =
+                solve_symmetric_collocation(&RockingBlock, &half, settings, &newton_settings())?;
+            return Ok(Self {
+                solution: sol.full,
+                half_multipliers: Some(sol.half_floquet.multipliers),
+            });
+        }
+        let sol = solve_collocation(&RockingBlock, orbit, settings, &newton_settings())?;
+        Ok(Self {
+            solution: sol.solution,
+            half_multipliers: None,
+        })
+    }
+
     /// The report of this orbit under `name`.
     ///
     /// # Errors

@@ -77,3 +77,94 @@ fn bad_arguments_give_one_line_and_exit_code_2() {
     assert_one_line_usage_error(&["simulate", "--r0", "1"], "--s0");
     assert_one_line_usage_error(&["frobnicate"], "frobnicate");
 }
+
+#[test]
+fn orbit_json_reports_the_symmetric_orbit() {
+    for method in ["collocation", "shooting"] {
+        let out = bin()
+            .args([
+                "orbit",
+                "--omega",
+                "1.3",
+                "--alpha",
+                "0.66",
+                "--kind",
+                "symmetric",
+            ])
+            .args(["--method", method, "--json"])
+            .output()
+            .unwrap();
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+        assert!(
+            (v["amp"].as_f64().unwrap() - 0.43843).abs() < 5e-6,
+            "{method}"
+        );
+        assert_eq!(v["stable"], false);
+        assert_eq!(v["multipliers"].as_array().unwrap().len(), 4);
+        let segs = v["segments"].as_array().unwrap();
+        assert_eq!(segs.len(), 2);
+        for s in segs {
+            assert!((s["duration"].as_f64().unwrap() - std::f64::consts::PI / 1.3).abs() < 1e-8);
+            assert_eq!(s["start"].as_array().unwrap().len(), 4);
+        }
+        assert!(v["period"].as_f64().is_some());
+    }
+}
+
+#[test]
+fn figure_2_writes_json_and_svg() {
+    let dir = std::env::temp_dir().join(format!("rocking-block-fig2-{}", std::process::id()));
+    let out = bin()
+        .args(["figure", "2", "--out"])
+        .arg(&dir)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let v: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("fig2.json")).unwrap()).unwrap();
+    assert_eq!(v["figure"], 2);
+    let orbits = v["orbits"].as_array().unwrap();
+    let names: Vec<&str> = orbits.iter().map(|o| o["name"].as_str().unwrap()).collect();
+    assert_eq!(names, ["symmetric", "asymmetric-pos", "asymmetric-neg"]);
+    for o in orbits {
+        for key in [
+            "omega",
+            "alpha",
+            "amp",
+            "period",
+            "stable",
+            "multipliers",
+            "segments",
+        ] {
+            assert!(o.get(key).is_some(), "{key}");
+        }
+        for s in o["segments"].as_array().unwrap() {
+            assert!(s["mode"] == "+" || s["mode"] == "-");
+            assert!(s["duration"].as_f64().unwrap() > 0.0);
+        }
+    }
+    let svg = std::fs::read_to_string(dir.join("fig2.svg")).unwrap();
+    assert!(svg.contains("<svg") && svg.contains("polyline"));
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
+fn unavailable_figures_and_bad_orbit_settings_fail_cleanly() {
+    assert_one_line_usage_error(
+        &["figure", "3", "--out", "/tmp/never-written"],
+        "not available yet",
+    );
+    assert_one_line_usage_error(&["figure", "11"], "figures 2 to 10");
+    assert_one_line_usage_error(&["orbit", "--ncol", "9"], "ncol");
+    assert_one_line_usage_error(&["orbit", "--kind", "sideways"], "sideways");
+    assert_one_line_usage_error(&["orbit", "--omega", "0"], "omega");
+}

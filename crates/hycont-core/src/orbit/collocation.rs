@@ -13,7 +13,6 @@ use super::floquet::{Floquet, matmul, saltation};
 use super::signature::{Closure, SegmentEnd, Signature};
 use super::{OrbitSolution, PeriodicOrbit};
 use crate::error::{Error, Result};
-use crate::linalg::SparsePattern;
 use crate::problem::{Activity, NewtonSettings, Problem, UnknownMonitor, ZeroFunction, newton};
 use crate::simulate::{SimulationSettings, Simulator};
 use crate::system::{HybridJacobians, Mode};
@@ -510,6 +509,29 @@ pub struct CollocationSolution {
     pub settings: CollocationSettings,
 }
 
+impl CollocationSolution {
+    /// The solution as the unknowns of [`collocation_problem`] (node states of every segment,
+    /// durations, parameters).
+    #[must_use]
+    pub fn unknowns(&self) -> Vec<f64> {
+        pack_nodes(&self.nodes, &self.solution.orbit)
+    }
+
+    /// Floquet multipliers recomputed from the condensed collocation Jacobian.
+    ///
+    /// # Errors
+    /// Singular blocks or eigenvalue failures.
+    pub fn floquet<S: HybridJacobians + ?Sized>(&self, system: &S) -> Result<Floquet> {
+        condensed_floquet(
+            system,
+            &self.solution.orbit,
+            &self.meshes,
+            &self.nodes,
+            self.settings.ncol,
+        )
+    }
+}
+
 fn uniform_mesh(ntst: usize) -> Mesh {
     (0..=ntst).map(|j| j as f64 / ntst as f64).collect()
 }
@@ -581,7 +603,22 @@ fn initial_nodes<S: HybridJacobians + ?Sized>(
     Ok(out)
 }
 
-fn collocation_problem<'a, S: HybridJacobians + ?Sized>(
+/// The collocation problem of an orbit on the given meshes: the [`Collocation`] equations with
+/// every parameter held by an inactive monitor named after it. Its unknowns are packed as in
+/// [`CollocationSolution::unknowns`].
+///
+/// # Errors
+/// Invalid meshes or degree.
+pub fn collocation_problem<'a, S: HybridJacobians + ?Sized>(
+    system: &'a S,
+    orbit: &PeriodicOrbit,
+    meshes: Vec<Mesh>,
+    ncol: usize,
+) -> Result<Problem<'a>> {
+    collocation_problem_impl(system, orbit, meshes, ncol).map(|(p, _)| p)
+}
+
+fn collocation_problem_impl<'a, S: HybridJacobians + ?Sized>(
     system: &'a S,
     orbit: &PeriodicOrbit,
     meshes: Vec<Mesh>,
@@ -776,7 +813,8 @@ pub fn solve_collocation<S: HybridJacobians + ?Sized>(
             meshes = new_meshes;
             nodes = new_nodes;
         }
-        let (mut problem, _) = collocation_problem(system, &orbit, meshes.clone(), settings.ncol)?;
+        let (mut problem, _) =
+            collocation_problem_impl(system, &orbit, meshes.clone(), settings.ncol)?;
         let sol = newton(&mut problem, &pack_nodes(&nodes, &orbit), newton_settings)?;
         let (nd, ob) = unpack_nodes(&sol.u, &orbit, &sizes, n);
         nodes = nd;
@@ -798,9 +836,11 @@ pub fn solve_collocation<S: HybridJacobians + ?Sized>(
     })
 }
 
-/// Multipliers from the collocation Jacobian: for each segment, the linear map from its first
-/// node to its last node defined by the linearised collocation equations (durations and
-/// parameters fixed) — the discrete $\Phi_k$ — combined with the saltation matrices.
+/// Multipliers from the collocation Jacobian by condensation: on each mesh interval the
+/// linearised collocation equations $A_0 \delta x_{j,0} + A_1 (\delta x_{j,1}, \dots,
+/// \delta x_{j,\mathrm{ncol}}) = 0$ (durations and parameters fixed) give the interval's transfer
+/// matrix $Y_j$ from its first node to its last; $\Phi_k = Y_{\mathrm{ntst}-1} \cdots Y_0$ is the
+/// discrete flow Jacobian of segment $k$, combined with the saltation matrices.
 fn condensed_floquet<S: HybridJacobians + ?Sized>(
     system: &S,
     orbit: &PeriodicOrbit,
@@ -809,56 +849,67 @@ fn condensed_floquet<S: HybridJacobians + ?Sized>(
     ncol: usize,
 ) -> Result<Floquet> {
     let n = system.state_dim();
+    let basis = Basis::new(ncol);
+    let p = &orbit.params;
     let mut m = vec![0.0; n * n];
     for i in 0..n {
         m[i + i * n] = 1.0;
     }
+    let rows = ncol * n;
+    let mut xi = vec![0.0; n];
+    let mut a = vec![0.0; n * n];
     for (k, seg) in orbit.signature.segments().iter().enumerate() {
-        // A one-segment collocation part; its Jacobian's node columns give the block system.
-        let sig = Signature::new(
-            system,
-            vec![super::SegmentSpec {
-                mode: seg.mode,
-                end: SegmentEnd::Interior {
-                    component: 0,
-                    value: 0.0,
-                },
-            }],
-        )?;
-        let mut coll = Collocation::new(system, sig, vec![meshes[k].clone()], ncol)?;
-        let nodes_k = nodes[k].len() / n;
-        let rows = (nodes_k - 1) * n; // collocation equations only
-        let mut u = nodes[k].clone();
-        u.push(orbit.durations[k]);
-        u.extend_from_slice(&orbit.params);
-        let mut res = vec![0.0; coll.equations()];
-        let pattern = coll.jacobian_pattern();
-        let mut vals = vec![0.0; pattern.len()];
-        coll.evaluate(&u, &mut res, Some(&mut vals))?;
-        // Split columns: node 0 (n) | other nodes ((nodes_k - 1) n); rows: collocation only.
-        let mut entries = Vec::new();
-        let mut values = Vec::new();
-        let mut rhs = vec![0.0; rows * n];
-        for (&(r, c), &v) in pattern.iter().zip(&vals) {
-            if r >= rows || c >= nodes_k * n {
-                continue;
-            }
-            if c < n {
-                rhs[r + c * rows] -= v;
-            } else {
-                entries.push((r, c - n));
-                values.push(v);
-            }
-        }
-        let mut pat = SparsePattern::new(rows, rows, &entries)?;
-        pat.factorize(&values)?;
-        pat.solve_many_in_place(&mut rhs, n)?;
-        // Phi_k: the last node's block.
+        let t_k = orbit.durations[k];
         let mut phi = vec![0.0; n * n];
-        for j in 0..n {
-            for i in 0..n {
-                phi[i + j * n] = rhs[(rows - n) + i + j * rows];
+        for i in 0..n {
+            phi[i + i * n] = 1.0;
+        }
+        for (j, w) in meshes[k].windows(2).enumerate() {
+            let h = w[1] - w[0];
+            let base = j * ncol * n;
+            // A0 (rows x n) and A1 (rows x rows).
+            let mut a0 = faer::Mat::<f64>::zeros(rows, n);
+            let mut a1 = faer::Mat::<f64>::zeros(rows, rows);
+            for c in 0..ncol {
+                for comp in 0..n {
+                    xi[comp] = (0..=ncol)
+                        .map(|node| basis.l[c][node] * nodes[k][base + node * n + comp])
+                        .sum();
+                }
+                system.vector_field_jacobian(seg.mode, &xi, p, &mut a, None);
+                for i in 0..n {
+                    let row = c * n + i;
+                    for node in 0..=ncol {
+                        for comp in 0..n {
+                            let mut v = -h * t_k * a[i + comp * n] * basis.l[c][node];
+                            if comp == i {
+                                v += basis.dl[c][node];
+                            }
+                            if node == 0 {
+                                a0[(row, comp)] = -v;
+                            } else {
+                                a1[(row, (node - 1) * n + comp)] = v;
+                            }
+                        }
+                    }
+                }
             }
+            let x = faer::linalg::solvers::Solve::solve(&a1.partial_piv_lu(), &a0);
+            // Y_j: the last node's rows; Phi <- Y_j Phi.
+            let mut next = vec![0.0; n * n];
+            for col in 0..n {
+                for i in 0..n {
+                    next[i + col * n] = (0..n)
+                        .map(|l| x[(rows - n + i, l)] * phi[l + col * n])
+                        .sum();
+                }
+            }
+            phi = next;
+        }
+        if phi.iter().any(|v: &f64| !v.is_finite()) {
+            return Err(Error::SingularMatrix {
+                reason: format!("a collocation block of segment {k} is singular"),
+            });
         }
         let end_state = &nodes[k][nodes[k].len() - n..];
         let s = saltation(system, orbit, k, end_state);

@@ -15,14 +15,14 @@ mod signature;
 mod symmetry;
 
 pub use collocation::{
-    Collocation, CollocationSettings, CollocationSolution, Mesh, gauss_legendre_points,
-    solve_collocation,
+    Collocation, CollocationSettings, CollocationSolution, Mesh, collocation_problem,
+    gauss_legendre_points, solve_collocation,
 };
 pub use floquet::Floquet;
 pub use periodic_orbit::PeriodicOrbit;
 pub use shooting::{Shooting, ShootingSettings};
 pub use signature::{Closure, SegmentEnd, SegmentSpec, Signature};
-pub use symmetry::{SymmetricSolution, solve_symmetric_shooting};
+pub use symmetry::{SymmetricSolution, solve_symmetric_collocation, solve_symmetric_shooting};
 
 use crate::error::Result;
 use crate::problem::{

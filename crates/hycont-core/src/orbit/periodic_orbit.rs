@@ -314,7 +314,12 @@ impl PeriodicOrbit {
     /// # Errors
     /// As [`Signature::new`].
     pub fn validate<S: HybridSystem + ?Sized>(&self, system: &S) -> Result<()> {
-        Signature::new(system, self.signature.segments().to_vec()).map(|_| ())?;
+        Signature::with_closure(
+            system,
+            self.signature.segments().to_vec(),
+            self.signature.closure(),
+        )
+        .map(|_| ())?;
         for seg in self.signature.segments() {
             if let SegmentEnd::Event(e) = seg.end
                 && system.event_spec(e).action == EventAction::Terminal

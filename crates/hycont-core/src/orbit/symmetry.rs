@@ -203,3 +203,42 @@ pub fn solve_symmetric_shooting<S: HybridJacobians + ?Sized>(
         half_floquet,
     })
 }
+
+/// Like [`solve_symmetric_shooting`], by collocation: the half orbit is solved by collocation
+/// and the half-map multipliers come from its condensed Jacobian.
+///
+/// # Errors
+/// As [`super::solve_collocation`]; the guess must have a [`Closure::Symmetric`] signature.
+pub fn solve_symmetric_collocation<S: HybridJacobians + ?Sized>(
+    system: &S,
+    half_guess: &PeriodicOrbit,
+    settings: super::CollocationSettings,
+    newton_settings: &NewtonSettings,
+) -> Result<SymmetricSolution> {
+    if half_guess.signature.closure() != Closure::Symmetric {
+        return Err(Error::InvalidSignature {
+            segment: 0,
+            reason: "the half-orbit guess needs a symmetric closure".into(),
+        });
+    }
+    let sol = super::solve_collocation(system, half_guess, settings, newton_settings)?;
+    let half = sol.solution.orbit.clone();
+    let n = system.state_dim();
+    let sym = symmetry_of(system)?;
+    let half_map = floquet::matmul(n, &sym.matrix, &sol.solution.floquet.monodromy);
+    let half_floquet =
+        Floquet::from_monodromy(system, &half.params, half.period(), half_map.clone())?;
+    let full_m = floquet::matmul(n, &half_map, &half_map);
+    let full_orbit = half.unfold_symmetric(system)?;
+    let floquet = Floquet::from_monodromy(system, &half.params, full_orbit.period(), full_m)?;
+    Ok(SymmetricSolution {
+        full: OrbitSolution {
+            orbit: full_orbit,
+            floquet,
+            newton: sol.solution.newton,
+            residual: sol.solution.residual,
+        },
+        half,
+        half_floquet,
+    })
+}

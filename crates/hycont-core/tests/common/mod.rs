@@ -174,3 +174,100 @@ impl HybridJacobians for ImpactOscillator {
         }
     }
 }
+
+/// Relaxation oscillator: x' = a - x, y' = -2 y; event x = 1.5 (rising) with reset
+/// (x, y) -> (x / 3, y + 1). Parameter a > 1.5.
+///
+/// Reference: the periodic orbit starts at x = 0.5 and lasts T = ln((a - 0.5) / (a - 1.5));
+/// y(0) = 1 / (1 - e^{-2T}); Floquet multipliers 1 (flow direction) and e^{-2T}.
+pub struct Relaxation;
+
+impl Relaxation {
+    pub fn period(a: f64) -> f64 {
+        ((a - 0.5) / (a - 1.5)).ln()
+    }
+    pub fn y0(a: f64) -> f64 {
+        1.0 / (1.0 - (-2.0 * Self::period(a)).exp())
+    }
+}
+
+impl HybridSystem for Relaxation {
+    fn state_dim(&self) -> usize {
+        2
+    }
+    fn parameter_names(&self) -> &[&'static str] {
+        &["a"]
+    }
+    fn mode_count(&self) -> usize {
+        1
+    }
+    fn mode_name(&self, _: Mode) -> &'static str {
+        "charge"
+    }
+    fn events(&self, _: Mode) -> &[EventId] {
+        &[EventId(0)]
+    }
+    fn event_spec(&self, _: EventId) -> EventSpec {
+        EventSpec {
+            name: "fire",
+            direction: Direction::Rising,
+            action: EventAction::Jump { to: Mode(0) },
+        }
+    }
+    fn vector_field(&self, _: Mode, x: &[f64], p: &[f64], out: &mut [f64]) {
+        out[0] = p[0] - x[0];
+        out[1] = -2.0 * x[1];
+    }
+    fn event(&self, _: EventId, x: &[f64], _: &[f64]) -> f64 {
+        x[0] - 1.5
+    }
+    fn reset(&self, _: EventId, x: &[f64], _: &[f64], out: &mut [f64]) {
+        out[0] = x[0] / 3.0;
+        out[1] = x[1] + 1.0;
+    }
+    fn trivial_multipliers(&self, _: &[f64], _: f64) -> Vec<(f64, f64)> {
+        vec![(1.0, 0.0)]
+    }
+}
+
+impl HybridJacobians for Relaxation {
+    fn vector_field_jacobian(
+        &self,
+        _: Mode,
+        _: &[f64],
+        _: &[f64],
+        dx: &mut [f64],
+        dp: Option<&mut [f64]>,
+    ) {
+        dx.copy_from_slice(&[-1.0, 0.0, 0.0, -2.0]);
+        if let Some(dp) = dp {
+            dp.copy_from_slice(&[1.0, 0.0]);
+        }
+    }
+    fn event_gradient(
+        &self,
+        _: EventId,
+        _: &[f64],
+        _: &[f64],
+        dx: &mut [f64],
+        dp: Option<&mut [f64]>,
+    ) {
+        dx.copy_from_slice(&[1.0, 0.0]);
+        if let Some(dp) = dp {
+            dp.fill(0.0);
+        }
+    }
+    fn reset_jacobian(
+        &self,
+        _: EventId,
+        _: &[f64],
+        _: &[f64],
+        dx: &mut [f64],
+        dp: Option<&mut [f64]>,
+    ) {
+        dx.copy_from_slice(&[1.0 / 3.0, 0.0, 0.0, 1.0]);
+        if let Some(dp) = dp {
+            dp.fill(0.0);
+        }
+    }
+}

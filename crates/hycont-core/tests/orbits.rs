@@ -1,0 +1,419 @@
+//! Periodic orbits (shooting and collocation) against closed-form references, convergence order,
+//! agreement of the two discretisations, Jacobians against finite differences, typed errors.
+
+mod common;
+
+use common::{ImpactOscillator, Relaxation};
+use hycont_core::orbit::{
+    Collocation, CollocationSettings, PeriodicOrbit, SegmentEnd, SegmentSpec, Shooting,
+    ShootingSettings, Signature, gauss_legendre_points, pack, shooting_problem, solve_collocation,
+    solve_shooting,
+};
+use hycont_core::problem::{
+    Activity, NewtonSettings, Problem, UnknownMonitor, ZeroFunction, newton,
+};
+use hycont_core::{Error, EventId, Mode, SimulationSettings};
+
+fn relaxation_signature() -> Signature {
+    Signature::new(
+        &Relaxation,
+        vec![SegmentSpec {
+            mode: Mode(0),
+            end: SegmentEnd::Event(EventId(0)),
+        }],
+    )
+    .unwrap()
+}
+
+/// A deliberately rough guess of the relaxation orbit at parameter a.
+fn relaxation_guess(a: f64) -> PeriodicOrbit {
+    PeriodicOrbit::new(
+        &Relaxation,
+        relaxation_signature(),
+        vec![vec![0.6, 1.0]],
+        vec![1.2 * Relaxation::period(a)],
+        vec![a],
+    )
+    .unwrap()
+}
+
+#[test]
+fn shooting_finds_the_closed_form_orbit_and_multipliers() {
+    for a in [2.0, 3.0, 5.0] {
+        let sol = solve_shooting(
+            &Relaxation,
+            &relaxation_guess(a),
+            ShootingSettings::default(),
+            &NewtonSettings::default(),
+        )
+        .unwrap();
+        let t = Relaxation::period(a);
+        assert!((sol.orbit.durations[0] - t).abs() < 1e-10, "a = {a}");
+        assert!((sol.orbit.starts[0][0] - 0.5).abs() < 1e-10);
+        assert!((sol.orbit.starts[0][1] - Relaxation::y0(a)).abs() < 1e-10);
+        let m: Vec<f64> = sol.floquet.multipliers.iter().map(|z| z.0).collect();
+        assert!(
+            (m[0] - 1.0).abs() < 1e-9 && (m[1] - (-2.0 * t).exp()).abs() < 1e-9,
+            "{m:?}"
+        );
+        assert_eq!(sol.floquet.trivial, vec![true, false]);
+        assert!(sol.floquet.stable());
+    }
+}
+
+#[test]
+fn collocation_finds_the_closed_form_orbit_and_multipliers() {
+    let a = 3.0;
+    let sol = solve_collocation(
+        &Relaxation,
+        &relaxation_guess(a),
+        CollocationSettings::default(),
+        &NewtonSettings::default(),
+    )
+    .unwrap();
+    let t = Relaxation::period(a);
+    let orbit = &sol.solution.orbit;
+    assert!((orbit.durations[0] - t).abs() < 1e-10);
+    assert!((orbit.starts[0][1] - Relaxation::y0(a)).abs() < 1e-10);
+    let m: Vec<f64> = sol
+        .solution
+        .floquet
+        .multipliers
+        .iter()
+        .map(|z| z.0)
+        .collect();
+    assert!((m[1] - (-2.0 * t).exp()).abs() < 1e-9, "{m:?}");
+}
+
+#[test]
+fn collocation_converges_at_order_two_ncol() {
+    // Error in the period at the mesh points is O(h^(2 ncol)): check the observed order for
+    // ncol = 2 and 3 over ntst = 4, 8, 16 (before round-off).
+    let a = 3.0;
+    let t = Relaxation::period(a);
+    for ncol in [2usize, 3] {
+        let errors: Vec<f64> = [4usize, 8, 16]
+            .iter()
+            .map(|&ntst| {
+                let sol = solve_collocation(
+                    &Relaxation,
+                    &relaxation_guess(a),
+                    CollocationSettings {
+                        ntst,
+                        ncol,
+                        adapt: 0,
+                    },
+                    &NewtonSettings {
+                        tol: 1e-13,
+                        residual_tol: 1e-13,
+                        ..NewtonSettings::default()
+                    },
+                )
+                .unwrap();
+                (sol.solution.orbit.durations[0] - t).abs()
+            })
+            .collect();
+        for w in errors.windows(2) {
+            let order = (w[0] / w[1]).log2();
+            let expected = 2.0 * ncol as f64;
+            assert!(
+                (order - expected).abs() < 0.6,
+                "ncol {ncol}: order {order:.2}, expected {expected} (errors {errors:?})"
+            );
+        }
+    }
+}
+
+#[test]
+fn gauss_legendre_points_are_the_roots_of_legendre_polynomials() {
+    // P_3 on (0, 1): roots 1/2 and 1/2 +- sqrt(3/5)/2.
+    let z = gauss_legendre_points(3);
+    let r = 0.5 * (0.6f64).sqrt();
+    for (a, b) in z.iter().zip([0.5 - r, 0.5, 0.5 + r]) {
+        assert!((a - b).abs() < 1e-15);
+    }
+}
+
+#[test]
+fn shooting_and_collocation_jacobians_match_finite_differences() {
+    let guess = relaxation_guess(2.5);
+    let mut shooting = Shooting::new(
+        &Relaxation,
+        relaxation_signature(),
+        ShootingSettings::default(),
+    )
+    .unwrap();
+    let u = pack(&guess);
+    check_part(&mut shooting, &u, 1e-6);
+    let mut coll = Collocation::new(
+        &Relaxation,
+        relaxation_signature(),
+        vec![vec![0.0, 0.3, 0.7, 1.0]],
+        3,
+    )
+    .unwrap();
+    let nu = coll.unknowns();
+    let mut u: Vec<f64> = (0..nu).map(|i| 0.3 + 0.01 * i as f64).collect();
+    u[nu - 2] = 1.1; // duration
+    u[nu - 1] = 2.5; // parameter
+    check_part(&mut coll, &u, 1e-7);
+}
+
+fn check_part(part: &mut dyn ZeroFunction, u: &[f64], tol: f64) {
+    let nu = part.unknowns();
+    let mut problem = Problem::new(nu);
+    struct Wrap<'a>(&'a mut dyn ZeroFunction);
+    impl ZeroFunction for Wrap<'_> {
+        fn unknowns(&self) -> usize {
+            self.0.unknowns()
+        }
+        fn equations(&self) -> usize {
+            self.0.equations()
+        }
+        fn jacobian_pattern(&self) -> Vec<(usize, usize)> {
+            self.0.jacobian_pattern()
+        }
+        fn evaluate(
+            &mut self,
+            u: &[f64],
+            r: &mut [f64],
+            j: Option<&mut [f64]>,
+        ) -> hycont_core::Result<()> {
+            self.0.evaluate(u, r, j)
+        }
+    }
+    problem
+        .add_part(Box::new(Wrap(part)), (0..nu).collect())
+        .unwrap();
+    let (err, row, col) = problem.check_jacobian(u, 1e-6).unwrap();
+    assert!(err < tol, "Jacobian entry ({row}, {col}) off by {err:e}");
+}
+
+#[test]
+fn a_wrong_jacobian_is_caught_by_the_problem_check() {
+    struct Bad;
+    impl ZeroFunction for Bad {
+        fn unknowns(&self) -> usize {
+            1
+        }
+        fn equations(&self) -> usize {
+            1
+        }
+        fn jacobian_pattern(&self) -> Vec<(usize, usize)> {
+            vec![(0, 0)]
+        }
+        fn evaluate(
+            &mut self,
+            u: &[f64],
+            r: &mut [f64],
+            j: Option<&mut [f64]>,
+        ) -> hycont_core::Result<()> {
+            r[0] = u[0].sin();
+            if let Some(j) = j {
+                j[0] = u[0].cos() * 1.01;
+            }
+            Ok(())
+        }
+    }
+    let mut problem = Problem::new(1);
+    problem.add_part(Box::new(Bad), vec![0]).unwrap();
+    let (err, _, _) = problem.check_jacobian(&[0.3], 1e-6).unwrap();
+    assert!(err > 1e-3);
+}
+
+#[test]
+fn a_family_of_orbits_gives_a_singular_jacobian_error() {
+    // The elastic impact oscillator (e = 1) has a continuum of periodic orbits (every
+    // amplitude): the shooting Jacobian is singular at any of them.
+    let sys = ImpactOscillator { cap: None };
+    let sig = Signature::new(
+        &sys,
+        vec![SegmentSpec {
+            mode: Mode(0),
+            end: SegmentEnd::Event(EventId(0)),
+        }],
+    )
+    .unwrap();
+    let orbit = PeriodicOrbit::new(
+        &sys,
+        sig,
+        vec![vec![0.0, 1.0]],
+        vec![std::f64::consts::PI],
+        vec![1.0, 1.0],
+    )
+    .unwrap();
+    let err = solve_shooting(
+        &sys,
+        &orbit,
+        ShootingSettings::default(),
+        &NewtonSettings::default(),
+    )
+    .unwrap_err();
+    assert!(
+        matches!(
+            err,
+            Error::SingularMatrix { .. } | Error::NewtonFailed { .. }
+        ),
+        "{err}"
+    );
+}
+
+#[test]
+fn newton_failure_reports_its_history() {
+    // x^2 + 1 = 0 has no real root.
+    struct NoRoot;
+    impl ZeroFunction for NoRoot {
+        fn unknowns(&self) -> usize {
+            1
+        }
+        fn equations(&self) -> usize {
+            1
+        }
+        fn jacobian_pattern(&self) -> Vec<(usize, usize)> {
+            vec![(0, 0)]
+        }
+        fn evaluate(
+            &mut self,
+            u: &[f64],
+            r: &mut [f64],
+            j: Option<&mut [f64]>,
+        ) -> hycont_core::Result<()> {
+            r[0] = u[0] * u[0] + 1.0;
+            if let Some(j) = j {
+                j[0] = 2.0 * u[0];
+            }
+            Ok(())
+        }
+    }
+    let mut problem = Problem::new(1);
+    problem.add_part(Box::new(NoRoot), vec![0]).unwrap();
+    match newton(&mut problem, &[0.7], &NewtonSettings::default()).unwrap_err() {
+        Error::NewtonFailed { history, reason } => {
+            assert!(!history.is_empty(), "{reason}");
+            assert!(history.iter().all(|h| h.residual >= 1.0));
+        }
+        other => panic!("{other}"),
+    }
+}
+
+#[test]
+fn fold_of_x_squared_minus_l_by_newton_and_monitors() {
+    // x^2 - l = 0 with l held by an inactive monitor: x = sqrt(l); released (active) with x fixed
+    // by a second monitor, l = x^2.
+    struct Fold;
+    impl ZeroFunction for Fold {
+        fn unknowns(&self) -> usize {
+            2
+        }
+        fn equations(&self) -> usize {
+            1
+        }
+        fn jacobian_pattern(&self) -> Vec<(usize, usize)> {
+            vec![(0, 0), (0, 1)]
+        }
+        fn evaluate(
+            &mut self,
+            u: &[f64],
+            r: &mut [f64],
+            j: Option<&mut [f64]>,
+        ) -> hycont_core::Result<()> {
+            r[0] = u[0] * u[0] - u[1];
+            if let Some(j) = j {
+                j[0] = 2.0 * u[0];
+                j[1] = -1.0;
+            }
+            Ok(())
+        }
+    }
+    let mut problem = Problem::new(2);
+    problem.add_part(Box::new(Fold), vec![0, 1]).unwrap();
+    let l = problem
+        .add_monitor(
+            "l",
+            Box::new(UnknownMonitor),
+            vec![1],
+            Activity::Inactive(2.0),
+        )
+        .unwrap();
+    let sol = newton(&mut problem, &[1.0, 1.0], &NewtonSettings::default()).unwrap();
+    assert!((sol.u[0] - 2f64.sqrt()).abs() < 1e-9);
+    // Free l (its value becomes an unknown) and hold x = 3 instead.
+    problem.set_activity(l, Activity::Active(1.0));
+    problem
+        .add_monitor(
+            "x",
+            Box::new(UnknownMonitor),
+            vec![0],
+            Activity::Inactive(3.0),
+        )
+        .unwrap();
+    assert_eq!(problem.unknowns(), 3);
+    let u0 = problem.initial_unknowns(&[2.0, 2.0]);
+    let sol = newton(&mut problem, &u0, &NewtonSettings::default()).unwrap();
+    assert!((sol.u[1] - 9.0).abs() < 1e-8 && (sol.u[2] - 9.0).abs() < 1e-8);
+}
+
+#[test]
+fn orbit_from_simulation_and_back() {
+    // Simulate the relaxation oscillator to its orbit and read it off.
+    let a = 2.0;
+    let mut sim = hycont_core::Simulator::new(SimulationSettings::default()).unwrap();
+    let traj = sim
+        .run(&Relaxation, Mode(0), 0.0, &[0.0, 0.0], &[a], 30.0)
+        .unwrap();
+    let orbit = PeriodicOrbit::from_simulation(&Relaxation, &traj, &[a], 1e-6).unwrap();
+    assert_eq!(orbit.segment_count(), 1);
+    assert!((orbit.durations[0] - Relaxation::period(a)).abs() < 1e-8);
+    // Interior points at y = 1.2 (y decays through it once per period) split the segment.
+    let split = orbit
+        .with_interior_points(&Relaxation, 1, 1.05, &SimulationSettings::default())
+        .unwrap();
+    assert_eq!(split.segment_count(), 2);
+    let back = split.without_interior_points(&Relaxation).unwrap();
+    assert!((back.period() - orbit.period()).abs() < 1e-12);
+    // Both discretisations solve the split problem to the same orbit.
+    let sh = solve_shooting(
+        &Relaxation,
+        &split,
+        ShootingSettings::default(),
+        &NewtonSettings::default(),
+    )
+    .unwrap();
+    let co = solve_collocation(
+        &Relaxation,
+        &split,
+        CollocationSettings::default(),
+        &NewtonSettings::default(),
+    )
+    .unwrap();
+    for (a, b) in sh.orbit.durations.iter().zip(&co.solution.orbit.durations) {
+        assert!((a - b).abs() < 1e-9);
+    }
+    let mut problem = shooting_problem(&Relaxation, &split, ShootingSettings::default()).unwrap();
+    assert_eq!(problem.equations(), problem.unknowns());
+    assert!(problem.monitor_id("a").is_some());
+    let _ = &mut problem;
+}
+
+#[test]
+fn invalid_signatures_are_rejected() {
+    let e = Signature::new(&Relaxation, vec![]).unwrap_err();
+    assert!(matches!(e, Error::InvalidSignature { .. }));
+    let e = Signature::new(
+        &Relaxation,
+        vec![SegmentSpec {
+            mode: Mode(0),
+            end: SegmentEnd::Event(EventId(3)),
+        }],
+    )
+    .unwrap_err();
+    assert!(e.to_string().contains("not monitored"), "{e}");
+    let bad_duration = PeriodicOrbit::new(
+        &Relaxation,
+        relaxation_signature(),
+        vec![vec![0.5, 1.0]],
+        vec![-1.0],
+        vec![2.0],
+    );
+    assert!(bad_duration.is_err());
+}

@@ -1,0 +1,53 @@
+//! The study's figures: each writes `figN.json` and `figN.svg` into an output directory.
+
+mod fig2;
+
+pub use fig2::figure2;
+
+use crate::error::{Error, Result};
+use std::path::{Path, PathBuf};
+
+/// Figures `rocking-block figure` knows; the others need capabilities still to come.
+pub const AVAILABLE: &[u32] = &[2];
+
+/// What a figure run wrote.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct FigureFiles {
+    /// The figure's number.
+    pub figure: u32,
+    /// Files written.
+    pub files: Vec<PathBuf>,
+}
+
+/// Writes figure `n` into `out`.
+///
+/// # Errors
+/// [`Error::InvalidArgument`] for a figure that does not exist or is not available yet; numerical
+/// or I/O failures.
+pub fn figure(n: u32, out: &Path) -> Result<FigureFiles> {
+    std::fs::create_dir_all(out).map_err(|source| Error::Io {
+        path: out.to_path_buf(),
+        source,
+    })?;
+    match n {
+        2 => figure2(out),
+        3..=10 => Err(Error::InvalidArgument {
+            name: "figure",
+            value: n.to_string(),
+            reason: "not available yet: figures 3-6 need continuation, 5 and 7-10 the sampling crate",
+        }),
+        _ => Err(Error::InvalidArgument {
+            name: "figure",
+            value: n.to_string(),
+            reason: "the study has figures 2 to 10",
+        }),
+    }
+}
+
+pub(crate) fn write_json(path: &Path, value: &serde_json::Value) -> Result<()> {
+    let text = serde_json::to_string_pretty(value).expect("figure JSON serialises");
+    std::fs::write(path, text).map_err(|source| Error::Io {
+        path: path.to_path_buf(),
+        source,
+    })
+}

@@ -1,0 +1,235 @@
+//! Periodic orbits of the rocking block against the study's reference values (issue: orbits),
+//! both discretisations, and Floquet multipliers against finite differences of the period map.
+
+use hycont_core::orbit::{
+    CollocationSettings, ShootingSettings, monodromy_by_shooting, solve_collocation,
+};
+use hycont_core::problem::NewtonSettings;
+use hycont_core::{HybridSystem, SimulationSettings, Simulator};
+use rocking_block::orbits::{OrbitKind, amplitude, orbit};
+use rocking_block::{Parameters, RockingBlock};
+use std::f64::consts::PI;
+
+fn nontrivial(report: &rocking_block::orbits::OrbitReport) -> Vec<f64> {
+    let mut m: Vec<f64> = report
+        .multipliers
+        .iter()
+        .zip(&report.trivial)
+        .filter(|(_, t)| !**t)
+        .map(|(z, _)| z[0])
+        .collect();
+    m.sort_by(|a, b| b.total_cmp(a));
+    m
+}
+
+#[test]
+fn symmetric_orbit_reference_values() {
+    let params = Parameters::new(1.3, 0.66);
+    let o = orbit(&params, OrbitKind::Symmetric, None).unwrap();
+    let r = o.report("symmetric").unwrap();
+    assert!(r.symmetric);
+    assert_eq!(r.segments.len(), 2);
+    for s in &r.segments {
+        assert!(
+            (s.duration - PI / 1.3).abs() < 1e-9,
+            "flight {}",
+            s.duration
+        );
+        assert!(
+            (s.start[1].abs() - 0.37347).abs() < 5e-6,
+            "post-impact psi {}",
+            s.start[1]
+        );
+    }
+    // Pre-impact |psi| = post-impact / e.
+    let pre = r.segments[0].start[1].abs() / params.restitution();
+    assert!((pre - 0.95683).abs() < 5e-6, "pre-impact psi {pre}");
+    assert!((r.amp - 0.43843).abs() < 5e-6, "amp {}", r.amp);
+    let m = nontrivial(&r);
+    assert!(
+        (m[0] - 1.2292).abs() < 5e-5 && (m[1] - 0.018868).abs() < 5e-7,
+        "{m:?}"
+    );
+    assert!(!r.stable);
+    // Trivial multipliers: 1 and exp(-2T).
+    let trivial: Vec<f64> = r
+        .multipliers
+        .iter()
+        .zip(&r.trivial)
+        .filter(|(_, t)| **t)
+        .map(|(z, _)| z[0])
+        .collect();
+    assert!(trivial.iter().any(|v| (v - 1.0).abs() < 1e-8));
+    assert!(
+        trivial
+            .iter()
+            .any(|v| (v - (-2.0 * r.period).exp()).abs() < 1e-10)
+    );
+    // Half-map multipliers: mu^2 = lambda; the unstable one is negative (past a BP).
+    let half = r.half_multipliers.unwrap();
+    assert!(
+        half.iter()
+            .any(|z| (z[0] * z[0] - m[0]).abs() < 1e-8 && z[0] < -1.0),
+        "{half:?}"
+    );
+}
+
+#[test]
+fn asymmetric_orbits_reference_values() {
+    let params = Parameters::new(1.3, 0.66);
+    let pos = orbit(&params, OrbitKind::AsymmetricPos, None)
+        .unwrap()
+        .report("asymmetric-pos")
+        .unwrap();
+    let neg = orbit(&params, OrbitKind::AsymmetricNeg, None)
+        .unwrap()
+        .report("asymmetric-neg")
+        .unwrap();
+    for r in [&pos, &neg] {
+        assert!(!r.symmetric && r.stable);
+        assert!((r.amp - 0.62605).abs() < 5e-6, "amp {}", r.amp);
+        let m = nontrivial(r);
+        assert!(
+            (m[0] - 0.48968).abs() < 5e-6 && (m[1] - 0.047362).abs() < 5e-7,
+            "{m:?}"
+        );
+    }
+    let plus = pos
+        .segments
+        .iter()
+        .find(|s| s.mode == "+")
+        .unwrap()
+        .duration;
+    let minus = pos
+        .segments
+        .iter()
+        .find(|s| s.mode == "-")
+        .unwrap()
+        .duration;
+    assert!(
+        (plus - 3.14569).abs() < 5e-6 && (minus - 1.68753).abs() < 5e-6,
+        "{plus} {minus}"
+    );
+    let plus_neg = neg
+        .segments
+        .iter()
+        .find(|s| s.mode == "+")
+        .unwrap()
+        .duration;
+    assert!((plus_neg - 1.68753).abs() < 5e-6);
+}
+
+#[test]
+fn collocation_and_shooting_agree_to_1e_8() {
+    let params = Parameters::new(1.3, 0.66);
+    for kind in [OrbitKind::Symmetric, OrbitKind::AsymmetricPos] {
+        let sh = orbit(&params, kind, None).unwrap().solution;
+        let co = solve_collocation(
+            &RockingBlock,
+            &sh.orbit,
+            CollocationSettings::default(),
+            &NewtonSettings::default(),
+        )
+        .unwrap()
+        .solution;
+        for (a, b) in sh.orbit.durations.iter().zip(&co.orbit.durations) {
+            assert!((a - b).abs() < 1e-8, "{kind:?} durations {a} vs {b}");
+        }
+        for (x, y) in sh
+            .orbit
+            .starts
+            .iter()
+            .flatten()
+            .zip(co.orbit.starts.iter().flatten())
+        {
+            assert!((x - y).abs() < 1e-8, "{kind:?} states {x} vs {y}");
+        }
+        for (a, b) in sh.floquet.multipliers.iter().zip(&co.floquet.multipliers) {
+            assert!(
+                (a.0 - b.0).abs() + (a.1 - b.1).abs() < 1e-8,
+                "{kind:?} multipliers {a:?} vs {b:?}"
+            );
+        }
+        assert!((amplitude(&sh.orbit) - amplitude(&co.orbit)).abs() < 1e-8);
+    }
+}
+
+/// Jacobian of the full hybrid period map (simulation with events over one period) by central
+/// differences, from a point inside a flight (an extremum, away from the impact surface).
+fn period_map_jacobian(x0: &[f64], mode: hycont_core::Mode, p: &[f64], period: f64) -> Vec<f64> {
+    let mut sim = Simulator::new(SimulationSettings::default().rtol(1e-13).atol(1e-15)).unwrap();
+    let mut flow = |x: &[f64]| {
+        sim.run(&RockingBlock, mode, 0.0, x, p, period)
+            .unwrap()
+            .state_final
+    };
+    let h = 1e-6;
+    let mut jac = vec![0.0; 16];
+    for j in 0..4 {
+        let (mut xp, mut xm) = (x0.to_vec(), x0.to_vec());
+        xp[j] += h;
+        xm[j] -= h;
+        let (fp, fm) = (flow(&xp), flow(&xm));
+        for i in 0..4 {
+            jac[i + 4 * j] = (fp[i] - fm[i]) / (2.0 * h);
+        }
+    }
+    jac
+}
+
+#[test]
+fn multipliers_match_finite_differences_of_the_period_map() {
+    let params = Parameters::new(1.3, 0.66);
+    for kind in [OrbitKind::Symmetric, OrbitKind::AsymmetricPos] {
+        let sol = orbit(&params, kind, None).unwrap().solution;
+        // Start at the first interior extremum (psi = 0).
+        let k = sol
+            .orbit
+            .starts
+            .iter()
+            .position(|x| x[0].abs() > 0.1)
+            .expect("an interior extremum");
+        let x0 = &sol.orbit.starts[k];
+        let mode = sol.orbit.signature.segments()[k].mode;
+        let fd = period_map_jacobian(x0, mode, &sol.orbit.params, sol.orbit.period());
+        let fd_eigs = hycont_core::linalg::eigenvalues(4, &fd).unwrap();
+        for (a, b) in sol.floquet.multipliers.iter().zip(&fd_eigs) {
+            assert!(
+                (a.0 - b.0).abs() + (a.1 - b.1).abs() < 1e-6,
+                "{kind:?}: {a:?} vs finite differences {b:?}"
+            );
+        }
+        // And the monodromy from shooting at that segment start agrees with the FD matrix.
+        let rotated = {
+            let mut o = sol.orbit.clone();
+            let kk = o.segment_count();
+            let segs: Vec<_> = (0..kk)
+                .map(|i| o.signature.segments()[(i + k) % kk])
+                .collect();
+            o.signature = hycont_core::orbit::Signature::new(&RockingBlock, segs).unwrap();
+            o.starts.rotate_left(k);
+            o.durations.rotate_left(k);
+            o
+        };
+        let m =
+            monodromy_by_shooting(&RockingBlock, &rotated, ShootingSettings::default()).unwrap();
+        for (a, b) in m.monodromy.iter().zip(&fd) {
+            assert!(
+                (a - b).abs() < 1e-6 * (1.0 + b.abs()),
+                "{kind:?}: monodromy {a} vs {b}"
+            );
+        }
+    }
+    let _ = RockingBlock.state_dim();
+}
+
+#[test]
+fn orbit_kinds_report_their_symmetry_and_simulation_finds_the_attractor() {
+    let params = Parameters::new(1.3, 0.66);
+    let sim = orbit(&params, OrbitKind::Simulate, None)
+        .unwrap()
+        .report("simulate")
+        .unwrap();
+    assert!(!sim.symmetric && sim.stable);
+    assert!((sim.amp - 0.62605).abs() < 5e-6);
+}
