@@ -3,17 +3,22 @@
 
 use crate::error::{Error, Result};
 use faer::dyn_stack::{MemBuffer, MemStack};
+use faer::perm::PermRef;
 use faer::sparse::linalg::SupernodalThreshold;
-use faer::sparse::linalg::lu::{
-    LuRef, LuSymbolicParams, NumericLu, SymbolicLu, factorize_symbolic_lu,
+use faer::sparse::linalg::lu::simplicial::{
+    SimplicialLu, factorize_simplicial_numeric_lu, factorize_simplicial_numeric_lu_scratch,
 };
+use faer::sparse::linalg::lu::{LuSymbolicParams, SymbolicLu, factorize_symbolic_lu};
 use faer::sparse::{Argsort, Pair, SparseColMat, SymbolicSparseColMat};
-use faer::{Conj, MatMut, Par, Spec};
+use faer::{Conj, MatMut, Par};
 
-/// The symbolic LU of a pattern with the numeric factors and scratch space, all reused.
+/// The symbolic LU of a pattern (its fill-reducing column ordering) with the numeric factors,
+/// row pivoting and scratch space, all reused.
 struct LuState {
     symbolic: SymbolicLu<usize>,
-    numeric: NumericLu<usize, f64>,
+    numeric: SimplicialLu<usize, f64>,
+    row_perm: Vec<usize>,
+    row_perm_inv: Vec<usize>,
     factor_buf: MemBuffer,
     solve_buf: MemBuffer,
     solve_cols: usize,
@@ -128,14 +133,10 @@ impl SparsePattern {
         }
         let mat = self.matrix(values)?;
         if self.lu.is_none() {
+            // The simplicial kernel: fast for the block-structured systems of this library (up to
+            // a few thousand unknowns), and its factors give the determinant's sign.
             let params = LuSymbolicParams {
-                // Small, block-structured systems: the simplicial kernel avoids supernodal
-                // overhead (measured faster up to a few thousand unknowns).
-                supernodal_flop_ratio_threshold: if self.nrows < 4000 {
-                    SupernodalThreshold::FORCE_SIMPLICIAL
-                } else {
-                    SupernodalThreshold::AUTO
-                },
+                supernodal_flop_ratio_threshold: SupernodalThreshold::FORCE_SIMPLICIAL,
                 ..LuSymbolicParams::default()
             };
             let symbolic = factorize_symbolic_lu(mat.symbolic(), params).map_err(|e| {
@@ -143,13 +144,21 @@ impl SparsePattern {
                     reason: format!("symbolic LU failed: {e:?}"),
                 }
             })?;
-            let factor_buf = MemBuffer::new(
-                symbolic.factorize_numeric_lu_scratch::<f64>(Par::Seq, Spec::default()),
+            let n = self.nrows;
+            let factor_buf =
+                MemBuffer::new(factorize_simplicial_numeric_lu_scratch::<usize, f64>(n, n));
+            let solve_buf = MemBuffer::new(
+                faer::sparse::linalg::lu::simplicial::solve_in_place_scratch::<usize, f64>(
+                    n,
+                    1,
+                    Par::Seq,
+                ),
             );
-            let solve_buf = MemBuffer::new(symbolic.solve_in_place_scratch::<f64>(1, Par::Seq));
             self.lu = Some(LuState {
                 symbolic,
-                numeric: NumericLu::new(),
+                numeric: SimplicialLu::new(),
+                row_perm: vec![0; n],
+                row_perm_inv: vec![0; n],
                 factor_buf,
                 solve_buf,
                 solve_cols: 1,
@@ -158,17 +167,17 @@ impl SparsePattern {
         }
         let st = self.lu.as_mut().expect("created above");
         st.ready = false;
-        st.symbolic
-            .factorize_numeric_lu(
-                &mut st.numeric,
-                mat.as_ref(),
-                Par::Seq,
-                MemStack::new(&mut st.factor_buf),
-                Spec::default(),
-            )
-            .map_err(|e| Error::SingularMatrix {
-                reason: format!("numeric LU failed: {e:?}"),
-            })?;
+        factorize_simplicial_numeric_lu(
+            &mut st.row_perm,
+            &mut st.row_perm_inv,
+            &mut st.numeric,
+            mat.as_ref(),
+            st.symbolic.col_perm(),
+            MemStack::new(&mut st.factor_buf),
+        )
+        .map_err(|e| Error::SingularMatrix {
+            reason: format!("numeric LU failed: {e:?}"),
+        })?;
         st.ready = true;
         Ok(())
     }
@@ -187,11 +196,21 @@ impl SparsePattern {
             });
         };
         if k > st.solve_cols {
-            st.solve_buf = MemBuffer::new(st.symbolic.solve_in_place_scratch::<f64>(k, Par::Seq));
+            st.solve_buf = MemBuffer::new(
+                faer::sparse::linalg::lu::simplicial::solve_in_place_scratch::<usize, f64>(
+                    n,
+                    k,
+                    Par::Seq,
+                ),
+            );
             st.solve_cols = k;
         }
         let rhs = MatMut::from_column_major_slice_mut(b, n, k);
-        LuRef::new_unchecked(&st.symbolic, &st.numeric).solve_in_place_with_conj(
+        // SAFETY-free: the permutation arrays are the ones the factorisation produced.
+        let row_perm = PermRef::new_checked(&st.row_perm, &st.row_perm_inv, n);
+        st.numeric.solve_in_place_with_conj(
+            row_perm,
+            st.symbolic.col_perm(),
             Conj::No,
             rhs,
             Par::Seq,
@@ -204,6 +223,38 @@ impl SparsePattern {
                 reason: "the solution of the linear system is not finite".into(),
             })
         }
+    }
+
+    /// Sign of the determinant of the last factorised matrix: `+1.0`, `-1.0`, or `0.0` for an
+    /// exactly singular one (the product of the signs of $U$'s diagonal and of the row and column
+    /// permutations' parities). Branch points are where this sign changes along a branch.
+    ///
+    /// # Errors
+    /// [`Error::SingularMatrix`] if nothing has been factorised.
+    pub fn determinant_sign(&self) -> Result<f64> {
+        let Some(st) = self.lu.as_ref().filter(|st| st.ready) else {
+            return Err(Error::SingularMatrix {
+                reason: "no factorisation to take the determinant of".into(),
+            });
+        };
+        let u = st.numeric.u_factor_unsorted();
+        let mut sign =
+            permutation_sign(&st.row_perm) * permutation_sign(st.symbolic.col_perm().arrays().0);
+        for j in 0..self.nrows {
+            let rows = u.row_idx_of_col_raw(j);
+            let vals = u.val_of_col(j);
+            let diag = rows
+                .iter()
+                .zip(vals)
+                .filter(|(r, _)| **r == j)
+                .map(|(_, v)| *v)
+                .sum::<f64>();
+            if diag == 0.0 {
+                return Ok(0.0);
+            }
+            sign *= diag.signum();
+        }
+        Ok(sign)
     }
 
     /// Solves $A x = b$ in place with the last factorisation.
@@ -224,6 +275,28 @@ impl SparsePattern {
         crate::error::check_len("right-hand sides", b, self.nrows * k)?;
         self.solve_cols(b, k)
     }
+}
+
+/// Parity sign of a permutation given as an index array.
+fn permutation_sign(perm: &[usize]) -> f64 {
+    let mut seen = vec![false; perm.len()];
+    let mut sign = 1.0;
+    for start in 0..perm.len() {
+        if seen[start] {
+            continue;
+        }
+        let mut len = 0;
+        let mut i = start;
+        while !seen[i] {
+            seen[i] = true;
+            i = perm[i];
+            len += 1;
+        }
+        if len % 2 == 0 {
+            sign = -sign;
+        }
+    }
+    sign
 }
 
 /// Eigenvalues of a small dense real matrix (column-major, `n x n`) as `(re, im)` pairs, sorted
