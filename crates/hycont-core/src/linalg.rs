@@ -232,6 +232,15 @@ impl SparsePattern {
     /// # Errors
     /// [`Error::SingularMatrix`] if nothing has been factorised.
     pub fn determinant_sign(&self) -> Result<f64> {
+        self.determinant().map(|(sign, _)| sign)
+    }
+
+    /// Sign and natural logarithm of the absolute value of the determinant of the last factorised
+    /// matrix (`(0.0, -inf)` for an exactly singular one).
+    ///
+    /// # Errors
+    /// [`Error::SingularMatrix`] if nothing has been factorised.
+    pub fn determinant(&self) -> Result<(f64, f64)> {
         let Some(st) = self.lu.as_ref().filter(|st| st.ready) else {
             return Err(Error::SingularMatrix {
                 reason: "no factorisation to take the determinant of".into(),
@@ -240,6 +249,7 @@ impl SparsePattern {
         let u = st.numeric.u_factor_unsorted();
         let mut sign =
             permutation_sign(&st.row_perm) * permutation_sign(st.symbolic.col_perm().arrays().0);
+        let mut log_abs = 0.0;
         for j in 0..self.nrows {
             let rows = u.row_idx_of_col_raw(j);
             let vals = u.val_of_col(j);
@@ -250,11 +260,12 @@ impl SparsePattern {
                 .map(|(_, v)| *v)
                 .sum::<f64>();
             if diag == 0.0 {
-                return Ok(0.0);
+                return Ok((0.0, f64::NEG_INFINITY));
             }
             sign *= diag.signum();
+            log_abs += diag.abs().ln();
         }
-        Ok(sign)
+        Ok((sign, log_abs))
     }
 
     /// Solves $A x = b$ in place with the last factorisation.

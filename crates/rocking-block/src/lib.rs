@@ -14,6 +14,7 @@
 //! assert_eq!(report.outcome, Outcome::Running);
 //! ```
 #![deny(missing_docs)]
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
 
 pub mod cli;
 pub mod error;

@@ -301,7 +301,12 @@ impl<'a> Problem<'a> {
         u
     }
 
-    /// The Jacobian's `(row, col)` entries, in the order values are produced.
+    /// The Jacobian's `(row, col)` entries, in the order [`Problem::evaluate`] produces values.
+    #[must_use]
+    pub fn jacobian_entries(&self) -> Vec<(usize, usize)> {
+        self.global_pattern()
+    }
+
     fn global_pattern(&self) -> Vec<(usize, usize)> {
         let mut entries = Vec::new();
         for part in &self.parts {

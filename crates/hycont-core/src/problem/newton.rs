@@ -6,7 +6,7 @@ use super::Problem;
 use crate::error::{Error, Result};
 
 /// Settings of [`newton`]: a validated builder with `Default`.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct NewtonSettings {
     /// Converged when $\|\Delta u\|_\infty \le$ `tol` $\cdot (1 + \|u\|_\infty)$ and
     /// $\|F\|_\infty \le$ `residual_tol` (defaults `1e-10`, `1e-10`).

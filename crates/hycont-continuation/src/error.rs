@@ -1,0 +1,48 @@
+//! The error type of `hycont-continuation`.
+
+/// What can go wrong before a branch starts. (A failure in the middle of a branch does not
+/// error: the branch so far is returned with an [`crate::EndReason`].)
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum Error {
+    /// An error of the numerical core (evaluation, linear algebra, Newton at the start point).
+    #[error(transparent)]
+    Core(#[from] hycont_core::Error),
+    /// A setting is out of range.
+    #[error("invalid continuation setting {name} = {value}: {reason}")]
+    InvalidSetting {
+        /// Name of the setting.
+        name: &'static str,
+        /// The rejected value.
+        value: f64,
+        /// What is allowed.
+        reason: &'static str,
+    },
+    /// The problem does not have exactly one more unknown than equations.
+    #[error(
+        "a continuation problem needs one more unknown than equations (has {unknowns} unknowns, {equations} equations)"
+    )]
+    NotOneDimensional {
+        /// Unknowns.
+        unknowns: usize,
+        /// Equations.
+        equations: usize,
+    },
+    /// A restart label does not exist in the branch.
+    #[error("no point labelled {label} in branch {branch}")]
+    NoSuchLabel {
+        /// The label asked for.
+        label: usize,
+        /// The branch's name.
+        branch: String,
+    },
+    /// Branch switching could not find a second direction.
+    #[error("branch switching failed: {reason}")]
+    SwitchFailed {
+        /// Why.
+        reason: String,
+    },
+}
+
+/// Shorthand for `Result<T, hycont_continuation::Error>`.
+pub type Result<T> = std::result::Result<T, Error>;

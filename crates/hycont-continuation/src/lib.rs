@@ -1,0 +1,158 @@
+//! # hycont-continuation
+//!
+//! Pseudo-arclength continuation of solutions of zero problems composed with
+//! [`hycont_core::problem`], with detection and location of folds (SN), branch points (BP),
+//! period doublings (PD), tori (TR) and events on monitor functions (e.g. boundary touch SB,
+//! grazing GR), branch switching, and serialisable, restartable [`Branch`] results.
+//!
+//! Problem (what: [`ContinuationProblem`]), algorithm (how: PALC, [`continue_branch`]), settings
+//! ([`ContinuationSettings`]) and results ([`Branch`]) are separate; observers
+//! ([`Observer`]) see every point.
+//!
+//! ```
+//! use hycont_continuation::{continue_branch, ContinuationProblem, ContinuationSettings, PointInfo,
+//!                           SpecialKind, observe::Silent};
+//! use hycont_core::problem::{Activity, Problem, UnknownMonitor, ZeroFunction};
+//!
+//! /// x^2 - l = 0: a fold at l = 0.
+//! struct Parabola;
+//! impl ZeroFunction for Parabola {
+//!     fn unknowns(&self) -> usize { 2 }
+//!     fn equations(&self) -> usize { 1 }
+//!     fn jacobian_pattern(&self) -> Vec<(usize, usize)> { vec![(0, 0), (0, 1)] }
+//!     fn evaluate(&mut self, u: &[f64], r: &mut [f64], j: Option<&mut [f64]>) -> hycont_core::Result<()> {
+//!         r[0] = u[0] * u[0] - u[1];
+//!         if let Some(j) = j { j[0] = 2.0 * u[0]; j[1] = -1.0; }
+//!         Ok(())
+//!     }
+//! }
+//! struct Fold { problem: Problem<'static> }
+//! impl ContinuationProblem<'static> for Fold {
+//!     fn problem(&mut self) -> &mut Problem<'static> { &mut self.problem }
+//!     fn parameter_index(&self) -> usize { 1 }
+//!     fn parameter_position(&self) -> usize { 0 }
+//!     fn parameter_name(&self) -> String { "l".into() }
+//!     fn parameter_names(&self) -> Vec<String> { vec!["l".into()] }
+//!     fn monitor_names(&self) -> Vec<String> { vec![] }
+//!     fn analyse(&mut self, u: &[f64]) -> hycont_core::Result<PointInfo> {
+//!         Ok(PointInfo { params: vec![u[1]], ..PointInfo::default() })
+//!     }
+//! }
+//! let mut problem = Problem::new(2);
+//! problem.add_part(Box::new(Parabola), vec![0, 1]).unwrap();
+//! problem.add_monitor("l", Box::new(UnknownMonitor), vec![1], Activity::Active(1.0)).unwrap();
+//! let mut fold = Fold { problem };
+//! // Unknowns: x, l, and the active monitor's value (equal to l).
+//! let branch = continue_branch(&mut fold, "parabola", &[1.0, 1.0, 1.0], -1.0,
+//!                              &ContinuationSettings::default().parameter_bounds(-1.0, 2.0),
+//!                              &mut Silent).unwrap();
+//! let sn = branch.special(SpecialKind::Fold).next().unwrap();
+//! assert!(sn.point.params[0].abs() < 1e-9);
+//! ```
+#![deny(missing_docs)]
+// `!(x > 0.0)` deliberately rejects NaN as well.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
+
+pub mod branch;
+pub mod error;
+pub mod observe;
+mod palc;
+pub mod settings;
+pub mod switch;
+
+pub use branch::{Branch, BranchPoint, EndReason, SpecialKind, SpecialPoint};
+pub use error::{Error, Result};
+pub use observe::Observer;
+pub use settings::{Bound, BoundOn, ContinuationSettings, Detect};
+pub use switch::branch_switch_direction;
+
+use hycont_core::problem::Problem;
+use serde::{Deserialize, Serialize};
+
+/// What a continuation problem reports about a solution point.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+pub struct PointInfo {
+    /// All parameters (names in [`ContinuationProblem::parameter_names`]).
+    pub params: Vec<f64>,
+    /// Monitor values (names in [`ContinuationProblem::monitor_names`]).
+    pub monitors: Vec<f64>,
+    /// Multipliers `(re, im)`, if the problem has any (periodic orbits).
+    pub multipliers: Vec<(f64, f64)>,
+    /// Which multipliers are trivial (never trigger PD, TR or stability changes).
+    pub trivial: Vec<bool>,
+}
+
+/// An event on a monitor function: a special point where monitor `monitor` crosses `level`.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct MonitorEvent {
+    /// The label given to it (e.g. [`SpecialKind::BoundaryTouch`]).
+    pub kind: SpecialKind,
+    /// Index of the monitor.
+    pub monitor: usize,
+    /// The level.
+    pub level: f64,
+    /// Whether the branch ends there (e.g. grazing: beyond it the orbits are not admissible).
+    pub terminal: bool,
+}
+
+/// What is continued: a zero problem with exactly one more unknown than equations (one active
+/// monitor, the continuation parameter), and an analysis of each solution point.
+pub trait ContinuationProblem<'a> {
+    /// The zero problem.
+    fn problem(&mut self) -> &mut Problem<'a>;
+    /// Index of the continuation parameter in the unknowns.
+    fn parameter_index(&self) -> usize;
+    /// Index of the continuation parameter in [`PointInfo::params`].
+    fn parameter_position(&self) -> usize;
+    /// Name of the continuation parameter.
+    fn parameter_name(&self) -> String;
+    /// Names of all parameters.
+    fn parameter_names(&self) -> Vec<String>;
+    /// Names of the monitors reported by [`ContinuationProblem::analyse`].
+    fn monitor_names(&self) -> Vec<String>;
+    /// Parameters, monitors and multipliers of a solution.
+    ///
+    /// # Errors
+    /// If the analysis fails (the continuation then shrinks the step).
+    fn analyse(&mut self, u: &[f64]) -> hycont_core::Result<PointInfo>;
+    /// Events on monitors to detect and locate (default: none).
+    fn monitor_events(&self) -> Vec<MonitorEvent> {
+        Vec::new()
+    }
+}
+
+/// Continues the branch through `u0` (an approximate solution) in the direction of increasing
+/// (`direction > 0`) or decreasing continuation parameter.
+///
+/// A failure in the middle of the branch does not error: the branch so far is returned, with
+/// [`Branch::end`] saying why it stopped.
+///
+/// # Errors
+/// Invalid settings, a problem that is not one-dimensional, or no solution near `u0`.
+pub fn continue_branch<'a, P: ContinuationProblem<'a> + ?Sized>(
+    problem: &mut P,
+    name: &str,
+    u0: &[f64],
+    direction: f64,
+    settings: &ContinuationSettings,
+    observer: &mut dyn Observer,
+) -> Result<Branch> {
+    palc::Palc::new(problem, settings.clone())?.run(name, u0, None, direction, observer)
+}
+
+/// Continues from `u0` along the direction `tangent` (e.g. a branch-switching direction), or its
+/// opposite for `direction < 0`.
+///
+/// # Errors
+/// As [`continue_branch`].
+pub fn continue_along<'a, P: ContinuationProblem<'a> + ?Sized>(
+    problem: &mut P,
+    name: &str,
+    u0: &[f64],
+    tangent: &[f64],
+    direction: f64,
+    settings: &ContinuationSettings,
+    observer: &mut dyn Observer,
+) -> Result<Branch> {
+    palc::Palc::new(problem, settings.clone())?.run(name, u0, Some(tangent), direction, observer)
+}

@@ -1,0 +1,39 @@
+//! Observers: get every accepted point and special point (the CLI's progress bar is one).
+
+use crate::branch::{BranchPoint, SpecialPoint};
+
+/// Receives progress along a branch.
+pub trait Observer {
+    /// A point was accepted.
+    fn point(&mut self, point: &BranchPoint, parameter: f64) {
+        let _ = (point, parameter);
+    }
+    /// A special point was located.
+    fn special(&mut self, special: &SpecialPoint) {
+        let _ = special;
+    }
+}
+
+/// Ignores everything.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct Silent;
+
+impl Observer for Silent {}
+
+/// Counts points (handy in tests and benchmarks).
+#[derive(Debug, Clone, Copy, Default)]
+pub struct Counter {
+    /// Points seen.
+    pub points: usize,
+    /// Special points seen.
+    pub specials: usize,
+}
+
+impl Observer for Counter {
+    fn point(&mut self, _: &BranchPoint, _: f64) {
+        self.points += 1;
+    }
+    fn special(&mut self, _: &SpecialPoint) {
+        self.specials += 1;
+    }
+}

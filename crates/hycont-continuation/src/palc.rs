@@ -1,0 +1,577 @@
+//! Pseudo-arclength continuation (PALC) over a one-dimensional atlas of charts.
+//!
+//! A chart is a solution $u$ of $F(u) = 0$ ($F: \mathbb{R}^N \to \mathbb{R}^{N-1}$) with its unit
+//! tangent $t$ ($J t = 0$, oriented along the run). From chart $(u_a, t_a)$ a step $h$ predicts
+//! $u_a + h t_a$ and corrects on the hyperplane $t_a \cdot (u - u_a) = h$ with Newton on the
+//! augmented system $[F; t_a \cdot (u - u_a) - h]$, Jacobian $A = [J; t_a^\top]$. The new tangent
+//! solves $A x = e_N$. Test functions are evaluated at every chart; a sign change between two
+//! charts is located on the first chart's hyperplanes, $s \mapsto$ the solution at arclength
+//! $s \in (0, h)$, by the Illinois method (bisection safeguarded) until the bracket in $s$ is below
+//! the location tolerance.
+
+use crate::branch::{Branch, BranchPoint, EndReason, SpecialKind, SpecialPoint};
+use crate::error::{Error, Result};
+use crate::observe::Observer;
+use crate::settings::{BoundOn, ContinuationSettings};
+use crate::{ContinuationProblem, PointInfo};
+use hycont_core::linalg::SparsePattern;
+
+/// A solved chart with everything the test functions need.
+#[derive(Debug, Clone)]
+struct Chart {
+    u: Vec<f64>,
+    t: Vec<f64>,
+    info: PointInfo,
+    iterations: usize,
+    /// Sign and log|det| of the augmented Jacobian at `u` (with the chart's reference row).
+    det: (f64, f64),
+}
+
+/// Test-function values at a chart, in a fixed order (see [`Tests::names`]).
+#[derive(Debug, Clone)]
+struct Tests {
+    values: Vec<f64>,
+}
+
+/// What each test-function slot means.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Slot {
+    Fold,
+    BranchPoint,
+    PeriodDoubling,
+    Torus,
+    Event {
+        index: usize,
+        kind: SpecialKind,
+        level: f64,
+        monitor: usize,
+        terminal: bool,
+    },
+    Bound {
+        monitor: Option<usize>,
+        level: f64,
+    },
+}
+
+fn max_abs(v: &[f64]) -> f64 {
+    v.iter().fold(0.0f64, |m, x| m.max(x.abs()))
+}
+
+fn dot(a: &[f64], b: &[f64]) -> f64 {
+    a.iter().zip(b).map(|(x, y)| x * y).sum()
+}
+
+fn normalize(v: &mut [f64]) {
+    let n = dot(v, v).sqrt();
+    if n > 0.0 {
+        for x in v.iter_mut() {
+            *x /= n;
+        }
+    }
+}
+
+/// Product over non-trivial multipliers of $(1 + \lambda)$ (real: complex pairs give
+/// $|1 + \lambda|^2$): changes sign when a real multiplier crosses $-1$.
+fn pd_test(info: &PointInfo) -> f64 {
+    info.multipliers
+        .iter()
+        .zip(&info.trivial)
+        .filter(|(_, t)| !**t)
+        .fold(1.0, |acc, ((re, im), _)| {
+            if *im > 0.0 {
+                acc * ((1.0 + re).powi(2) + im * im)
+            } else if *im < 0.0 {
+                acc
+            } else {
+                acc * (1.0 + re)
+            }
+        })
+}
+
+/// Product over pairs of non-trivial multipliers of $(\lambda_i \lambda_j - 1)$, real part: changes
+/// sign when a complex pair crosses the unit circle (also at neutral saddles, which are filtered
+/// out after location).
+fn tr_test(info: &PointInfo) -> f64 {
+    let nt: Vec<(f64, f64)> = info
+        .multipliers
+        .iter()
+        .zip(&info.trivial)
+        .filter(|(_, t)| !**t)
+        .map(|(m, _)| *m)
+        .collect();
+    let mut acc = 1.0;
+    for i in 0..nt.len() {
+        for j in i + 1..nt.len() {
+            let (a, b) = (nt[i], nt[j]);
+            // Complex conjugate pair: |lambda|^2 - 1; real pairs: lambda_i lambda_j - 1.
+            let re = a.0 * b.0 - a.1 * b.1;
+            acc *= re - 1.0;
+        }
+    }
+    acc
+}
+
+/// The continuation driver for one problem.
+pub(crate) struct Palc<'p, 'a, P: ContinuationProblem<'a> + ?Sized> {
+    p: &'p mut P,
+    settings: ContinuationSettings,
+    n: usize,
+    k: usize,
+    pattern: SparsePattern,
+    values: Vec<f64>,
+    res: Vec<f64>,
+    slots: Vec<Slot>,
+    _marker: std::marker::PhantomData<&'a ()>,
+}
+
+impl<'p, 'a, P: ContinuationProblem<'a> + ?Sized> Palc<'p, 'a, P> {
+    pub(crate) fn new(p: &'p mut P, settings: ContinuationSettings) -> Result<Self> {
+        settings.validate()?;
+        let problem = p.problem();
+        let (n, m) = (problem.unknowns(), problem.equations());
+        if n != m + 1 {
+            return Err(Error::NotOneDimensional {
+                unknowns: n,
+                equations: m,
+            });
+        }
+        let mut entries = problem.jacobian_entries();
+        let k = entries.len();
+        entries.extend((0..n).map(|j| (m, j)));
+        let pattern = SparsePattern::new(n, n, &entries)?;
+        let mut slots = Vec::new();
+        let d = settings.detect;
+        if d.fold {
+            slots.push(Slot::Fold);
+        }
+        if d.branch_point {
+            slots.push(Slot::BranchPoint);
+        }
+        if d.period_doubling {
+            slots.push(Slot::PeriodDoubling);
+        }
+        if d.torus {
+            slots.push(Slot::Torus);
+        }
+        if d.monitor_events {
+            for (index, ev) in p.monitor_events().into_iter().enumerate() {
+                slots.push(Slot::Event {
+                    index,
+                    kind: ev.kind,
+                    level: ev.level,
+                    monitor: ev.monitor,
+                    terminal: ev.terminal,
+                });
+            }
+        }
+        for b in &settings.bounds {
+            let monitor = match b.on {
+                BoundOn::Parameter => None,
+                BoundOn::Monitor(i) => Some(i),
+            };
+            slots.push(Slot::Bound {
+                monitor,
+                level: b.min,
+            });
+            slots.push(Slot::Bound {
+                monitor,
+                level: b.max,
+            });
+        }
+        Ok(Self {
+            p,
+            settings,
+            n,
+            k,
+            pattern,
+            values: Vec::new(),
+            res: vec![0.0; n],
+            slots,
+            _marker: std::marker::PhantomData,
+        })
+    }
+
+    fn parameter(&self, u: &[f64]) -> f64 {
+        u[self.p.parameter_index()]
+    }
+
+    /// Assembles and factorises $[J(u); r^\top]$ and writes $[F(u); r \cdot (u - u_0) - s]$.
+    fn factor(&mut self, u: &[f64], row: &[f64], u0: &[f64], s: f64) -> Result<()> {
+        let n = self.n;
+        let mut values = std::mem::take(&mut self.values);
+        self.p
+            .problem()
+            .evaluate(u, &mut self.res[..n - 1], Some(&mut values))?;
+        values.truncate(self.k);
+        values.extend_from_slice(row);
+        self.res[n - 1] = dot(row, u) - dot(row, u0) - s;
+        let out = self.pattern.factorize(&values);
+        self.values = values;
+        Ok(out?)
+    }
+
+    /// Newton on the augmented system from `u_pred`; returns the solution and the iterations.
+    fn correct(
+        &mut self,
+        u_pred: &[f64],
+        row: &[f64],
+        u0: &[f64],
+        s: f64,
+    ) -> Result<(Vec<f64>, usize)> {
+        let ns = self.settings.newton;
+        let max_it = 2 * self.settings.target_iterations;
+        let mut u = u_pred.to_vec();
+        let mut du = vec![0.0; self.n];
+        for it in 1..=max_it {
+            self.factor(&u, row, u0, s)?;
+            let res = max_abs(&self.res);
+            for (d, r) in du.iter_mut().zip(&self.res) {
+                *d = -r;
+            }
+            self.pattern.solve_in_place(&mut du)?;
+            let step = max_abs(&du);
+            for (x, d) in u.iter_mut().zip(&du) {
+                *x += d;
+            }
+            if step <= ns.tol * (1.0 + max_abs(&u)) && res <= ns.residual_tol.max(1e3 * step) {
+                return Ok((u, it));
+            }
+            if !res.is_finite() || step > 1e3 * (1.0 + max_abs(&u)) {
+                break;
+            }
+        }
+        Err(Error::Core(hycont_core::Error::NewtonFailed {
+            reason: "corrector did not converge".into(),
+            history: Vec::new(),
+        }))
+    }
+
+    /// Tangent at a corrected `u` (reference row `row`, orientation `t·row > 0`), with the
+    /// determinant of $[J(u); row]$.
+    fn tangent(&mut self, u: &[f64], row: &[f64]) -> Result<(Vec<f64>, (f64, f64))> {
+        let zero = vec![0.0; self.n];
+        self.factor(u, row, &zero, dot(row, u))?;
+        let det = self.pattern.determinant()?;
+        let mut x = vec![0.0; self.n];
+        x[self.n - 1] = 1.0;
+        self.pattern.solve_in_place(&mut x)?;
+        normalize(&mut x);
+        Ok((x, det))
+    }
+
+    fn chart(&mut self, u: Vec<f64>, row: &[f64], iterations: usize) -> Result<Chart> {
+        let (t, det) = self.tangent(&u, row)?;
+        let info = self.p.analyse(&u)?;
+        Ok(Chart {
+            u,
+            t,
+            info,
+            iterations,
+            det,
+        })
+    }
+
+    fn tests(&self, c: &Chart, det_ref: f64) -> Tests {
+        let pi = self.p.parameter_index();
+        let values = self
+            .slots
+            .iter()
+            .map(|slot| match *slot {
+                Slot::Fold => c.t[pi],
+                Slot::BranchPoint => c.det.0 * (c.det.1 - det_ref).clamp(-700.0, 700.0).exp(),
+                Slot::PeriodDoubling => pd_test(&c.info),
+                Slot::Torus => tr_test(&c.info),
+                Slot::Event { level, monitor, .. } => c.info.monitors[monitor] - level,
+                Slot::Bound { monitor, level } => match monitor {
+                    None => c.u[pi] - level,
+                    Some(m) => c.info.monitors[m] - level,
+                },
+            })
+            .collect();
+        Tests { values }
+    }
+
+    fn point(&self, c: &Chart, label: usize, step: f64) -> BranchPoint {
+        let unstable = c
+            .info
+            .multipliers
+            .iter()
+            .zip(&c.info.trivial)
+            .filter(|((re, im), t)| !**t && re.hypot(*im) > 1.0)
+            .count();
+        BranchPoint {
+            label,
+            u: c.u.clone(),
+            tangent: c.t.clone(),
+            params: c.info.params.clone(),
+            monitors: c.info.monitors.clone(),
+            multipliers: c.info.multipliers.clone(),
+            trivial: c.info.trivial.clone(),
+            unstable,
+            newton_iterations: c.iterations,
+            step,
+        }
+    }
+
+    /// The chart at arclength `s` on chart `a`'s hyperplanes, with `a`'s tangent as reference row
+    /// (so that the determinant is continuous in `s`).
+    fn chart_at(&mut self, a: &Chart, s: f64) -> Result<Chart> {
+        let pred: Vec<f64> = a.u.iter().zip(&a.t).map(|(x, t)| x + s * t).collect();
+        let (u, it) = self.correct(&pred, &a.t.clone(), &a.u.clone(), s)?;
+        self.chart(u, &a.t.clone(), it)
+    }
+
+    /// Locates the zero of test slot `slot` between `a` (s = 0) and `b` (s = h).
+    fn locate(&mut self, a: &Chart, b: &Chart, h: f64, slot: usize) -> (Chart, bool, f64) {
+        let det_ref = a.det.1;
+        let ga = self.tests(a, det_ref).values[slot];
+        let gb = self.tests(b, det_ref).values[slot];
+        let (mut lo, mut hi) = (0.0, h);
+        let (mut glo, mut ghi) = (ga, gb);
+        let mut best = b.clone();
+        let mut side = 0i8;
+        let tol = self.settings.locate_tol;
+        for _ in 0..80 {
+            if (hi - lo).abs() <= tol {
+                return (best, true, (hi - lo).abs());
+            }
+            let width = hi - lo;
+            let mut s = if glo == ghi {
+                0.5 * (lo + hi)
+            } else {
+                (lo * ghi - hi * glo) / (ghi - glo)
+            };
+            let margin = (0.5 * tol).min(0.25 * width);
+            s = s.clamp(lo + margin, hi - margin);
+            let Ok(c) = self.chart_at(a, s) else {
+                return (best, false, (hi - lo).abs());
+            };
+            let gs = self.tests(&c, det_ref).values[slot];
+            best = c;
+            if gs == 0.0 {
+                return (best, true, 0.0);
+            }
+            if gs.signum() == glo.signum() {
+                lo = s;
+                glo = gs;
+                if side == 1 {
+                    ghi *= 0.5;
+                }
+                side = 1;
+            } else {
+                hi = s;
+                ghi = gs;
+                if side == -1 {
+                    glo *= 0.5;
+                }
+                side = -1;
+            }
+            if hi - lo > 0.5 * width {
+                // Safeguard: bisect.
+                let m = 0.5 * (lo + hi);
+                if let Ok(c) = self.chart_at(a, m) {
+                    let gm = self.tests(&c, det_ref).values[slot];
+                    best = c;
+                    if gm.signum() == glo.signum() {
+                        lo = m;
+                        glo = gm;
+                    } else {
+                        hi = m;
+                        ghi = gm;
+                    }
+                    side = 0;
+                }
+            }
+        }
+        (best, (hi - lo).abs() <= tol, (hi - lo).abs())
+    }
+
+    fn kind_of(slot: Slot) -> SpecialKind {
+        match slot {
+            Slot::Fold => SpecialKind::Fold,
+            Slot::BranchPoint => SpecialKind::BranchPoint,
+            Slot::PeriodDoubling => SpecialKind::PeriodDoubling,
+            Slot::Torus => SpecialKind::Torus,
+            Slot::Event { kind, .. } => kind,
+            Slot::Bound { .. } => SpecialKind::EndPoint,
+        }
+    }
+
+    #[allow(clippy::too_many_lines)]
+    pub(crate) fn run(
+        &mut self,
+        name: &str,
+        u0: &[f64],
+        initial_tangent: Option<&[f64]>,
+        direction: f64,
+        observer: &mut dyn Observer,
+    ) -> Result<Branch> {
+        let n = self.n;
+        let pi = self.p.parameter_index();
+        // First chart. Without a given direction: correct u0 with the parameter fixed. With one
+        // (branch switching, restarts): a predictor step h0 along it first, so that a start at a
+        // branch point leaves it along the requested branch.
+        let mut a = match initial_tangent {
+            Some(t) => {
+                let mut row = t.to_vec();
+                normalize(&mut row);
+                if direction < 0.0 {
+                    row.iter_mut().for_each(|x| *x = -*x);
+                }
+                let h0 = self.settings.h0;
+                let pred: Vec<f64> = u0.iter().zip(&row).map(|(x, t)| x + h0 * t).collect();
+                let (u, it) = self.correct(&pred, &row, u0, h0)?;
+                let mut c = self.chart(u, &row, it)?;
+                if dot(&c.t, &row) < 0.0 {
+                    c.t.iter_mut().for_each(|x| *x = -*x);
+                }
+                c
+            }
+            None => {
+                let mut row = vec![0.0; n];
+                row[pi] = 1.0;
+                let (u, it) = self.correct(u0, &row, u0, 0.0)?;
+                let mut c = self.chart(u, &row, it)?;
+                if c.t[pi] * direction < 0.0 {
+                    c.t.iter_mut().for_each(|x| *x = -*x);
+                }
+                c
+            }
+        };
+        // The determinant with the chart's own oriented tangent as the last row, consistent with
+        // the following charts (each uses its predecessor's tangent).
+        let own = a.t.clone();
+        a.det = self.tangent(&a.u, &own)?.1;
+        let mut label = 1;
+        let mut branch = Branch {
+            name: name.to_string(),
+            parameter: self.p.parameter_name(),
+            parameter_index: self.p.parameter_position(),
+            parameter_names: self.p.parameter_names(),
+            monitor_names: self.p.monitor_names(),
+            points: vec![self.point(&a, label, 0.0)],
+            special_points: Vec::new(),
+            end: EndReason::MaxPoints,
+        };
+        observer.point(&branch.points[0], self.parameter(&a.u));
+        let start = a.u.clone();
+        let mut h = self.settings.h0;
+        let mut travelled = 0.0;
+        'outer: while branch.points.len() < self.settings.max_points {
+            let pred: Vec<f64> = a.u.iter().zip(&a.t).map(|(x, t)| x + h * t).collect();
+            let at = a.t.clone();
+            let au = a.u.clone();
+            let corrected = self.correct(&pred, &at, &au, h);
+            let b = match corrected.and_then(|(u, it)| self.chart(u, &at, it)) {
+                Ok(b)
+                    if dot(&b.t, &a.t).clamp(-1.0, 1.0).acos() <= self.settings.max_angle
+                        || h <= self.settings.h_min =>
+                {
+                    b
+                }
+                Ok(_) | Err(_) if h > self.settings.h_min => {
+                    h = (0.5 * h).max(self.settings.h_min);
+                    continue;
+                }
+                Ok(_) => unreachable!("accepted above at h_min"),
+                Err(e) => {
+                    branch.end = EndReason::CorrectorFailed(e.to_string());
+                    break;
+                }
+            };
+            // Orient the new tangent along the run.
+            let mut b = b;
+            if dot(&b.t, &a.t) < 0.0 {
+                b.t.iter_mut().for_each(|x| *x = -*x);
+            }
+            // Sign changes of test functions, located and sorted along the step.
+            let det_ref = a.det.1;
+            let ta = self.tests(&a, det_ref);
+            let tb = self.tests(&b, det_ref);
+            let mut found: Vec<(f64, usize, Chart, bool, f64)> = Vec::new();
+            for slot in 0..self.slots.len() {
+                let (ga, gb) = (ta.values[slot], tb.values[slot]);
+                if ga == 0.0 || !(ga * gb <= 0.0) {
+                    continue;
+                }
+                let (c, located, acc) = self.locate(&a, &b, h, slot);
+                let s = dot(&a.t, &c.u) - dot(&a.t, &a.u);
+                found.push((s, slot, c, located, acc));
+            }
+            found.sort_by(|x, y| x.0.total_cmp(&y.0));
+            let (pa, pb) = (self.parameter(&a.u), self.parameter(&b.u));
+            for (_, slot, c, located, acc) in found {
+                let kind = Self::kind_of(self.slots[slot]);
+                if kind == SpecialKind::Torus {
+                    // Keep true tori only: a complex pair on the unit circle.
+                    let complex = c
+                        .info
+                        .multipliers
+                        .iter()
+                        .zip(&c.info.trivial)
+                        .any(|(m, t)| {
+                            !*t && m.1.abs() > 1e-8 && (m.0.hypot(m.1) - 1.0).abs() < 1e-4
+                        });
+                    if !complex {
+                        continue;
+                    }
+                }
+                label += 1;
+                let special = SpecialPoint {
+                    kind,
+                    point: self.point(&c, label, h),
+                    bracket: (pa, pb),
+                    located,
+                    accuracy: acc,
+                    monitor: match self.slots[slot] {
+                        Slot::Event { monitor, .. } => Some(monitor),
+                        Slot::Bound { monitor, .. } => monitor,
+                        _ => None,
+                    },
+                };
+                observer.special(&special);
+                branch.special_points.push(special);
+                match self.slots[slot] {
+                    Slot::Bound { .. } => {
+                        branch.end = EndReason::Bound;
+                        break 'outer;
+                    }
+                    Slot::Event {
+                        terminal: true,
+                        kind,
+                        ..
+                    } => {
+                        branch.end = EndReason::Inadmissible(kind);
+                        break 'outer;
+                    }
+                    _ => {}
+                }
+            }
+            label += 1;
+            let point = self.point(&b, label, h);
+            observer.point(&point, self.parameter(&b.u));
+            branch.points.push(point);
+            travelled += h;
+            // Closed branch: back near the start after a long way.
+            let dist = max_abs(
+                &b.u.iter()
+                    .zip(&start)
+                    .map(|(x, y)| x - y)
+                    .collect::<Vec<_>>(),
+            );
+            if travelled > 10.0 * self.settings.h_max && dist < 0.5 * h && branch.points.len() > 10
+            {
+                branch.end = EndReason::Closed;
+                break;
+            }
+            // Step control from the corrector's effort.
+            if b.iterations <= 2 {
+                h = (h * self.settings.growth).min(self.settings.h_max);
+            } else if b.iterations > self.settings.target_iterations {
+                h = (0.5 * h).max(self.settings.h_min);
+            }
+            a = b;
+        }
+        Ok(branch)
+    }
+}

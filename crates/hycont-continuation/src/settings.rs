@@ -1,0 +1,198 @@
+//! Continuation settings: a validated builder with `Default`.
+
+use crate::error::{Error, Result};
+use hycont_core::problem::NewtonSettings;
+use serde::{Deserialize, Serialize};
+
+/// Bounds on the continuation parameter and the monitors; leaving them ends the branch with an
+/// end point (EP) located on the bound.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Bound {
+    /// What is bounded.
+    pub on: BoundOn,
+    /// Smallest allowed value.
+    pub min: f64,
+    /// Largest allowed value.
+    pub max: f64,
+}
+
+/// The quantity a [`Bound`] applies to.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+pub enum BoundOn {
+    /// The continuation parameter.
+    Parameter,
+    /// Monitor number `i` of the problem's [`crate::PointInfo::monitors`].
+    Monitor(usize),
+}
+
+/// Which test functions are evaluated along the branch.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[allow(clippy::struct_excessive_bools)]
+pub struct Detect {
+    /// Folds (limit points): the tangent's parameter component changes sign.
+    pub fold: bool,
+    /// Branch points: the sign of the augmented Jacobian's determinant changes.
+    pub branch_point: bool,
+    /// Period doublings: a non-trivial multiplier crosses $-1$.
+    pub period_doubling: bool,
+    /// Torus (Neimark-Sacker) points: a complex pair crosses the unit circle.
+    pub torus: bool,
+    /// Events defined on monitors by the problem ([`crate::ContinuationProblem::monitor_events`]).
+    pub monitor_events: bool,
+}
+
+impl Default for Detect {
+    fn default() -> Self {
+        Self {
+            fold: true,
+            branch_point: true,
+            period_doubling: true,
+            torus: true,
+            monitor_events: true,
+        }
+    }
+}
+
+/// Settings of [`crate::continue_branch`].
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct ContinuationSettings {
+    /// First step (arclength, default `0.01`).
+    pub h0: f64,
+    /// Smallest step before giving up (default `1e-7`).
+    pub h_min: f64,
+    /// Largest step (default `0.1`).
+    pub h_max: f64,
+    /// Step growth factor after an easy corrector (default `1.4`).
+    pub growth: f64,
+    /// Largest angle (rad) between consecutive tangents (default `0.15`).
+    pub max_angle: f64,
+    /// Largest number of points (default 2000).
+    pub max_points: usize,
+    /// Corrector iterations above which the step shrinks (default 5); at most twice this many
+    /// are allowed.
+    pub target_iterations: usize,
+    /// Newton settings of the corrector (chord steps are disabled in the corrector).
+    pub newton: NewtonSettings,
+    /// Special points are located until the parameter bracket is below this (default `1e-10`).
+    pub locate_tol: f64,
+    /// Bounds ending the run.
+    pub bounds: Vec<Bound>,
+    /// Test functions evaluated.
+    pub detect: Detect,
+}
+
+impl Default for ContinuationSettings {
+    fn default() -> Self {
+        Self {
+            h0: 0.01,
+            h_min: 1e-7,
+            h_max: 0.1,
+            growth: 1.4,
+            max_angle: 0.15,
+            max_points: 2000,
+            target_iterations: 5,
+            newton: NewtonSettings {
+                chord_contraction: 0.0,
+                ..NewtonSettings::default()
+            },
+            locate_tol: 1e-10,
+            bounds: Vec::new(),
+            detect: Detect::default(),
+        }
+    }
+}
+
+impl ContinuationSettings {
+    /// Sets the first, smallest and largest steps.
+    #[must_use]
+    pub fn steps(mut self, h0: f64, h_min: f64, h_max: f64) -> Self {
+        self.h0 = h0;
+        self.h_min = h_min;
+        self.h_max = h_max;
+        self
+    }
+
+    /// Bounds the continuation parameter to `[min, max]`.
+    #[must_use]
+    pub fn parameter_bounds(mut self, min: f64, max: f64) -> Self {
+        self.bounds.push(Bound {
+            on: BoundOn::Parameter,
+            min,
+            max,
+        });
+        self
+    }
+
+    /// Bounds monitor `index` to `[min, max]`.
+    #[must_use]
+    pub fn monitor_bounds(mut self, index: usize, min: f64, max: f64) -> Self {
+        self.bounds.push(Bound {
+            on: BoundOn::Monitor(index),
+            min,
+            max,
+        });
+        self
+    }
+
+    /// Sets the largest number of points.
+    #[must_use]
+    pub fn max_points(mut self, n: usize) -> Self {
+        self.max_points = n;
+        self
+    }
+
+    /// Sets which test functions are evaluated.
+    #[must_use]
+    pub fn detect(mut self, detect: Detect) -> Self {
+        self.detect = detect;
+        self
+    }
+
+    /// Checks every invariant.
+    ///
+    /// # Errors
+    /// [`Error::InvalidSetting`] naming the first offending setting.
+    pub fn validate(&self) -> Result<()> {
+        let bad = |name, value, reason| {
+            Err(Error::InvalidSetting {
+                name,
+                value,
+                reason,
+            })
+        };
+        if !(self.h_min > 0.0) {
+            return bad("h_min", self.h_min, "must be > 0");
+        }
+        if !(self.h_max >= self.h_min) {
+            return bad("h_max", self.h_max, "must be >= h_min");
+        }
+        if !(self.h0 >= self.h_min && self.h0 <= self.h_max) {
+            return bad("h0", self.h0, "must be in [h_min, h_max]");
+        }
+        if !(self.growth >= 1.0 && self.growth <= 4.0) {
+            return bad("growth", self.growth, "must be in [1, 4]");
+        }
+        if !(self.max_angle > 0.0 && self.max_angle < 1.5) {
+            return bad("max_angle", self.max_angle, "must be in (0, 1.5) rad");
+        }
+        if self.max_points < 2 {
+            return bad("max_points", self.max_points as f64, "must be >= 2");
+        }
+        if self.target_iterations < 2 {
+            return bad(
+                "target_iterations",
+                self.target_iterations as f64,
+                "must be >= 2",
+            );
+        }
+        if !(self.locate_tol > 0.0) {
+            return bad("locate_tol", self.locate_tol, "must be > 0");
+        }
+        for b in &self.bounds {
+            if !(b.min < b.max) {
+                return bad("bounds", b.min, "min must be < max");
+            }
+        }
+        Ok(())
+    }
+}

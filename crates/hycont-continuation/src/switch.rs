@@ -1,0 +1,73 @@
+//! Branch switching at branch points: the second null direction of the Jacobian.
+
+use crate::ContinuationProblem;
+use crate::error::{Error, Result};
+use hycont_core::linalg::SparsePattern;
+
+/// At a (located) branch point `u` of a branch with tangent `t`, the direction of the other
+/// branch: the null vector $\varphi$ of the augmented Jacobian $[J(u); t^\top]$ (so that
+/// $J \varphi = 0$, $\varphi \perp t$), by inverse iteration on its LU factorisation.
+///
+/// # Errors
+/// [`Error::SwitchFailed`] if the iteration does not produce a direction in the null space of
+/// $J$ (the point is not a branch point).
+pub fn branch_switch_direction<'a, P: ContinuationProblem<'a> + ?Sized>(
+    p: &mut P,
+    u: &[f64],
+    t: &[f64],
+) -> Result<Vec<f64>> {
+    let problem = p.problem();
+    let (n, m) = (problem.unknowns(), problem.equations());
+    if n != m + 1 {
+        return Err(Error::NotOneDimensional {
+            unknowns: n,
+            equations: m,
+        });
+    }
+    let mut entries = problem.jacobian_entries();
+    let k = entries.len();
+    entries.extend((0..n).map(|j| (m, j)));
+    let mut pattern = SparsePattern::new(n, n, &entries)?;
+    let mut values = Vec::new();
+    let mut res = vec![0.0; m];
+    problem.evaluate(u, &mut res, Some(&mut values))?;
+    values.truncate(k);
+    values.extend_from_slice(t);
+    pattern.factorize(&values)?;
+    // Inverse iteration from a fixed, generic start vector.
+    let mut x: Vec<f64> = (0..n)
+        .map(|i| ((i as f64 + 1.0) * 0.754_877_666).fract() - 0.5)
+        .collect();
+    for _ in 0..4 {
+        pattern.solve_in_place(&mut x)?;
+        let norm = x.iter().map(|v| v * v).sum::<f64>().sqrt();
+        if !(norm > 0.0 && norm.is_finite()) {
+            return Err(Error::SwitchFailed {
+                reason: "inverse iteration broke down".into(),
+            });
+        }
+        x.iter_mut().for_each(|v| *v /= norm);
+    }
+    // Remove the tangent component and check that J x is small.
+    let tx: f64 = t.iter().zip(&x).map(|(a, b)| a * b).sum();
+    for (xi, ti) in x.iter_mut().zip(t) {
+        *xi -= tx * ti;
+    }
+    let norm = x.iter().map(|v| v * v).sum::<f64>().sqrt();
+    x.iter_mut().for_each(|v| *v /= norm);
+    let jac = problem.dense_jacobian(u)?;
+    let jx = jac
+        .iter()
+        .map(|row| row.iter().zip(&x).map(|(a, b)| a * b).sum::<f64>().abs())
+        .fold(0.0f64, f64::max);
+    let scale = jac
+        .iter()
+        .flat_map(|r| r.iter())
+        .fold(0.0f64, |acc, v| acc.max(v.abs()));
+    if jx > 1e-4 * scale.max(1.0) {
+        return Err(Error::SwitchFailed {
+            reason: format!("no second null direction: |J phi| = {jx:e}"),
+        });
+    }
+    Ok(x)
+}

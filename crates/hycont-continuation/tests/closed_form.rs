@@ -1,0 +1,452 @@
+//! Detectors and driver against problems with exactly known answers.
+
+use hycont_continuation::observe::{Counter, Silent};
+use hycont_continuation::{
+    Branch, ContinuationProblem, ContinuationSettings, Detect, EndReason, MonitorEvent, PointInfo,
+    SpecialKind, branch_switch_direction, continue_along, continue_branch,
+};
+use hycont_core::problem::{Activity, Problem, UnknownMonitor, ZeroFunction};
+
+type Residual = fn(&[f64], &mut [f64], Option<&mut [f64]>);
+
+/// A zero function of all unknowns given by a function pointer (dense pattern).
+struct Dense {
+    unknowns: usize,
+    equations: usize,
+    f: Residual,
+}
+
+impl ZeroFunction for Dense {
+    fn unknowns(&self) -> usize {
+        self.unknowns
+    }
+    fn equations(&self) -> usize {
+        self.equations
+    }
+    fn jacobian_pattern(&self) -> Vec<(usize, usize)> {
+        (0..self.equations)
+            .flat_map(|r| (0..self.unknowns).map(move |c| (r, c)))
+            .collect()
+    }
+    fn evaluate(
+        &mut self,
+        u: &[f64],
+        r: &mut [f64],
+        j: Option<&mut [f64]>,
+    ) -> hycont_core::Result<()> {
+        (self.f)(u, r, j);
+        Ok(())
+    }
+}
+
+/// A test problem: unknowns `u[..dim]` (state), `u[dim]` the parameter; `analyse` computes the
+/// multipliers of a map from the state.
+struct Test {
+    problem: Problem<'static>,
+    dim: usize,
+    multipliers: fn(&[f64]) -> Vec<(f64, f64)>,
+    events: Vec<MonitorEvent>,
+    fail_above: f64,
+}
+
+impl Test {
+    fn new(dim: usize, f: Residual, multipliers: fn(&[f64]) -> Vec<(f64, f64)>) -> Self {
+        let mut problem = Problem::new(dim + 1);
+        problem
+            .add_part(
+                Box::new(Dense {
+                    unknowns: dim + 1,
+                    equations: dim,
+                    f,
+                }),
+                (0..=dim).collect(),
+            )
+            .unwrap();
+        problem
+            .add_monitor(
+                "p",
+                Box::new(UnknownMonitor),
+                vec![dim],
+                Activity::Active(0.0),
+            )
+            .unwrap();
+        Self {
+            problem,
+            dim,
+            multipliers,
+            events: Vec::new(),
+            fail_above: f64::INFINITY,
+        }
+    }
+    /// u0 = (state, parameter, active monitor value = parameter).
+    fn start(&self, state: &[f64], p: f64) -> Vec<f64> {
+        let mut u = state.to_vec();
+        u.push(p);
+        u.push(p);
+        u
+    }
+}
+
+impl ContinuationProblem<'static> for Test {
+    fn problem(&mut self) -> &mut Problem<'static> {
+        &mut self.problem
+    }
+    fn parameter_index(&self) -> usize {
+        self.dim
+    }
+    fn parameter_position(&self) -> usize {
+        0
+    }
+    fn parameter_name(&self) -> String {
+        "p".into()
+    }
+    fn parameter_names(&self) -> Vec<String> {
+        vec!["p".into()]
+    }
+    fn monitor_names(&self) -> Vec<String> {
+        vec!["x".into()]
+    }
+    fn analyse(&mut self, u: &[f64]) -> hycont_core::Result<PointInfo> {
+        if u[self.dim] > self.fail_above {
+            return Err(hycont_core::Error::NotPeriodic {
+                reason: "deliberate failure".into(),
+            });
+        }
+        let m = (self.multipliers)(u);
+        Ok(PointInfo {
+            params: vec![u[self.dim]],
+            monitors: vec![u[0]],
+            trivial: vec![false; m.len()],
+            multipliers: m,
+        })
+    }
+    fn monitor_events(&self) -> Vec<MonitorEvent> {
+        self.events.clone()
+    }
+}
+
+fn no_multipliers(_: &[f64]) -> Vec<(f64, f64)> {
+    Vec::new()
+}
+
+fn parabola(u: &[f64], r: &mut [f64], j: Option<&mut [f64]>) {
+    r[0] = u[0] * u[0] - u[1];
+    if let Some(j) = j {
+        j[0] = 2.0 * u[0];
+        j[1] = -1.0;
+    }
+}
+
+fn pitchfork(u: &[f64], r: &mut [f64], j: Option<&mut [f64]>) {
+    r[0] = u[0].powi(3) - u[1] * u[0];
+    if let Some(j) = j {
+        j[0] = 3.0 * u[0] * u[0] - u[1];
+        j[1] = -u[0];
+    }
+}
+
+/// Fixed points of the logistic map x -> r x (1 - x): x = 1 - 1/r, multiplier 2 - r.
+fn logistic(u: &[f64], res: &mut [f64], j: Option<&mut [f64]>) {
+    let (x, r) = (u[0], u[1]);
+    res[0] = r * x * (1.0 - x) - x;
+    if let Some(j) = j {
+        j[0] = r * (1.0 - 2.0 * x) - 1.0;
+        j[1] = x * (1.0 - x);
+    }
+}
+
+fn logistic_multiplier(u: &[f64]) -> Vec<(f64, f64)> {
+    vec![(u[1] * (1.0 - 2.0 * u[0]), 0.0)]
+}
+
+/// Fixed points of the delayed logistic map (x, y) -> (y, r y (1 - x)): x = y = 1 - 1/r; the
+/// Jacobian [[0, 1], [-r y, r (1 - x)]] has determinant r - 1: a torus point at r = 2.
+fn delayed_logistic(u: &[f64], res: &mut [f64], j: Option<&mut [f64]>) {
+    let (x, y, r) = (u[0], u[1], u[2]);
+    res[0] = y - x;
+    res[1] = r * y * (1.0 - x) - y;
+    if let Some(j) = j {
+        // Row-major over the dense pattern: d/dx, d/dy, d/dr for each equation.
+        j.copy_from_slice(&[-1.0, 1.0, 0.0, -r * y, r * (1.0 - x) - 1.0, y * (1.0 - x)]);
+    }
+}
+
+fn delayed_logistic_multipliers(u: &[f64]) -> Vec<(f64, f64)> {
+    let (x, y, r) = (u[0], u[1], u[2]);
+    let a = [0.0, -r * y, 1.0, r * (1.0 - x)];
+    hycont_core::linalg::eigenvalues(2, &a).unwrap()
+}
+
+fn settings() -> ContinuationSettings {
+    ContinuationSettings::default().steps(0.01, 1e-8, 0.05)
+}
+
+#[test]
+fn fold_of_x_squared_minus_l_is_located_at_zero() {
+    let mut t = Test::new(1, parabola, no_multipliers);
+    let u0 = t.start(&[1.0], 1.0);
+    let b = continue_branch(
+        &mut t,
+        "parabola",
+        &u0,
+        -1.0,
+        &settings().parameter_bounds(-1.0, 2.0),
+        &mut Silent,
+    )
+    .unwrap();
+    let folds: Vec<_> = b.special(SpecialKind::Fold).collect();
+    assert_eq!(folds.len(), 1);
+    let sn = folds[0];
+    assert!(sn.located);
+    assert!(
+        sn.point.params[0].abs() < 1e-9,
+        "fold at l = {:e}",
+        sn.point.params[0]
+    );
+    assert!(sn.point.u[0].abs() < 1e-4);
+    // No branch point on a fold.
+    assert_eq!(b.special(SpecialKind::BranchPoint).count(), 0);
+    // It turns and ends at the bound l = 2 on the other sheet, with an exact end point.
+    assert_eq!(b.end, EndReason::Bound);
+    let ep = b.special(SpecialKind::EndPoint).next().unwrap();
+    assert!((ep.point.params[0] - 2.0).abs() < 1e-9 && ep.point.u[0] < 0.0);
+}
+
+#[test]
+fn pitchfork_branch_point_is_located_and_switched() {
+    let mut t = Test::new(1, pitchfork, no_multipliers);
+    let u0 = t.start(&[0.0], -1.0);
+    let b = continue_branch(
+        &mut t,
+        "trivial",
+        &u0,
+        1.0,
+        &settings().parameter_bounds(-2.0, 1.0),
+        &mut Silent,
+    )
+    .unwrap();
+    let bps: Vec<_> = b.special(SpecialKind::BranchPoint).collect();
+    assert_eq!(
+        bps.len(),
+        1,
+        "{:?}",
+        b.special_points.iter().map(|s| s.kind).collect::<Vec<_>>()
+    );
+    let bp = bps[0];
+    assert!(
+        bp.located && bp.point.params[0].abs() < 1e-9,
+        "BP at {:e}",
+        bp.point.params[0]
+    );
+    // The other branch: x^2 = l, in both directions from the BP.
+    let phi = branch_switch_direction(&mut t, &bp.point.u, &bp.point.tangent).unwrap();
+    assert!(phi[0].abs() > 0.9, "switch direction {phi:?}");
+    for dir in [1.0, -1.0] {
+        let other = continue_along(
+            &mut t,
+            "x^2 = l",
+            &bp.point.u,
+            &phi,
+            dir,
+            &settings().parameter_bounds(-2.0, 1.0),
+            &mut Silent,
+        )
+        .unwrap();
+        assert!(other.points.len() > 5);
+        for p in &other.points[1..] {
+            assert!(
+                (p.u[0] * p.u[0] - p.u[1]).abs() < 1e-8,
+                "off the x^2 = l branch: {:?}",
+                p.u
+            );
+        }
+        assert!(other.points.last().unwrap().u[0] * dir > 0.0);
+    }
+}
+
+#[test]
+fn period_doubling_of_the_logistic_map_at_r_3() {
+    let mut t = Test::new(1, logistic, logistic_multiplier);
+    let u0 = t.start(&[1.0 - 1.0 / 2.5], 2.5);
+    let b = continue_branch(
+        &mut t,
+        "fixed point",
+        &u0,
+        1.0,
+        &settings().parameter_bounds(2.0, 3.5),
+        &mut Silent,
+    )
+    .unwrap();
+    let pd: Vec<_> = b.special(SpecialKind::PeriodDoubling).collect();
+    assert_eq!(pd.len(), 1);
+    assert!(
+        (pd[0].point.params[0] - 3.0).abs() < 1e-9,
+        "PD at {}",
+        pd[0].point.params[0]
+    );
+    assert!((pd[0].point.multipliers[0].0 + 1.0).abs() < 1e-8);
+    // Stability: stable before r = 3, unstable after.
+    assert!(b.points.iter().all(|p| (p.params[0] < 3.0) == p.stable()));
+    assert_eq!(b.special(SpecialKind::Torus).count(), 0);
+}
+
+#[test]
+fn torus_point_of_the_delayed_logistic_map_at_r_2() {
+    let mut t = Test::new(2, delayed_logistic, delayed_logistic_multipliers);
+    let x = 1.0 - 1.0 / 1.6;
+    let u0 = t.start(&[x, x], 1.6);
+    let b = continue_branch(
+        &mut t,
+        "fixed point",
+        &u0,
+        1.0,
+        &settings().parameter_bounds(1.5, 2.4),
+        &mut Silent,
+    )
+    .unwrap();
+    let tr: Vec<_> = b.special(SpecialKind::Torus).collect();
+    assert_eq!(
+        tr.len(),
+        1,
+        "{:?}",
+        b.special_points
+            .iter()
+            .map(|s| (s.kind, s.point.params[0]))
+            .collect::<Vec<_>>()
+    );
+    assert!(
+        (tr[0].point.params[0] - 2.0).abs() < 1e-9,
+        "TR at {}",
+        tr[0].point.params[0]
+    );
+    assert_eq!(b.special(SpecialKind::PeriodDoubling).count(), 0);
+}
+
+#[test]
+fn monitor_events_are_located() {
+    let mut t = Test::new(1, parabola, no_multipliers);
+    t.events = vec![MonitorEvent {
+        kind: SpecialKind::BoundaryTouch,
+        monitor: 0,
+        level: 0.7,
+        terminal: false,
+    }];
+    let u0 = t.start(&[1.0], 1.0);
+    let b = continue_branch(
+        &mut t,
+        "parabola",
+        &u0,
+        -1.0,
+        &settings().parameter_bounds(-1.0, 2.0),
+        &mut Silent,
+    )
+    .unwrap();
+    let sb: Vec<_> = b.special(SpecialKind::BoundaryTouch).collect();
+    assert_eq!(sb.len(), 1);
+    assert!((sb[0].point.monitors[0] - 0.7).abs() < 1e-9);
+    assert!((sb[0].point.params[0] - 0.49).abs() < 1e-9);
+    assert_eq!(sb[0].monitor, Some(0));
+}
+
+#[test]
+fn reversing_the_direction_finds_the_same_special_points() {
+    let mut t = Test::new(1, logistic, logistic_multiplier);
+    let s = settings().parameter_bounds(2.0, 3.5);
+    let fwd = {
+        let u0 = t.start(&[1.0 - 1.0 / 2.1], 2.1);
+        continue_branch(&mut t, "f", &u0, 1.0, &s, &mut Silent)
+    }
+    .unwrap();
+    let bwd = {
+        let u0 = t.start(&[1.0 - 1.0 / 3.4], 3.4);
+        continue_branch(&mut t, "b", &u0, -1.0, &s, &mut Silent)
+    }
+    .unwrap();
+    let pf = fwd
+        .special(SpecialKind::PeriodDoubling)
+        .next()
+        .unwrap()
+        .point
+        .params[0];
+    let pb = bwd
+        .special(SpecialKind::PeriodDoubling)
+        .next()
+        .unwrap()
+        .point
+        .params[0];
+    assert!((pf - pb).abs() < 1e-8, "{pf} vs {pb}");
+}
+
+#[test]
+fn branches_serialise_and_restart_from_a_label() {
+    let mut t = Test::new(1, parabola, no_multipliers);
+    let s = settings().parameter_bounds(-1.0, 2.0).max_points(20);
+    let b = {
+        let u0 = t.start(&[1.0], 1.0);
+        continue_branch(&mut t, "parabola", &u0, -1.0, &s, &mut Silent)
+    }
+    .unwrap();
+    assert_eq!(b.end, EndReason::MaxPoints);
+    let json = b.to_json().unwrap();
+    let back = Branch::from_json(&json).unwrap();
+    assert_eq!(back, b);
+    let last = back.points.last().unwrap();
+    let p = back.point(last.label).unwrap();
+    let more = continue_along(
+        &mut t,
+        "restart",
+        &p.u,
+        &p.tangent,
+        1.0,
+        &settings().parameter_bounds(-1.0, 2.0),
+        &mut Silent,
+    )
+    .unwrap();
+    // Continues in the same direction (decreasing l) and reaches the fold.
+    assert!(more.points[1].params[0] < p.params[0]);
+    assert_eq!(more.special(SpecialKind::Fold).count(), 1);
+    assert!(back.point(9999).is_err());
+}
+
+#[test]
+fn a_failure_mid_branch_ends_it_gracefully() {
+    let mut t = Test::new(1, logistic, logistic_multiplier);
+    t.fail_above = 2.8;
+    let mut counter = Counter::default();
+    let b = {
+        let u0 = t.start(&[1.0 - 1.0 / 2.5], 2.5);
+        continue_branch(&mut t, "f", &u0, 1.0, &settings(), &mut counter)
+    }
+    .unwrap();
+    assert!(
+        matches!(b.end, EndReason::CorrectorFailed(_)),
+        "{:?}",
+        b.end
+    );
+    assert!(b.points.len() > 3);
+    assert!(b.points.iter().all(|p| p.params[0] <= 2.8));
+    assert_eq!(counter.points, b.points.len());
+}
+
+#[test]
+fn detectors_can_be_switched_off_and_settings_are_validated() {
+    let mut t = Test::new(1, parabola, no_multipliers);
+    let s = settings().parameter_bounds(-1.0, 2.0).detect(Detect {
+        fold: false,
+        ..Detect::default()
+    });
+    let b = {
+        let u0 = t.start(&[1.0], 1.0);
+        continue_branch(&mut t, "parabola", &u0, -1.0, &s, &mut Silent)
+    }
+    .unwrap();
+    assert_eq!(b.special(SpecialKind::Fold).count(), 0);
+    let bad = ContinuationSettings::default().steps(0.1, 1e-3, 0.01);
+    assert!(
+        {
+            let u0 = t.start(&[1.0], 1.0);
+            continue_branch(&mut t, "x", &u0, 1.0, &bad, &mut Silent)
+        }
+        .is_err()
+    );
+}
