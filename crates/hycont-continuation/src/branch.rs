@@ -108,6 +108,8 @@ pub enum EndReason {
     Inadmissible(SpecialKind),
     /// The branch closed on itself (returned to its start).
     Closed,
+    /// A special point of a kind in [`crate::ContinuationSettings::stop_at`] was reached.
+    Reached(SpecialKind),
 }
 
 /// A branch: its points, special points, and how it ended.

@@ -56,6 +56,7 @@
 pub mod branch;
 pub mod error;
 pub mod observe;
+pub mod orbit;
 mod palc;
 pub mod settings;
 pub mod switch;
@@ -63,6 +64,7 @@ pub mod switch;
 pub use branch::{Branch, BranchPoint, EndReason, SpecialKind, SpecialPoint};
 pub use error::{Error, Result};
 pub use observe::Observer;
+pub use orbit::{Measures, OrbitContinuation, OrbitMethod};
 pub use settings::{Bound, BoundOn, ContinuationSettings, Detect};
 pub use switch::branch_switch_direction;
 

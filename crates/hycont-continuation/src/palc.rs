@@ -210,7 +210,13 @@ impl<'p, 'a, P: ContinuationProblem<'a> + ?Sized> Palc<'p, 'a, P> {
         Ok(out?)
     }
 
-    /// Newton on the augmented system from `u_pred`; returns the solution and the iterations.
+    /// Newton on the augmented system from `u_pred`; returns the solution and the iterations,
+    /// and leaves the augmented Jacobian at the solution factorised (with `row` as last row).
+    ///
+    /// Converged when the residual is below the tolerance after at least one step, or the step
+    /// is below the tolerance with a residual of the same order. The residual criterion matters
+    /// near branch points, where the augmented Jacobian is nearly singular and evaluation noise
+    /// is amplified along the (parameter-free) null direction.
     fn correct(
         &mut self,
         u_pred: &[f64],
@@ -222,22 +228,30 @@ impl<'p, 'a, P: ContinuationProblem<'a> + ?Sized> Palc<'p, 'a, P> {
         let max_it = 2 * self.settings.target_iterations;
         let mut u = u_pred.to_vec();
         let mut du = vec![0.0; self.n];
-        for it in 1..=max_it {
+        let mut last_step = f64::INFINITY;
+        for it in 0..=max_it {
             self.factor(&u, row, u0, s)?;
             let res = max_abs(&self.res);
+            let scale = 1.0 + max_abs(&u);
+            if it > 0
+                && (res <= ns.residual_tol
+                    || (last_step <= ns.tol * scale && res <= 1e3 * last_step.max(ns.residual_tol)))
+            {
+                return Ok((u, it));
+            }
+            if it == max_it || !res.is_finite() {
+                break;
+            }
             for (d, r) in du.iter_mut().zip(&self.res) {
                 *d = -r;
             }
             self.pattern.solve_in_place(&mut du)?;
-            let step = max_abs(&du);
+            last_step = max_abs(&du);
+            if last_step > 1e3 * scale {
+                break;
+            }
             for (x, d) in u.iter_mut().zip(&du) {
                 *x += d;
-            }
-            if step <= ns.tol * (1.0 + max_abs(&u)) && res <= ns.residual_tol.max(1e3 * step) {
-                return Ok((u, it));
-            }
-            if !res.is_finite() || step > 1e3 * (1.0 + max_abs(&u)) {
-                break;
             }
         }
         Err(Error::Core(hycont_core::Error::NewtonFailed {
@@ -246,11 +260,9 @@ impl<'p, 'a, P: ContinuationProblem<'a> + ?Sized> Palc<'p, 'a, P> {
         }))
     }
 
-    /// Tangent at a corrected `u` (reference row `row`, orientation `t·row > 0`), with the
-    /// determinant of $[J(u); row]$.
-    fn tangent(&mut self, u: &[f64], row: &[f64]) -> Result<(Vec<f64>, (f64, f64))> {
-        let zero = vec![0.0; self.n];
-        self.factor(u, row, &zero, dot(row, u))?;
+    /// Tangent at `u` with the current factorisation of $[J(u); row]$ (left by
+    /// [`Palc::correct`]), and the determinant of that matrix.
+    fn tangent_from_factorization(&mut self) -> Result<(Vec<f64>, (f64, f64))> {
         let det = self.pattern.determinant()?;
         let mut x = vec![0.0; self.n];
         x[self.n - 1] = 1.0;
@@ -259,8 +271,17 @@ impl<'p, 'a, P: ContinuationProblem<'a> + ?Sized> Palc<'p, 'a, P> {
         Ok((x, det))
     }
 
-    fn chart(&mut self, u: Vec<f64>, row: &[f64], iterations: usize) -> Result<Chart> {
-        let (t, det) = self.tangent(&u, row)?;
+    /// Tangent at a corrected `u` (reference row `row`, orientation `t·row > 0`), with the
+    /// determinant of $[J(u); row]$ (factorises afresh).
+    fn tangent(&mut self, u: &[f64], row: &[f64]) -> Result<(Vec<f64>, (f64, f64))> {
+        let zero = vec![0.0; self.n];
+        self.factor(u, row, &zero, dot(row, u))?;
+        self.tangent_from_factorization()
+    }
+
+    /// The chart at a corrected `u`, using the factorisation the corrector left.
+    fn chart(&mut self, u: Vec<f64>, _row: &[f64], iterations: usize) -> Result<Chart> {
+        let (t, det) = self.tangent_from_factorization()?;
         let info = self.p.analyse(&u)?;
         Ok(Chart {
             u,
@@ -321,22 +342,25 @@ impl<'p, 'a, P: ContinuationProblem<'a> + ?Sized> Palc<'p, 'a, P> {
         self.chart(u, &a.t.clone(), it)
     }
 
-    /// Locates the zero of test slot `slot` between `a` (s = 0) and `b` (s = h).
+    /// Locates the zero of test slot `slot` between `a` (s = 0) and `b` (s = h): Illinois steps,
+    /// bisection when the bracket shrinks slowly or a corrector fails (next to a branch point the
+    /// augmented Jacobian is singular). Returns the chart, whether the bracket in `s` reached the
+    /// tolerance, and the final bracket width; on failure, the better bracket end.
     fn locate(&mut self, a: &Chart, b: &Chart, h: f64, slot: usize) -> (Chart, bool, f64) {
         let det_ref = a.det.1;
-        let ga = self.tests(a, det_ref).values[slot];
-        let gb = self.tests(b, det_ref).values[slot];
-        let (mut lo, mut hi) = (0.0, h);
-        let (mut glo, mut ghi) = (ga, gb);
-        let mut best = b.clone();
-        let mut side = 0i8;
         let tol = self.settings.locate_tol;
-        for _ in 0..80 {
+        let (mut lo, mut hi) = (0.0, h);
+        let mut glo = self.tests(a, det_ref).values[slot];
+        let mut ghi = self.tests(b, det_ref).values[slot];
+        let (mut c_lo, mut c_hi) = (a.clone(), b.clone());
+        let mut side = 0i8;
+        let mut bisect_next = false;
+        for _ in 0..120 {
             if (hi - lo).abs() <= tol {
-                return (best, true, (hi - lo).abs());
+                break;
             }
             let width = hi - lo;
-            let mut s = if glo == ghi {
+            let mut s = if bisect_next || glo == ghi {
                 0.5 * (lo + hi)
             } else {
                 (lo * ghi - hi * glo) / (ghi - glo)
@@ -344,16 +368,21 @@ impl<'p, 'a, P: ContinuationProblem<'a> + ?Sized> Palc<'p, 'a, P> {
             let margin = (0.5 * tol).min(0.25 * width);
             s = s.clamp(lo + margin, hi - margin);
             let Ok(c) = self.chart_at(a, s) else {
-                return (best, false, (hi - lo).abs());
+                if bisect_next {
+                    break; // even the midpoint fails: give up with the bracket so far
+                }
+                bisect_next = true;
+                continue;
             };
+            bisect_next = false;
             let gs = self.tests(&c, det_ref).values[slot];
-            best = c;
             if gs == 0.0 {
-                return (best, true, 0.0);
+                return (c, true, 0.0);
             }
             if gs.signum() == glo.signum() {
                 lo = s;
                 glo = gs;
+                c_lo = c;
                 if side == 1 {
                     ghi *= 0.5;
                 }
@@ -361,29 +390,25 @@ impl<'p, 'a, P: ContinuationProblem<'a> + ?Sized> Palc<'p, 'a, P> {
             } else {
                 hi = s;
                 ghi = gs;
+                c_hi = c;
                 if side == -1 {
                     glo *= 0.5;
                 }
                 side = -1;
             }
             if hi - lo > 0.5 * width {
-                // Safeguard: bisect.
-                let m = 0.5 * (lo + hi);
-                if let Ok(c) = self.chart_at(a, m) {
-                    let gm = self.tests(&c, det_ref).values[slot];
-                    best = c;
-                    if gm.signum() == glo.signum() {
-                        lo = m;
-                        glo = gm;
-                    } else {
-                        hi = m;
-                        ghi = gm;
-                    }
-                    side = 0;
-                }
+                bisect_next = true;
+                side = 0;
             }
         }
-        (best, (hi - lo).abs() <= tol, (hi - lo).abs())
+        let width = (hi - lo).abs();
+        let located = width <= tol;
+        // The bracket end nearer the zero (by the test function's magnitude at the bracket's
+        // ends, which Illinois may have halved: compare fresh values).
+        let g_lo = self.tests(&c_lo, det_ref).values[slot].abs();
+        let g_hi = self.tests(&c_hi, det_ref).values[slot].abs();
+        let best = if g_lo <= g_hi { c_lo } else { c_hi };
+        (best, located, width)
     }
 
     fn kind_of(slot: Slot) -> SpecialKind {
@@ -517,6 +542,13 @@ impl<'p, 'a, P: ContinuationProblem<'a> + ?Sized> Palc<'p, 'a, P> {
                     }
                 }
                 label += 1;
+                let mut c = c;
+                if kind == SpecialKind::BranchPoint {
+                    // At a branch point the augmented Jacobian is singular and the tangent solved
+                    // there tends to the other branch's direction: keep this branch's tangent,
+                    // from the bracketing chart (branch switching needs it).
+                    c.t.clone_from(&a.t);
+                }
                 let special = SpecialPoint {
                     kind,
                     point: self.point(&c, label, h),
@@ -531,6 +563,10 @@ impl<'p, 'a, P: ContinuationProblem<'a> + ?Sized> Palc<'p, 'a, P> {
                 };
                 observer.special(&special);
                 branch.special_points.push(special);
+                if self.settings.stop_at.contains(&kind) {
+                    branch.end = EndReason::Reached(kind);
+                    break 'outer;
+                }
                 match self.slots[slot] {
                     Slot::Bound { .. } => {
                         branch.end = EndReason::Bound;

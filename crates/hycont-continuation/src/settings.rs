@@ -79,6 +79,9 @@ pub struct ContinuationSettings {
     pub bounds: Vec<Bound>,
     /// Test functions evaluated.
     pub detect: Detect,
+    /// Special-point kinds that end the branch when located (e.g. the branch point where an
+    /// asymmetric branch rejoins the symmetric one).
+    pub stop_at: Vec<crate::SpecialKind>,
 }
 
 impl Default for ContinuationSettings {
@@ -98,6 +101,7 @@ impl Default for ContinuationSettings {
             locate_tol: 1e-10,
             bounds: Vec::new(),
             detect: Detect::default(),
+            stop_at: Vec::new(),
         }
     }
 }
@@ -138,6 +142,13 @@ impl ContinuationSettings {
     #[must_use]
     pub fn max_points(mut self, n: usize) -> Self {
         self.max_points = n;
+        self
+    }
+
+    /// Ends the branch at the first located special point of this kind.
+    #[must_use]
+    pub fn stop_at(mut self, kind: crate::SpecialKind) -> Self {
+        self.stop_at.push(kind);
         self
     }
 

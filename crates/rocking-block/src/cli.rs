@@ -29,6 +29,73 @@ pub enum Command {
     Orbit(OrbitArgs),
     /// Reproduce a figure of the study: writes DIR/figN.json and DIR/figN.svg.
     Figure(FigureArgs),
+    /// Continue a periodic orbit in omega or alpha (pseudo-arclength), detecting and locating
+    /// SN, BP, PD, TR, SB and GR; or restart from a labelled point of a saved run.
+    Continue(ContinueArgs),
+}
+
+/// The continuation parameter on the command line.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum FreeArg {
+    /// Forcing frequency.
+    Omega,
+    /// Forcing amplitude.
+    Alpha,
+}
+
+/// Directions on the command line.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum DirectionArg {
+    /// Both ways from the start, joined.
+    Both,
+    /// Increasing parameter.
+    Up,
+    /// Decreasing parameter.
+    Down,
+}
+
+/// Arguments of `rocking-block continue`.
+#[derive(Debug, Args)]
+pub struct ContinueArgs {
+    /// The parameter to continue in.
+    #[arg(long, value_enum)]
+    pub free: FreeArg,
+    /// Start: forcing frequency.
+    #[arg(long, default_value_t = 1.3, allow_negative_numbers = true)]
+    pub omega: f64,
+    /// Start: forcing amplitude.
+    #[arg(long, default_value_t = 0.66, allow_negative_numbers = true)]
+    pub alpha: f64,
+    /// Start: which orbit.
+    #[arg(long, value_enum, default_value_t = KindArg::Symmetric)]
+    pub kind: KindArg,
+    /// Smallest parameter value (default: 0.5 for omega, 0.01 for alpha).
+    #[arg(long, allow_negative_numbers = true)]
+    pub min: Option<f64>,
+    /// Largest parameter value (default: 4.0 for omega, 1.06 for alpha).
+    #[arg(long, allow_negative_numbers = true)]
+    pub max: Option<f64>,
+    /// Direction.
+    #[arg(long, value_enum, default_value_t = DirectionArg::Both)]
+    pub direction: DirectionArg,
+    /// Discretisation (restarts need shooting, the default).
+    #[arg(long, value_enum, default_value_t = MethodArg::Shooting)]
+    pub method: MethodArg,
+    /// Restart from this saved run (a file written by --out).
+    #[arg(long, requires = "label")]
+    pub restart: Option<PathBuf>,
+    /// Label of the point of the saved run to restart from.
+    #[arg(long, requires = "restart")]
+    pub label: Option<usize>,
+    /// Write the run (branch with unknowns, for restarts) to this JSON file.
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+    /// Draw the branch to this SVG file.
+    #[arg(long)]
+    pub svg: Option<PathBuf>,
+    /// Print the branch (study format) as JSON on stdout.
+    #[arg(long)]
+    pub json: bool,
 }
 
 /// Orbit kinds on the command line.
@@ -178,7 +245,147 @@ pub fn run(cli: Cli, out: &mut dyn Write) -> Result<()> {
         Command::Simulate(args) => run_simulate(&args, out),
         Command::Orbit(args) => run_orbit(&args, out),
         Command::Figure(args) => run_figure(&args, out),
+        Command::Continue(args) => run_continue(&args, out),
     }
+}
+
+fn run_continue(args: &ContinueArgs, out: &mut dyn Write) -> Result<()> {
+    use crate::continuation::{
+        Direction, Free, SavedRun, branch_json, continue_orbit, study_labels,
+    };
+    use crate::orbits::{OrbitKind, orbit};
+    let free = match args.free {
+        FreeArg::Omega => Free::Omega,
+        FreeArg::Alpha => Free::Alpha,
+    };
+    let (min, max) = match free {
+        Free::Omega => (args.min.unwrap_or(0.5), args.max.unwrap_or(4.0)),
+        Free::Alpha => (args.min.unwrap_or(0.01), args.max.unwrap_or(1.06)),
+    };
+    if !(min < max) {
+        return Err(Error::InvalidArgument {
+            name: "min/max",
+            value: format!("{min}/{max}"),
+            reason: "min must be below max",
+        });
+    }
+    let method = match args.method {
+        MethodArg::Shooting => crate::continuation::default_method(),
+        MethodArg::Collocation => {
+            if args.restart.is_some() || args.out.is_some() {
+                return Err(Error::InvalidArgument {
+                    name: "method",
+                    value: "collocation".into(),
+                    reason: "saved runs and restarts use shooting (the default)",
+                });
+            }
+            hycont_continuation::OrbitMethod::Collocation(
+                hycont_core::orbit::CollocationSettings::default(),
+            )
+        }
+    };
+    let mut direction = match args.direction {
+        DirectionArg::Both => Direction::Both,
+        DirectionArg::Up => Direction::Up,
+        DirectionArg::Down => Direction::Down,
+    };
+    let start = if let (Some(path), Some(label)) = (&args.restart, args.label) {
+        let text = std::fs::read_to_string(path).map_err(io_err(path))?;
+        let saved: SavedRun = serde_json::from_str(&text).map_err(|e| Error::InvalidArgument {
+            name: "restart",
+            value: path.display().to_string(),
+            reason: if e.is_syntax() {
+                "not JSON"
+            } else {
+                "not a run saved by `continue --out`"
+            },
+        })?;
+        let (orbit_at, dir) = saved.orbit_at(label)?;
+        if args.direction == DirectionArg::Both {
+            // Restarting: keep going the way the saved run went.
+            direction = if dir > 0.0 {
+                Direction::Up
+            } else {
+                Direction::Down
+            };
+        }
+        orbit_at
+    } else {
+        let params = Parameters::new(args.omega, args.alpha);
+        params.validate()?;
+        let kind = match args.kind {
+            KindArg::Symmetric => OrbitKind::Symmetric,
+            KindArg::AsymmetricPos => OrbitKind::AsymmetricPos,
+            KindArg::AsymmetricNeg => OrbitKind::AsymmetricNeg,
+            KindArg::Simulate => OrbitKind::Simulate,
+        };
+        orbit(&params, kind, None)?.solution.orbit
+    };
+    let branch = continue_orbit(
+        "branch",
+        &start,
+        free,
+        min,
+        max,
+        direction,
+        &method,
+        &mut hycont_continuation::observe::Silent,
+    )?;
+    let stdout_err = |source| Error::Io {
+        path: PathBuf::from("<stdout>"),
+        source,
+    };
+    if let Some(path) = &args.out {
+        ensure_parent(path)?;
+        let saved = SavedRun {
+            free,
+            start: start.clone(),
+            branch: branch.clone(),
+        };
+        let text = serde_json::to_string(&saved).expect("run serialises");
+        std::fs::write(path, text).map_err(io_err(path))?;
+    }
+    if let Some(path) = &args.svg {
+        ensure_parent(path)?;
+        let labels = study_labels(std::slice::from_ref(&branch), free, &[]);
+        let params = Parameters::new(start.params[0], start.params[1]);
+        crate::plot::branches_svg(
+            path,
+            &format!("continuation in {}", free.name()),
+            std::slice::from_ref(&branch),
+            free,
+            &labels,
+            params.static_boundary(),
+        )?;
+    }
+    if args.json {
+        let text =
+            serde_json::to_string_pretty(&branch_json(&branch, free)).expect("branch serialises");
+        writeln!(out, "{text}").map_err(stdout_err)?;
+    } else {
+        let q = free.id().index();
+        writeln!(
+            out,
+            "{} points, ended: {:?}",
+            branch.points.len(),
+            branch.end
+        )
+        .map_err(stdout_err)?;
+        for s in &branch.special_points {
+            writeln!(
+                out,
+                "  {} label {} {} = {:.10} amp {:.8}{}",
+                s.kind.label(),
+                s.point.label,
+                free.name(),
+                s.point.params[q],
+                s.point.monitors[crate::continuation::AMP],
+                if s.located { "" } else { " (not located)" }
+            )
+            .map_err(stdout_err)?;
+        }
+    }
+    Ok(())
 }
 
 fn run_orbit(args: &OrbitArgs, out: &mut dyn Write) -> Result<()> {
@@ -264,8 +471,8 @@ fn run_figure(args: &FigureArgs, out: &mut dyn Write) -> Result<()> {
     }
     if args.which == "all" {
         eprintln!(
-            "rocking-block: figures 3 to 10 are not available yet (continuation and sampling are \
-             still to come); wrote the available ones"
+            "rocking-block: figures 5 to 10 are not available yet (two-parameter continuation and \
+             sampling are still to come); wrote the available ones"
         );
     }
     Ok(())

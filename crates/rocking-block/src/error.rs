@@ -9,6 +9,9 @@ pub enum Error {
     /// An error of the numerical core (bad input, integration failure, ...).
     #[error(transparent)]
     Core(#[from] hycont_core::Error),
+    /// Continuation failed before a branch could start.
+    #[error("continuation: {0}")]
+    Continuation(String),
     /// A command-line value is invalid.
     #[error("invalid argument {name} = {value}: {reason}")]
     InvalidArgument {

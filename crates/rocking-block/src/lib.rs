@@ -17,6 +17,7 @@
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
 pub mod cli;
+pub mod continuation;
 pub mod error;
 pub mod figures;
 pub mod model;

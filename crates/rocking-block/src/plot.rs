@@ -310,3 +310,119 @@ pub fn orbits_svg(
     root.present().map_err(|e| plot_err(path, e))?;
     Ok(())
 }
+
+/// Colour of a branch by index (symmetric, asymmetric, period-2, ...).
+fn branch_colour(i: usize) -> RGBColor {
+    [
+        RGBColor(31, 119, 180),
+        RGBColor(214, 39, 40),
+        RGBColor(44, 160, 44),
+        RGBColor(148, 103, 189),
+    ][i % 4]
+}
+
+/// A bifurcation diagram: `Amp` against the continuation parameter for each branch (stable
+/// solid, unstable dashed), labelled special points, and the static boundary.
+///
+/// # Errors
+/// [`Error::Plot`] if the file cannot be written.
+pub fn branches_svg(
+    path: &Path,
+    title: &str,
+    branches: &[hycont_continuation::Branch],
+    free: crate::continuation::Free,
+    labels: &[(hycont_continuation::SpecialKind, f64, f64, String)],
+    boundary: f64,
+) -> Result<()> {
+    use crate::continuation::AMP;
+    let q = free.id().index();
+    let xs = || {
+        branches
+            .iter()
+            .flat_map(|b| b.points.iter().map(move |p| p.params[q]))
+    };
+    let ys = || {
+        branches
+            .iter()
+            .flat_map(|b| b.points.iter().map(|p| p.monitors[AMP]))
+    };
+    let (x_lo, x_hi) = range(xs());
+    let (_, y_hi) = range(ys().chain([boundary]));
+    let root = SVGBackend::new(path, (1000, 700)).into_drawing_area();
+    root.fill(&WHITE).map_err(|e| plot_err(path, e))?;
+    let mut chart = ChartBuilder::on(&root)
+        .caption(title, ("sans-serif", 18))
+        .margin(15)
+        .x_label_area_size(40)
+        .y_label_area_size(60)
+        .build_cartesian_2d(x_lo..x_hi, 0.0..y_hi)
+        .map_err(|e| plot_err(path, e))?;
+    chart
+        .configure_mesh()
+        .x_desc(free.name())
+        .y_desc("Amp = max |phi|")
+        .draw()
+        .map_err(|e| plot_err(path, e))?;
+    chart
+        .draw_series(LineSeries::new(
+            [(x_lo, boundary), (x_hi, boundary)],
+            ShapeStyle::from(&BLACK.mix(0.5)).stroke_width(1),
+        ))
+        .map_err(|e| plot_err(path, e))?
+        .label("static boundary pi/2 - theta_b")
+        .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], BLACK.mix(0.5)));
+    for (i, b) in branches.iter().enumerate() {
+        let colour = branch_colour(i);
+        // Runs of equal stability, overlapping by one point so the curve is continuous.
+        let mut start = 0;
+        for k in 1..=b.points.len() {
+            let end_run = k == b.points.len() || b.points[k].stable() != b.points[start].stable();
+            if !end_run {
+                continue;
+            }
+            let stop = k.min(b.points.len() - 1);
+            let pts: Vec<(f64, f64)> = b.points[start..=stop]
+                .iter()
+                .map(|p| (p.params[q], p.monitors[AMP]))
+                .collect();
+            if b.points[start].stable() {
+                chart
+                    .draw_series(LineSeries::new(pts, colour.stroke_width(2)))
+                    .map_err(|e| plot_err(path, e))?;
+            } else {
+                chart
+                    .draw_series(DashedLineSeries::new(pts, 6, 4, colour.stroke_width(2)))
+                    .map_err(|e| plot_err(path, e))?;
+            }
+            start = k;
+        }
+        chart
+            .draw_series(std::iter::empty::<PathElement<(f64, f64)>>())
+            .map_err(|e| plot_err(path, e))?
+            .label(format!("{} (solid: stable, dashed: unstable)", b.name))
+            .legend(move |(x, y)| {
+                PathElement::new(vec![(x, y), (x + 20, y)], colour.stroke_width(2))
+            });
+    }
+    for (_, x, y, text) in labels {
+        chart
+            .draw_series(std::iter::once(Circle::new((*x, *y), 4, BLACK.filled())))
+            .map_err(|e| plot_err(path, e))?;
+        chart
+            .draw_series(std::iter::once(Text::new(
+                text.clone(),
+                (*x, *y + 0.02 * y_hi),
+                ("sans-serif", 14),
+            )))
+            .map_err(|e| plot_err(path, e))?;
+    }
+    chart
+        .configure_series_labels()
+        .border_style(BLACK)
+        .background_style(WHITE.mix(0.85))
+        .position(SeriesLabelPosition::UpperRight)
+        .draw()
+        .map_err(|e| plot_err(path, e))?;
+    root.present().map_err(|e| plot_err(path, e))?;
+    Ok(())
+}

@@ -168,3 +168,51 @@ fn unavailable_figures_and_bad_orbit_settings_fail_cleanly() {
     assert_one_line_usage_error(&["orbit", "--kind", "sideways"], "sideways");
     assert_one_line_usage_error(&["orbit", "--omega", "0"], "omega");
 }
+
+#[test]
+fn figures_3_and_4_write_branches_in_the_study_format() {
+    let dir = std::env::temp_dir().join(format!("rocking-block-fig34-{}", std::process::id()));
+    for n in ["3", "4"] {
+        let out = bin()
+            .args(["figure", n, "--out"])
+            .arg(&dir)
+            .output()
+            .unwrap();
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let v: serde_json::Value = serde_json::from_str(
+            &std::fs::read_to_string(dir.join(format!("fig{n}.json"))).unwrap(),
+        )
+        .unwrap();
+        assert_eq!(v["figure"].as_u64().unwrap().to_string(), n);
+        for key in ["omega", "alpha", "xi", "theta_b"] {
+            assert!(v["parameters"][key].is_f64(), "{key}");
+        }
+        let branches = v["branches"].as_array().unwrap();
+        assert!(branches.len() >= 2);
+        for b in branches {
+            assert!(b["name"].is_string() && b["free"].is_array());
+            for p in b["points"].as_array().unwrap() {
+                for key in ["omega", "alpha", "amp", "period", "stable", "multipliers"] {
+                    assert!(p.get(key).is_some(), "{key}");
+                }
+            }
+            for s in b["special_points"].as_array().unwrap() {
+                let kind = s["kind"].as_str().unwrap();
+                assert!(
+                    ["SN", "BP", "PD", "TR", "SB", "GR", "EP"].contains(&kind),
+                    "{kind}"
+                );
+                for key in ["omega", "alpha", "amp", "multipliers"] {
+                    assert!(s.get(key).is_some(), "{key}");
+                }
+            }
+        }
+        let svg = std::fs::read_to_string(dir.join(format!("fig{n}.svg"))).unwrap();
+        assert!(svg.contains("<svg"));
+    }
+    std::fs::remove_dir_all(&dir).ok();
+}

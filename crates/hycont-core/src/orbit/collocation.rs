@@ -647,6 +647,40 @@ fn pack_nodes(nodes: &[Vec<f64>], orbit: &PeriodicOrbit) -> Vec<f64> {
     u
 }
 
+/// Splits the unknowns of a [`collocation_problem`] on `meshes` (degree `ncol`) into each
+/// segment's node states and the orbit (segment starts = first nodes, durations, parameters).
+#[must_use]
+pub fn collocation_unpack(
+    like: &PeriodicOrbit,
+    meshes: &[Mesh],
+    ncol: usize,
+    u: &[f64],
+) -> (Vec<Vec<f64>>, PeriodicOrbit) {
+    let sizes: Vec<usize> = meshes.iter().map(|m| (m.len() - 1) * ncol + 1).collect();
+    unpack_nodes(u, like, &sizes, like.starts[0].len())
+}
+
+/// Packs node states and an orbit's durations and parameters into collocation unknowns.
+#[must_use]
+pub fn collocation_pack(nodes: &[Vec<f64>], orbit: &PeriodicOrbit) -> Vec<f64> {
+    pack_nodes(nodes, orbit)
+}
+
+/// Floquet multipliers of a collocation solution from its condensed Jacobian (see
+/// [`CollocationSolution::floquet`]).
+///
+/// # Errors
+/// Singular blocks or eigenvalue failures.
+pub fn collocation_floquet<S: HybridJacobians + ?Sized>(
+    system: &S,
+    orbit: &PeriodicOrbit,
+    meshes: &[Mesh],
+    nodes: &[Vec<f64>],
+    ncol: usize,
+) -> Result<Floquet> {
+    condensed_floquet(system, orbit, meshes, nodes, ncol)
+}
+
 fn unpack_nodes(
     u: &[f64],
     like: &PeriodicOrbit,

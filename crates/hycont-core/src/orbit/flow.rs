@@ -21,6 +21,8 @@ pub(crate) struct SegmentFlow<'a, S: ?Sized> {
     pub mode: Mode,
     pub stop: Option<SegmentEnd>,
     pub split: Option<(usize, f64)>,
+    /// `-1.0` integrates backward in time ($\dot x = -f$), for negative durations.
+    pub time_sign: f64,
 }
 
 impl<'a, S: HybridSystem + ?Sized> SegmentFlow<'a, S> {
@@ -30,6 +32,15 @@ impl<'a, S: HybridSystem + ?Sized> SegmentFlow<'a, S> {
             mode,
             stop: None,
             split: None,
+            time_sign: 1.0,
+        }
+    }
+
+    /// The flow of `mode` backward in time.
+    pub(crate) fn backward(system: &'a S, mode: Mode) -> Self {
+        Self {
+            time_sign: -1.0,
+            ..Self::plain(system, mode)
         }
     }
 }
@@ -77,6 +88,11 @@ impl<S: HybridSystem + ?Sized> HybridSystem for SegmentFlow<'_, S> {
     #[inline]
     fn vector_field(&self, _: Mode, x: &[f64], p: &[f64], out: &mut [f64]) {
         self.system.vector_field(self.mode, x, p, out);
+        if self.time_sign < 0.0 {
+            for v in out.iter_mut() {
+                *v = -*v;
+            }
+        }
     }
     fn event(&self, event: EventId, x: &[f64], p: &[f64]) -> f64 {
         if event == STOP {
@@ -105,7 +121,21 @@ impl<S: HybridJacobians + ?Sized> HybridJacobians for SegmentFlow<'_, S> {
         dx: &mut [f64],
         dp: Option<&mut [f64]>,
     ) {
-        self.system.vector_field_jacobian(self.mode, x, p, dx, dp);
+        if self.time_sign < 0.0 {
+            let mut dp = dp;
+            self.system
+                .vector_field_jacobian(self.mode, x, p, dx, dp.as_deref_mut());
+            for v in dx.iter_mut() {
+                *v = -*v;
+            }
+            if let Some(dp) = dp {
+                for v in dp.iter_mut() {
+                    *v = -*v;
+                }
+            }
+        } else {
+            self.system.vector_field_jacobian(self.mode, x, p, dx, dp);
+        }
     }
     fn event_gradient(
         &self,

@@ -15,8 +15,9 @@ mod signature;
 mod symmetry;
 
 pub use collocation::{
-    Collocation, CollocationSettings, CollocationSolution, Mesh, collocation_problem,
-    gauss_legendre_points, solve_collocation,
+    Collocation, CollocationSettings, CollocationSolution, Mesh, collocation_floquet,
+    collocation_pack, collocation_problem, collocation_unpack, gauss_legendre_points,
+    solve_collocation,
 };
 pub use floquet::Floquet;
 pub use periodic_orbit::PeriodicOrbit;
@@ -53,6 +54,26 @@ pub fn pack(orbit: &PeriodicOrbit) -> Vec<f64> {
     u.extend_from_slice(&orbit.durations);
     u.extend_from_slice(&orbit.params);
     u
+}
+
+impl PeriodicOrbit {
+    /// The orbit traversed twice: the signature, starts and durations repeated (the guess for a
+    /// period-doubled orbit, which the period-doubling direction then perturbs).
+    #[must_use]
+    pub fn doubled(&self) -> Self {
+        let mut segments = self.signature.segments().to_vec();
+        segments.extend_from_slice(self.signature.segments());
+        let mut starts = self.starts.clone();
+        starts.extend(self.starts.iter().cloned());
+        let mut durations = self.durations.clone();
+        durations.extend_from_slice(&self.durations);
+        Self {
+            signature: Signature::from_validated(segments, self.signature.closure()),
+            starts,
+            durations,
+            params: self.params.clone(),
+        }
+    }
 }
 
 /// Unpacks shooting unknowns into an orbit with the signature of `like`.
@@ -140,14 +161,19 @@ pub fn monodromy_by_shooting<S: HybridJacobians + ?Sized>(
         m[i + i * n] = 1.0;
     }
     for (k, seg) in orbit.signature.segments().iter().enumerate() {
-        let flow = SegmentFlow::plain(system, seg.mode);
+        // Negative durations (past a segment's collapse) flow backward.
+        let flow = if orbit.durations[k] >= 0.0 {
+            SegmentFlow::plain(system, seg.mode)
+        } else {
+            SegmentFlow::backward(system, seg.mode)
+        };
         let traj = sim.run_with_sensitivities(
             &flow,
             Mode(0),
             0.0,
             &orbit.starts[k],
             &orbit.params,
-            orbit.durations[k],
+            orbit.durations[k].abs(),
             Sensitivities::State,
         )?;
         let phi = traj.sensitivities.expect("requested").state;

@@ -158,6 +158,7 @@ impl PeriodicOrbit {
                 mode: seg.mode,
                 stop: Some(seg.end),
                 split: None,
+                time_sign: 1.0,
             };
             let traj = sim.run(&flow, Mode(0), 0.0, &x, params, max_duration)?;
             let StopReason::TerminalEvent { t, .. } = traj.stop else {
@@ -201,6 +202,7 @@ impl PeriodicOrbit {
                 mode: seg.mode,
                 stop: None,
                 split: Some((component, value)),
+                time_sign: 1.0,
             };
             let traj = sim.run(
                 &flow,

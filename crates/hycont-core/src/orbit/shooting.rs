@@ -161,21 +161,28 @@ impl<S: HybridJacobians + ?Sized> ZeroFunction for Shooting<'_, S> {
             let mode = self.segment_mode(k);
             let x = &u[self.start_index(k)..self.start_index(k) + n];
             let t = u[self.duration_index(k)];
-            if !(t > 0.0) {
+            if !t.is_finite() {
                 return Err(Error::InvalidSignature {
                     segment: k,
-                    reason: format!("duration {t} is not positive"),
+                    reason: format!("duration {t} is not finite"),
                 });
             }
-            let flow = SegmentFlow::plain(self.system, mode);
+            // A negative duration (reached by a continuation step past a segment's collapse) is
+            // integrated backward, so that the equations stay smooth through T = 0 and the
+            // collapse can be located; such orbits are not admissible.
+            let flow = if t >= 0.0 {
+                SegmentFlow::plain(self.system, mode)
+            } else {
+                SegmentFlow::backward(self.system, mode)
+            };
             let which = if want {
                 Sensitivities::StateAndParameters
             } else {
                 Sensitivities::None
             };
-            let traj = self
-                .sim
-                .run_with_sensitivities(&flow, Mode(0), 0.0, x, &p, t, which)?;
+            let traj =
+                self.sim
+                    .run_with_sensitivities(&flow, Mode(0), 0.0, x, &p, t.abs(), which)?;
             let y = &traj.state_final;
             self.system.vector_field(mode, y, &p, &mut self.fy);
             let wrap = k + 1 == kk;

@@ -158,6 +158,12 @@ impl Signature {
         self.closure
     }
 
+    /// A signature built from parts of validated ones (e.g. a repetition of a periodic
+    /// signature), which is valid by construction.
+    pub(crate) fn from_validated(segments: Vec<SegmentSpec>, closure: Closure) -> Self {
+        Self { segments, closure }
+    }
+
     /// The segments.
     #[must_use]
     pub fn segments(&self) -> &[SegmentSpec] {

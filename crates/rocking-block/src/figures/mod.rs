@@ -1,14 +1,16 @@
 //! The study's figures: each writes `figN.json` and `figN.svg` into an output directory.
 
+mod branches;
 mod fig2;
 
+pub use branches::branches_figure;
 pub use fig2::figure2;
 
 use crate::error::{Error, Result};
 use std::path::{Path, PathBuf};
 
 /// Figures `rocking-block figure` knows; the others need capabilities still to come.
-pub const AVAILABLE: &[u32] = &[2];
+pub const AVAILABLE: &[u32] = &[2, 3, 4];
 
 /// What a figure run wrote.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -31,10 +33,20 @@ pub fn figure(n: u32, out: &Path) -> Result<FigureFiles> {
     })?;
     match n {
         2 => figure2(out),
-        3..=10 => Err(Error::InvalidArgument {
+        3 => branches_figure(
+            crate::continuation::Free::Omega,
+            out,
+            &mut hycont_continuation::observe::Silent,
+        ),
+        4 => branches_figure(
+            crate::continuation::Free::Alpha,
+            out,
+            &mut hycont_continuation::observe::Silent,
+        ),
+        5..=10 => Err(Error::InvalidArgument {
             name: "figure",
             value: n.to_string(),
-            reason: "not available yet: figures 3-6 need continuation, 5 and 7-10 the sampling crate",
+            reason: "not available yet: figure 6 needs two-parameter continuation, 5 and 7-10 the sampling crate",
         }),
         _ => Err(Error::InvalidArgument {
             name: "figure",

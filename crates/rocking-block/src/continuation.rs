@@ -1,0 +1,402 @@
+//! Continuation of the rocking block's periodic orbits: the study's branches (Figs. 3 and 4),
+//! branch JSON in the study's format, and restarts.
+
+use crate::error::{Error, Result};
+use crate::model::{ALPHA, OMEGA, Parameters, RockingBlock};
+use crate::orbits::{OrbitKind, amplitude, orbit};
+use hycont_continuation::observe::Observer;
+use hycont_continuation::{
+    Branch, BranchPoint, ContinuationSettings, EndReason, Measures, MonitorEvent,
+    OrbitContinuation, OrbitMethod, SpecialKind, branch_switch_direction, continue_along,
+    continue_branch,
+};
+use hycont_core::ParamId;
+use hycont_core::orbit::{PeriodicOrbit, ShootingSettings};
+use serde::{Deserialize, Serialize};
+use serde_json::{Value, json};
+
+/// Index of Amp among the monitors of a rocking-block branch (after `period` and
+/// `min_duration`).
+pub const AMP: usize = 2;
+
+/// The parameter continued.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Free {
+    /// The forcing frequency.
+    Omega,
+    /// The forcing amplitude.
+    Alpha,
+}
+
+impl Free {
+    /// The parameter handle.
+    #[must_use]
+    pub fn id(self) -> ParamId {
+        match self {
+            Free::Omega => OMEGA,
+            Free::Alpha => ALPHA,
+        }
+    }
+
+    /// The name in JSON output.
+    #[must_use]
+    pub fn name(self) -> &'static str {
+        match self {
+            Free::Omega => "omega",
+            Free::Alpha => "alpha",
+        }
+    }
+}
+
+/// The measures recorded along rocking-block branches: the exact amplitude.
+#[must_use]
+pub fn measures() -> Measures<'static> {
+    Measures {
+        names: vec!["amp".into()],
+        compute: Box::new(|o: &PeriodicOrbit| vec![amplitude(o)]),
+    }
+}
+
+/// The events: boundary touch SB where Amp reaches the static boundary $\pi/2 - \theta_b$.
+/// (Grazing is built into every orbit continuation.)
+#[must_use]
+pub fn events(params: &Parameters) -> Vec<MonitorEvent> {
+    vec![MonitorEvent {
+        kind: SpecialKind::BoundaryTouch,
+        monitor: AMP,
+        level: params.static_boundary(),
+        terminal: false,
+    }]
+}
+
+/// The discretisation used for the study's branches: multiple shooting (ten times cheaper per
+/// point here than collocation, and agreeing with it to the printed digits).
+#[must_use]
+pub fn default_method() -> OrbitMethod {
+    OrbitMethod::Shooting(ShootingSettings::default())
+}
+
+/// Settings for a branch in `free` over `[min, max]`.
+#[must_use]
+pub fn settings(min: f64, max: f64) -> ContinuationSettings {
+    ContinuationSettings::default()
+        .parameter_bounds(min, max)
+        .steps(0.02, 1e-8, 0.1)
+}
+
+/// Joins a backward and a forward run from the same start into one branch, in increasing
+/// continuation order (backward reversed), relabelled.
+fn join(name: &str, backward: Branch, forward: Branch) -> Branch {
+    let mut points: Vec<BranchPoint> = backward.points.into_iter().rev().collect();
+    points.extend(forward.points.into_iter().skip(1));
+    let mut specials = backward.special_points;
+    specials.reverse();
+    specials.extend(forward.special_points);
+    let mut out = Branch {
+        name: name.to_string(),
+        points,
+        special_points: specials,
+        end: forward.end,
+        ..forward
+    };
+    relabel(&mut out);
+    out
+}
+
+fn relabel(b: &mut Branch) {
+    for (i, p) in b.points.iter_mut().enumerate() {
+        p.label = i + 1;
+    }
+    let base = b.points.len();
+    for (i, s) in b.special_points.iter_mut().enumerate() {
+        s.point.label = base + i + 1;
+    }
+}
+
+/// The branch of `start` in `free` over `[min, max]`, both directions, joined.
+///
+/// # Errors
+/// If the start orbit cannot be continued.
+pub fn branch_both_ways(
+    name: &str,
+    start: &PeriodicOrbit,
+    free: Free,
+    min: f64,
+    max: f64,
+    observer: &mut dyn Observer,
+) -> Result<(Branch, OrbitContinuation<'static, RockingBlock>)> {
+    let params = Parameters {
+        omega: start.params[0],
+        alpha: start.params[1],
+        xi: start.params[2],
+        theta_b: start.params[3],
+    };
+    let (mut cp, u0) = OrbitContinuation::new(
+        &RockingBlock,
+        start,
+        &default_method(),
+        free.id(),
+        measures(),
+        events(&params),
+    )
+    .map_err(cont_err)?;
+    let s = settings(min, max);
+    let back = continue_branch(&mut cp, name, &u0, -1.0, &s, observer).map_err(cont_err)?;
+    let fwd = continue_branch(&mut cp, name, &u0, 1.0, &s, observer).map_err(cont_err)?;
+    Ok((join(name, back, fwd), cp))
+}
+
+/// Converts a continuation error.
+pub(crate) fn cont_err(e: hycont_continuation::Error) -> Error {
+    match e {
+        hycont_continuation::Error::Core(c) => Error::Core(c),
+        other => Error::Continuation(other.to_string()),
+    }
+}
+
+/// The study's branches of Fig. 3 (continuation in omega at alpha = 0.66) or Fig. 4 (in alpha at
+/// omega = 1.3).
+///
+/// # Errors
+/// Numerical failures at the start or at a branch switch.
+pub fn study_branches(free: Free, observer: &mut dyn Observer) -> Result<Vec<Branch>> {
+    let params = Parameters::new(1.3, 0.66);
+    let sym = orbit(&params, OrbitKind::Symmetric, None)?.solution.orbit;
+    let (min, max) = match free {
+        Free::Omega => (0.5, 4.0),
+        Free::Alpha => (0.01, 1.06),
+    };
+    let (symmetric, mut cp) = branch_both_ways("symmetric", &sym, free, min, max, observer)?;
+    let mut out = vec![symmetric];
+    // The asymmetric branch from the first branch point (BP1 in omega, BP3 in alpha).
+    let Some(bp) = out[0].special(SpecialKind::BranchPoint).next().cloned() else {
+        return Ok(out);
+    };
+    let phi = branch_switch_direction(&mut cp, &bp.point.u, &bp.point.tangent).map_err(cont_err)?;
+    let s = settings(min, max).stop_at(SpecialKind::BranchPoint);
+    let mut asym = continue_along(&mut cp, "asymmetric", &bp.point.u, &phi, 1.0, &s, observer)
+        .map_err(cont_err)?;
+    // Start the asymmetric branch at the branch point itself.
+    asym.points.insert(0, bp.point.clone());
+    // It ends where it rejoins the symmetric branch, at another branch point. Located from the
+    // asymmetric side, the corrector can slip onto the symmetric branch (both cross the chart's
+    // hyperplanes there), so use the symmetric branch's located point: the same orbit.
+    if asym.end == EndReason::Reached(SpecialKind::BranchPoint)
+        && let Some(end) = asym.special_points.last().cloned()
+    {
+        let q = free.id().index();
+        let near = out[0]
+            .special(SpecialKind::BranchPoint)
+            .filter(|s| s.located)
+            .min_by(|x, y| {
+                (x.point.params[q] - end.bracket.1)
+                    .abs()
+                    .total_cmp(&(y.point.params[q] - end.bracket.1).abs())
+            })
+            .cloned();
+        if let Some(sym_bp) = near.filter(|s| (s.point.params[q] - end.bracket.1).abs() < 1e-2) {
+            asym.special_points.pop();
+            asym.points.push(sym_bp.point.clone());
+            asym.special_points.push(sym_bp);
+        }
+    }
+    relabel(&mut asym);
+    let pd = asym.special(SpecialKind::PeriodDoubling).next().cloned();
+    out.push(asym);
+    // The period-2 branch from the first period doubling.
+    if let Some(pd) = pd {
+        let (mut doubled, u0, dir) = cp
+            .from_period_doubling(&pd.point, measures())
+            .map_err(cont_err)?;
+        let s = settings(min, max);
+        let mut p2 = continue_along(&mut doubled, "period-2", &u0, &dir, 1.0, &s, observer)
+            .map_err(cont_err)?;
+        relabel(&mut p2);
+        out.push(p2);
+    }
+    Ok(out)
+}
+
+fn multipliers_json(m: &[(f64, f64)]) -> Value {
+    Value::Array(m.iter().map(|(a, b)| json!([a, b])).collect())
+}
+
+/// A branch in the study's JSON format (`name`, `free`, `points`, `special_points`), with the
+/// end reason and labels added.
+#[must_use]
+pub fn branch_json(b: &Branch, free: Free) -> Value {
+    let point = |p: &BranchPoint| {
+        json!({
+            "label": p.label,
+            "omega": p.params[0],
+            "alpha": p.params[1],
+            "amp": p.monitors[AMP],
+            "period": p.monitors[0],
+            "stable": p.stable(),
+            "unstable": p.unstable,
+            "multipliers": multipliers_json(&p.multipliers),
+            "trivial": p.trivial,
+            "newton_iterations": p.newton_iterations,
+        })
+    };
+    json!({
+        "name": b.name,
+        "free": [free.name()],
+        "end": format!("{:?}", b.end),
+        "points": b.points.iter().map(point).collect::<Vec<_>>(),
+        "special_points": b.special_points.iter().map(|s| json!({
+            "kind": s.kind.label(),
+            "label": s.point.label,
+            "omega": s.point.params[0],
+            "alpha": s.point.params[1],
+            "amp": s.point.monitors[AMP],
+            "period": s.point.monitors[0],
+            "stable": s.point.stable(),
+            "multipliers": multipliers_json(&s.point.multipliers),
+            "located": s.located,
+            "accuracy": s.accuracy,
+            "bracket": [s.bracket.0, s.bracket.1],
+        })).collect::<Vec<_>>(),
+    })
+}
+
+/// Study labels (SN1, BP1, ...) for the special points of a figure's branches: numbered per kind
+/// in increasing parameter order, starting after `offsets` (Fig. 4 continues Fig. 3's
+/// numbering), with points that appear on two branches (e.g. a branch point) counted once.
+#[must_use]
+pub fn study_labels(
+    branches: &[Branch],
+    free: Free,
+    offsets: &[(SpecialKind, usize)],
+) -> Vec<(SpecialKind, f64, f64, String)> {
+    let q = free.id().index();
+    let mut all: Vec<(SpecialKind, f64, f64)> = Vec::new();
+    for b in branches {
+        for s in &b.special_points {
+            if s.kind == SpecialKind::EndPoint {
+                continue;
+            }
+            let (p, amp) = (s.point.params[q], s.point.monitors[AMP]);
+            if !all
+                .iter()
+                .any(|(k, x, a)| *k == s.kind && (x - p).abs() < 1e-6 && (a - amp).abs() < 1e-4)
+            {
+                all.push((s.kind, p, amp));
+            }
+        }
+    }
+    all.sort_by(|a, b| a.1.total_cmp(&b.1));
+    let mut counts: Vec<(SpecialKind, usize)> = offsets.to_vec();
+    all.into_iter()
+        .map(|(k, p, a)| {
+            let n = match counts.iter_mut().find(|(kk, _)| *kk == k) {
+                Some((_, c)) => {
+                    *c += 1;
+                    *c
+                }
+                None => {
+                    counts.push((k, 1));
+                    1
+                }
+            };
+            (k, p, a, format!("{}{n}", k.label()))
+        })
+        .collect()
+}
+
+/// Whether a branch ended where it should (bounds, a stop point, admissibility) rather than by
+/// a failure.
+#[must_use]
+pub fn ended_cleanly(b: &Branch) -> bool {
+    !matches!(b.end, EndReason::CorrectorFailed(_))
+}
+
+/// A saved continuation run: the branch (with unknowns and tangents at every point) and what is
+/// needed to restart from any of its labelled points.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct SavedRun {
+    /// The parameter continued.
+    pub free: Free,
+    /// The orbit the run started from (its signature is the branch's).
+    pub start: PeriodicOrbit,
+    /// The branch, in `hycont-continuation`'s format.
+    pub branch: Branch,
+}
+
+impl SavedRun {
+    /// The orbit at a labelled point (shooting layout: start states, durations, parameters).
+    ///
+    /// # Errors
+    /// [`Error::Continuation`] if the label does not exist.
+    pub fn orbit_at(&self, label: usize) -> Result<(PeriodicOrbit, f64)> {
+        let p = self.branch.point(label).map_err(cont_err)?;
+        let orbit = hycont_core::orbit::unpack(&self.start, &p.u);
+        let q = self.free.id().index();
+        // Direction of the run at that point: the sign of the tangent's parameter component
+        // (the last unknown is the active parameter).
+        let dir = p.tangent.last().copied().unwrap_or(1.0).signum();
+        let _ = q;
+        Ok((orbit, if dir == 0.0 { 1.0 } else { dir }))
+    }
+}
+
+/// Which way(s) to continue.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Direction {
+    /// Increasing parameter first, then decreasing, joined.
+    Both,
+    /// Increasing parameter.
+    Up,
+    /// Decreasing parameter.
+    Down,
+}
+
+/// Continues `start` in `free` over `[min, max]` in the given direction(s).
+///
+/// # Errors
+/// If the start cannot be continued.
+#[allow(clippy::too_many_arguments)]
+pub fn continue_orbit(
+    name: &str,
+    start: &PeriodicOrbit,
+    free: Free,
+    min: f64,
+    max: f64,
+    direction: Direction,
+    method: &OrbitMethod,
+    observer: &mut dyn Observer,
+) -> Result<Branch> {
+    let params = Parameters {
+        omega: start.params[0],
+        alpha: start.params[1],
+        xi: start.params[2],
+        theta_b: start.params[3],
+    };
+    params.validate()?;
+    let (mut cp, u0) = OrbitContinuation::new(
+        &RockingBlock,
+        start,
+        method,
+        free.id(),
+        measures(),
+        events(&params),
+    )
+    .map_err(cont_err)?;
+    let s = settings(min, max);
+    let run = |cp: &mut OrbitContinuation<'static, RockingBlock>,
+               dir: f64,
+               observer: &mut dyn Observer| {
+        continue_branch(cp, name, &u0, dir, &s, observer).map_err(cont_err)
+    };
+    Ok(match direction {
+        Direction::Up => run(&mut cp, 1.0, observer)?,
+        Direction::Down => run(&mut cp, -1.0, observer)?,
+        Direction::Both => {
+            let back = run(&mut cp, -1.0, observer)?;
+            let fwd = run(&mut cp, 1.0, observer)?;
+            join(name, back, fwd)
+        }
+    })
+}

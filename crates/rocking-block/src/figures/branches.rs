@@ -1,0 +1,60 @@
+//! Figs. 3 and 4: one-parameter continuation of the period-1 orbits (and the period-2 orbits
+//! from the first period doubling), with special points.
+
+use super::{FigureFiles, write_json};
+use crate::continuation::{Free, branch_json, study_branches, study_labels};
+use crate::error::Result;
+use crate::model::Parameters;
+use crate::plot;
+use hycont_continuation::SpecialKind;
+use hycont_continuation::observe::Observer;
+use serde_json::json;
+use std::path::Path;
+
+/// Writes `fig3.json`/`fig3.svg` (free = omega at alpha = 0.66) or `fig4.json`/`fig4.svg`
+/// (free = alpha at omega = 1.3).
+///
+/// # Errors
+/// Numerical or I/O failures.
+pub fn branches_figure(free: Free, out: &Path, observer: &mut dyn Observer) -> Result<FigureFiles> {
+    let params = Parameters::new(1.3, 0.66);
+    let branches = study_branches(free, observer)?;
+    let (n, offsets, title) = match free {
+        Free::Omega => (3, vec![], "Fig. 3: continuation in omega at alpha = 0.66"),
+        Free::Alpha => (
+            4,
+            // The study numbers special points across figures: Fig. 4's BP and SB follow Fig. 3's
+            // two each, its fold and grazing Fig. 3's one each.
+            vec![
+                (SpecialKind::BranchPoint, 2),
+                (SpecialKind::BoundaryTouch, 2),
+                (SpecialKind::Fold, 1),
+                (SpecialKind::Grazing, 1),
+            ],
+            "Fig. 4: continuation in alpha at omega = 1.3",
+        ),
+    };
+    let labels = study_labels(&branches, free, &offsets);
+    let json = json!({
+        "figure": n,
+        "parameters": {"omega": params.omega, "alpha": params.alpha, "xi": params.xi, "theta_b": params.theta_b},
+        "static_boundary": params.static_boundary(),
+        "branches": branches.iter().map(|b| branch_json(b, free)).collect::<Vec<_>>(),
+        "labels": labels.iter().map(|(k, p, a, l)| json!({"label": l, "kind": k.label(), free.name(): p, "amp": a})).collect::<Vec<_>>(),
+    });
+    let json_path = out.join(format!("fig{n}.json"));
+    write_json(&json_path, &json)?;
+    let svg_path = out.join(format!("fig{n}.svg"));
+    plot::branches_svg(
+        &svg_path,
+        title,
+        &branches,
+        free,
+        &labels,
+        params.static_boundary(),
+    )?;
+    Ok(FigureFiles {
+        figure: n,
+        files: vec![json_path, svg_path],
+    })
+}

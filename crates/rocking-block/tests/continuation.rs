@@ -1,0 +1,286 @@
+//! Continuation of the rocking block against the study's published special points (Figs. 3, 4).
+
+use hycont_continuation::observe::Silent;
+use hycont_continuation::{
+    ContinuationSettings, OrbitContinuation, OrbitMethod, SpecialKind, continue_branch,
+};
+use hycont_core::orbit::CollocationSettings;
+use rocking_block::continuation::{
+    AMP, Direction, Free, continue_orbit, default_method, events, measures, study_branches,
+    study_labels,
+};
+use rocking_block::orbits::{OrbitKind, orbit};
+use rocking_block::{OMEGA, Parameters, RockingBlock};
+
+fn label_value(labels: &[(SpecialKind, f64, f64, String)], name: &str) -> f64 {
+    labels
+        .iter()
+        .find(|l| l.3 == name)
+        .unwrap_or_else(|| panic!("no {name} in {labels:?}"))
+        .1
+}
+
+#[test]
+fn figure_3_special_points_match_the_study() {
+    let branches = study_branches(Free::Omega, &mut Silent).unwrap();
+    let labels = study_labels(&branches, Free::Omega, &[]);
+    let names: Vec<&str> = labels.iter().map(|l| l.3.as_str()).collect();
+    assert_eq!(
+        names,
+        ["SN1", "BP1", "GR1", "SB1", "SB2", "BP2"],
+        "{labels:?}"
+    );
+    // Printed in the study: SN1 ~ 0.9096; SB2 ~ 2.6635 (to ~3e-3: the study's Amp was a mesh max).
+    assert!((label_value(&labels, "SN1") - 0.9096).abs() < 5e-5);
+    assert!((label_value(&labels, "SB2") - 2.6635).abs() < 3e-3);
+    // Not printed in the study; found here (regression values of this implementation).
+    for (name, value) in [
+        ("BP1", 1.142_793_27),
+        ("GR1", 1.465_956_66),
+        ("SB1", 1.530_342_22),
+        ("BP2", 3.746_735_33),
+    ] {
+        assert!((label_value(&labels, name) - value).abs() < 1e-6, "{name}");
+    }
+    // Every special point (but the end points and the asymmetric branch's end) is located to 1e-9.
+    for b in &branches {
+        for s in b
+            .special_points
+            .iter()
+            .filter(|s| s.kind != SpecialKind::EndPoint)
+        {
+            assert!(
+                s.located && s.accuracy < 1e-9,
+                "{} {:?} not located: {}",
+                b.name,
+                s.kind,
+                s.accuracy
+            );
+        }
+    }
+    // The symmetric branch is stable between SN1 and BP1, unstable on BP1..BP2, stable above BP2.
+    let sym = &branches[0];
+    for p in &sym.points {
+        let (w, amp) = (p.params[0], p.monitors[AMP]);
+        if amp > 0.35 && w > 0.95 && w < 1.12 {
+            assert!(p.stable(), "omega {w}");
+        }
+        if amp > 0.35 && w > 1.17 && w < 3.7 {
+            assert!(!p.stable(), "omega {w}");
+        }
+    }
+    // The asymmetric branch (stable where it exists below the static boundary) joins BP1 and BP2.
+    let asym = &branches[1];
+    let first = asym.points.first().unwrap().params[0];
+    let last = asym.points.last().unwrap().params[0];
+    assert!((first - 1.142_793_27).abs() < 1e-6 && (last - 3.746_735_33).abs() < 1e-6);
+}
+
+#[test]
+fn figure_4_special_points_match_the_study() {
+    let branches = study_branches(Free::Alpha, &mut Silent).unwrap();
+    let offsets = [
+        (SpecialKind::BranchPoint, 2),
+        (SpecialKind::BoundaryTouch, 2),
+        (SpecialKind::Fold, 1),
+        (SpecialKind::Grazing, 1),
+    ];
+    let labels = study_labels(&branches, Free::Alpha, &offsets);
+    let names: Vec<&str> = labels.iter().map(|l| l.3.as_str()).collect();
+    assert_eq!(
+        names,
+        ["SN2", "BP3", "SB3", "PD1", "PD2", "GR2"],
+        "{labels:?}"
+    );
+    for (name, value) in [
+        ("BP3", 0.6279),
+        ("SB3", 0.6819),
+        ("PD1", 0.7365),
+        ("PD2", 0.7542),
+    ] {
+        assert!(
+            (label_value(&labels, name) - value).abs() < 5e-5,
+            "{name}: {}",
+            label_value(&labels, name)
+        );
+    }
+    // PD2 is on the period-2 branch, born at PD1 with twice the period.
+    let p2 = branches.iter().find(|b| b.name == "period-2").unwrap();
+    assert!(
+        p2.special(SpecialKind::PeriodDoubling)
+            .any(|s| (s.point.params[1] - 0.7542).abs() < 5e-5)
+    );
+    let period1 = branches[1].points[1].monitors[0];
+    assert!((p2.points[1].monitors[0] - 2.0 * period1).abs() < 1e-6);
+    // At PD1 a non-trivial multiplier is -1; at PD2 too (of the period-2 orbit).
+    for s in branches
+        .iter()
+        .flat_map(|b| b.special(SpecialKind::PeriodDoubling))
+    {
+        let m = s
+            .point
+            .multipliers
+            .iter()
+            .zip(&s.point.trivial)
+            .filter(|(_, t)| !**t)
+            .map(|(m, _)| m.0)
+            .fold(f64::INFINITY, f64::min);
+        assert!((m + 1.0).abs() < 1e-6, "{m}");
+    }
+}
+
+#[test]
+fn reversing_the_direction_finds_the_same_special_points() {
+    // Continue the symmetric branch downwards from omega = 1.3 (BP1, then SN1), and from a point
+    // of the lower sheet upwards through SN1 and back to BP1: the same points to 1e-8.
+    let params = Parameters::new(1.3, 0.66);
+    let start = orbit(&params, OrbitKind::Symmetric, None)
+        .unwrap()
+        .solution
+        .orbit;
+    let down = continue_orbit(
+        "down",
+        &start,
+        Free::Omega,
+        0.5,
+        4.0,
+        Direction::Down,
+        &default_method(),
+        &mut Silent,
+    )
+    .unwrap();
+    let sn = down.special(SpecialKind::Fold).next().unwrap().point.params[0];
+    let bp = down
+        .special(SpecialKind::BranchPoint)
+        .next()
+        .unwrap()
+        .point
+        .params[0];
+    // A point on the lower sheet, past the fold.
+    let lower = down.points.iter().find(|p| p.monitors[AMP] < 0.2).unwrap();
+    let lower_orbit = hycont_core::orbit::unpack(&start, &lower.u);
+    let back = continue_orbit(
+        "back",
+        &lower_orbit,
+        Free::Omega,
+        0.5,
+        1.3,
+        Direction::Down,
+        &default_method(),
+        &mut Silent,
+    )
+    .unwrap();
+    let sn2 = back.special(SpecialKind::Fold).next().unwrap().point.params[0];
+    let bp2 = back
+        .special(SpecialKind::BranchPoint)
+        .next()
+        .unwrap()
+        .point
+        .params[0];
+    assert!((sn - sn2).abs() < 1e-8, "{sn} vs {sn2}");
+    assert!((bp - bp2).abs() < 1e-8, "{bp} vs {bp2}");
+}
+
+#[test]
+fn collocation_and_shooting_continuations_agree_on_the_fold() {
+    let params = Parameters::new(1.3, 0.66);
+    let start = orbit(&params, OrbitKind::Symmetric, None)
+        .unwrap()
+        .solution
+        .orbit;
+    let mut folds = Vec::new();
+    for method in [
+        default_method(),
+        OrbitMethod::Collocation(CollocationSettings {
+            ntst: 10,
+            ncol: 4,
+            adapt: 1,
+        }),
+    ] {
+        let (mut cp, u0) = OrbitContinuation::new(
+            &RockingBlock,
+            &start,
+            &method,
+            OMEGA,
+            measures(),
+            events(&params),
+        )
+        .unwrap();
+        let s = ContinuationSettings::default()
+            .parameter_bounds(0.5, 4.0)
+            .steps(0.02, 1e-8, 0.1)
+            .stop_at(SpecialKind::Fold);
+        let b = continue_branch(&mut cp, "sym", &u0, -1.0, &s, &mut Silent).unwrap();
+        folds.push(b.special(SpecialKind::Fold).next().unwrap().point.params[0]);
+    }
+    assert!((folds[0] - folds[1]).abs() < 1e-7, "{folds:?}");
+}
+
+#[test]
+fn continue_cli_saves_and_restarts() {
+    let dir = std::env::temp_dir().join(format!("rocking-block-cont-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let run = dir.join("run.json");
+    let bin = env!("CARGO_BIN_EXE_rocking-block");
+    let out = std::process::Command::new(bin)
+        .args([
+            "continue",
+            "--free",
+            "omega",
+            "--direction",
+            "down",
+            "--json",
+            "--out",
+        ])
+        .arg(&run)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(v["free"][0], "omega");
+    let kinds: Vec<&str> = v["special_points"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|s| s["kind"].as_str().unwrap())
+        .collect();
+    assert_eq!(kinds, ["BP", "SN", "GR"]);
+    let out = std::process::Command::new(bin)
+        .args(["continue", "--free", "omega", "--json", "--restart"])
+        .arg(&run)
+        .args(["--label", "20"])
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let sn = v["special_points"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|s| s["kind"] == "SN")
+        .unwrap();
+    assert!((sn["omega"].as_f64().unwrap() - 0.909_619_23).abs() < 1e-7);
+    let bad = std::process::Command::new(bin)
+        .args(["continue", "--free", "omega", "--restart"])
+        .arg(&run)
+        .args(["--label", "9999"])
+        .output()
+        .unwrap();
+    assert_ne!(bad.status.code(), Some(0));
+    assert_eq!(
+        String::from_utf8_lossy(&bad.stderr)
+            .trim_end()
+            .lines()
+            .count(),
+        1
+    );
+    std::fs::remove_dir_all(&dir).ok();
+}
