@@ -226,33 +226,52 @@ impl<'p, 'a, P: ContinuationProblem<'a> + ?Sized> Palc<'p, 'a, P> {
     ) -> Result<(Vec<f64>, usize)> {
         let ns = self.settings.newton;
         let max_it = 2 * self.settings.target_iterations;
+        let n = self.n;
         let mut u = u_pred.to_vec();
-        let mut du = vec![0.0; self.n];
+        let mut du = vec![0.0; n];
         let mut last_step = f64::INFINITY;
+        let mut last_res = f64::INFINITY;
+        // Chord iterations: the Jacobian is factorised at the predictor (and again only if the
+        // residual stops contracting fast); the other iterations evaluate the residual only.
+        let mut fresh = true;
+        self.factor(&u, row, u0, s)?;
         for it in 0..=max_it {
-            self.factor(&u, row, u0, s)?;
+            if !fresh {
+                self.p
+                    .problem()
+                    .evaluate(&u, &mut self.res[..n - 1], None)?;
+                self.res[n - 1] = dot(row, &u) - dot(row, u0) - s;
+            }
             let res = max_abs(&self.res);
             let scale = 1.0 + max_abs(&u);
             if it > 0
                 && (res <= ns.residual_tol
                     || (last_step <= ns.tol * scale && res <= 1e3 * last_step.max(ns.residual_tol)))
             {
+                // Converged: factorise at the solution for the tangent and the determinant.
+                self.factor(&u, row, u0, s)?;
                 return Ok((u, it));
             }
             if it == max_it || !res.is_finite() {
                 break;
+            }
+            if !fresh && res > 0.2 * last_res {
+                // Slow contraction: refresh the Jacobian.
+                self.factor(&u, row, u0, s)?;
             }
             for (d, r) in du.iter_mut().zip(&self.res) {
                 *d = -r;
             }
             self.pattern.solve_in_place(&mut du)?;
             last_step = max_abs(&du);
+            last_res = res;
             if last_step > 1e3 * scale {
                 break;
             }
             for (x, d) in u.iter_mut().zip(&du) {
                 *x += d;
             }
+            fresh = false;
         }
         Err(Error::Core(hycont_core::Error::NewtonFailed {
             reason: "corrector did not converge".into(),
@@ -335,11 +354,23 @@ impl<'p, 'a, P: ContinuationProblem<'a> + ?Sized> Palc<'p, 'a, P> {
     }
 
     /// The chart at arclength `s` on chart `a`'s hyperplanes, with `a`'s tangent as reference row
-    /// (so that the determinant is continuous in `s`).
-    fn chart_at(&mut self, a: &Chart, s: f64) -> Result<Chart> {
+    /// (so that the determinant is continuous in `s`). With `analyse == false` the point's
+    /// analysis (multipliers, monitors) is copied from `a` (enough for the fold and branch-point
+    /// tests, which use the tangent and the determinant only).
+    fn chart_at(&mut self, a: &Chart, s: f64, analyse: bool) -> Result<Chart> {
         let pred: Vec<f64> = a.u.iter().zip(&a.t).map(|(x, t)| x + s * t).collect();
         let (u, it) = self.correct(&pred, &a.t.clone(), &a.u.clone(), s)?;
-        self.chart(u, &a.t.clone(), it)
+        if analyse {
+            return self.chart(u, &a.t.clone(), it);
+        }
+        let (t, det) = self.tangent_from_factorization()?;
+        Ok(Chart {
+            u,
+            t,
+            info: a.info.clone(),
+            iterations: it,
+            det,
+        })
     }
 
     /// Locates the zero of test slot `slot` between `a` (s = 0) and `b` (s = h): Illinois steps,
@@ -355,6 +386,8 @@ impl<'p, 'a, P: ContinuationProblem<'a> + ?Sized> Palc<'p, 'a, P> {
         let (mut c_lo, mut c_hi) = (a.clone(), b.clone());
         let mut side = 0i8;
         let mut bisect_next = false;
+        // Fold and branch-point tests need no analysis of the trial points.
+        let needs_analysis = !matches!(self.slots[slot], Slot::Fold | Slot::BranchPoint);
         for _ in 0..120 {
             if (hi - lo).abs() <= tol {
                 break;
@@ -367,7 +400,7 @@ impl<'p, 'a, P: ContinuationProblem<'a> + ?Sized> Palc<'p, 'a, P> {
             };
             let margin = (0.5 * tol).min(0.25 * width);
             s = s.clamp(lo + margin, hi - margin);
-            let Ok(c) = self.chart_at(a, s) else {
+            let Ok(c) = self.chart_at(a, s, needs_analysis) else {
                 if bisect_next {
                     break; // even the midpoint fails: give up with the bracket so far
                 }
@@ -377,6 +410,10 @@ impl<'p, 'a, P: ContinuationProblem<'a> + ?Sized> Palc<'p, 'a, P> {
             bisect_next = false;
             let gs = self.tests(&c, det_ref).values[slot];
             if gs == 0.0 {
+                let mut c = c;
+                if !needs_analysis && let Ok(info) = self.p.analyse(&c.u) {
+                    c.info = info;
+                }
                 return (c, true, 0.0);
             }
             if gs.signum() == glo.signum() {
@@ -407,7 +444,10 @@ impl<'p, 'a, P: ContinuationProblem<'a> + ?Sized> Palc<'p, 'a, P> {
         // ends, which Illinois may have halved: compare fresh values).
         let g_lo = self.tests(&c_lo, det_ref).values[slot].abs();
         let g_hi = self.tests(&c_hi, det_ref).values[slot].abs();
-        let best = if g_lo <= g_hi { c_lo } else { c_hi };
+        let mut best = if g_lo <= g_hi { c_lo } else { c_hi };
+        if !needs_analysis && let Ok(info) = self.p.analyse(&best.u) {
+            best.info = info;
+        }
         (best, located, width)
     }
 
