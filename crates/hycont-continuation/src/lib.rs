@@ -54,6 +54,7 @@
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
 pub mod branch;
+pub mod codim2;
 pub mod error;
 pub mod observe;
 pub mod orbit;
@@ -62,6 +63,7 @@ pub mod settings;
 pub mod switch;
 
 pub use branch::{Branch, BranchPoint, EndReason, SpecialKind, SpecialPoint};
+pub use codim2::{Codim2, Condition, curve_settings};
 pub use error::{Error, Result};
 pub use observe::Observer;
 pub use orbit::{Measures, OrbitContinuation, OrbitMethod};

@@ -71,6 +71,10 @@ pub struct OrbitContinuation<'a, S: ?Sized> {
     layout: Layout,
     problem: Problem<'a>,
     param: usize,
+    /// Position from the end of the unknowns of the continuation parameter's slot (0: last).
+    slot_from_end: usize,
+    /// A segment left out of `min_duration` (held at zero on a grazing curve).
+    collapsed: Option<usize>,
     measures: Measures<'a>,
     events: Vec<MonitorEvent>,
 }
@@ -144,11 +148,29 @@ impl<'a, S: HybridJacobians + ?Sized> OrbitContinuation<'a, S> {
                 layout,
                 problem,
                 param: q,
+                slot_from_end: 0,
+                collapsed: None,
                 measures,
                 events,
             },
             u0,
         ))
+    }
+
+    /// The zero problem (e.g. to add parts for two-parameter curves).
+    pub fn problem_mut(&mut self) -> &mut Problem<'a> {
+        &mut self.problem
+    }
+
+    /// Records that a second parameter's monitor was made active; `after` is true when its slot
+    /// comes after the continuation parameter's (it has a lower index, so its monitor is first).
+    pub(crate) fn set_second_parameter(&mut self, _second: ParamId, continued_is_last: bool) {
+        self.slot_from_end = usize::from(!continued_is_last);
+    }
+
+    /// Leaves segment `k` out of the `min_duration` monitor (its duration is held at zero).
+    pub(crate) fn set_collapsed(&mut self, k: usize) {
+        self.collapsed = Some(k);
     }
 
     /// The orbit at unknowns `u`.
@@ -214,6 +236,8 @@ impl<'a, S: HybridJacobians + ?Sized> OrbitContinuation<'a, S> {
             layout,
             problem,
             param: self.param,
+            slot_from_end: 0,
+            collapsed: None,
             measures,
             events: self.events.clone(),
         };
@@ -239,8 +263,8 @@ impl<'a, S: HybridJacobians + ?Sized> ContinuationProblem<'a> for OrbitContinuat
         &mut self.problem
     }
     fn parameter_index(&self) -> usize {
-        // The only active monitor's value is the last unknown.
-        self.problem.unknowns() - 1
+        // Active monitors' values are the last unknowns, in monitor (parameter) order.
+        self.problem.unknowns() - 1 - self.slot_from_end
     }
     fn parameter_position(&self) -> usize {
         self.param

@@ -471,8 +471,8 @@ fn run_figure(args: &FigureArgs, out: &mut dyn Write) -> Result<()> {
     }
     if args.which == "all" {
         eprintln!(
-            "rocking-block: figures 5 to 10 are not available yet (two-parameter continuation and \
-             sampling are still to come); wrote the available ones"
+            "rocking-block: figures 5 and 7 to 10 are not available yet (sampling is still to \
+             come); wrote the available ones"
         );
     }
     Ok(())

@@ -405,3 +405,159 @@ pub fn continue_orbit(
         }
     })
 }
+
+/// A two-parameter curve of the study: the kind of point it continues and the branch in
+/// (omega, alpha) (continued in omega; alpha is the last monitor).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Curve {
+    /// SN, PD, BP, SB or GR.
+    pub kind: SpecialKind,
+    /// The curve.
+    pub branch: Branch,
+}
+
+impl Curve {
+    /// `(omega, alpha)` of every point.
+    #[must_use]
+    pub fn points(&self) -> Vec<(f64, f64)> {
+        self.branch
+            .points
+            .iter()
+            .map(|p| (p.params[0], p.params[1]))
+            .collect()
+    }
+
+    /// alpha at `omega` by linear interpolation along the curve (the first crossing), if the
+    /// curve reaches that omega.
+    #[must_use]
+    pub fn alpha_at(&self, omega: f64) -> Option<f64> {
+        self.points().windows(2).find_map(|w| {
+            let ((w0, a0), (w1, a1)) = (w[0], w[1]);
+            let (lo, hi) = (w0.min(w1), w0.max(w1));
+            (omega >= lo && omega <= hi && hi > lo)
+                .then(|| a0 + (a1 - a0) * (omega - w0) / (w1 - w0))
+        })
+    }
+}
+
+/// Continues a two-parameter curve through `orbit` in both directions over omega in
+/// `[0.5, 4.0]`, alpha in `(0, 1.06]`, joined.
+///
+/// # Errors
+/// If the curve's start cannot be solved.
+pub fn curve(
+    name: &str,
+    orbit: &PeriodicOrbit,
+    condition: hycont_continuation::Condition,
+    omega_range: (f64, f64),
+    observer: &mut dyn Observer,
+) -> Result<Curve> {
+    use hycont_continuation::{Codim2, ContinuationProblem, curve_settings};
+    let (mut cp, u0) = Codim2::new(
+        &RockingBlock,
+        orbit,
+        ShootingSettings {
+            rtol: 1e-10,
+            atol: 1e-12,
+        },
+        OMEGA,
+        ALPHA,
+        condition,
+        measures(),
+        measures(),
+    )
+    .map_err(cont_err)?;
+    let alpha_monitor = cp.monitor_names().len() - 1;
+    let s = curve_settings()
+        .parameter_bounds(omega_range.0, omega_range.1)
+        .monitor_bounds(alpha_monitor, 0.01, 1.06);
+    let back = continue_branch(&mut cp, name, &u0, -1.0, &s, observer).map_err(cont_err)?;
+    let fwd = continue_branch(&mut cp, name, &u0, 1.0, &s, observer).map_err(cont_err)?;
+    Ok(Curve {
+        kind: condition.kind(),
+        branch: join(name, back, fwd),
+    })
+}
+
+/// The study's two-parameter curves (Fig. 6), started from the special points of Figs. 3 and 4:
+/// SN from SN1, BP from BP1, PD from PD1, SB from SB2 and GR from GR1 (symmetric-orbit folds and
+/// branch points on the half-orbit problem).
+///
+/// # Errors
+/// Numerical failures.
+pub fn study_curves(observer: &mut dyn Observer) -> Result<Vec<Curve>> {
+    use hycont_continuation::Condition;
+    use hycont_core::orbit::unpack;
+    let params = Parameters::new(1.3, 0.66);
+    let fig3 = study_branches(Free::Omega, observer)?;
+    let fig4 = study_branches(Free::Alpha, observer)?;
+    let template = orbit(&params, OrbitKind::Symmetric, None)?.solution.orbit;
+    let at = |p: &BranchPoint| unpack(&template, &p.u);
+    let find = |b: &Branch, k: SpecialKind| -> Result<BranchPoint> {
+        b.special(k)
+            .next()
+            .map(|s| s.point.clone())
+            .ok_or_else(|| Error::Continuation(format!("no {} on branch {}", k.label(), b.name)))
+    };
+    let range = (0.5, 4.0);
+    let mut curves = Vec::new();
+    let sn = at(&find(&fig3[0], SpecialKind::Fold)?).half_of_symmetric(&RockingBlock, 1e-5)?;
+    curves.push(curve("SN", &sn, Condition::SymmetricFold, range, observer)?);
+    let bp =
+        at(&find(&fig3[0], SpecialKind::BranchPoint)?).half_of_symmetric(&RockingBlock, 1e-5)?;
+    curves.push(curve(
+        "BP",
+        &bp,
+        Condition::SymmetryBreaking,
+        range,
+        observer,
+    )?);
+    let pd = at(&find(&fig4[1], SpecialKind::PeriodDoubling)?);
+    curves.push(curve(
+        "PD",
+        &pd,
+        Condition::PeriodDoubling,
+        range,
+        observer,
+    )?);
+    let sb = fig3[1]
+        .special(SpecialKind::BoundaryTouch)
+        .last()
+        .map(|s| s.point.clone())
+        .ok_or_else(|| Error::Continuation("no SB on the asymmetric branch".into()))?;
+    curves.push(curve(
+        "SB",
+        &at(&sb),
+        Condition::Monitor {
+            index: 0,
+            level: params.static_boundary(),
+        },
+        range,
+        observer,
+    )?);
+    // On a symmetric orbit the mirror segment collapses at the same point: use the half orbit.
+    let mut gr = at(&find(&fig3[0], SpecialKind::Grazing)?);
+    for d in &mut gr.durations {
+        // The collapsed segments, located to rounding: exactly zero.
+        if d.abs() < 1e-8 {
+            *d = 0.0;
+        }
+    }
+    let gr = gr.half_of_symmetric(&RockingBlock, 1e-5)?;
+    let collapsing = gr
+        .durations
+        .iter()
+        .enumerate()
+        .min_by(|a, b| a.1.abs().total_cmp(&b.1.abs()))
+        .map_or(0, |(i, _)| i);
+    curves.push(curve(
+        "GR",
+        &gr,
+        Condition::Collapse {
+            segment: collapsing,
+        },
+        range,
+        observer,
+    )?);
+    Ok(curves)
+}

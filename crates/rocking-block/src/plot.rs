@@ -426,3 +426,181 @@ pub fn branches_svg(
     root.present().map_err(|e| plot_err(path, e))?;
     Ok(())
 }
+
+/// Fig. 6: the curves in the (omega, alpha) plane, the regions of stable symmetric (between the
+/// SN and BP curves) and stable asymmetric (between the BP and PD curves) period-1 orbits, the
+/// lines of Figs. 3 and 4, and the test points.
+///
+/// # Errors
+/// [`Error::Plot`] if the file cannot be written.
+pub fn curves_svg(
+    path: &Path,
+    curves: &[crate::continuation::Curve],
+    tests: &[crate::figures::fig6::TestPoint],
+    params: &Parameters,
+) -> Result<()> {
+    use hycont_continuation::SpecialKind;
+    let colour = |k: SpecialKind| match k {
+        SpecialKind::Fold => RGBColor(255, 127, 14),
+        SpecialKind::PeriodDoubling => RGBColor(44, 160, 44),
+        SpecialKind::BranchPoint => RGBColor(148, 103, 189),
+        SpecialKind::BoundaryTouch => RGBColor(214, 39, 40),
+        _ => RGBColor(140, 86, 75),
+    };
+    let root = SVGBackend::new(path, (1000, 750)).into_drawing_area();
+    root.fill(&WHITE).map_err(|e| plot_err(path, e))?;
+    let mut chart = ChartBuilder::on(&root)
+        .caption(
+            "Fig. 6: two-parameter curves (omega, alpha)",
+            ("sans-serif", 18),
+        )
+        .margin(15)
+        .x_label_area_size(40)
+        .y_label_area_size(55)
+        .build_cartesian_2d(0.5..4.0, 0.0..1.06)
+        .map_err(|e| plot_err(path, e))?;
+    chart
+        .configure_mesh()
+        .x_desc("omega")
+        .y_desc("alpha")
+        .draw()
+        .map_err(|e| plot_err(path, e))?;
+    let by_kind = |k: SpecialKind| curves.iter().find(|c| c.kind == k);
+    // Regions: sampled in omega between two curves.
+    let region = |lower: SpecialKind, upper: SpecialKind| -> Vec<(f64, f64, f64)> {
+        let (Some(lo), Some(hi)) = (by_kind(lower), by_kind(upper)) else {
+            return Vec::new();
+        };
+        (0..=350)
+            .map(|i| 0.5 + 3.5 * f64::from(i) / 350.0)
+            .filter_map(|w| Some((w, lo.alpha_at(w)?, hi.alpha_at(w)?)))
+            .filter(|(_, a, b)| b > a)
+            .collect()
+    };
+    for (lower, upper, fill, label) in [
+        (
+            SpecialKind::Fold,
+            SpecialKind::BranchPoint,
+            RGBColor(255, 230, 80),
+            "stable symmetric period 1",
+        ),
+        (
+            SpecialKind::BranchPoint,
+            SpecialKind::PeriodDoubling,
+            RGBColor(190, 190, 190),
+            "stable asymmetric period 1",
+        ),
+    ] {
+        let band = region(lower, upper);
+        for w in band.windows(2) {
+            let ((w0, a0, b0), (w1, a1, b1)) = (w[0], w[1]);
+            if w1 - w0 > 0.02 {
+                continue;
+            }
+            chart
+                .draw_series(std::iter::once(Polygon::new(
+                    vec![(w0, a0), (w1, a1), (w1, b1), (w0, b0)],
+                    fill.mix(0.6).filled(),
+                )))
+                .map_err(|e| plot_err(path, e))?;
+        }
+        chart
+            .draw_series(std::iter::empty::<PathElement<(f64, f64)>>())
+            .map_err(|e| plot_err(path, e))?
+            .label(label)
+            .legend(move |(x, y)| {
+                Rectangle::new([(x, y - 5), (x + 20, y + 5)], fill.mix(0.6).filled())
+            });
+    }
+    for c in curves {
+        let col = colour(c.kind);
+        chart
+            .draw_series(LineSeries::new(c.points(), col.stroke_width(2)))
+            .map_err(|e| plot_err(path, e))?
+            .label(format!("{} curve", c.kind.label()))
+            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], col.stroke_width(2)));
+    }
+    for line in [
+        vec![(0.5, params.alpha), (4.0, params.alpha)],
+        vec![(params.omega, 0.0), (params.omega, 1.06)],
+    ] {
+        chart
+            .draw_series(DashedLineSeries::new(
+                line,
+                5,
+                5,
+                BLACK.mix(0.6).stroke_width(1),
+            ))
+            .map_err(|e| plot_err(path, e))?;
+    }
+    for t in tests {
+        chart
+            .draw_series(std::iter::once(Cross::new(
+                (t.omega, t.alpha),
+                5,
+                BLACK.stroke_width(2),
+            )))
+            .map_err(|e| plot_err(path, e))?;
+        chart
+            .draw_series(std::iter::once(Text::new(
+                format!("{} {:?}", t.label, t.outcome),
+                (t.omega + 0.03, t.alpha - 0.02),
+                ("sans-serif", 12),
+            )))
+            .map_err(|e| plot_err(path, e))?;
+    }
+    chart
+        .configure_series_labels()
+        .border_style(BLACK)
+        .background_style(WHITE.mix(0.85))
+        .position(SeriesLabelPosition::UpperRight)
+        .draw()
+        .map_err(|e| plot_err(path, e))?;
+    root.present().map_err(|e| plot_err(path, e))?;
+    Ok(())
+}
+
+/// The test points' time series $\varphi(t)$, one panel each.
+///
+/// # Errors
+/// [`Error::Plot`] if the file cannot be written.
+pub fn test_points_svg(
+    path: &Path,
+    tests: &[crate::figures::fig6::TestPoint],
+    trajectories: &[Trajectory],
+) -> Result<()> {
+    let root = SVGBackend::new(path, (1000, 900)).into_drawing_area();
+    root.fill(&WHITE).map_err(|e| plot_err(path, e))?;
+    let panels = root.split_evenly((3, 2));
+    for ((panel, t), traj) in panels.iter().zip(tests).zip(trajectories) {
+        let (pieces, _) = pieces(traj);
+        let t1 = traj.t_final.max(1e-9);
+        let mut chart = ChartBuilder::on(panel)
+            .caption(
+                format!(
+                    "{}: omega {:.2}, alpha {:.3}: {:?}",
+                    t.label, t.omega, t.alpha, t.outcome
+                ),
+                ("sans-serif", 13),
+            )
+            .margin(8)
+            .x_label_area_size(25)
+            .y_label_area_size(40)
+            .build_cartesian_2d(0.0..t1, -1.6..1.6)
+            .map_err(|e| plot_err(path, e))?;
+        chart
+            .configure_mesh()
+            .draw()
+            .map_err(|e| plot_err(path, e))?;
+        for piece in &pieces {
+            chart
+                .draw_series(LineSeries::new(
+                    piece.points.iter().map(|q| (q.0, q.1)),
+                    mode_colour(piece.mode).stroke_width(1),
+                ))
+                .map_err(|e| plot_err(path, e))?;
+        }
+    }
+    root.present().map_err(|e| plot_err(path, e))?;
+    Ok(())
+}

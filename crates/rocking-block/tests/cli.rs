@@ -216,3 +216,52 @@ fn figures_3_and_4_write_branches_in_the_study_format() {
     }
     std::fs::remove_dir_all(&dir).ok();
 }
+
+#[test]
+fn figure_6_writes_curves_and_test_points() {
+    let dir = std::env::temp_dir().join(format!("rocking-block-fig6-{}", std::process::id()));
+    let out = bin()
+        .args(["figure", "6", "--out"])
+        .arg(&dir)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let v: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("fig6.json")).unwrap()).unwrap();
+    assert_eq!(v["figure"], 6);
+    let kinds: Vec<&str> = v["curves"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|c| c["kind"].as_str().unwrap())
+        .collect();
+    for k in ["SN", "PD", "BP", "SB"] {
+        assert!(kinds.contains(&k), "{k} curve missing: {kinds:?}");
+    }
+    for c in v["curves"].as_array().unwrap() {
+        let pts = c["points"].as_array().unwrap();
+        assert!(pts.len() > 10);
+        assert!(
+            pts.iter()
+                .all(|p| p["omega"].is_f64() && p["alpha"].is_f64())
+        );
+    }
+    let tests = v["test_points"].as_array().unwrap();
+    assert_eq!(tests.len(), 6);
+    for t in tests {
+        // Below the fold curve a block that comes to rest cannot lift off: it stays at rest.
+        assert!(t["outcome"] == "rest" || t["outcome"].as_str().unwrap().starts_with("overturn"));
+    }
+    for f in ["fig6.svg", "fig6_tests.svg"] {
+        assert!(
+            std::fs::read_to_string(dir.join(f))
+                .unwrap()
+                .contains("<svg")
+        );
+    }
+    std::fs::remove_dir_all(&dir).ok();
+}

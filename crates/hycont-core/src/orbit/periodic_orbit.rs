@@ -27,9 +27,10 @@ fn simulator(settings: &SimulationSettings) -> Result<Simulator> {
 
 impl PeriodicOrbit {
     /// An orbit from its parts, checked for consistent dimensions and finite values.
+    /// Durations must be non-negative (zero: a segment collapsed at a grazing).
     ///
     /// # Errors
-    /// Wrong dimensions, non-finite values or non-positive durations.
+    /// Wrong dimensions, non-finite values or negative durations.
     pub fn new<S: HybridSystem + ?Sized>(
         system: &S,
         signature: Signature,
@@ -54,11 +55,11 @@ impl PeriodicOrbit {
         if let Some((i, &d)) = durations
             .iter()
             .enumerate()
-            .find(|(_, d)| !(d.is_finite() && **d > 0.0))
+            .find(|(_, d)| !(d.is_finite() && **d >= 0.0))
         {
             return Err(Error::InvalidSignature {
                 segment: i,
-                reason: format!("duration {d} must be positive and finite"),
+                reason: format!("duration {d} must be non-negative and finite"),
             });
         }
         Ok(Self {

@@ -2,15 +2,17 @@
 
 mod branches;
 mod fig2;
+pub mod fig6;
 
 pub use branches::branches_figure;
 pub use fig2::figure2;
+pub use fig6::figure6;
 
 use crate::error::{Error, Result};
 use std::path::{Path, PathBuf};
 
 /// Figures `rocking-block figure` knows; the others need capabilities still to come.
-pub const AVAILABLE: &[u32] = &[2, 3, 4];
+pub const AVAILABLE: &[u32] = &[2, 3, 4, 6];
 
 /// What a figure run wrote.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -43,10 +45,11 @@ pub fn figure(n: u32, out: &Path) -> Result<FigureFiles> {
             out,
             &mut hycont_continuation::observe::Silent,
         ),
-        5..=10 => Err(Error::InvalidArgument {
+        6 => figure6(out, &mut hycont_continuation::observe::Silent),
+        5 | 7..=10 => Err(Error::InvalidArgument {
             name: "figure",
             value: n.to_string(),
-            reason: "not available yet: figure 6 needs two-parameter continuation, 5 and 7-10 the sampling crate",
+            reason: "not available yet: figures 5 and 7-10 need the sampling crate",
         }),
         _ => Err(Error::InvalidArgument {
             name: "figure",

@@ -1,0 +1,119 @@
+//! Fig. 6: two-parameter curves in the (omega, alpha) plane, stability regions, and test points
+//! below the fold curve.
+
+use super::{FigureFiles, write_json};
+use crate::continuation::{Curve, study_curves};
+use crate::error::Result;
+use crate::model::Parameters;
+use crate::plot;
+use crate::simulation::{Outcome, SimulationRequest, simulate};
+use hycont_continuation::SpecialKind;
+use hycont_continuation::observe::Observer;
+use serde_json::json;
+use std::path::Path;
+
+/// The initial state of the study's test points: $(\varphi, \psi, r, s)$.
+pub const TEST_STATE: [f64; 4] = [-0.2254, -0.1597, -0.7778, 0.6284];
+
+/// Omega values of the six test points OV1-OV6 (spread along the fold curve); each is placed
+/// 0.05 below the curve in alpha.
+pub const TEST_OMEGAS: [f64; 6] = [0.8, 1.0, 1.4, 2.0, 2.8, 3.6];
+
+/// A simulated test point.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct TestPoint {
+    /// OV1 ... OV6.
+    pub label: String,
+    /// Forcing frequency.
+    pub omega: f64,
+    /// Forcing amplitude (0.05 below the fold curve).
+    pub alpha: f64,
+    /// What happens from [`TEST_STATE`].
+    pub outcome: Outcome,
+    /// When the run ended (overturn time, or the end of the simulated window).
+    pub t_end: f64,
+    /// When chattering impacts accumulated and the block came to rest, if it did.
+    pub rest_times: Vec<f64>,
+    /// Whether a block at rest can lift off again ($\alpha\omega^2\tan\theta_b > 1$).
+    pub lift_off_possible: bool,
+}
+
+/// Simulates the test points below the SN curve.
+///
+/// # Errors
+/// If a simulation fails.
+pub fn test_points(sn: &Curve) -> Result<(Vec<TestPoint>, Vec<hycont_core::Trajectory>)> {
+    let mut points = Vec::new();
+    let mut trajectories = Vec::new();
+    for (i, &omega) in TEST_OMEGAS.iter().enumerate() {
+        let Some(alpha_sn) = sn.alpha_at(omega) else {
+            continue;
+        };
+        let params = Parameters::new(omega, (alpha_sn - 0.05).max(0.01));
+        let req = SimulationRequest {
+            params,
+            phi0: TEST_STATE[0],
+            psi0: TEST_STATE[1],
+            forcing_state: Some([TEST_STATE[2], TEST_STATE[3]]),
+            periods: 30.0,
+            points_per_period: 100,
+            ..SimulationRequest::default()
+        };
+        let (report, traj) = simulate(&req)?;
+        points.push(TestPoint {
+            label: format!("OV{}", i + 1),
+            omega,
+            alpha: params.alpha,
+            outcome: report.outcome,
+            t_end: report.t_end,
+            rest_times: report.rest_times,
+            lift_off_possible: params.lift_off_possible(),
+        });
+        trajectories.push(traj);
+    }
+    Ok((points, trajectories))
+}
+
+/// Writes `fig6.json` (`"curves": [{"kind", "points": [{"omega", "alpha", "amp"}]}]`, test
+/// points), `fig6.svg` (the plane) and `fig6_tests.svg` (the test points' time series).
+///
+/// # Errors
+/// Numerical or I/O failures.
+pub fn figure6(out: &Path, observer: &mut dyn Observer) -> Result<FigureFiles> {
+    let params = Parameters::new(1.3, 0.66);
+    let curves = study_curves(observer)?;
+    let sn = curves
+        .iter()
+        .find(|c| c.kind == SpecialKind::Fold)
+        .expect("the SN curve is computed");
+    let (tests, trajectories) = test_points(sn)?;
+    let json = json!({
+        "figure": 6,
+        "parameters": {"omega": params.omega, "alpha": params.alpha, "xi": params.xi, "theta_b": params.theta_b},
+        "curves": curves.iter().map(|c| json!({
+            "kind": c.kind.label(),
+            "end": format!("{:?}", c.branch.end),
+            "points": c.branch.points.iter().map(|p| json!({
+                "omega": p.params[0],
+                "alpha": p.params[1],
+                "amp": p.monitors[crate::continuation::AMP],
+                "period": p.monitors[0],
+            })).collect::<Vec<_>>(),
+        })).collect::<Vec<_>>(),
+        "test_points": tests,
+        "test_state": TEST_STATE,
+        "note": "The study says the test points overturn. Simulated from the given state they do what \
+                 `outcome` says: where alpha omega^2 tan(theta_b) < 1 a block that comes to rest can \
+                 never lift off again.",
+    });
+    let json_path = out.join("fig6.json");
+    write_json(&json_path, &json)?;
+    let svg_path = out.join("fig6.svg");
+    plot::curves_svg(&svg_path, &curves, &tests, &params)?;
+    let tests_path = out.join("fig6_tests.svg");
+    plot::test_points_svg(&tests_path, &tests, &trajectories)?;
+    Ok(FigureFiles {
+        figure: 6,
+        files: vec![json_path, svg_path, tests_path],
+    })
+}
