@@ -1,0 +1,305 @@
+//! Basin stability: Monte-Carlo trials over initial conditions and parameters, classified, with
+//! class counts aggregated per grid cell (streaming: memory independent of the number of
+//! trials), in parallel, reproducible from a seed whatever the number of threads, and shardable.
+
+use crate::error::{Error, Result};
+use crate::rng::SplitMix64;
+use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+
+/// How one trial variable is drawn.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub enum Distribution {
+    /// Always this value.
+    Fixed(f64),
+    /// Uniform on $[lo, hi)$.
+    Uniform {
+        /// Lower end.
+        lo: f64,
+        /// Upper end.
+        hi: f64,
+    },
+}
+
+impl Distribution {
+    fn draw(self, rng: &mut SplitMix64) -> f64 {
+        match self {
+            Distribution::Fixed(v) => v,
+            Distribution::Uniform { lo, hi } => rng.uniform(lo, hi),
+        }
+    }
+}
+
+/// Binning of one trial variable into cells.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Axis {
+    /// Index of the variable.
+    pub variable: usize,
+    /// Lower end of the binned range.
+    pub lo: f64,
+    /// Upper end.
+    pub hi: f64,
+    /// Number of bins.
+    pub bins: usize,
+}
+
+impl Axis {
+    fn bin(&self, v: f64) -> usize {
+        let x = ((v - self.lo) / (self.hi - self.lo) * self.bins as f64).floor();
+        (x.max(0.0) as usize).min(self.bins - 1)
+    }
+}
+
+/// A basin-stability study: the variables drawn per trial, and how trials are binned (no axes:
+/// one cell; one or two axes: a 1-D or 2-D grid).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Study {
+    /// Names of the variables (e.g. `omega`, `alpha`, `beta`, `phi0`, `psi0`).
+    pub names: Vec<String>,
+    /// Their distributions.
+    pub variables: Vec<Distribution>,
+    /// Binning axes (at most two).
+    pub axes: Vec<Axis>,
+    /// Seed of the study.
+    pub seed: u64,
+}
+
+impl Study {
+    /// Checks the study's invariants.
+    ///
+    /// # Errors
+    /// [`Error::InvalidStudy`] naming the problem.
+    pub fn validate(&self) -> Result<()> {
+        let bad = |reason: String| Err(Error::InvalidStudy { reason });
+        if self.names.len() != self.variables.len() {
+            return bad(format!(
+                "{} names for {} variables",
+                self.names.len(),
+                self.variables.len()
+            ));
+        }
+        if self.axes.len() > 2 {
+            return bad("at most two binning axes".into());
+        }
+        for (i, d) in self.variables.iter().enumerate() {
+            match *d {
+                Distribution::Fixed(v) if !v.is_finite() => {
+                    return bad(format!("{} = {v} is not finite", self.names[i]));
+                }
+                Distribution::Uniform { lo, hi }
+                    if !(lo < hi && lo.is_finite() && hi.is_finite()) =>
+                {
+                    return bad(format!(
+                        "{} range [{lo}, {hi}) is empty or not finite",
+                        self.names[i]
+                    ));
+                }
+                _ => {}
+            }
+        }
+        for a in &self.axes {
+            if a.variable >= self.variables.len() || a.bins == 0 || !(a.lo < a.hi) {
+                return bad(format!("invalid axis {a:?}"));
+            }
+        }
+        Ok(())
+    }
+
+    /// Number of cells.
+    #[must_use]
+    pub fn cells(&self) -> usize {
+        self.axes.iter().map(|a| a.bins).product()
+    }
+
+    /// The variables of trial `index` (deterministic in `(seed, index)`).
+    #[must_use]
+    pub fn trial(&self, index: u64) -> Vec<f64> {
+        let mut rng = SplitMix64::for_trial(self.seed, index);
+        self.variables.iter().map(|d| d.draw(&mut rng)).collect()
+    }
+
+    /// The cell of a trial.
+    #[must_use]
+    pub fn cell(&self, values: &[f64]) -> usize {
+        let mut cell = 0;
+        for a in &self.axes {
+            cell = cell * a.bins + a.bin(values[a.variable]);
+        }
+        cell
+    }
+}
+
+/// Classifies a trial's variables into one of a fixed set of classes.
+pub trait Classifier: Sync {
+    /// Names of the classes; [`Classifier::classify`] returns an index into them.
+    fn classes(&self) -> Vec<String>;
+
+    /// The class of the trial with these variables.
+    ///
+    /// # Errors
+    /// If the trial cannot be classified (counted separately as a failure).
+    fn classify(&self, values: &[f64]) -> std::result::Result<usize, String>;
+}
+
+/// Class counts per cell; merges exactly (shards add up).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Counts {
+    /// Class names.
+    pub classes: Vec<String>,
+    /// `counts[cell][class]`.
+    pub counts: Vec<Vec<u64>>,
+    /// Trials that could not be classified, per cell.
+    pub failures: Vec<u64>,
+    /// Which trial indices were run: `[start, end)` ranges (for merging shards).
+    pub ranges: Vec<(u64, u64)>,
+}
+
+impl Counts {
+    fn new(classes: Vec<String>, cells: usize) -> Self {
+        let k = classes.len();
+        Self {
+            classes,
+            counts: vec![vec![0; k]; cells],
+            failures: vec![0; cells],
+            ranges: Vec::new(),
+        }
+    }
+
+    /// Adds another count table of the same study (e.g. another shard).
+    ///
+    /// # Errors
+    /// [`Error::IncompatibleCounts`] if the class names or cells differ, or the trial ranges
+    /// overlap.
+    pub fn merge(&mut self, other: &Counts) -> Result<()> {
+        if self.classes != other.classes || self.counts.len() != other.counts.len() {
+            return Err(Error::IncompatibleCounts {
+                reason: "different classes or cells".into(),
+            });
+        }
+        for &(a, b) in &other.ranges {
+            if self.ranges.iter().any(|&(c, d)| a < d && c < b) {
+                return Err(Error::IncompatibleCounts {
+                    reason: format!("trials {a}..{b} are counted twice"),
+                });
+            }
+        }
+        for (x, y) in self.counts.iter_mut().zip(&other.counts) {
+            for (u, v) in x.iter_mut().zip(y) {
+                *u += v;
+            }
+        }
+        for (u, v) in self.failures.iter_mut().zip(&other.failures) {
+            *u += v;
+        }
+        self.ranges.extend_from_slice(&other.ranges);
+        self.ranges.sort_unstable();
+        Ok(())
+    }
+
+    /// Trials in a cell (classified or not).
+    #[must_use]
+    pub fn trials(&self, cell: usize) -> u64 {
+        self.counts[cell].iter().sum::<u64>() + self.failures[cell]
+    }
+
+    /// Fraction of class `class` in `cell` with its 95 % Wilson score interval
+    /// $\hat p \pm$ (Wilson), as `(p, lo, hi)`; `(0, 0, 1)` for an empty cell.
+    #[must_use]
+    pub fn fraction(&self, cell: usize, class: usize) -> (f64, f64, f64) {
+        let n = self.trials(cell) as f64;
+        if n == 0.0 {
+            return (0.0, 0.0, 1.0);
+        }
+        let p = self.counts[cell][class] as f64 / n;
+        let z: f64 = 1.959_963_984_540_054;
+        let denom = 1.0 + z * z / n;
+        let centre = (p + z * z / (2.0 * n)) / denom;
+        let half = z * (p * (1.0 - p) / n + z * z / (4.0 * n * n)).sqrt() / denom;
+        (p, (centre - half).max(0.0), (centre + half).min(1.0))
+    }
+}
+
+/// Progress and interruption of a running study.
+#[derive(Debug, Default)]
+pub struct Progress {
+    /// Trials done.
+    pub done: AtomicU64,
+    /// Set to stop early (e.g. on Ctrl-C): trials not yet started are skipped and the counts so
+    /// far are returned, with their exact trial ranges.
+    pub stop: AtomicBool,
+}
+
+/// Runs trials `range` of `study` with `classifier` in parallel (rayon's pool), counting classes
+/// per cell. The result is identical for any number of threads; interrupted runs (via
+/// [`Progress::stop`]) report exactly which trials they counted.
+///
+/// # Errors
+/// An invalid study.
+pub fn run<C: Classifier>(
+    study: &Study,
+    classifier: &C,
+    range: std::ops::Range<u64>,
+    progress: &Progress,
+) -> Result<Counts> {
+    study.validate()?;
+    let classes = classifier.classes();
+    let cells = study.cells();
+    // Chunks of consecutive trials: each records whether it ran completely, so an interrupted
+    // run reports exact ranges.
+    const CHUNK: u64 = 256;
+    let chunks: Vec<(u64, u64)> = (range.start..range.end)
+        .step_by(CHUNK as usize)
+        .map(|a| (a, (a + CHUNK).min(range.end)))
+        .collect();
+    let results: Vec<Option<Counts>> = chunks
+        .par_iter()
+        .map(|&(a, b)| {
+            if progress.stop.load(Ordering::Relaxed) {
+                return None;
+            }
+            let mut c = Counts::new(classes.clone(), cells);
+            for i in a..b {
+                if progress.stop.load(Ordering::Relaxed) {
+                    return None;
+                }
+                let values = study.trial(i);
+                let cell = study.cell(&values);
+                match classifier.classify(&values) {
+                    Ok(k) if k < classes.len() => c.counts[cell][k] += 1,
+                    _ => c.failures[cell] += 1,
+                }
+                progress.done.fetch_add(1, Ordering::Relaxed);
+            }
+            c.ranges.push((a, b));
+            Some(c)
+        })
+        .collect();
+    let mut total = Counts::new(classes, cells);
+    for c in results.into_iter().flatten() {
+        total.merge(&c)?;
+    }
+    // Coalesce adjacent ranges.
+    let mut merged: Vec<(u64, u64)> = Vec::new();
+    for (a, b) in std::mem::take(&mut total.ranges) {
+        match merged.last_mut() {
+            Some(last) if last.1 == a => last.1 = b,
+            _ => merged.push((a, b)),
+        }
+    }
+    total.ranges = merged;
+    Ok(total)
+}
+
+/// The trial range of shard `i` of `n` (0-based) of a study with `trials` trials.
+///
+/// # Errors
+/// [`Error::InvalidStudy`] for `n == 0` or `i >= n`.
+pub fn shard_range(trials: u64, i: u64, n: u64) -> Result<std::ops::Range<u64>> {
+    if n == 0 || i >= n {
+        return Err(Error::InvalidStudy {
+            reason: format!("shard {i}/{n}: need 0 <= i < n"),
+        });
+    }
+    Ok(trials * i / n..trials * (i + 1) / n)
+}

@@ -1,0 +1,22 @@
+//! The error type of `hycont-sample`.
+
+/// What can go wrong in sampling studies.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum Error {
+    /// The study is inconsistent.
+    #[error("invalid study: {reason}")]
+    InvalidStudy {
+        /// What is wrong.
+        reason: String,
+    },
+    /// Count tables cannot be merged.
+    #[error("cannot merge counts: {reason}")]
+    IncompatibleCounts {
+        /// Why.
+        reason: String,
+    },
+}
+
+/// Shorthand for `Result<T, hycont_sample::Error>`.
+pub type Result<T> = std::result::Result<T, Error>;
