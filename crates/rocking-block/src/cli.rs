@@ -32,6 +32,38 @@ pub enum Command {
     /// Continue a periodic orbit in omega or alpha (pseudo-arclength), detecting and locating
     /// SN, BP, PD, TR, SB and GR; or restart from a labelled point of a saved run.
     Continue(ContinueArgs),
+    /// Classify trials (the study's solution classes): one trial with --json, or a CSV batch
+    /// (columns omega, alpha, beta, phi0, psi0) with --input/--output.
+    Classify(ClassifyArgs),
+}
+
+/// Arguments of `rocking-block classify`.
+#[derive(Debug, Args)]
+pub struct ClassifyArgs {
+    /// Forcing frequency (single trial).
+    #[arg(long, default_value_t = 1.3, allow_negative_numbers = true)]
+    pub omega: f64,
+    /// Forcing amplitude (single trial).
+    #[arg(long, default_value_t = 0.66, allow_negative_numbers = true)]
+    pub alpha: f64,
+    /// Forcing phase (single trial).
+    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
+    pub beta: f64,
+    /// Initial angle (single trial).
+    #[arg(long, default_value_t = 0.01, allow_negative_numbers = true)]
+    pub phi0: f64,
+    /// Initial angular velocity (single trial).
+    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
+    pub psi0: f64,
+    /// CSV file of trials (header omega,alpha,beta,phi0,psi0).
+    #[arg(long, requires = "output")]
+    pub input: Option<PathBuf>,
+    /// CSV file to write (the input columns plus class, decision, periods, with_rest).
+    #[arg(long, requires = "input")]
+    pub output: Option<PathBuf>,
+    /// Print the single trial's classification as JSON.
+    #[arg(long)]
+    pub json: bool,
 }
 
 /// The continuation parameter on the command line.
@@ -163,6 +195,15 @@ pub struct FigureArgs {
     /// Output directory.
     #[arg(long, default_value = "results")]
     pub out: PathBuf,
+    /// Sampling figures: trials per basin (the study: 20,000 for Fig. 7).
+    #[arg(long, default_value_t = 2000)]
+    pub trials: u64,
+    /// Sampling figures: seed (results are identical for a seed whatever the threads).
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// Worker threads (default: all cores).
+    #[arg(long)]
+    pub threads: Option<usize>,
 }
 
 /// Arguments of `rocking-block simulate`.
@@ -246,6 +287,7 @@ pub fn run(cli: Cli, out: &mut dyn Write) -> Result<()> {
         Command::Orbit(args) => run_orbit(&args, out),
         Command::Figure(args) => run_figure(&args, out),
         Command::Continue(args) => run_continue(&args, out),
+        Command::Classify(args) => run_classify(&args, out),
     }
 }
 
@@ -451,6 +493,9 @@ fn run_orbit(args: &OrbitArgs, out: &mut dyn Write) -> Result<()> {
 }
 
 fn run_figure(args: &FigureArgs, out: &mut dyn Write) -> Result<()> {
+    use hycont_sample::basin::Progress;
+    use std::sync::Arc;
+    use std::sync::atomic::{AtomicBool, Ordering};
     let which: Vec<u32> = if args.which == "all" {
         crate::figures::AVAILABLE.to_vec()
     } else {
@@ -460,20 +505,213 @@ fn run_figure(args: &FigureArgs, out: &mut dyn Write) -> Result<()> {
             reason: "expected a figure number (2 to 10) or `all`",
         })?]
     };
+    if args.trials == 0 {
+        return Err(Error::InvalidArgument {
+            name: "trials",
+            value: "0".into(),
+            reason: "must be at least 1",
+        });
+    }
+    if let Some(n) = args.threads {
+        if n == 0 {
+            return Err(Error::InvalidArgument {
+                name: "threads",
+                value: "0".into(),
+                reason: "must be at least 1",
+            });
+        }
+        // Only the first call configures the global pool; results do not depend on it.
+        let _ = rayon::ThreadPoolBuilder::new()
+            .num_threads(n)
+            .build_global();
+    }
+    let options = crate::figures::sampling::SampleOptions {
+        trials: args.trials,
+        seed: args.seed,
+    };
+    let progress = Arc::new(Progress::default());
+    // Ctrl-C stops sampling studies early; what was counted is written, with its trial ranges.
+    {
+        let p = Arc::clone(&progress);
+        let _ = ctrlc::set_handler(move || p.stop.store(true, Ordering::Relaxed));
+    }
+    let stdout_err = |source| Error::Io {
+        path: PathBuf::from("<stdout>"),
+        source,
+    };
     for n in which {
-        let files = crate::figures::figure(n, &args.out)?;
+        let total = match n {
+            7 => options.trials * crate::figures::sampling::FIG7_OMEGAS.len() as u64,
+            _ => 0,
+        };
+        progress.done.store(0, Ordering::Relaxed);
+        // A progress bar for the sampling figures, on stderr (hidden when not a terminal).
+        let bar = (total > 0).then(|| {
+            let bar = indicatif::ProgressBar::new(total);
+            bar.set_style(
+                indicatif::ProgressStyle::with_template(
+                    "figure {msg} [{bar:40}] {pos}/{len} trials ({per_sec}, eta {eta})",
+                )
+                .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+            );
+            bar.set_message(n.to_string());
+            bar
+        });
+        let done = AtomicBool::new(false);
+        let files = std::thread::scope(|scope| {
+            if let Some(bar) = &bar {
+                let (p, done) = (&progress, &done);
+                scope.spawn(move || {
+                    while !done.load(Ordering::Relaxed) {
+                        bar.set_position(p.done.load(Ordering::Relaxed));
+                        std::thread::sleep(std::time::Duration::from_millis(100));
+                    }
+                });
+            }
+            let r = crate::figures::figure_with(n, &args.out, options, &progress);
+            done.store(true, Ordering::Relaxed);
+            r
+        })?;
+        if let Some(bar) = bar {
+            bar.finish_and_clear();
+        }
         for f in files.files {
-            writeln!(out, "wrote {}", f.display()).map_err(|source| Error::Io {
-                path: PathBuf::from("<stdout>"),
-                source,
-            })?;
+            writeln!(out, "wrote {}", f.display()).map_err(stdout_err)?;
+        }
+        if progress.stop.load(Ordering::Relaxed) {
+            eprintln!(
+                "rocking-block: interrupted: figure {n} holds the trials counted so far (see trial_ranges)"
+            );
+            break;
         }
     }
     if args.which == "all" {
         eprintln!(
-            "rocking-block: figures 5 and 7 to 10 are not available yet (sampling is still to \
-             come); wrote the available ones"
+            "rocking-block: figures 8 to 10 are not available yet (sampling over the parameter \
+             plane is still to come); wrote the available ones"
         );
+    }
+    Ok(())
+}
+
+fn run_classify(args: &ClassifyArgs, out: &mut dyn Write) -> Result<()> {
+    use crate::classes::{ClassifierSettings, classify};
+    use rayon::prelude::*;
+    let settings = ClassifierSettings::default();
+    let stdout_err = |source| Error::Io {
+        path: PathBuf::from("<stdout>"),
+        source,
+    };
+    if let (Some(input), Some(output)) = (&args.input, &args.output) {
+        let text = std::fs::read_to_string(input).map_err(io_err(input))?;
+        let mut lines = text.lines();
+        let header: Vec<&str> = lines
+            .next()
+            .unwrap_or("")
+            .split(',')
+            .map(str::trim)
+            .collect();
+        let col = |name: &'static str| {
+            header
+                .iter()
+                .position(|h| *h == name)
+                .ok_or(Error::InvalidArgument {
+                    name: "input",
+                    value: input.display().to_string(),
+                    reason: "the header must name the columns omega, alpha, beta, phi0, psi0",
+                })
+        };
+        let cols = [
+            col("omega")?,
+            col("alpha")?,
+            col("beta")?,
+            col("phi0")?,
+            col("psi0")?,
+        ];
+        let mut rows = Vec::new();
+        for (i, line) in lines.enumerate().filter(|(_, l)| !l.trim().is_empty()) {
+            let fields: Vec<&str> = line.split(',').map(str::trim).collect();
+            let mut v = [0.0; 5];
+            for (k, &c) in cols.iter().enumerate() {
+                v[k] = fields.get(c).and_then(|f| f.parse().ok()).ok_or_else(|| {
+                    Error::InvalidArgument {
+                        name: "input",
+                        value: format!("line {}: {line}", i + 2),
+                        reason: "expected five numbers",
+                    }
+                })?;
+            }
+            rows.push(v);
+        }
+        let results: Vec<String> = rows
+            .par_iter()
+            .map(
+                |v| match classify(&Parameters::new(v[0], v[1]), v[2], v[3], v[4], &settings) {
+                    Ok(c) => format!(
+                        "{},{},{},{},{},{},{:?},{},{}",
+                        v[0],
+                        v[1],
+                        v[2],
+                        v[3],
+                        v[4],
+                        c.class.name(),
+                        c.decision,
+                        c.periods,
+                        c.with_rest
+                    ),
+                    Err(e) => format!(
+                        "{},{},{},{},{},error,\"{e}\",0,false",
+                        v[0], v[1], v[2], v[3], v[4]
+                    ),
+                },
+            )
+            .collect();
+        ensure_parent(output)?;
+        let mut text =
+            String::from("omega,alpha,beta,phi0,psi0,class,decision,periods,with_rest\n");
+        for r in results {
+            text.push_str(&r);
+            text.push('\n');
+        }
+        std::fs::write(output, text).map_err(io_err(output))?;
+        writeln!(
+            out,
+            "classified {} trials into {}",
+            rows.len(),
+            output.display()
+        )
+        .map_err(stdout_err)?;
+        return Ok(());
+    }
+    let params = Parameters::new(args.omega, args.alpha);
+    let c = classify(&params, args.beta, args.phi0, args.psi0, &settings)?;
+    if args.json {
+        let v = serde_json::json!({
+            "omega": args.omega, "alpha": args.alpha, "beta": args.beta,
+            "phi0": args.phi0, "psi0": args.psi0,
+            "class": c.class.name(), "decision": c.decision, "periods": c.periods,
+            "with_rest": c.with_rest,
+        });
+        writeln!(
+            out,
+            "{}",
+            serde_json::to_string_pretty(&v).expect("serialises")
+        )
+        .map_err(stdout_err)?;
+    } else {
+        writeln!(
+            out,
+            "{} ({:?} after {} periods{})",
+            c.class.name(),
+            c.decision,
+            c.periods,
+            if c.with_rest {
+                ", with rest phases"
+            } else {
+                ""
+            }
+        )
+        .map_err(stdout_err)?;
     }
     Ok(())
 }

@@ -604,3 +604,121 @@ pub fn test_points_svg(
     root.present().map_err(|e| plot_err(path, e))?;
     Ok(())
 }
+
+/// Fig. 5: psi at the stroboscopic samples against alpha (sweep up: dark, down: light), with a
+/// blow-up of [0.73, 0.79].
+///
+/// # Errors
+/// [`Error::Plot`] if the file cannot be written.
+pub fn brute_force_svg(
+    path: &Path,
+    up: &[hycont_sample::sweep::SweepPoint],
+    down: &[hycont_sample::sweep::SweepPoint],
+) -> Result<()> {
+    let root = SVGBackend::new(path, (1000, 900)).into_drawing_area();
+    root.fill(&WHITE).map_err(|e| plot_err(path, e))?;
+    let (top, bottom) = root.split_vertically(450);
+    for (area, (lo, hi), title) in [
+        (
+            &top,
+            (0.5, 0.8),
+            "Fig. 5: brute-force diagram, omega = 1.3 (psi at t = 2 pi k / omega)",
+        ),
+        (
+            &bottom,
+            (0.73, 0.79),
+            "blow-up of [0.73, 0.79]: period doubling to chaos",
+        ),
+    ] {
+        let pts = || {
+            up.iter()
+                .map(|p| (p, BLACK.mix(0.8)))
+                .chain(down.iter().map(|p| (p, RGBColor(214, 39, 40).mix(0.5))))
+                .filter(move |(p, _)| p.value >= lo && p.value <= hi)
+        };
+        let (y_lo, y_hi) = range(pts().flat_map(|(p, _)| p.samples.iter().map(|s| s[1])));
+        let mut chart = ChartBuilder::on(area)
+            .caption(title, ("sans-serif", 16))
+            .margin(10)
+            .x_label_area_size(35)
+            .y_label_area_size(55)
+            .build_cartesian_2d(lo..hi, y_lo..y_hi)
+            .map_err(|e| plot_err(path, e))?;
+        chart
+            .configure_mesh()
+            .x_desc("alpha")
+            .y_desc("psi")
+            .draw()
+            .map_err(|e| plot_err(path, e))?;
+        for (p, colour) in pts() {
+            chart
+                .draw_series(
+                    p.samples
+                        .iter()
+                        .map(|s| Circle::new((p.value, s[1]), 1, colour.filled())),
+                )
+                .map_err(|e| plot_err(path, e))?;
+        }
+    }
+    root.present().map_err(|e| plot_err(path, e))?;
+    Ok(())
+}
+
+fn class_colour(name: &str) -> RGBColor {
+    match name {
+        "equilibrium" => RGBColor(0, 0, 0),
+        "symmetric_p1" => RGBColor(255, 200, 0),
+        "asymmetric_p1_pos" => RGBColor(31, 119, 180),
+        "asymmetric_p1_neg" => RGBColor(214, 39, 40),
+        "period2" => RGBColor(44, 160, 44),
+        "other" => RGBColor(148, 103, 189),
+        "overturn_pos" => RGBColor(140, 200, 140),
+        "overturn_neg" => RGBColor(200, 140, 200),
+        _ => RGBColor(255, 255, 255),
+    }
+}
+
+/// Fig. 7: one raster of the dominant class per (phi0, psi0) cell for each omega.
+///
+/// # Errors
+/// [`Error::Plot`] if the file cannot be written.
+pub fn basins_svg(
+    path: &Path,
+    rasters: &[(f64, Vec<Vec<Option<&str>>>)],
+    boundary: f64,
+) -> Result<()> {
+    let root = SVGBackend::new(path, (1050, 760)).into_drawing_area();
+    root.fill(&WHITE).map_err(|e| plot_err(path, e))?;
+    let panels = root.split_evenly((2, 3));
+    for (panel, (omega, raster)) in panels.iter().zip(rasters) {
+        let n = raster.len().max(1);
+        let mut chart = ChartBuilder::on(panel)
+            .caption(format!("omega = {omega}"), ("sans-serif", 14))
+            .margin(8)
+            .x_label_area_size(28)
+            .y_label_area_size(40)
+            .build_cartesian_2d(-boundary..boundary, -1.0..1.0)
+            .map_err(|e| plot_err(path, e))?;
+        chart
+            .configure_mesh()
+            .x_desc("phi0")
+            .y_desc("psi0")
+            .draw()
+            .map_err(|e| plot_err(path, e))?;
+        let (dx, dy) = (2.0 * boundary / n as f64, 2.0 / n as f64);
+        for (i, row) in raster.iter().enumerate() {
+            for (j, c) in row.iter().enumerate() {
+                let Some(c) = c else { continue };
+                let (x0, y0) = (-boundary + i as f64 * dx, -1.0 + j as f64 * dy);
+                chart
+                    .draw_series(std::iter::once(Rectangle::new(
+                        [(x0, y0), (x0 + dx, y0 + dy)],
+                        class_colour(c).filled(),
+                    )))
+                    .map_err(|e| plot_err(path, e))?;
+            }
+        }
+    }
+    root.present().map_err(|e| plot_err(path, e))?;
+    Ok(())
+}

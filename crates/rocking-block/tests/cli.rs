@@ -160,7 +160,7 @@ fn figure_2_writes_json_and_svg() {
 #[test]
 fn unavailable_figures_and_bad_orbit_settings_fail_cleanly() {
     assert_one_line_usage_error(
-        &["figure", "5", "--out", "/tmp/never-written"],
+        &["figure", "8", "--out", "/tmp/never-written"],
         "not available yet",
     );
     assert_one_line_usage_error(&["figure", "11"], "figures 2 to 10");

@@ -3,6 +3,7 @@
 mod branches;
 mod fig2;
 pub mod fig6;
+pub mod sampling;
 
 pub use branches::branches_figure;
 pub use fig2::figure2;
@@ -12,7 +13,7 @@ use crate::error::{Error, Result};
 use std::path::{Path, PathBuf};
 
 /// Figures `rocking-block figure` knows; the others need capabilities still to come.
-pub const AVAILABLE: &[u32] = &[2, 3, 4, 6];
+pub const AVAILABLE: &[u32] = &[2, 3, 4, 5, 6, 7];
 
 /// What a figure run wrote.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -23,12 +24,33 @@ pub struct FigureFiles {
     pub files: Vec<PathBuf>,
 }
 
-/// Writes figure `n` into `out`.
+/// Writes figure `n` into `out` (sampling figures with default trial counts and seed).
 ///
 /// # Errors
 /// [`Error::InvalidArgument`] for a figure that does not exist or is not available yet; numerical
 /// or I/O failures.
 pub fn figure(n: u32, out: &Path) -> Result<FigureFiles> {
+    figure_with(
+        n,
+        out,
+        sampling::SampleOptions {
+            trials: 2000,
+            seed: 1,
+        },
+        &hycont_sample::basin::Progress::default(),
+    )
+}
+
+/// Writes figure `n` into `out` with the given sampling options and progress.
+///
+/// # Errors
+/// As [`figure`].
+pub fn figure_with(
+    n: u32,
+    out: &Path,
+    options: sampling::SampleOptions,
+    progress: &hycont_sample::basin::Progress,
+) -> Result<FigureFiles> {
     std::fs::create_dir_all(out).map_err(|source| Error::Io {
         path: out.to_path_buf(),
         source,
@@ -45,11 +67,13 @@ pub fn figure(n: u32, out: &Path) -> Result<FigureFiles> {
             out,
             &mut hycont_continuation::observe::Silent,
         ),
+        5 => sampling::figure5(out),
         6 => figure6(out, &mut hycont_continuation::observe::Silent),
-        5 | 7..=10 => Err(Error::InvalidArgument {
+        7 => sampling::figure7(out, options, progress),
+        8..=10 => Err(Error::InvalidArgument {
             name: "figure",
             value: n.to_string(),
-            reason: "not available yet: figures 5 and 7-10 need the sampling crate",
+            reason: "not available yet: figures 8-10 (sampling over the parameter plane) are still to come",
         }),
         _ => Err(Error::InvalidArgument {
             name: "figure",

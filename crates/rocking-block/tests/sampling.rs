@@ -1,0 +1,280 @@
+//! The classifier and the sampling figures against the study's reference behaviour.
+
+use hycont_sample::basin::{Progress, run};
+use rocking_block::classes::{
+    Class, ClassifierSettings, Decision, RockingClassifier, base_class, classify,
+};
+use rocking_block::figures::sampling::{SampleOptions, fig7_study, figure5, figure7};
+use rocking_block::{Parameters, SimulationRequest, simulate};
+use std::f64::consts::FRAC_PI_2;
+
+fn settings() -> ClassifierSettings {
+    ClassifierSettings::default()
+}
+
+/// A state on the attractor reached from (0.01, 0, beta = pi/2) at (1.3, alpha0), as
+/// (phi, psi, beta) with beta the forcing phase of (r, s).
+fn on_attractor(alpha0: f64) -> (f64, f64, f64) {
+    let req = SimulationRequest {
+        params: Parameters::new(1.3, alpha0),
+        beta: FRAC_PI_2,
+        periods: 200.0,
+        ..SimulationRequest::default()
+    };
+    let (report, _) = simulate(&req).unwrap();
+    let x = report.final_state;
+    (x[0], x[1], x[2].atan2(x[3]))
+}
+
+#[test]
+fn classes_of_known_cases() {
+    let p = |w, a| Parameters::new(w, a);
+    let c = classify(&p(1.3, 0.66), FRAC_PI_2, 0.01, 0.0, &settings()).unwrap();
+    assert!(
+        matches!(c.class, Class::AsymmetricP1Pos | Class::AsymmetricP1Neg),
+        "{c:?}"
+    );
+    assert_eq!(
+        classify(&p(1.3, 0.66), 0.0, 0.01, 0.0, &settings())
+            .unwrap()
+            .class,
+        Class::OverturnNeg
+    );
+    let c = classify(&p(1.3, 0.3), 0.0, 0.01, 0.0, &settings()).unwrap();
+    assert_eq!((c.class, c.decision), (Class::Equilibrium, Decision::Rest));
+    // The study's Fig. 3(d) initial condition comes to rest (not an overturn).
+    let beta = (-0.7778f64).atan2(0.6284);
+    assert_eq!(
+        classify(&p(0.902, 0.66), beta, -0.2254, -0.1597, &settings())
+            .unwrap()
+            .class,
+        Class::Equilibrium
+    );
+    // Near BP2 (a multiplier ~0.99 at omega = 4) the symmetric orbit is found by Newton
+    // refinement instead of waiting.
+    let c = classify(&p(4.0, 0.66), 0.0, -0.3, -0.5, &settings()).unwrap();
+    assert_eq!(c.class, Class::SymmetricP1, "{c:?}");
+    assert!(c.periods < 600);
+}
+
+#[test]
+fn period_two_and_chaos_on_the_cascade() {
+    let (phi, psi, beta) = on_attractor(0.73);
+    let c = classify(&Parameters::new(1.3, 0.745), beta, phi, psi, &settings()).unwrap();
+    assert_eq!(c.class, Class::Period2, "{c:?}");
+    let (phi, psi, beta) = on_attractor(0.77);
+    let c = classify(&Parameters::new(1.3, 0.779), beta, phi, psi, &settings()).unwrap();
+    assert!(
+        matches!(
+            c.class,
+            Class::Other | Class::OverturnNeg | Class::OverturnPos
+        ),
+        "{c:?}"
+    );
+}
+
+#[test]
+fn classified_asymmetric_orbits_are_the_orbit_solvers() {
+    // The simulation that the classifier calls asymmetric settles on the orbit computed by
+    // `rocking-block orbit`: same flight durations.
+    use rocking_block::orbits::{OrbitKind, orbit};
+    let params = Parameters::new(1.3, 0.66);
+    let c = classify(&params, FRAC_PI_2, 0.01, 0.0, &settings()).unwrap();
+    let kind = if c.class == Class::AsymmetricP1Pos {
+        OrbitKind::AsymmetricPos
+    } else {
+        OrbitKind::AsymmetricNeg
+    };
+    let o = orbit(&params, kind, None).unwrap().report("x").unwrap();
+    let req = SimulationRequest {
+        beta: FRAC_PI_2,
+        periods: 300.0,
+        ..SimulationRequest::default()
+    };
+    let (_, traj) = simulate(&req).unwrap();
+    let ev = &traj.events;
+    let last = ev[ev.len() - 1].t - ev[ev.len() - 2].t;
+    let mode_of_last = rocking_block::RockingBlock;
+    let _ = mode_of_last;
+    let flight_mode = if ev[ev.len() - 2].mode_after == Some(rocking_block::PLUS) {
+        "+"
+    } else {
+        "-"
+    };
+    let expected = o
+        .segments
+        .iter()
+        .find(|s| s.mode == flight_mode)
+        .unwrap()
+        .duration;
+    assert!((last - expected).abs() < 1e-6, "{last} vs {expected}");
+}
+
+#[test]
+fn basin_counts_do_not_depend_on_threads() {
+    let study = fig7_study(1.5, 11);
+    let classifier = RockingClassifier::default();
+    let one = rayon::ThreadPoolBuilder::new()
+        .num_threads(1)
+        .build()
+        .unwrap();
+    let two = rayon::ThreadPoolBuilder::new()
+        .num_threads(2)
+        .build()
+        .unwrap();
+    let a = one.install(|| run(&study, &classifier, 0..300, &Progress::default()).unwrap());
+    let b = two.install(|| run(&study, &classifier, 0..300, &Progress::default()).unwrap());
+    assert_eq!(a, b);
+    let (class, with_rest) = base_class(9);
+    assert_eq!((class, with_rest), (Class::AsymmetricP1Pos, true));
+}
+
+#[test]
+fn figure_7_reference_behaviour() {
+    let dir = std::env::temp_dir().join(format!("rocking-block-fig7-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    figure7(
+        &dir,
+        SampleOptions {
+            trials: 1500,
+            seed: 3,
+        },
+        &Progress::default(),
+    )
+    .unwrap();
+    let v: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("fig7.json")).unwrap()).unwrap();
+    let basin = |w: f64| {
+        v["basins"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|b| b["omega"].as_f64().unwrap() == w)
+            .unwrap()
+            .clone()
+    };
+    let f = |b: &serde_json::Value, c: &str| b["fractions"][c].as_f64().unwrap();
+    // omega = 1.0: symmetric period 1, equilibrium and both overturns coexist.
+    let b = basin(1.0);
+    for c in [
+        "symmetric_p1",
+        "equilibrium",
+        "overturn_pos",
+        "overturn_neg",
+    ] {
+        assert!(f(&b, c) > 0.02, "omega 1.0: {c} = {}", f(&b, c));
+    }
+    // omega = 1.16: the two asymmetric orbits, with overlapping 95 % intervals.
+    let b = basin(1.16);
+    let (lo_p, hi_p) = (
+        b["intervals_95"]["asymmetric_p1_pos"][0].as_f64().unwrap(),
+        b["intervals_95"]["asymmetric_p1_pos"][1].as_f64().unwrap(),
+    );
+    let (lo_n, hi_n) = (
+        b["intervals_95"]["asymmetric_p1_neg"][0].as_f64().unwrap(),
+        b["intervals_95"]["asymmetric_p1_neg"][1].as_f64().unwrap(),
+    );
+    assert!(f(&b, "asymmetric_p1_pos") > 0.1 && f(&b, "asymmetric_p1_neg") > 0.1);
+    assert!(
+        lo_p <= hi_n && lo_n <= hi_p,
+        "asymmetric fractions differ: {lo_p}..{hi_p} vs {lo_n}..{hi_n}"
+    );
+    // omega = 1.5: no equilibrium; omega = 4.0: the symmetric orbit again, nothing undecided.
+    assert_eq!(f(&basin(1.5), "equilibrium"), 0.0);
+    let b = basin(4.0);
+    assert!(f(&b, "symmetric_p1") > 0.1);
+    assert_eq!(f(&b, "other"), 0.0);
+    assert_eq!(b["trials"].as_u64().unwrap(), 1500);
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
+fn figure_5_shows_the_period_doubling_cascade() {
+    let dir = std::env::temp_dir().join(format!("rocking-block-fig5-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    figure5(&dir).unwrap();
+    let v: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("fig5.json")).unwrap()).unwrap();
+    let distinct = |alpha: f64| {
+        let p = v["diagram"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .min_by(|a, b| {
+                (a["alpha"].as_f64().unwrap() - alpha)
+                    .abs()
+                    .total_cmp(&(b["alpha"].as_f64().unwrap() - alpha).abs())
+            })
+            .unwrap();
+        let mut psi: Vec<f64> = p["psi"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|x| (x.as_f64().unwrap() * 1e6).round())
+            .collect();
+        psi.sort_by(f64::total_cmp);
+        psi.dedup();
+        (psi.len(), p["outcome"].as_str().unwrap().to_string())
+    };
+    assert_eq!(distinct(0.70).0, 1, "period 1 below PD1");
+    assert_eq!(distinct(0.745).0, 2, "period 2 between PD1 and PD2");
+    assert_eq!(distinct(0.757).0, 4, "period 4 after PD2");
+    assert!(distinct(0.779).0 > 20, "chaotic at 0.779");
+    assert!(distinct(0.8).1.starts_with("overturn"));
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
+fn classify_cli_batch_and_errors() {
+    let bin = env!("CARGO_BIN_EXE_rocking-block");
+    let dir = std::env::temp_dir().join(format!("rocking-block-cls-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let (input, output) = (dir.join("in.csv"), dir.join("out.csv"));
+    std::fs::write(
+        &input,
+        "omega,alpha,beta,phi0,psi0\n1.3,0.3,0,0.01,0\n1.3,0.66,0,0.01,0\n",
+    )
+    .unwrap();
+    let out = std::process::Command::new(bin)
+        .args(["classify", "--input"])
+        .arg(&input)
+        .arg("--output")
+        .arg(&output)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let text = std::fs::read_to_string(&output).unwrap();
+    let classes: Vec<&str> = text
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').nth(5).unwrap())
+        .collect();
+    assert_eq!(classes, ["equilibrium", "overturn_neg"]);
+    std::fs::write(&input, "omega,alpha\n1,2\n").unwrap();
+    let out = std::process::Command::new(bin)
+        .args(["classify", "--input"])
+        .arg(&input)
+        .arg("--output")
+        .arg(&output)
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    assert_eq!(
+        String::from_utf8_lossy(&out.stderr)
+            .trim_end()
+            .lines()
+            .count(),
+        1
+    );
+    let out = std::process::Command::new(bin)
+        .args(["classify", "--omega", "1.3", "--alpha", "0.3", "--json"])
+        .output()
+        .unwrap();
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(v["class"], "equilibrium");
+    std::fs::remove_dir_all(&dir).ok();
+}
