@@ -156,6 +156,15 @@ pub struct Counts {
 }
 
 impl Counts {
+    /// Zeroes the counts and forgets the ranges (keeps the allocation).
+    fn clear(&mut self) {
+        for c in &mut self.counts {
+            c.fill(0);
+        }
+        self.failures.fill(0);
+        self.ranges.clear();
+    }
+
     fn new(classes: Vec<String>, cells: usize) -> Self {
         let k = classes.len();
         Self {
@@ -231,8 +240,8 @@ pub struct Progress {
 }
 
 /// Runs trials `range` of `study` with `classifier` in parallel (rayon's pool), counting classes
-/// per cell. The result is identical for any number of threads; interrupted runs (via
-/// [`Progress::stop`]) report exactly which trials they counted.
+/// per cell of the study's axes. The result is identical for any number of threads; interrupted
+/// runs (via [`Progress::stop`]) report exactly which trials they counted.
 ///
 /// # Errors
 /// An invalid study.
@@ -242,9 +251,40 @@ pub fn run<C: Classifier>(
     range: std::ops::Range<u64>,
     progress: &Progress,
 ) -> Result<Counts> {
+    let mut out = run_binned(
+        study,
+        std::slice::from_ref(&study.axes),
+        classifier,
+        range,
+        progress,
+    )?;
+    Ok(out.pop().expect("one binning"))
+}
+
+/// Like [`run`], counting every trial once per binning (each a list of at most two axes), e.g.
+/// the marginal distributions over several variables of the same trials.
+///
+/// # Errors
+/// An invalid study or binning.
+pub fn run_binned<C: Classifier>(
+    study: &Study,
+    binnings: &[Vec<Axis>],
+    classifier: &C,
+    range: std::ops::Range<u64>,
+    progress: &Progress,
+) -> Result<Vec<Counts>> {
+    let studies: Vec<Study> = binnings
+        .iter()
+        .map(|axes| Study {
+            axes: axes.clone(),
+            ..study.clone()
+        })
+        .collect();
+    for s in &studies {
+        s.validate()?;
+    }
     study.validate()?;
     let classes = classifier.classes();
-    let cells = study.cells();
     // Chunks of consecutive trials: each records whether it ran completely, so an interrupted
     // run reports exact ranges.
     const CHUNK: u64 = 256;
@@ -252,43 +292,81 @@ pub fn run<C: Classifier>(
         .step_by(CHUNK as usize)
         .map(|a| (a, (a + CHUNK).min(range.end)))
         .collect();
-    let results: Vec<Option<Counts>> = chunks
-        .par_iter()
-        .map(|&(a, b)| {
-            if progress.stop.load(Ordering::Relaxed) {
-                return None;
-            }
-            let mut c = Counts::new(classes.clone(), cells);
-            for i in a..b {
-                if progress.stop.load(Ordering::Relaxed) {
-                    return None;
+    let empty = || -> Vec<Counts> {
+        studies
+            .iter()
+            .map(|s| Counts::new(classes.clone(), s.cells()))
+            .collect()
+    };
+    // Streaming aggregation with bounded memory: one accumulator per worker thread, which takes
+    // chunks from a shared counter and adds each finished chunk to its tables. Counts are integer
+    // sums, so the result does not depend on which thread ran which chunk.
+    let next = std::sync::atomic::AtomicUsize::new(0);
+    let workers = rayon::current_num_threads().max(1);
+    let partials: Vec<Vec<Counts>> = (0..workers)
+        .into_par_iter()
+        .map(|_| {
+            let mut acc = empty();
+            let mut scratch = empty();
+            loop {
+                let c = next.fetch_add(1, Ordering::Relaxed);
+                if c >= chunks.len() || progress.stop.load(Ordering::Relaxed) {
+                    break;
                 }
-                let values = study.trial(i);
-                let cell = study.cell(&values);
-                match classifier.classify(&values) {
-                    Ok(k) if k < classes.len() => c.counts[cell][k] += 1,
-                    _ => c.failures[cell] += 1,
+                let (a, b) = chunks[c];
+                for t in &mut scratch {
+                    t.clear();
                 }
-                progress.done.fetch_add(1, Ordering::Relaxed);
+                let mut complete = true;
+                for i in a..b {
+                    if progress.stop.load(Ordering::Relaxed) {
+                        // An unfinished chunk is dropped whole, so the ranges stay exact.
+                        complete = false;
+                        break;
+                    }
+                    let values = study.trial(i);
+                    let class = classifier
+                        .classify(&values)
+                        .ok()
+                        .filter(|k| *k < classes.len());
+                    for (t, s) in scratch.iter_mut().zip(&studies) {
+                        let cell = s.cell(&values);
+                        match class {
+                            Some(k) => t.counts[cell][k] += 1,
+                            None => t.failures[cell] += 1,
+                        }
+                    }
+                    progress.done.fetch_add(1, Ordering::Relaxed);
+                }
+                if !complete {
+                    break;
+                }
+                for (t, sc) in acc.iter_mut().zip(&mut scratch) {
+                    sc.ranges.push((a, b));
+                    t.merge(sc).expect("chunks are disjoint");
+                }
             }
-            c.ranges.push((a, b));
-            Some(c)
+            acc
         })
         .collect();
-    let mut total = Counts::new(classes, cells);
-    for c in results.into_iter().flatten() {
-        total.merge(&c)?;
-    }
-    // Coalesce adjacent ranges.
-    let mut merged: Vec<(u64, u64)> = Vec::new();
-    for (a, b) in std::mem::take(&mut total.ranges) {
-        match merged.last_mut() {
-            Some(last) if last.1 == a => last.1 = b,
-            _ => merged.push((a, b)),
+    let mut totals = empty();
+    for p in &partials {
+        for (t, c) in totals.iter_mut().zip(p) {
+            t.merge(c)?;
         }
     }
-    total.ranges = merged;
-    Ok(total)
+    for t in &mut totals {
+        // Coalesce adjacent ranges.
+        let mut merged: Vec<(u64, u64)> = Vec::new();
+        for (a, b) in std::mem::take(&mut t.ranges) {
+            match merged.last_mut() {
+                Some(last) if last.1 == a => last.1 = b,
+                _ => merged.push((a, b)),
+            }
+        }
+        t.ranges = merged;
+    }
+    Ok(totals)
 }
 
 /// The trial range of shard `i` of `n` (0-based) of a study with `trials` trials.

@@ -35,6 +35,9 @@ pub enum Command {
     /// Classify trials (the study's solution classes): one trial with --json, or a CSV batch
     /// (columns omega, alpha, beta, phi0, psi0) with --input/--output.
     Classify(ClassifyArgs),
+    /// Merge shard files of a sampling figure (written with `figure N --shard I/N`) and write
+    /// the figure.
+    Merge(MergeArgs),
 }
 
 /// Arguments of `rocking-block classify`.
@@ -204,6 +207,21 @@ pub struct FigureArgs {
     /// Worker threads (default: all cores).
     #[arg(long)]
     pub threads: Option<usize>,
+    /// Sampling figures 7, 9, 10: run only shard I of N (0-based, `I/N`) of the trials and write
+    /// DIR/figN.shard-I-of-N.json, for `rocking-block merge` (cluster array jobs).
+    #[arg(long)]
+    pub shard: Option<String>,
+}
+
+/// Arguments of `rocking-block merge`.
+#[derive(Debug, Args)]
+pub struct MergeArgs {
+    /// Shard files written by `figure N --shard I/N`.
+    #[arg(required = true)]
+    pub shards: Vec<PathBuf>,
+    /// Output directory for figN.json and figN.svg.
+    #[arg(long, default_value = "results")]
+    pub out: PathBuf,
 }
 
 /// Arguments of `rocking-block simulate`.
@@ -288,7 +306,89 @@ pub fn run(cli: Cli, out: &mut dyn Write) -> Result<()> {
         Command::Figure(args) => run_figure(&args, out),
         Command::Continue(args) => run_continue(&args, out),
         Command::Classify(args) => run_classify(&args, out),
+        Command::Merge(args) => run_merge(&args, out),
     }
+}
+
+/// A shard of a sampling figure on disk.
+#[derive(Debug, serde::Serialize, serde::Deserialize)]
+struct ShardFile {
+    figure: u32,
+    trials: u64,
+    seed: u64,
+    shard: (u64, u64),
+    counts: Vec<hycont_sample::basin::Counts>,
+}
+
+fn parse_shard(text: &str) -> Result<(u64, u64)> {
+    let bad = || Error::InvalidArgument {
+        name: "shard",
+        value: text.to_string(),
+        reason: "expected I/N with 0 <= I < N",
+    };
+    let (i, n) = text.split_once('/').ok_or_else(bad)?;
+    let (i, n): (u64, u64) = (
+        i.trim().parse().map_err(|_| bad())?,
+        n.trim().parse().map_err(|_| bad())?,
+    );
+    if n == 0 || i >= n {
+        return Err(bad());
+    }
+    Ok((i, n))
+}
+
+fn run_merge(args: &MergeArgs, out: &mut dyn Write) -> Result<()> {
+    let mut merged: Option<ShardFile> = None;
+    for path in &args.shards {
+        let text = std::fs::read_to_string(path).map_err(io_err(path))?;
+        let shard: ShardFile = serde_json::from_str(&text).map_err(|_| Error::InvalidArgument {
+            name: "shard",
+            value: path.display().to_string(),
+            reason: "not a shard file written by `figure N --shard I/N`",
+        })?;
+        match merged.as_mut() {
+            None => merged = Some(shard),
+            Some(m) => {
+                if (m.figure, m.trials, m.seed) != (shard.figure, shard.trials, shard.seed)
+                    || m.counts.len() != shard.counts.len()
+                {
+                    return Err(Error::InvalidArgument {
+                        name: "shard",
+                        value: path.display().to_string(),
+                        reason: "belongs to another figure, trial count or seed",
+                    });
+                }
+                for (a, b) in m.counts.iter_mut().zip(&shard.counts) {
+                    a.merge(b).map_err(|e| Error::InvalidArgument {
+                        name: "shard",
+                        value: format!("{}: {e}", path.display()),
+                        reason: "overlaps a shard merged before",
+                    })?;
+                }
+            }
+        }
+    }
+    let m = merged.expect("clap requires at least one shard");
+    let complete: u64 = m.counts[0].ranges.iter().map(|(a, b)| b - a).sum();
+    if complete != m.trials {
+        eprintln!(
+            "rocking-block: the shards hold {complete} of {} trials; writing what they hold",
+            m.trials
+        );
+    }
+    std::fs::create_dir_all(&args.out).map_err(io_err(&args.out))?;
+    let options = crate::figures::sampling::SampleOptions {
+        trials: m.trials,
+        seed: m.seed,
+    };
+    let files = crate::figures::sampling::render(m.figure, &args.out, options, &m.counts)?;
+    for f in files.files {
+        writeln!(out, "wrote {}", f.display()).map_err(|source| Error::Io {
+            path: PathBuf::from("<stdout>"),
+            source,
+        })?;
+    }
+    Ok(())
 }
 
 fn run_continue(args: &ContinueArgs, out: &mut dyn Write) -> Result<()> {
@@ -530,6 +630,40 @@ fn run_figure(args: &FigureArgs, out: &mut dyn Write) -> Result<()> {
         seed: args.seed,
     };
     let progress = Arc::new(Progress::default());
+    if let Some(shard) = &args.shard {
+        let (i, n) = parse_shard(shard)?;
+        let [fig] = which.as_slice() else {
+            return Err(Error::InvalidArgument {
+                name: "shard",
+                value: args.which.clone(),
+                reason: "shard one sampling figure (7, 9 or 10) at a time",
+            });
+        };
+        let range = hycont_sample::basin::shard_range(args.trials, i, n).map_err(|e| {
+            Error::InvalidArgument {
+                name: "shard",
+                value: e.to_string(),
+                reason: "invalid shard",
+            }
+        })?;
+        let counts = crate::figures::sampling::counts_for(*fig, options, range, &progress)?;
+        std::fs::create_dir_all(&args.out).map_err(io_err(&args.out))?;
+        let path = args.out.join(format!("fig{fig}.shard-{i}-of-{n}.json"));
+        let file = ShardFile {
+            figure: *fig,
+            trials: args.trials,
+            seed: args.seed,
+            shard: (i, n),
+            counts,
+        };
+        std::fs::write(&path, serde_json::to_string(&file).expect("serialises"))
+            .map_err(io_err(&path))?;
+        writeln!(out, "wrote {}", path.display()).map_err(|source| Error::Io {
+            path: PathBuf::from("<stdout>"),
+            source,
+        })?;
+        return Ok(());
+    }
     // Ctrl-C stops sampling studies early; what was counted is written, with its trial ranges.
     {
         let p = Arc::clone(&progress);
@@ -542,6 +676,8 @@ fn run_figure(args: &FigureArgs, out: &mut dyn Write) -> Result<()> {
     for n in which {
         let total = match n {
             7 => options.trials * crate::figures::sampling::FIG7_OMEGAS.len() as u64,
+            9 => 2 * options.trials,
+            10 => options.trials,
             _ => 0,
         };
         progress.done.store(0, Ordering::Relaxed);
@@ -584,12 +720,6 @@ fn run_figure(args: &FigureArgs, out: &mut dyn Write) -> Result<()> {
             );
             break;
         }
-    }
-    if args.which == "all" {
-        eprintln!(
-            "rocking-block: figures 8 to 10 are not available yet (sampling over the parameter \
-             plane is still to come); wrote the available ones"
-        );
     }
     Ok(())
 }

@@ -158,12 +158,11 @@ fn figure_2_writes_json_and_svg() {
 }
 
 #[test]
-fn unavailable_figures_and_bad_orbit_settings_fail_cleanly() {
-    assert_one_line_usage_error(
-        &["figure", "8", "--out", "/tmp/never-written"],
-        "not available yet",
-    );
+fn unknown_figures_and_bad_settings_fail_cleanly() {
     assert_one_line_usage_error(&["figure", "11"], "figures 2 to 10");
+    assert_one_line_usage_error(&["figure", "seven"], "figure number");
+    assert_one_line_usage_error(&["figure", "7", "--trials", "0"], "trials");
+    assert_one_line_usage_error(&["figure", "7", "--threads", "0"], "threads");
     assert_one_line_usage_error(&["orbit", "--ncol", "9"], "ncol");
     assert_one_line_usage_error(&["orbit", "--kind", "sideways"], "sideways");
     assert_one_line_usage_error(&["orbit", "--omega", "0"], "omega");
@@ -263,5 +262,62 @@ fn figure_6_writes_curves_and_test_points() {
                 .contains("<svg")
         );
     }
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
+fn shards_merge_into_the_same_figure_as_one_run() {
+    let dir = std::env::temp_dir().join(format!("rocking-block-shards-{}", std::process::id()));
+    for i in 0..2 {
+        let out = bin()
+            .args([
+                "figure",
+                "10",
+                "--trials",
+                "200",
+                "--seed",
+                "4",
+                "--shard",
+                &format!("{i}/2"),
+                "--out",
+            ])
+            .arg(&dir)
+            .output()
+            .unwrap();
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+    }
+    let merged = dir.join("merged");
+    let out = bin()
+        .arg("merge")
+        .arg(dir.join("fig10.shard-0-of-2.json"))
+        .arg(dir.join("fig10.shard-1-of-2.json"))
+        .arg("--out")
+        .arg(&merged)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let whole = dir.join("whole");
+    let out = bin()
+        .args(["figure", "10", "--trials", "200", "--seed", "4", "--out"])
+        .arg(&whole)
+        .output()
+        .unwrap();
+    assert!(out.status.success());
+    let read = |p: std::path::PathBuf| -> serde_json::Value {
+        serde_json::from_str(&std::fs::read_to_string(p).unwrap()).unwrap()
+    };
+    assert_eq!(
+        read(merged.join("fig10.json"))["marginals"],
+        read(whole.join("fig10.json"))["marginals"]
+    );
+    assert_one_line_usage_error(&["figure", "7", "--shard", "2/2"], "shard");
     std::fs::remove_dir_all(&dir).ok();
 }

@@ -278,3 +278,56 @@ fn classify_cli_batch_and_errors() {
     assert_eq!(v["class"], "equilibrium");
     std::fs::remove_dir_all(&dir).ok();
 }
+
+#[test]
+fn figures_8_to_10_write_their_json() {
+    use rocking_block::figures::sampling::{figure9, figure10};
+    let dir = std::env::temp_dir().join(format!("rocking-block-fig910-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let opts = SampleOptions {
+        trials: 600,
+        seed: 5,
+    };
+    figure9(&dir, opts, &Progress::default()).unwrap();
+    figure10(&dir, opts, &Progress::default()).unwrap();
+    let v9: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("fig9.json")).unwrap()).unwrap();
+    assert_eq!(v9["basins"].as_array().unwrap().len(), 2);
+    for b in v9["basins"].as_array().unwrap() {
+        assert_eq!(b["trials"].as_u64().unwrap(), 600);
+        assert_eq!(
+            b["probabilities"]["overturn"].as_array().unwrap().len(),
+            900
+        );
+    }
+    let v10: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("fig10.json")).unwrap()).unwrap();
+    for m in ["phi0", "psi0", "beta"] {
+        let per_bin: u64 = v10["marginals"][m]["trials_per_bin"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|x| x.as_u64().unwrap())
+            .sum();
+        assert_eq!(per_bin, 600, "{m}");
+        // Probabilities of the groups add up to 1 in every bin with trials.
+        let probs = &v10["marginals"][m]["probabilities"];
+        for bin in 0..50 {
+            let total: f64 = [
+                "symmetric_p1",
+                "asymmetric_p1",
+                "overturn",
+                "equilibrium",
+                "other",
+            ]
+            .iter()
+            .map(|g| probs[g][bin].as_f64().unwrap_or(0.0))
+            .sum();
+            assert!(
+                (total - 1.0).abs() < 1e-12 || total == 0.0,
+                "{m} bin {bin}: {total}"
+            );
+        }
+    }
+    std::fs::remove_dir_all(&dir).ok();
+}

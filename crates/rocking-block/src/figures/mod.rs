@@ -13,7 +13,7 @@ use crate::error::{Error, Result};
 use std::path::{Path, PathBuf};
 
 /// Figures `rocking-block figure` knows; the others need capabilities still to come.
-pub const AVAILABLE: &[u32] = &[2, 3, 4, 5, 6, 7];
+pub const AVAILABLE: &[u32] = &[2, 3, 4, 5, 6, 7, 8, 9, 10];
 
 /// What a figure run wrote.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -70,11 +70,9 @@ pub fn figure_with(
         5 => sampling::figure5(out),
         6 => figure6(out, &mut hycont_continuation::observe::Silent),
         7 => sampling::figure7(out, options, progress),
-        8..=10 => Err(Error::InvalidArgument {
-            name: "figure",
-            value: n.to_string(),
-            reason: "not available yet: figures 8-10 (sampling over the parameter plane) are still to come",
-        }),
+        8 => sampling::figure8(out),
+        9 => sampling::figure9(out, options, progress),
+        10 => sampling::figure10(out, options, progress),
         _ => Err(Error::InvalidArgument {
             name: "figure",
             value: n.to_string(),

@@ -6,7 +6,7 @@ use crate::error::{Error, Result};
 use crate::model::{ALPHA, Parameters, RockingBlock, initial_mode, initial_state};
 use crate::plot;
 use hycont_core::{HybridSystem, SimulationSettings, StopReason};
-use hycont_sample::basin::{Axis, Classifier, Counts, Distribution, Progress, Study, run};
+use hycont_sample::basin::{Axis, Counts, Distribution, Progress, Study, run};
 use hycont_sample::sweep::{Sweep, SweepPoint, brute_force};
 use serde_json::{Value, json};
 use std::path::Path;
@@ -215,15 +215,99 @@ pub fn raster(counts: &Counts) -> Vec<Vec<Option<&'static str>>> {
 /// # Errors
 /// Numerical or I/O failures.
 pub fn figure7(out: &Path, options: SampleOptions, progress: &Progress) -> Result<FigureFiles> {
+    let counts = counts_for(7, options, 0..options.trials, progress)?;
+    render(7, out, options, &counts)
+}
+
+/// The count tables of sampling figure `n` (7, 9 or 10) over trials `range`: one per study
+/// (Fig. 7: one per omega; Fig. 9: one per beta; Fig. 10: one per binned variable).
+///
+/// # Errors
+/// [`Error::InvalidArgument`] for another figure; numerical failures.
+pub fn counts_for(
+    n: u32,
+    options: SampleOptions,
+    range: std::ops::Range<u64>,
+    progress: &Progress,
+) -> Result<Vec<Counts>> {
     let classifier = RockingClassifier::default();
+    match n {
+        7 => FIG7_OMEGAS
+            .iter()
+            .enumerate()
+            .map(|(k, &omega)| {
+                run(
+                    &fig7_study(omega, options.seed.wrapping_add(k as u64)),
+                    &classifier,
+                    range.clone(),
+                    progress,
+                )
+                .map_err(sample_err)
+            })
+            .collect(),
+        9 => [0.0, std::f64::consts::FRAC_PI_2]
+            .into_iter()
+            .enumerate()
+            .map(|(k, beta)| {
+                run(
+                    &fig9_study(beta, options.seed.wrapping_add(k as u64)),
+                    &classifier,
+                    range.clone(),
+                    progress,
+                )
+                .map_err(sample_err)
+            })
+            .collect(),
+        10 => {
+            let (study, binnings) = fig10_study(options.seed);
+            hycont_sample::basin::run_binned(&study, &binnings, &classifier, range, progress)
+                .map_err(sample_err)
+        }
+        _ => Err(Error::InvalidArgument {
+            name: "figure",
+            value: n.to_string(),
+            reason: "only the sampling figures 7, 9 and 10 can be sharded",
+        }),
+    }
+}
+
+/// Writes sampling figure `n` (7, 9 or 10) from its count tables (e.g. merged shards).
+///
+/// # Errors
+/// [`Error::InvalidArgument`] for another figure or tables that do not fit; I/O failures.
+pub fn render(
+    n: u32,
+    out: &Path,
+    options: SampleOptions,
+    counts: &[Counts],
+) -> Result<FigureFiles> {
+    match n {
+        7 => render7(out, options, counts),
+        9 => render9(out, options, counts),
+        10 => render10(out, options, counts),
+        _ => Err(Error::InvalidArgument {
+            name: "figure",
+            value: n.to_string(),
+            reason: "only the sampling figures 7, 9 and 10 are rendered from counts",
+        }),
+    }
+}
+
+fn render7(out: &Path, options: SampleOptions, all: &[Counts]) -> Result<FigureFiles> {
+    if all.len() != FIG7_OMEGAS.len() {
+        return Err(Error::InvalidArgument {
+            name: "counts",
+            value: all.len().to_string(),
+            reason: "Fig. 7 needs one table per omega",
+        });
+    }
     let mut basins = Vec::new();
     let mut rasters = Vec::new();
-    for (k, &omega) in FIG7_OMEGAS.iter().enumerate() {
+    for (k, (&omega, counts)) in FIG7_OMEGAS.iter().zip(all).enumerate() {
         let study = fig7_study(omega, options.seed.wrapping_add(k as u64));
-        let counts = run(&study, &classifier, 0..options.trials, progress).map_err(sample_err)?;
-        let (fractions, intervals, with_rest) = fractions_json(&counts);
+        let (fractions, intervals, with_rest) = fractions_json(counts);
         let trials: u64 = (0..counts.counts.len()).map(|c| counts.trials(c)).sum();
-        let r = raster(&counts);
+        let r = raster(counts);
         basins.push(json!({
             "omega": omega,
             "alpha": 0.66,
@@ -239,7 +323,6 @@ pub fn figure7(out: &Path, options: SampleOptions, progress: &Progress) -> Resul
         }));
         rasters.push((omega, r));
     }
-    let _ = classifier.classes();
     let json = json!({
         "figure": 7,
         "parameters": {"alpha": 0.66, "beta": 0.0, "xi": Parameters::default().xi, "theta_b": Parameters::default().theta_b},
@@ -253,6 +336,290 @@ pub fn figure7(out: &Path, options: SampleOptions, progress: &Progress) -> Resul
     let _ = RockingBlock.state_dim();
     Ok(FigureFiles {
         figure: 7,
+        files: vec![json_path, svg_path],
+    })
+}
+
+/// The classes shown by Figs. 9 and 10 (the study's groups): each a list of study classes.
+pub const GROUPS: [(&str, &[Class]); 5] = [
+    ("symmetric_p1", &[Class::SymmetricP1]),
+    (
+        "asymmetric_p1",
+        &[Class::AsymmetricP1Pos, Class::AsymmetricP1Neg],
+    ),
+    ("overturn", &[Class::OverturnPos, Class::OverturnNeg]),
+    ("equilibrium", &[Class::Equilibrium]),
+    ("other", &[Class::Period2, Class::Other]),
+];
+
+/// Probability of each group per cell of a count table.
+#[must_use]
+pub fn group_probabilities(counts: &Counts) -> Vec<(&'static str, Vec<f64>)> {
+    GROUPS
+        .iter()
+        .map(|(name, members)| {
+            let p = (0..counts.counts.len())
+                .map(|cell| {
+                    let n = counts.trials(cell);
+                    if n == 0 {
+                        return f64::NAN;
+                    }
+                    let k: u64 = counts.counts[cell]
+                        .iter()
+                        .enumerate()
+                        .filter(|(i, _)| members.contains(&base_class(*i).0))
+                        .map(|(_, c)| *c)
+                        .sum();
+                    k as f64 / n as f64
+                })
+                .collect();
+            (*name, p)
+        })
+        .collect()
+}
+
+/// Grid resolution of Fig. 8 (omega x alpha).
+pub const FIG8_GRID: (usize, usize) = (70, 40);
+
+/// Fig. 8: the final class on a grid over omega in (0.5, 4.0), alpha in (0.1, 0.9) from
+/// phi0 = 0.01, psi0 = 0, for beta = 0 and beta = pi/2, with the SN, BP and PD curves of Fig. 6.
+///
+/// # Errors
+/// Numerical or I/O failures.
+pub fn figure8(out: &Path) -> Result<FigureFiles> {
+    use rayon::prelude::*;
+    let (nw, na) = FIG8_GRID;
+    let omegas: Vec<f64> = (0..nw)
+        .map(|i| 0.5 + 3.5 * (i as f64 + 0.5) / nw as f64)
+        .collect();
+    let alphas: Vec<f64> = (0..na)
+        .map(|j| 0.1 + 0.8 * (j as f64 + 0.5) / na as f64)
+        .collect();
+    let settings = crate::classes::ClassifierSettings::default();
+    let mut grids = Vec::new();
+    for beta in [0.0, std::f64::consts::FRAC_PI_2] {
+        let cells: Vec<(usize, usize)> =
+            (0..nw).flat_map(|i| (0..na).map(move |j| (i, j))).collect();
+        let classes: Vec<&'static str> = cells
+            .par_iter()
+            .map(|&(i, j)| {
+                crate::classes::classify(
+                    &Parameters::new(omegas[i], alphas[j]),
+                    beta,
+                    0.01,
+                    0.0,
+                    &settings,
+                )
+                .map_or("error", |c| c.class.name())
+            })
+            .collect();
+        let grid: Vec<Vec<&str>> = (0..nw)
+            .map(|i| classes[i * na..(i + 1) * na].to_vec())
+            .collect();
+        grids.push((beta, grid));
+    }
+    let curves = crate::continuation::study_curves(&mut hycont_continuation::observe::Silent)?;
+    let json = json!({
+        "figure": 8,
+        "initial": {"phi0": 0.01, "psi0": 0.0},
+        "omega": omegas,
+        "alpha": alphas,
+        "grids": grids.iter().map(|(b, g)| json!({"beta": b, "classes": g})).collect::<Vec<_>>(),
+        "curves": curves_json(&curves),
+    });
+    let json_path = out.join("fig8.json");
+    write_json(&json_path, &json)?;
+    let svg_path = out.join("fig8.svg");
+    plot::class_grid_svg(&svg_path, &omegas, &alphas, &grids, &curves)?;
+    Ok(FigureFiles {
+        figure: 8,
+        files: vec![json_path, svg_path],
+    })
+}
+
+fn curves_json(curves: &[crate::continuation::Curve]) -> Value {
+    Value::Array(
+        curves
+            .iter()
+            .map(|c| {
+                json!({
+                    "kind": c.kind.label(),
+                    "points": c.points().iter().map(|(w, a)| json!({"omega": w, "alpha": a})).collect::<Vec<_>>(),
+                })
+            })
+            .collect(),
+    )
+}
+
+/// The random variables of Figs. 9 and 10: omega, alpha, beta, phi0, psi0.
+fn plane_study(beta: Distribution, seed: u64) -> Study {
+    let b = Parameters::default().static_boundary();
+    Study {
+        names: ["omega", "alpha", "beta", "phi0", "psi0"]
+            .iter()
+            .map(ToString::to_string)
+            .collect(),
+        variables: vec![
+            Distribution::Uniform { lo: 0.5, hi: 4.0 },
+            Distribution::Uniform { lo: 0.1, hi: 0.9 },
+            beta,
+            Distribution::Uniform { lo: -b, hi: b },
+            Distribution::Uniform { lo: -1.0, hi: 1.0 },
+        ],
+        axes: vec![],
+        seed,
+    }
+}
+
+/// Fig. 9: class probabilities on a 30 x 30 (omega, alpha) grid from random phi0, psi0, for
+/// beta = 0 and beta = pi/2 (`trials` per beta; the study: 1,000,000).
+///
+/// # Errors
+/// Numerical or I/O failures.
+pub fn figure9(out: &Path, options: SampleOptions, progress: &Progress) -> Result<FigureFiles> {
+    let counts = counts_for(9, options, 0..options.trials, progress)?;
+    render(9, out, options, &counts)
+}
+
+fn fig9_study(beta: f64, seed: u64) -> Study {
+    Study {
+        axes: vec![
+            Axis {
+                variable: 0,
+                lo: 0.5,
+                hi: 4.0,
+                bins: 30,
+            },
+            Axis {
+                variable: 1,
+                lo: 0.1,
+                hi: 0.9,
+                bins: 30,
+            },
+        ],
+        ..plane_study(Distribution::Fixed(beta), seed)
+    }
+}
+
+fn render9(out: &Path, options: SampleOptions, all: &[Counts]) -> Result<FigureFiles> {
+    if all.len() != 2 {
+        return Err(Error::InvalidArgument {
+            name: "counts",
+            value: all.len().to_string(),
+            reason: "Fig. 9 needs one table per beta",
+        });
+    }
+    let mut panels = Vec::new();
+    let mut entries = Vec::new();
+    for (k, (beta, counts)) in [0.0, std::f64::consts::FRAC_PI_2]
+        .into_iter()
+        .zip(all)
+        .enumerate()
+    {
+        let probs = group_probabilities(counts);
+        entries.push(json!({
+            "beta": beta,
+            "trials": (0..counts.counts.len()).map(|c| counts.trials(c)).sum::<u64>(),
+            "seed": options.seed.wrapping_add(k as u64),
+            "trial_ranges": counts.ranges,
+            "probabilities": probs.iter().map(|(n, p)| (n.to_string(), json!(p.iter().map(|v| if v.is_nan() { Value::Null } else { json!(v) }).collect::<Vec<_>>()))).collect::<serde_json::Map<_, _>>(),
+        }));
+        panels.push((beta, probs));
+    }
+    let curves = crate::continuation::study_curves(&mut hycont_continuation::observe::Silent)?;
+    let json = json!({
+        "figure": 9,
+        "grid": {"omega": [0.5, 4.0, 30], "alpha": [0.1, 0.9, 30], "cell_order": "omega-major"},
+        "basins": entries,
+        "curves": curves_json(&curves),
+    });
+    let json_path = out.join("fig9.json");
+    write_json(&json_path, &json)?;
+    let svg_path = out.join("fig9.svg");
+    plot::probability_grid_svg(&svg_path, &panels, &curves)?;
+    Ok(FigureFiles {
+        figure: 9,
+        files: vec![json_path, svg_path],
+    })
+}
+
+/// Fig. 10: probabilities against phi0, psi0 and beta (50 bins each) from trials with random
+/// phi0, psi0, alpha, omega and beta (`trials`; the study: 2,000,000).
+///
+/// # Errors
+/// Numerical or I/O failures.
+pub fn figure10(out: &Path, options: SampleOptions, progress: &Progress) -> Result<FigureFiles> {
+    let counts = counts_for(10, options, 0..options.trials, progress)?;
+    render(10, out, options, &counts)
+}
+
+fn fig10_study(seed: u64) -> (Study, Vec<Vec<Axis>>) {
+    let b = Parameters::default().static_boundary();
+    let study = plane_study(
+        Distribution::Uniform {
+            lo: 0.0,
+            hi: std::f64::consts::TAU,
+        },
+        seed,
+    );
+    let binnings = vec![
+        vec![Axis {
+            variable: 3,
+            lo: -b,
+            hi: b,
+            bins: 50,
+        }],
+        vec![Axis {
+            variable: 4,
+            lo: -1.0,
+            hi: 1.0,
+            bins: 50,
+        }],
+        vec![Axis {
+            variable: 2,
+            lo: 0.0,
+            hi: std::f64::consts::TAU,
+            bins: 50,
+        }],
+    ];
+    (study, binnings)
+}
+
+fn render10(out: &Path, options: SampleOptions, counts: &[Counts]) -> Result<FigureFiles> {
+    let (_, binnings) = fig10_study(options.seed);
+    if counts.len() != binnings.len() {
+        return Err(Error::InvalidArgument {
+            name: "counts",
+            value: counts.len().to_string(),
+            reason: "Fig. 10 needs one table per binned variable",
+        });
+    }
+    let names = ["phi0", "psi0", "beta"];
+    let mut marginals = serde_json::Map::new();
+    let mut panels = Vec::new();
+    for ((name, c), axis) in names.iter().zip(counts).zip(&binnings) {
+        let probs = group_probabilities(c);
+        marginals.insert(name.to_string(), json!({
+            "range": [axis[0].lo, axis[0].hi],
+            "bins": 50,
+            "trials_per_bin": (0..50).map(|i| c.trials(i)).collect::<Vec<_>>(),
+            "probabilities": probs.iter().map(|(n, p)| (n.to_string(), json!(p))).collect::<serde_json::Map<_, _>>(),
+        }));
+        panels.push((*name, axis[0].lo, axis[0].hi, probs));
+    }
+    let json = json!({
+        "figure": 10,
+        "trials": (0..counts[0].counts.len()).map(|c| counts[0].trials(c)).sum::<u64>(),
+        "seed": options.seed,
+        "trial_ranges": counts[0].ranges,
+        "marginals": marginals,
+    });
+    let json_path = out.join("fig10.json");
+    write_json(&json_path, &json)?;
+    let svg_path = out.join("fig10.svg");
+    plot::marginals_svg(&svg_path, &panels)?;
+    Ok(FigureFiles {
+        figure: 10,
         files: vec![json_path, svg_path],
     })
 }
