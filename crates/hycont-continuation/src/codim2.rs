@@ -259,6 +259,147 @@ impl<'a, S: HybridJacobians + ?Sized> Codim2<'a, S> {
     }
 }
 
+impl<'a, S: HybridJacobians + ?Sized> Codim2<'a, S> {
+    /// The fold curve through a fold of a general orbit ($\prod(\lambda_i - 1) = 0$).
+    ///
+    /// # Errors
+    /// As [`Codim2::new`].
+    pub fn from_fold(
+        system: &'a S,
+        orbit: &PeriodicOrbit,
+        settings: ShootingSettings,
+        first: ParamId,
+        second: ParamId,
+        measures: Measures<'a>,
+    ) -> Result<(Self, Vec<f64>)> {
+        Self::new(
+            system,
+            orbit,
+            settings,
+            first,
+            second,
+            Condition::Fold,
+            measures,
+            Measures::default(),
+        )
+    }
+
+    /// The fold curve through a fold of a symmetric orbit, on its half orbit
+    /// (`orbit.half_of_symmetric(..)`).
+    ///
+    /// # Errors
+    /// As [`Codim2::new`].
+    pub fn from_symmetric_fold(
+        system: &'a S,
+        half_orbit: &PeriodicOrbit,
+        settings: ShootingSettings,
+        first: ParamId,
+        second: ParamId,
+        measures: Measures<'a>,
+    ) -> Result<(Self, Vec<f64>)> {
+        Self::new(
+            system,
+            half_orbit,
+            settings,
+            first,
+            second,
+            Condition::SymmetricFold,
+            measures,
+            Measures::default(),
+        )
+    }
+
+    /// The period-doubling curve through a period doubling of `orbit`.
+    ///
+    /// # Errors
+    /// As [`Codim2::new`].
+    pub fn from_period_doubling(
+        system: &'a S,
+        orbit: &PeriodicOrbit,
+        settings: ShootingSettings,
+        first: ParamId,
+        second: ParamId,
+        measures: Measures<'a>,
+    ) -> Result<(Self, Vec<f64>)> {
+        Self::new(
+            system,
+            orbit,
+            settings,
+            first,
+            second,
+            Condition::PeriodDoubling,
+            measures,
+            Measures::default(),
+        )
+    }
+
+    /// The curve of symmetry-breaking branch points through one, on the half orbit of the
+    /// symmetric orbit there.
+    ///
+    /// # Errors
+    /// As [`Codim2::new`].
+    pub fn from_branch_point(
+        system: &'a S,
+        half_orbit: &PeriodicOrbit,
+        settings: ShootingSettings,
+        first: ParamId,
+        second: ParamId,
+        measures: Measures<'a>,
+    ) -> Result<(Self, Vec<f64>)> {
+        Self::new(
+            system,
+            half_orbit,
+            settings,
+            first,
+            second,
+            Condition::SymmetryBreaking,
+            measures,
+            Measures::default(),
+        )
+    }
+
+    /// The curve of an event through a point where it holds: measure `index` of
+    /// `condition_measures` at `level` (e.g. boundary touch), or, with `index == None`, the
+    /// shortest segment collapsed to zero duration (grazing).
+    ///
+    /// # Errors
+    /// As [`Codim2::new`].
+    #[allow(clippy::too_many_arguments)]
+    pub fn from_event(
+        system: &'a S,
+        orbit: &PeriodicOrbit,
+        settings: ShootingSettings,
+        first: ParamId,
+        second: ParamId,
+        index: Option<usize>,
+        level: f64,
+        measures: Measures<'a>,
+        condition_measures: Measures<'a>,
+    ) -> Result<(Self, Vec<f64>)> {
+        let condition = match index {
+            Some(index) => Condition::Monitor { index, level },
+            None => Condition::Collapse {
+                segment: orbit
+                    .durations
+                    .iter()
+                    .enumerate()
+                    .min_by(|a, b| a.1.abs().total_cmp(&b.1.abs()))
+                    .map_or(0, |(i, _)| i),
+            },
+        };
+        Self::new(
+            system,
+            orbit,
+            settings,
+            first,
+            second,
+            condition,
+            measures,
+            condition_measures,
+        )
+    }
+}
+
 impl<'a, S: HybridJacobians + ?Sized> crate::ContinuationProblem<'a> for Codim2<'a, S> {
     fn problem(&mut self) -> &mut hycont_core::problem::Problem<'a> {
         self.inner.problem_mut()

@@ -174,3 +174,51 @@ fn the_period_doubling_curve_meets_a_separate_alpha_continuation() {
         .params[1];
     assert!((pd - alpha_curve).abs() < 1e-6, "{pd} vs {alpha_curve}");
 }
+
+#[test]
+fn named_constructors_build_the_same_curves() {
+    use hycont_continuation::{Codim2, ContinuationProblem, continue_branch, curve_settings};
+    use hycont_core::orbit::ShootingSettings;
+    use rocking_block::continuation::measures;
+    use rocking_block::{ALPHA, OMEGA};
+    let params = Parameters::new(1.3, 0.66);
+    let fig3 = study_branches(Free::Omega, &mut Silent).unwrap();
+    let template = orbit(&params, OrbitKind::Symmetric, None)
+        .unwrap()
+        .solution
+        .orbit;
+    let bp = fig3[0]
+        .special(SpecialKind::BranchPoint)
+        .next()
+        .unwrap()
+        .point
+        .clone();
+    let half = unpack(&template, &bp.u)
+        .half_of_symmetric(&RockingBlock, 1e-5)
+        .unwrap();
+    let settings = ShootingSettings {
+        rtol: 1e-10,
+        atol: 1e-12,
+    };
+    let (mut cp, u0) =
+        Codim2::from_branch_point(&RockingBlock, &half, settings, OMEGA, ALPHA, measures())
+            .unwrap();
+    let alpha_monitor = cp.monitor_names().len() - 1;
+    let s = curve_settings()
+        .parameter_bounds(1.0, 1.3)
+        .monitor_bounds(alpha_monitor, 0.01, 1.06);
+    let b = continue_branch(&mut cp, "BP", &u0, 1.0, &s, &mut Silent).unwrap();
+    let end = b
+        .special(SpecialKind::EndPoint)
+        .next()
+        .unwrap()
+        .point
+        .params[1];
+    let bp3 = study_branches(Free::Alpha, &mut Silent).unwrap()[0]
+        .special(SpecialKind::BranchPoint)
+        .next()
+        .unwrap()
+        .point
+        .params[1];
+    assert!((end - bp3).abs() < 1e-6, "{end} vs {bp3}");
+}
