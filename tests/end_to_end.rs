@@ -1,11 +1,11 @@
-//! End-to-end: the README's main job (400 forcing periods at the study's start point) through the
-//! `hycont` facade, checked against the study's asymmetric period-1 orbit.
+//! End-to-end: the README's simulation example (400 forcing periods at the study's start point)
+//! through the `hycont` facade, checked against the study's asymmetric period-1 orbit.
 
 use hycont::rocking_block::{Outcome, SimulationRequest, simulate};
 use std::f64::consts::FRAC_PI_2;
 
 #[test]
-fn readme_main_job_reaches_the_published_asymmetric_orbit() {
+fn readme_simulation_reaches_the_published_asymmetric_orbit() {
     let req = SimulationRequest {
         phi0: 0.01,
         psi0: 0.0,

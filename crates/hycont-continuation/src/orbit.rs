@@ -8,8 +8,8 @@ use crate::switch::branch_switch_direction;
 use crate::{ContinuationProblem, MonitorEvent, PointInfo};
 use hycont_core::orbit::{
     CollocationSettings, Mesh, PeriodicOrbit, ShootingSettings, collocation_floquet,
-    collocation_pack, collocation_problem, collocation_unpack, monodromy_by_shooting, pack,
-    shooting_problem, solve_collocation, unpack,
+    collocation_problem, collocation_unpack, monodromy_by_shooting, pack, shooting_problem,
+    solve_collocation, unpack,
 };
 use hycont_core::problem::{Activity, NewtonSettings, Problem};
 use hycont_core::{HybridJacobians, ParamId};
@@ -294,7 +294,6 @@ impl<'a, S: HybridJacobians + ?Sized> ContinuationProblem<'a> for OrbitContinuat
             Layout::Collocation { meshes, ncol } => {
                 let (nodes, orbit) = collocation_unpack(&self.like, meshes, *ncol, u);
                 let f = collocation_floquet(self.system, &orbit, meshes, &nodes, *ncol)?;
-                let _ = collocation_pack;
                 (orbit, f)
             }
         };

@@ -173,13 +173,7 @@ type Refined = ([f64; 4], [f64; 2], [f64; 2], bool);
 /// oscillator's state is kept: it is periodic). Returns the fixed point's full state, its
 /// half-period image, its image after one period, and whether it is stable, or `None` if Newton
 /// fails.
-fn refine(
-    params: &Parameters,
-    x: &[f64],
-    mode: hycont_core::Mode,
-    k: usize,
-    settings: &ClassifierSettings,
-) -> Option<Refined> {
+fn refine(params: &Parameters, x: &[f64], mode: hycont_core::Mode, k: usize) -> Option<Refined> {
     use hycont_core::Sensitivities;
     let period = params.forcing_period();
     let p = params.to_vec();
@@ -249,7 +243,6 @@ fn refine(
             return None;
         }
     }
-    let _ = settings;
     None
 }
 
@@ -391,7 +384,7 @@ pub fn classify(
             && periods >= 2 * settings.min_periods
         {
             for kk in [1usize, 2] {
-                if let Some((z, h, one, stable)) = refine(params, &x, mode, kk, settings) {
+                if let Some((z, h, one, stable)) = refine(params, &x, mode, kk) {
                     let here = [x[0], x[1]];
                     // A fixed point of the squared map that returns after one period is period 1.
                     let period_one = kk == 1 || dist(&one, &z) <= 1e-6;

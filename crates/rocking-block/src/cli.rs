@@ -211,6 +211,9 @@ pub struct FigureArgs {
     /// DIR/figN.shard-I-of-N.json, for `rocking-block merge` (cluster array jobs).
     #[arg(long)]
     pub shard: Option<String>,
+    /// Print the files written as JSON (`{"files": [...]}`).
+    #[arg(long)]
+    pub json: bool,
 }
 
 /// Arguments of `rocking-block merge`.
@@ -222,6 +225,9 @@ pub struct MergeArgs {
     /// Output directory for figN.json and figN.svg.
     #[arg(long, default_value = "results")]
     pub out: PathBuf,
+    /// Print the files written as JSON (`{"files": [...]}`).
+    #[arg(long)]
+    pub json: bool,
 }
 
 /// Arguments of `rocking-block simulate`.
@@ -382,13 +388,7 @@ fn run_merge(args: &MergeArgs, out: &mut dyn Write) -> Result<()> {
         seed: m.seed,
     };
     let files = crate::figures::sampling::render(m.figure, &args.out, options, &m.counts)?;
-    for f in files.files {
-        writeln!(out, "wrote {}", f.display()).map_err(|source| Error::Io {
-            path: PathBuf::from("<stdout>"),
-            source,
-        })?;
-    }
-    Ok(())
+    print_written(out, &files.files, args.json)
 }
 
 fn run_continue(args: &ContinueArgs, out: &mut dyn Write) -> Result<()> {
@@ -658,21 +658,14 @@ fn run_figure(args: &FigureArgs, out: &mut dyn Write) -> Result<()> {
         };
         std::fs::write(&path, serde_json::to_string(&file).expect("serialises"))
             .map_err(io_err(&path))?;
-        writeln!(out, "wrote {}", path.display()).map_err(|source| Error::Io {
-            path: PathBuf::from("<stdout>"),
-            source,
-        })?;
-        return Ok(());
+        return print_written(out, &[path], args.json);
     }
     // Ctrl-C stops sampling studies early; what was counted is written, with its trial ranges.
     {
         let p = Arc::clone(&progress);
         let _ = ctrlc::set_handler(move || p.stop.store(true, Ordering::Relaxed));
     }
-    let stdout_err = |source| Error::Io {
-        path: PathBuf::from("<stdout>"),
-        source,
-    };
+    let mut written: Vec<PathBuf> = Vec::new();
     for n in which {
         let total = match n {
             7 => options.trials * crate::figures::sampling::FIG7_OMEGAS.len() as u64,
@@ -711,9 +704,7 @@ fn run_figure(args: &FigureArgs, out: &mut dyn Write) -> Result<()> {
         if let Some(bar) = bar {
             bar.finish_and_clear();
         }
-        for f in files.files {
-            writeln!(out, "wrote {}", f.display()).map_err(stdout_err)?;
-        }
+        written.extend(files.files);
         if progress.stop.load(Ordering::Relaxed) {
             eprintln!(
                 "rocking-block: interrupted: figure {n} holds the trials counted so far (see trial_ranges)"
@@ -721,7 +712,29 @@ fn run_figure(args: &FigureArgs, out: &mut dyn Write) -> Result<()> {
             break;
         }
     }
-    Ok(())
+    print_written(out, &written, args.json)
+}
+
+/// Prints the files written, as lines or as JSON.
+fn print_written(out: &mut dyn Write, files: &[PathBuf], json: bool) -> Result<()> {
+    let stdout_err = |source| Error::Io {
+        path: PathBuf::from("<stdout>"),
+        source,
+    };
+    if json {
+        let v = serde_json::json!({"files": files.iter().map(|f| f.display().to_string()).collect::<Vec<_>>()});
+        writeln!(
+            out,
+            "{}",
+            serde_json::to_string_pretty(&v).expect("serialises")
+        )
+        .map_err(stdout_err)
+    } else {
+        for f in files {
+            writeln!(out, "wrote {}", f.display()).map_err(stdout_err)?;
+        }
+        Ok(())
+    }
 }
 
 fn run_classify(args: &ClassifyArgs, out: &mut dyn Write) -> Result<()> {

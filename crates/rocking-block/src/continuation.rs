@@ -337,11 +337,9 @@ impl SavedRun {
     pub fn orbit_at(&self, label: usize) -> Result<(PeriodicOrbit, f64)> {
         let p = self.branch.point(label).map_err(cont_err)?;
         let orbit = hycont_core::orbit::unpack(&self.start, &p.u);
-        let q = self.free.id().index();
         // Direction of the run at that point: the sign of the tangent's parameter component
         // (the last unknown is the active parameter).
         let dir = p.tangent.last().copied().unwrap_or(1.0).signum();
-        let _ = q;
         Ok((orbit, if dir == 0.0 { 1.0 } else { dir }))
     }
 }

@@ -5,7 +5,7 @@ use crate::classes::{Class, RockingClassifier, base_class};
 use crate::error::{Error, Result};
 use crate::model::{ALPHA, Parameters, RockingBlock, initial_mode, initial_state};
 use crate::plot;
-use hycont_core::{HybridSystem, SimulationSettings, StopReason};
+use hycont_core::{SimulationSettings, StopReason};
 use hycont_sample::basin::{Axis, Counts, Distribution, Progress, Study, run};
 use hycont_sample::sweep::{Sweep, SweepPoint, brute_force};
 use serde_json::{Value, json};
@@ -333,7 +333,6 @@ fn render7(out: &Path, options: SampleOptions, all: &[Counts]) -> Result<FigureF
     write_json(&json_path, &json)?;
     let svg_path = out.join("fig7.svg");
     plot::basins_svg(&svg_path, &rasters, Parameters::default().static_boundary())?;
-    let _ = RockingBlock.state_dim();
     Ok(FigureFiles {
         figure: 7,
         files: vec![json_path, svg_path],
