@@ -147,7 +147,7 @@ fn refine_with_extrema(
 /// ($x_1 = S x_0$), then $\psi = 0$ interior points for the exact amplitude.
 ///
 /// # Errors
-/// [`Error::Core`] with [`hycont_core::Error::NewtonFailed`] if no scanned guess converges.
+/// [`crate::Error::Core`] with [`hycont_core::Error::NewtonFailed`] if no scanned guess converges.
 pub fn symmetric_orbit(params: &Parameters) -> Result<RockingOrbit> {
     params.validate()?;
     let p = params.to_vec();

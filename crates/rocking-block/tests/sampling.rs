@@ -331,3 +331,46 @@ fn figures_8_to_10_write_their_json() {
     }
     std::fs::remove_dir_all(&dir).ok();
 }
+
+#[test]
+fn figure_8_grid_matches_the_studys_description() {
+    use rocking_block::figures::sampling::{FIG8_GRID, figure8};
+    let dir = std::env::temp_dir().join(format!("rocking-block-fig8-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    figure8(&dir).unwrap();
+    let v: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("fig8.json")).unwrap()).unwrap();
+    let grids = v["grids"].as_array().unwrap();
+    assert_eq!(grids.len(), 2);
+    let count = |g: &serde_json::Value, class: &str| {
+        g["classes"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .flat_map(|c| c.as_array().unwrap())
+            .filter(|x| *x == class)
+            .count()
+    };
+    let total = FIG8_GRID.0 * FIG8_GRID.1;
+    for g in grids {
+        assert_eq!(g["classes"].as_array().unwrap().len(), FIG8_GRID.0);
+        assert_eq!(count(g, "error"), 0);
+        // Equilibrium at low forcing, symmetric period 1 above it, in both panels.
+        assert!(count(g, "equilibrium") > total / 10);
+        assert!(count(g, "symmetric_p1") > total / 10);
+    }
+    // The equilibrium region does not depend on beta (the study's observation).
+    let (e0, e1) = (
+        count(&grids[0], "equilibrium"),
+        count(&grids[1], "equilibrium"),
+    );
+    assert!(
+        (e0 as f64 - e1 as f64).abs() < 0.05 * e0 as f64,
+        "{e0} vs {e1}"
+    );
+    // beta = pi/2 has far more asymmetric orbits than beta = 0 (between the BP and PD lines).
+    let asym = |g| count(g, "asymmetric_p1_pos") + count(g, "asymmetric_p1_neg");
+    assert!(asym(&grids[1]) > 3 * asym(&grids[0]));
+    assert_eq!(v["curves"].as_array().unwrap().len(), 5);
+    std::fs::remove_dir_all(&dir).ok();
+}
