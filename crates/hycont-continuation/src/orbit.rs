@@ -7,9 +7,9 @@ use crate::error::{Error, Result};
 use crate::switch::branch_switch_direction;
 use crate::{ContinuationProblem, MonitorEvent, PointInfo};
 use hycont_core::orbit::{
-    CollocationSettings, Mesh, PeriodicOrbit, ShootingSettings, collocation_floquet,
-    collocation_problem, collocation_unpack, monodromy_by_shooting, pack, shooting_problem,
-    solve_collocation, unpack,
+    CollocationSettings, LinearizationCache, Mesh, PeriodicOrbit, ShootingSettings,
+    collocation_floquet, collocation_problem, collocation_unpack, monodromy_by_shooting,
+    monodromy_from_cache, pack, shooting_problem_cached, solve_collocation, unpack,
 };
 use hycont_core::problem::{Activity, NewtonSettings, Problem};
 use hycont_core::{HybridJacobians, ParamId};
@@ -25,7 +25,7 @@ pub enum OrbitMethod {
 
 #[derive(Debug, Clone)]
 enum Layout {
-    Shooting(ShootingSettings),
+    Shooting(ShootingSettings, LinearizationCache),
     Collocation { meshes: Vec<Mesh>, ncol: usize },
 }
 
@@ -105,11 +105,12 @@ impl<'a, S: HybridJacobians + ?Sized> OrbitContinuation<'a, S> {
         let q = parameter.index();
         let (mut problem, base, layout, like) = match method {
             OrbitMethod::Shooting(settings) => {
-                let problem = shooting_problem(system, orbit, *settings)?;
+                let cache = LinearizationCache::default();
+                let problem = shooting_problem_cached(system, orbit, *settings, cache.clone())?;
                 (
                     problem,
                     pack(orbit),
-                    Layout::Shooting(*settings),
+                    Layout::Shooting(*settings, cache),
                     orbit.clone(),
                 )
             }
@@ -177,7 +178,7 @@ impl<'a, S: HybridJacobians + ?Sized> OrbitContinuation<'a, S> {
     #[must_use]
     pub fn orbit(&self, u: &[f64]) -> PeriodicOrbit {
         match &self.layout {
-            Layout::Shooting(_) => unpack(&self.like, u),
+            Layout::Shooting(..) => unpack(&self.like, u),
             Layout::Collocation { meshes, ncol } => {
                 collocation_unpack(&self.like, meshes, *ncol, u).1
             }
@@ -199,7 +200,7 @@ impl<'a, S: HybridJacobians + ?Sized> OrbitContinuation<'a, S> {
         let double = |v: &[f64]| -> Vec<f64> {
             // [segment blocks..., durations (K), params..., active slot] -> doubled.
             let n_seg_vals = match &self.layout {
-                Layout::Shooting(_) => kk * self.like.starts[0].len(),
+                Layout::Shooting(..) => kk * self.like.starts[0].len(),
                 Layout::Collocation { meshes, ncol } => meshes
                     .iter()
                     .map(|m| ((m.len() - 1) * ncol + 1) * self.like.starts[0].len())
@@ -214,10 +215,13 @@ impl<'a, S: HybridJacobians + ?Sized> OrbitContinuation<'a, S> {
         };
         let orbit = self.orbit(&point.u).doubled();
         let (problem, layout) = match &self.layout {
-            Layout::Shooting(s) => (
-                shooting_problem(self.system, &orbit, *s)?,
-                Layout::Shooting(*s),
-            ),
+            Layout::Shooting(s, _) => {
+                let cache = LinearizationCache::default();
+                (
+                    shooting_problem_cached(self.system, &orbit, *s, cache.clone())?,
+                    Layout::Shooting(*s, cache),
+                )
+            }
             Layout::Collocation { meshes, ncol } => {
                 let mut m2 = meshes.clone();
                 m2.extend(meshes.iter().cloned());
@@ -286,9 +290,13 @@ impl<'a, S: HybridJacobians + ?Sized> ContinuationProblem<'a> for OrbitContinuat
     }
     fn analyse(&mut self, u: &[f64]) -> hycont_core::Result<PointInfo> {
         let (orbit, floquet) = match &self.layout {
-            Layout::Shooting(s) => {
+            Layout::Shooting(s, cache) => {
                 let orbit = unpack(&self.like, u);
-                let f = monodromy_by_shooting(self.system, &orbit, *s)?;
+                // The corrector's last Jacobian evaluation was at this point: reuse its flows.
+                let f = match monodromy_from_cache(self.system, &orbit, cache)? {
+                    Some(f) => f,
+                    None => monodromy_by_shooting(self.system, &orbit, *s)?,
+                };
                 (orbit, f)
             }
             Layout::Collocation { meshes, ncol } => {

@@ -5,9 +5,10 @@ mod common;
 
 use common::{ImpactOscillator, Relaxation};
 use hycont_core::orbit::{
-    Collocation, CollocationSettings, PeriodicOrbit, SegmentEnd, SegmentSpec, Shooting,
-    ShootingSettings, Signature, gauss_legendre_points, pack, shooting_problem, solve_collocation,
-    solve_shooting,
+    Collocation, CollocationSettings, LinearizationCache, PeriodicOrbit, SegmentEnd, SegmentSpec,
+    Shooting, ShootingSettings, Signature, gauss_legendre_points, monodromy_by_shooting,
+    monodromy_from_cache, pack, shooting_problem, shooting_problem_cached, solve_collocation,
+    solve_shooting, unpack,
 };
 use hycont_core::problem::{
     Activity, NewtonSettings, Problem, UnknownMonitor, ZeroFunction, newton,
@@ -393,6 +394,48 @@ fn orbit_from_simulation_and_back() {
     assert_eq!(problem.equations(), problem.unknowns());
     assert!(problem.monitor_id("a").is_some());
     let _ = &mut problem;
+}
+
+#[test]
+fn cached_linearisations_reproduce_the_monodromy_and_miss_when_stale() {
+    let a = 3.0;
+    let guess = relaxation_guess(a)
+        .with_interior_points(&Relaxation, 1, 0.9, &SimulationSettings::default())
+        .unwrap();
+    assert_eq!(guess.segment_count(), 2);
+    let settings = ShootingSettings::default();
+    let cache = LinearizationCache::default();
+    let mut problem =
+        shooting_problem_cached(&Relaxation, &guess, settings, cache.clone()).unwrap();
+    let sol = newton(&mut problem, &pack(&guess), &NewtonSettings::default()).unwrap();
+    let orbit = unpack(&guess, &sol.u);
+    // Newton's last Jacobian was at the previous iterate: the cache is stale, so it must miss.
+    assert!(
+        monodromy_from_cache(&Relaxation, &orbit, &cache)
+            .unwrap()
+            .is_none()
+    );
+    // One Jacobian evaluation at the solution (as continuation does for its tangent) fills it.
+    let mut residual = vec![0.0; problem.equations()];
+    problem.factorize(&sol.u, &mut residual).unwrap();
+    let cached = monodromy_from_cache(&Relaxation, &orbit, &cache)
+        .unwrap()
+        .expect("cache filled at this orbit");
+    let fresh = monodromy_by_shooting(&Relaxation, &orbit, settings).unwrap();
+    for (c, f) in cached.multipliers.iter().zip(&fresh.multipliers) {
+        assert!(
+            (c.0 - f.0).abs() < 1e-12 && (c.1 - f.1).abs() < 1e-12,
+            "{c:?} vs {f:?}"
+        );
+    }
+    // A different parameter value is a miss, not a wrong answer.
+    let mut other = orbit.clone();
+    other.params[0] += 1e-9;
+    assert!(
+        monodromy_from_cache(&Relaxation, &other, &cache)
+            .unwrap()
+            .is_none()
+    );
 }
 
 #[test]

@@ -21,7 +21,7 @@ pub use collocation::{
 };
 pub use floquet::Floquet;
 pub use periodic_orbit::PeriodicOrbit;
-pub use shooting::{Shooting, ShootingSettings};
+pub use shooting::{CachedSegment, LinearizationCache, Shooting, ShootingSettings};
 pub use signature::{Closure, SegmentEnd, SegmentSpec, Signature};
 pub use symmetry::{SymmetricSolution, solve_symmetric_collocation, solve_symmetric_shooting};
 
@@ -113,6 +113,66 @@ pub fn shooting_problem<'a, S: HybridJacobians + ?Sized>(
         )?;
     }
     Ok(problem)
+}
+
+/// Like [`shooting_problem`], with the shooting part recording its linearisations into `cache`.
+///
+/// # Errors
+/// Invalid settings.
+pub fn shooting_problem_cached<'a, S: HybridJacobians + ?Sized>(
+    system: &'a S,
+    guess: &PeriodicOrbit,
+    settings: ShootingSettings,
+    cache: LinearizationCache,
+) -> Result<Problem<'a>> {
+    let shooting = Shooting::new(system, guess.signature.clone(), settings)?.with_cache(cache);
+    let nu = shooting.unknowns();
+    let first_param = shooting.param_index(0);
+    let mut problem = Problem::new(nu);
+    problem.add_part(Box::new(shooting), (0..nu).collect())?;
+    for (q, name) in system.parameter_names().iter().enumerate() {
+        problem.add_monitor(
+            name,
+            Box::new(UnknownMonitor),
+            vec![first_param + q],
+            Activity::Inactive(guess.params[q]),
+        )?;
+    }
+    Ok(problem)
+}
+
+/// Floquet multipliers of `orbit` from cached segment linearisations, if the cache holds every
+/// segment at exactly this orbit's start states, durations and parameters (else `None`).
+///
+/// # Errors
+/// Eigenvalue failures.
+pub fn monodromy_from_cache<S: HybridJacobians + ?Sized>(
+    system: &S,
+    orbit: &PeriodicOrbit,
+    cache: &LinearizationCache,
+) -> Result<Option<Floquet>> {
+    let c = cache.borrow();
+    if c.len() != orbit.segment_count() {
+        return Ok(None);
+    }
+    let hit = c.iter().enumerate().all(|(k, seg)| {
+        seg.start == orbit.starts[k]
+            && seg.duration == orbit.durations[k]
+            && seg.params == orbit.params
+    });
+    if !hit {
+        return Ok(None);
+    }
+    let n = system.state_dim();
+    let mut m = vec![0.0; n * n];
+    for i in 0..n {
+        m[i + i * n] = 1.0;
+    }
+    for (k, seg) in c.iter().enumerate() {
+        let s = floquet::saltation(system, orbit, k, &seg.end);
+        m = floquet::matmul(n, &floquet::matmul(n, &s, &seg.phi), &m);
+    }
+    Floquet::from_monodromy(system, &orbit.params, orbit.period(), m).map(Some)
 }
 
 /// Solves for the periodic orbit near `guess` by multiple shooting and Newton's method, and

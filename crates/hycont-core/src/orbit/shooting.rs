@@ -35,6 +35,27 @@ impl Default for ShootingSettings {
     }
 }
 
+/// The linearisation of one segment at its last Jacobian evaluation: the inputs it was
+/// computed for, the end state and the flow Jacobian $\Phi_k$.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct CachedSegment {
+    /// Start state.
+    pub start: Vec<f64>,
+    /// Duration.
+    pub duration: f64,
+    /// Parameters.
+    pub params: Vec<f64>,
+    /// End state $y_k$.
+    pub end: Vec<f64>,
+    /// $\Phi_k$, column-major.
+    pub phi: Vec<f64>,
+}
+
+/// Shared storage of the segments' last linearisations, so that an analysis at a point where
+/// the Jacobian was just evaluated (e.g. a converged continuation point) need not integrate
+/// again (see [`super::monodromy_from_cache`]).
+pub type LinearizationCache = std::rc::Rc<std::cell::RefCell<Vec<CachedSegment>>>;
+
 /// The shooting equations of a hybrid periodic orbit (a [`ZeroFunction`]).
 pub struct Shooting<'a, S: ?Sized> {
     system: &'a S,
@@ -42,6 +63,7 @@ pub struct Shooting<'a, S: ?Sized> {
     n: usize,
     np: usize,
     sim: Simulator,
+    cache: Option<LinearizationCache>,
     /// $S$ for a symmetric closure (column-major), else `None`.
     closure: Option<Vec<f64>>,
     // Work space.
@@ -76,6 +98,7 @@ impl<'a, S: HybridJacobians + ?Sized> Shooting<'a, S> {
             n,
             np,
             sim,
+            cache: None,
             closure,
             gx: vec![0.0; n * n],
             gp: vec![0.0; n * np],
@@ -84,6 +107,13 @@ impl<'a, S: HybridJacobians + ?Sized> Shooting<'a, S> {
             fy: vec![0.0; n],
             gy: vec![0.0; n],
         })
+    }
+
+    /// Records every segment's linearisation at each Jacobian evaluation into `cache`.
+    #[must_use]
+    pub fn with_cache(mut self, cache: LinearizationCache) -> Self {
+        self.cache = Some(cache);
+        self
     }
 
     /// Index of segment `k`'s start state in the local unknowns.
@@ -225,6 +255,19 @@ impl<S: HybridJacobians + ?Sized> ZeroFunction for Shooting<'_, S> {
                 .params
                 .as_ref()
                 .expect("parameter sensitivities requested");
+            if let Some(cache) = &self.cache {
+                let mut c = cache.borrow_mut();
+                if c.len() != kk {
+                    c.resize(kk, CachedSegment::default());
+                }
+                c[k] = CachedSegment {
+                    start: x.to_vec(),
+                    duration: t,
+                    params: p.clone(),
+                    end: y.clone(),
+                    phi: phi.clone(),
+                };
+            }
             // Row operator: A (n x n) applied to the segment's derivatives, plus constant
             // parameter terms.
             match end {
