@@ -24,9 +24,9 @@ fn random_matrix(n: usize, rng: &mut Rng) -> (Vec<(usize, usize)>, Vec<f64>) {
     }
     let mut entries = Vec::new();
     let mut values = Vec::new();
-    for j in 0..n {
+    for (j, &row) in perm.iter().enumerate() {
         let sign = if rng.next() < 0.5 { -1.0 } else { 1.0 };
-        entries.push((perm[j], j));
+        entries.push((row, j));
         values.push(sign * (4.0 + rng.next()));
         for _ in 0..3 {
             let i = (rng.next() * n as f64) as usize % n;

@@ -93,7 +93,6 @@ fn a_wrong_jacobian_is_detected() {
             RockingBlock.event_gradient(e, x, p, dx, dp);
         }
     }
-    use hycont_core::HybridSystem;
     let check = check_derivatives(
         &Wrong,
         PLUS,
