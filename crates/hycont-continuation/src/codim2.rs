@@ -10,8 +10,9 @@
 //!   and $\prod(1 + \mu_i) = 0$ (symmetry-breaking branch point); the full-period map has a
 //!   multiplier $+1$ at both, the half map tells them apart;
 //! - SN of a general orbit: $\prod(\lambda_i - 1) = 0$;
-//! - events: a monitor of the orbit held at its level (SB), or a segment's duration held at zero
-//!   (GR: the segment has collapsed).
+//! - events: a monitor of the orbit held at its level (SB), a signed grazing margin held at zero
+//!   (GR: an interior dip of a flight touches the impact surface), or a segment's duration held
+//!   at zero (GR: the segment has collapsed).
 //!
 //! The defining function's gradient is computed by central differences (the multipliers'
 //! derivatives would need second derivatives of the flow); the problems are small, so the cost
@@ -42,6 +43,12 @@ pub enum Condition {
         /// The level.
         level: f64,
     },
+    /// Measure `index` of the orbit's measures, a signed grazing margin (e.g. the depth of a
+    /// flight's interior dip above its impact surface), held at zero: a grazing curve.
+    Grazing {
+        /// Index into the [`Measures`] values.
+        index: usize,
+    },
     /// The duration of segment `segment` held at zero.
     Collapse {
         /// The segment.
@@ -58,7 +65,7 @@ impl Condition {
             Condition::Fold | Condition::SymmetricFold => SpecialKind::Fold,
             Condition::SymmetryBreaking => SpecialKind::BranchPoint,
             Condition::Monitor { .. } => SpecialKind::BoundaryTouch,
-            Condition::Collapse { .. } => SpecialKind::Grazing,
+            Condition::Grazing { .. } | Condition::Collapse { .. } => SpecialKind::Grazing,
         }
     }
 }
@@ -130,6 +137,7 @@ impl<S: HybridJacobians + ?Sized> DefiningEquation<'_, S> {
                 product(&f, shift)
             }
             Condition::Monitor { index, level } => (self.measures.compute)(&orbit)[index] - level,
+            Condition::Grazing { index } => (self.measures.compute)(&orbit)[index],
             Condition::Collapse { segment } => orbit.durations[segment],
         })
     }
@@ -355,6 +363,35 @@ impl<'a, S: HybridJacobians + ?Sized> Codim2<'a, S> {
             Condition::SymmetryBreaking,
             measures,
             Measures::default(),
+        )
+    }
+
+    /// The grazing curve through an orbit at which measure `index` of `condition_measures`, a
+    /// signed grazing margin (zero where an interior dip of a flight touches its impact
+    /// surface), vanishes.
+    ///
+    /// # Errors
+    /// As [`Codim2::new`].
+    #[allow(clippy::too_many_arguments)]
+    pub fn from_grazing(
+        system: &'a S,
+        orbit: &PeriodicOrbit,
+        settings: ShootingSettings,
+        first: ParamId,
+        second: ParamId,
+        index: usize,
+        measures: Measures<'a>,
+        condition_measures: Measures<'a>,
+    ) -> Result<(Self, Vec<f64>)> {
+        Self::new(
+            system,
+            orbit,
+            settings,
+            first,
+            second,
+            Condition::Grazing { index },
+            measures,
+            condition_measures,
         )
     }
 

@@ -3,7 +3,7 @@
 
 use crate::error::{Error, Result};
 use crate::model::{ALPHA, OMEGA, Parameters, RockingBlock};
-use crate::orbits::{OrbitKind, amplitude, orbit};
+use crate::orbits::{OrbitKind, amplitude, grazing_margin, orbit};
 use hycont_continuation::observe::Observer;
 use hycont_continuation::{
     Branch, BranchPoint, ContinuationSettings, EndReason, Measures, MonitorEvent,
@@ -18,6 +18,9 @@ use serde_json::{Value, json};
 /// Index of Amp among the monitors of a rocking-block branch (after `period` and
 /// `min_duration`).
 pub const AMP: usize = 2;
+
+/// Index of the signed grazing margin (see [`grazing_margin`]) among the monitors.
+pub const GRAZING_MARGIN: usize = 3;
 
 /// The parameter continued.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
@@ -49,25 +52,36 @@ impl Free {
     }
 }
 
-/// The measures recorded along rocking-block branches: the exact amplitude.
+/// The measures recorded along rocking-block branches: the exact amplitude and the signed
+/// grazing margin.
 #[must_use]
 pub fn measures() -> Measures<'static> {
     Measures {
-        names: vec!["amp".into()],
-        compute: Box::new(|o: &PeriodicOrbit| vec![amplitude(o)]),
+        names: vec!["amp".into(), "grazing_margin".into()],
+        compute: Box::new(|o: &PeriodicOrbit| vec![amplitude(o), grazing_margin(o)]),
     }
 }
 
-/// The events: boundary touch SB where Amp reaches the static boundary $\pi/2 - \theta_b$.
-/// (Grazing is built into every orbit continuation.)
+/// The events: boundary touch SB where Amp reaches the static boundary $\pi/2 - \theta_b$,
+/// and grazing GR where an interior dip of a flight reaches the impact surface (the grazing
+/// margin reaches 0; terminal: past it the orbit is not admissible). Grazing by a collapsing
+/// flight is built into every orbit continuation.
 #[must_use]
 pub fn events(params: &Parameters) -> Vec<MonitorEvent> {
-    vec![MonitorEvent {
-        kind: SpecialKind::BoundaryTouch,
-        monitor: AMP,
-        level: params.static_boundary(),
-        terminal: false,
-    }]
+    vec![
+        MonitorEvent {
+            kind: SpecialKind::BoundaryTouch,
+            monitor: AMP,
+            level: params.static_boundary(),
+            terminal: false,
+        },
+        MonitorEvent {
+            kind: SpecialKind::Grazing,
+            monitor: GRAZING_MARGIN,
+            level: 0.0,
+            terminal: true,
+        },
+    ]
 }
 
 /// The discretisation used for the study's branches: multiple shooting (ten times cheaper per
@@ -533,27 +547,13 @@ pub fn study_curves(observer: &mut dyn Observer) -> Result<Vec<Curve>> {
         range,
         observer,
     )?);
-    // On a symmetric orbit the mirror segment collapses at the same point: use the half orbit.
-    let mut gr = at(&find(&fig3[0], SpecialKind::Grazing)?);
-    for d in &mut gr.durations {
-        // The collapsed segments, located to rounding: exactly zero.
-        if d.abs() < 1e-8 {
-            *d = 0.0;
-        }
-    }
-    let gr = gr.half_of_symmetric(&RockingBlock, 1e-5)?;
-    let collapsing = gr
-        .durations
-        .iter()
-        .enumerate()
-        .min_by(|a, b| a.1.abs().total_cmp(&b.1.abs()))
-        .map_or(0, |(i, _)| i);
+    // Grazing of a flight's interior dip: the grazing margin (measure 1) held at zero. On a
+    // symmetric orbit the mirror flight grazes at the same point: use the half orbit.
+    let gr = at(&find(&fig3[0], SpecialKind::Grazing)?).half_of_symmetric(&RockingBlock, 1e-5)?;
     curves.push(curve(
         "GR",
         &gr,
-        Condition::Collapse {
-            segment: collapsing,
-        },
+        Condition::Grazing { index: 1 },
         range,
         observer,
     )?);

@@ -2,7 +2,9 @@
 //! off simulations; exact amplitude and grazing measure; reports in the study's JSON format.
 
 use crate::error::Result;
-use crate::model::{IMPACT_PLUS, PLUS, Parameters, RockingBlock, initial_mode, initial_state};
+use crate::model::{
+    IMPACT_PLUS, MINUS, PLUS, Parameters, RockingBlock, initial_mode, initial_state,
+};
 use hycont_core::orbit::{
     Closure, CollocationSettings, OrbitSolution, PeriodicOrbit, SegmentEnd, SegmentSpec,
     ShootingSettings, Signature, SymmetricSolution, solve_collocation, solve_shooting,
@@ -109,21 +111,57 @@ pub fn amplitude(orbit: &PeriodicOrbit) -> f64 {
 }
 
 /// The grazing measure: the smallest $|\varphi|$ at an interior extremum where $|\varphi|$ has a
-/// local minimum (the flight turns back before reaching the impact surface).
+/// local minimum (the flight turns back before reaching the impact surface), among the
+/// orbit's interior points.
 #[must_use]
 pub fn grazing_measure(orbit: &PeriodicOrbit) -> Option<f64> {
+    turn_backs(orbit)
+        .map(|(_, phi)| phi.abs())
+        .min_by(f64::total_cmp)
+}
+
+/// Interior points of a flight where $s\varphi$ has a local minimum ($s = \pm 1$ the sign of
+/// the mode: the flight turns back towards its impact surface), with $s$ and $\varphi$ there.
+fn turn_backs(orbit: &PeriodicOrbit) -> impl Iterator<Item = (f64, f64)> + '_ {
     let segs = orbit.signature.segments();
     let k = segs.len();
-    let mut f = [0.0; 4];
     (0..k)
-        .filter(|&i| matches!(segs[(i + k - 1) % k].end, SegmentEnd::Interior { .. }))
-        .filter_map(|i| {
+        .filter(move |&i| matches!(segs[(i + k - 1) % k].end, SegmentEnd::Interior { .. }))
+        .filter_map(move |i| {
+            let sign = match segs[i].mode {
+                PLUS => 1.0,
+                MINUS => -1.0,
+                _ => return None,
+            };
             let x = &orbit.starts[i];
+            let mut f = [0.0; 4];
             RockingBlock.vector_field(segs[i].mode, x, &orbit.params, &mut f);
-            // |phi| has a local minimum where phi * psi' > 0.
-            (x[0] * f[1] > 0.0).then_some(x[0].abs())
+            // s phi has a local minimum where psi = 0 and s psi' > 0.
+            (sign * f[PSI] > 0.0).then_some((sign, x[0]))
         })
-        .min_by(f64::total_cmp)
+}
+
+/// The signed grazing margin $g$ of an orbit: the smallest $s\varphi$ over the points where a
+/// flight turns back towards its impact surface ($\psi = 0$, $s\psi' > 0$, $s = \pm 1$ the
+/// sign of the flight's mode), including turning points that are not in the orbit's signature
+/// (found by integrating every segment), capped at $\pi/2$ (the value when no flight turns
+/// back). $g$ reaches $0$ where such an interior dip grazes the impact surface, and is negative
+/// past it, where $\varphi$ changes sign inside a flight (the orbit is not admissible).
+///
+/// This is the test function of the interior-dip grazing event; grazing by a flight collapsing
+/// to zero duration is the continuation's built-in segment-collapse event.
+#[must_use]
+pub fn grazing_margin(orbit: &PeriodicOrbit) -> f64 {
+    let settings = SimulationSettings::default().rtol(1e-10).atol(1e-12);
+    // The orbit was just computed from these segments, so integrating them again does not fail
+    // in practice; if it does, the signature's own turning points still give a bound.
+    let split = orbit.with_interior_points(&RockingBlock, PSI, 0.0, &settings);
+    let margin = |o: &PeriodicOrbit| {
+        turn_backs(o)
+            .map(|(sign, phi)| sign * phi)
+            .fold(FRAC_PI_2, f64::min)
+    };
+    split.as_ref().map_or_else(|_| margin(orbit), margin)
 }
 
 /// Adds $\psi = 0$ interior points and re-solves, so that the amplitude is exact.

@@ -36,7 +36,7 @@ fn figure_3_special_points_match_the_study() {
     // Not printed in the study; found here (regression values of this implementation).
     for (name, value) in [
         ("BP1", 1.142_793_27),
-        ("GR1", 1.465_956_66),
+        ("GR1", 1.236_048_01),
         ("SB1", 1.530_342_22),
         ("BP2", 3.746_735_33),
     ] {
@@ -74,6 +74,55 @@ fn figure_3_special_points_match_the_study() {
     let first = asym.points.first().unwrap().params[0];
     let last = asym.points.last().unwrap().params[0];
     assert!((first - 1.142_793_27).abs() < 1e-6 && (last - 3.746_735_33).abs() < 1e-6);
+    // GR1 ends the lower symmetric sheet where a flight's interior dip touches phi = 0
+    // (terminal: beyond it phi changes sign inside the flight). Checked independently of the
+    // grazing margin by dense samples of the orbit: the smallest s phi inside the flights is 0.
+    let template = orbit(&Parameters::new(1.3, 0.66), OrbitKind::Symmetric, None)
+        .unwrap()
+        .solution
+        .orbit;
+    let gr = sym.special(SpecialKind::Grazing).next().unwrap();
+    // The branch does not go on past it (no lower-sheet orbit beyond GR1).
+    assert!(
+        sym.points
+            .iter()
+            .filter(|p| p.monitors[AMP] < 0.2)
+            .all(|p| p.params[0] <= gr.point.params[0] + 1e-9)
+    );
+    let interior_min = |u: &[f64]| {
+        let o = hycont_core::orbit::unpack(&template, u);
+        let samples = o
+            .sample(
+                &RockingBlock,
+                4001,
+                &hycont_core::SimulationSettings::default()
+                    .rtol(1e-11)
+                    .atol(1e-13),
+            )
+            .unwrap();
+        let mut lowest = f64::INFINITY;
+        for (k, ts) in samples.iter().enumerate() {
+            let sign = if o.signature.segments()[k].mode == rocking_block::PLUS {
+                1.0
+            } else {
+                -1.0
+            };
+            let n = ts.len();
+            for j in n / 100..n - n / 100 {
+                lowest = lowest.min(sign * ts.state(j)[0]);
+            }
+        }
+        lowest
+    };
+    let at_gr = interior_min(&gr.point.u);
+    assert!(at_gr.abs() < 1e-7, "interior min of s phi at GR1: {at_gr}");
+    // Before it (towards SN1 on the lower sheet) the dip is clear of the impact surface.
+    let before = sym
+        .points
+        .iter()
+        .find(|p| p.monitors[AMP] < 0.2 && p.params[0] < gr.point.params[0] - 0.02)
+        .unwrap();
+    assert!(interior_min(&before.u) > 1e-4);
 }
 
 #[test]
@@ -89,7 +138,7 @@ fn figure_4_special_points_match_the_study() {
     let names: Vec<&str> = labels.iter().map(|l| l.3.as_str()).collect();
     assert_eq!(
         names,
-        ["SN2", "BP3", "SB3", "PD1", "PD2", "GR2"],
+        ["SN2", "GR2", "BP3", "SB3", "PD1", "PD2"],
         "{labels:?}"
     );
     for (name, value) in [

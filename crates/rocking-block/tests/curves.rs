@@ -46,8 +46,8 @@ fn curves_started_in_figure_3_pass_through_the_points_of_figure_4() {
         ),
         (
             SpecialKind::Grazing,
-            Condition::Collapse { segment: 1 },
-            (1.3, 4.0),
+            Condition::Grazing { index: 1 },
+            (0.5, 1.3),
             true,
         ),
     ];

@@ -383,3 +383,25 @@ fn grazing_measure_finds_interior_turning_points() {
     assert_eq!(grazing_measure(&orbit), Some(0.05));
     assert!((rocking_block::orbits::amplitude(&orbit) - 0.3).abs() < 1e-15);
 }
+
+#[test]
+fn splitting_half_of_a_symmetric_orbit_keeps_its_closure() {
+    use hycont_core::orbit::Closure;
+    let full = orbit(&Parameters::new(1.3, 0.66), OrbitKind::Symmetric, None)
+        .unwrap()
+        .solution
+        .orbit;
+    let half = full.half_of_symmetric(&RockingBlock, 1e-5).unwrap();
+    assert_eq!(half.signature.closure(), Closure::Symmetric);
+    // Its psi = 0 points are already segment ends: nothing new to split, same orbit back, still
+    // closing through the symmetry (as a periodic cycle its modes would not close).
+    let split = half
+        .with_interior_points(&RockingBlock, 1, 0.0, &SimulationSettings::default())
+        .unwrap();
+    assert_eq!(split.signature.closure(), Closure::Symmetric);
+    assert_eq!(split.segment_count(), half.segment_count());
+    // Its grazing margin: no flight turns back (capped at pi/2); the full orbit agrees.
+    let m = rocking_block::orbits::grazing_margin(&half);
+    assert_eq!(m, rocking_block::orbits::grazing_margin(&full));
+    assert!(m > 0.0);
+}

@@ -235,7 +235,7 @@ impl PeriodicOrbit {
             starts.push(x_prev);
             durations.push(self.durations[k] - t_prev);
         }
-        let signature = Signature::new(system, segments)?;
+        let signature = Signature::with_closure(system, segments, self.signature.closure())?;
         Self::new(system, signature, starts, durations, self.params.clone())
     }
 
