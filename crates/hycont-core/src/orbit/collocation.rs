@@ -9,8 +9,9 @@
 //! The segment ends satisfy the same event and jump conditions as in [`super::Shooting`].
 //! The error at the mesh points is $O(h^{2\,\mathrm{ncol}})$ (superconvergence).
 
+use super::end_condition::EndConditions;
 use super::floquet::{Floquet, matmul, saltation};
-use super::signature::{Closure, SegmentEnd, Signature};
+use super::signature::Signature;
 use super::{OrbitSolution, PeriodicOrbit};
 use crate::error::{Error, Result};
 use crate::problem::{Activity, NewtonSettings, Problem, UnknownMonitor, ZeroFunction, newton};
@@ -181,17 +182,12 @@ pub struct Collocation<'a, S: ?Sized> {
     meshes: Vec<Mesh>,
     n: usize,
     np: usize,
-    closure: Option<Vec<f64>>,
+    ends: EndConditions,
     // Work space.
     xi: Vec<f64>,
     f: Vec<f64>,
     a: Vec<f64>,
     fp: Vec<f64>,
-    gx: Vec<f64>,
-    gp: Vec<f64>,
-    hx: Vec<f64>,
-    hp: Vec<f64>,
-    gy: Vec<f64>,
 }
 
 impl<'a, S: HybridJacobians + ?Sized> Collocation<'a, S> {
@@ -226,10 +222,7 @@ impl<'a, S: HybridJacobians + ?Sized> Collocation<'a, S> {
             });
         }
         let (n, np) = (system.state_dim(), system.parameter_count());
-        let closure = match signature.closure() {
-            Closure::Periodic => None,
-            Closure::Symmetric => system.symmetry().map(|s| s.matrix),
-        };
+        let ends = EndConditions::new(system, &signature);
         Ok(Self {
             system,
             signature,
@@ -237,16 +230,11 @@ impl<'a, S: HybridJacobians + ?Sized> Collocation<'a, S> {
             meshes,
             n,
             np,
-            closure,
+            ends,
             xi: vec![0.0; n],
             f: vec![0.0; n],
             a: vec![0.0; n * n],
             fp: vec![0.0; n * np],
-            gx: vec![0.0; n * n],
-            gp: vec![0.0; n * np],
-            hx: vec![0.0; n],
-            hp: vec![0.0; np],
-            gy: vec![0.0; n],
         })
     }
 
@@ -330,7 +318,7 @@ impl<S: HybridJacobians + ?Sized> ZeroFunction for Collocation<'_, S> {
                     out.push((rb + i, self.param_index(q)));
                 }
                 if i < n {
-                    if k + 1 == kk && self.closure.is_some() {
+                    if k + 1 == kk && self.ends.symmetric() {
                         for comp in 0..n {
                             out.push((rb + i, next_off + comp));
                         }
@@ -414,79 +402,31 @@ impl<S: HybridJacobians + ?Sized> ZeroFunction for Collocation<'_, S> {
             let y = u[last..last + n].to_vec();
             let next_off = self.segment_offset((k + 1) % kk);
             let wrap = k + 1 == kk;
-            let next: Vec<f64> = match (&self.closure, wrap) {
-                (Some(sm), true) => (0..n)
-                    .map(|i| (0..n).map(|j| sm[i + j * n] * u[next_off + j]).sum())
-                    .collect(),
-                _ => u[next_off..next_off + n].to_vec(),
-            };
+            let target = self.ends.target(wrap, &u[next_off..next_off + n]);
             let end = self.signature.segments()[k].end;
-            match end {
-                SegmentEnd::Event(e) => {
-                    self.system.reset(e, &y, &p, &mut self.gy);
-                    for i in 0..n {
-                        residual[rb + i] = self.gy[i] - next[i];
-                    }
-                    residual[rb + n] = self.system.event(e, &y, &p);
-                }
-                SegmentEnd::Interior { component, value } => {
-                    for i in 0..n {
-                        residual[rb + i] = y[i] - next[i];
-                    }
-                    residual[rb + n] = y[component] - value;
-                }
-            }
+            self.ends.residual(
+                self.system,
+                end,
+                &y,
+                &p,
+                &target,
+                &mut residual[rb..=rb + n],
+            );
             let Some(jac) = jac.as_deref_mut() else {
                 continue;
             };
-            match end {
-                SegmentEnd::Event(e) => {
-                    self.system
-                        .reset_jacobian(e, &y, &p, &mut self.gx, Some(&mut self.gp));
-                    self.system
-                        .event_gradient(e, &y, &p, &mut self.hx, Some(&mut self.hp));
-                }
-                SegmentEnd::Interior { component, .. } => {
-                    self.gx.fill(0.0);
-                    for i in 0..n {
-                        self.gx[i + i * n] = 1.0;
-                    }
-                    self.gp.fill(0.0);
-                    self.hx.fill(0.0);
-                    self.hx[component] = 1.0;
-                    self.hp.fill(0.0);
-                }
-            }
+            self.ends.linearise(self.system, end, &y, &p);
             for i in 0..=n {
                 for comp in 0..n {
-                    jac[pos] = if i < n {
-                        self.gx[i + comp * n]
-                    } else {
-                        self.hx[comp]
-                    };
+                    jac[pos] = self.ends.state_derivative(i, comp);
                     pos += 1;
                 }
                 for q in 0..np {
-                    jac[pos] = if i < n {
-                        self.gp[i + q * n]
-                    } else {
-                        self.hp[q]
-                    };
+                    jac[pos] = self.ends.parameter_derivative(i, q);
                     pos += 1;
                 }
                 if i < n {
-                    match (&self.closure, wrap) {
-                        (Some(sm), true) => {
-                            for comp in 0..n {
-                                jac[pos] = -sm[i + comp * n];
-                                pos += 1;
-                            }
-                        }
-                        _ => {
-                            jac[pos] = -1.0;
-                            pos += 1;
-                        }
-                    }
+                    self.ends.write_target_entries(i, wrap, jac, &mut pos);
                 }
             }
         }

@@ -7,6 +7,7 @@
 //! ```
 
 mod collocation;
+mod end_condition;
 mod floquet;
 mod flow;
 mod periodic_orbit;
@@ -100,19 +101,7 @@ pub fn shooting_problem<'a, S: HybridJacobians + ?Sized>(
     settings: ShootingSettings,
 ) -> Result<Problem<'a>> {
     let shooting = Shooting::new(system, guess.signature.clone(), settings)?;
-    let nu = shooting.unknowns();
-    let first_param = shooting.param_index(0);
-    let mut problem = Problem::new(nu);
-    problem.add_part(Box::new(shooting), (0..nu).collect())?;
-    for (q, name) in system.parameter_names().iter().enumerate() {
-        problem.add_monitor(
-            name,
-            Box::new(UnknownMonitor),
-            vec![first_param + q],
-            Activity::Inactive(guess.params[q]),
-        )?;
-    }
-    Ok(problem)
+    problem_of_shooting(system, shooting, &guess.params)
 }
 
 /// Like [`shooting_problem`], with the shooting part recording its linearisations into `cache`.
@@ -126,6 +115,15 @@ pub fn shooting_problem_cached<'a, S: HybridJacobians + ?Sized>(
     cache: LinearizationCache,
 ) -> Result<Problem<'a>> {
     let shooting = Shooting::new(system, guess.signature.clone(), settings)?.with_cache(cache);
+    problem_of_shooting(system, shooting, &guess.params)
+}
+
+/// `shooting` over all unknowns, every parameter held at `params` by an inactive monitor.
+fn problem_of_shooting<'a, S: HybridJacobians + ?Sized>(
+    system: &'a S,
+    shooting: Shooting<'a, S>,
+    params: &[f64],
+) -> Result<Problem<'a>> {
     let nu = shooting.unknowns();
     let first_param = shooting.param_index(0);
     let mut problem = Problem::new(nu);
@@ -135,7 +133,7 @@ pub fn shooting_problem_cached<'a, S: HybridJacobians + ?Sized>(
             name,
             Box::new(UnknownMonitor),
             vec![first_param + q],
-            Activity::Inactive(guess.params[q]),
+            Activity::Inactive(params[q]),
         )?;
     }
     Ok(problem)
@@ -163,16 +161,32 @@ pub fn monodromy_from_cache<S: HybridJacobians + ?Sized>(
     if !hit {
         return Ok(None);
     }
+    compose_monodromy(
+        system,
+        orbit,
+        c.iter().map(|seg| Ok((seg.end.clone(), seg.phi.clone()))),
+    )
+    .map(Some)
+}
+
+/// Floquet multipliers from each segment's end state $y_k$ and flow Jacobian $\Phi_k$:
+/// $M = \prod_k S_k \Phi_k$ (saltation matrices $S_k$ at the segment ends), in segment order.
+fn compose_monodromy<S: HybridJacobians + ?Sized>(
+    system: &S,
+    orbit: &PeriodicOrbit,
+    segments: impl Iterator<Item = Result<(Vec<f64>, Vec<f64>)>>,
+) -> Result<Floquet> {
     let n = system.state_dim();
     let mut m = vec![0.0; n * n];
     for i in 0..n {
         m[i + i * n] = 1.0;
     }
-    for (k, seg) in c.iter().enumerate() {
-        let s = floquet::saltation(system, orbit, k, &seg.end);
-        m = floquet::matmul(n, &floquet::matmul(n, &s, &seg.phi), &m);
+    for (k, seg) in segments.enumerate() {
+        let (end, phi) = seg?;
+        let s = floquet::saltation(system, orbit, k, &end);
+        m = floquet::matmul(n, &floquet::matmul(n, &s, &phi), &m);
     }
-    Floquet::from_monodromy(system, &orbit.params, orbit.period(), m).map(Some)
+    Floquet::from_monodromy(system, &orbit.params, orbit.period(), m)
 }
 
 /// Solves for the periodic orbit near `guess` by multiple shooting and Newton's method, and
@@ -209,36 +223,35 @@ pub fn monodromy_by_shooting<S: HybridJacobians + ?Sized>(
     orbit: &PeriodicOrbit,
     settings: ShootingSettings,
 ) -> Result<Floquet> {
-    let n = system.state_dim();
     let mut sim = Simulator::new(
         SimulationSettings::default()
             .rtol(settings.rtol)
             .atol(settings.atol)
             .record_events(false),
     )?;
-    let mut m = vec![0.0; n * n];
-    for i in 0..n {
-        m[i + i * n] = 1.0;
-    }
-    for (k, seg) in orbit.signature.segments().iter().enumerate() {
-        // Negative durations (past a segment's collapse) flow backward.
-        let flow = if orbit.durations[k] >= 0.0 {
-            SegmentFlow::plain(system, seg.mode)
-        } else {
-            SegmentFlow::backward(system, seg.mode)
-        };
-        let traj = sim.run_with_sensitivities(
-            &flow,
-            Mode(0),
-            0.0,
-            &orbit.starts[k],
-            &orbit.params,
-            orbit.durations[k].abs(),
-            Sensitivities::State,
-        )?;
-        let phi = traj.sensitivities.expect("requested").state;
-        let s = floquet::saltation(system, orbit, k, &traj.state_final);
-        m = floquet::matmul(n, &floquet::matmul(n, &s, &phi), &m);
-    }
-    Floquet::from_monodromy(system, &orbit.params, orbit.period(), m)
+    let segments = orbit
+        .signature
+        .segments()
+        .iter()
+        .enumerate()
+        .map(|(k, seg)| {
+            // Negative durations (past a segment's collapse) flow backward.
+            let flow = if orbit.durations[k] >= 0.0 {
+                SegmentFlow::plain(system, seg.mode)
+            } else {
+                SegmentFlow::backward(system, seg.mode)
+            };
+            let traj = sim.run_with_sensitivities(
+                &flow,
+                Mode(0),
+                0.0,
+                &orbit.starts[k],
+                &orbit.params,
+                orbit.durations[k].abs(),
+                Sensitivities::State,
+            )?;
+            let phi = traj.sensitivities.expect("requested").state;
+            Ok((traj.state_final, phi))
+        });
+    compose_monodromy(system, orbit, segments)
 }

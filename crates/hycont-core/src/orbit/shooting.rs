@@ -7,10 +7,11 @@
 //! - for an interior end $x_c = v$: $y_k - x_{k+1} = 0$ and $(y_k)_c - v = 0$,
 //!
 //! with $x_K \equiv x_0$ (or $x_K \equiv S x_0$ for half of a symmetric orbit, see
-//! [`Closure`]). The Jacobian uses $\Phi_k = \partial y_k/\partial x_k$,
+//! [`Closure`](super::Closure)). The Jacobian uses $\Phi_k = \partial y_k/\partial x_k$,
 //! $\partial y_k / \partial p$ and $\partial y_k/\partial T_k = f_{m_k}(y_k)$.
 
-use super::signature::{Closure, SegmentEnd, Signature};
+use super::end_condition::EndConditions;
+use super::signature::Signature;
 use crate::error::{Error, Result};
 use crate::orbit::flow::SegmentFlow;
 use crate::problem::ZeroFunction;
@@ -64,15 +65,9 @@ pub struct Shooting<'a, S: ?Sized> {
     np: usize,
     sim: Simulator,
     cache: Option<LinearizationCache>,
-    /// $S$ for a symmetric closure (column-major), else `None`.
-    closure: Option<Vec<f64>>,
+    ends: EndConditions,
     // Work space.
-    gx: Vec<f64>,
-    gp: Vec<f64>,
-    hx: Vec<f64>,
-    hp: Vec<f64>,
     fy: Vec<f64>,
-    gy: Vec<f64>,
 }
 
 impl<'a, S: HybridJacobians + ?Sized> Shooting<'a, S> {
@@ -88,10 +83,7 @@ impl<'a, S: HybridJacobians + ?Sized> Shooting<'a, S> {
                 .record_events(false),
         )?;
         let (n, np) = (system.state_dim(), system.parameter_count());
-        let closure = match signature.closure() {
-            Closure::Periodic => None,
-            Closure::Symmetric => system.symmetry().map(|s| s.matrix),
-        };
+        let ends = EndConditions::new(system, &signature);
         Ok(Self {
             system,
             signature,
@@ -99,13 +91,8 @@ impl<'a, S: HybridJacobians + ?Sized> Shooting<'a, S> {
             np,
             sim,
             cache: None,
-            closure,
-            gx: vec![0.0; n * n],
-            gp: vec![0.0; n * np],
-            hx: vec![0.0; n],
-            hp: vec![0.0; np],
+            ends,
             fy: vec![0.0; n],
-            gy: vec![0.0; n],
         })
     }
 
@@ -163,7 +150,7 @@ impl<S: HybridJacobians + ?Sized> ZeroFunction for Shooting<'_, S> {
                     out.push((r0 + i, self.param_index(q)));
                 }
                 if i < n {
-                    if k + 1 == kk && self.closure.is_some() {
+                    if k + 1 == kk && self.ends.symmetric() {
                         for j in 0..n {
                             out.push((r0 + i, self.start_index(0) + j));
                         }
@@ -214,38 +201,17 @@ impl<S: HybridJacobians + ?Sized> ZeroFunction for Shooting<'_, S> {
                 self.sim
                     .run_with_sensitivities(&flow, Mode(0), 0.0, x, &p, t.abs(), which)?;
             let y = &traj.state_final;
-            self.system.vector_field(mode, y, &p, &mut self.fy);
             let wrap = k + 1 == kk;
-            let next: Vec<f64> = match (&self.closure, wrap) {
-                (Some(sm), true) => (0..n)
-                    .map(|i| {
-                        (0..n)
-                            .map(|j| sm[i + j * n] * u[self.start_index(0) + j])
-                            .sum()
-                    })
-                    .collect(),
-                _ => u[self.start_index((k + 1) % kk)..self.start_index((k + 1) % kk) + n].to_vec(),
-            };
+            let next_start = self.start_index((k + 1) % kk);
+            let target = self.ends.target(wrap, &u[next_start..next_start + n]);
             let r0 = k * (n + 1);
             let end = self.signature.segments()[k].end;
-            match end {
-                SegmentEnd::Event(e) => {
-                    self.system.reset(e, y, &p, &mut self.gy);
-                    for i in 0..n {
-                        residual[r0 + i] = self.gy[i] - next[i];
-                    }
-                    residual[r0 + n] = self.system.event(e, y, &p);
-                }
-                SegmentEnd::Interior { component, value } => {
-                    for i in 0..n {
-                        residual[r0 + i] = y[i] - next[i];
-                    }
-                    residual[r0 + n] = y[component] - value;
-                }
-            }
+            self.ends
+                .residual(self.system, end, y, &p, &target, &mut residual[r0..=r0 + n]);
             let Some(jac) = jac.as_deref_mut() else {
                 continue;
             };
+            self.system.vector_field(mode, y, &p, &mut self.fy);
             let sens = traj
                 .sensitivities
                 .as_ref()
@@ -268,35 +234,11 @@ impl<S: HybridJacobians + ?Sized> ZeroFunction for Shooting<'_, S> {
                     phi: phi.clone(),
                 };
             }
-            // Row operator: A (n x n) applied to the segment's derivatives, plus constant
-            // parameter terms.
-            match end {
-                SegmentEnd::Event(e) => {
-                    self.system
-                        .reset_jacobian(e, y, &p, &mut self.gx, Some(&mut self.gp));
-                    self.system
-                        .event_gradient(e, y, &p, &mut self.hx, Some(&mut self.hp));
-                }
-                SegmentEnd::Interior { component, .. } => {
-                    self.gx.fill(0.0);
-                    for i in 0..n {
-                        self.gx[i + i * n] = 1.0;
-                    }
-                    self.gp.fill(0.0);
-                    self.hx.fill(0.0);
-                    self.hx[component] = 1.0;
-                    self.hp.fill(0.0);
-                }
-            }
+            // Row operator: the end conditions' derivative in y applied to the segment's
+            // derivatives, plus their direct parameter terms.
+            self.ends.linearise(self.system, end, y, &p);
             for i in 0..=n {
-                // Row i of the operator: gx row i for i < n, hx for i = n.
-                let row = |j: usize| -> f64 {
-                    if i < n {
-                        self.gx[i + j * n]
-                    } else {
-                        self.hx[j]
-                    }
-                };
+                let row = |j: usize| self.ends.state_derivative(i, j);
                 for j in 0..n {
                     jac[pos] = (0..n).map(|l| row(l) * phi[l + j * n]).sum();
                     pos += 1;
@@ -304,27 +246,12 @@ impl<S: HybridJacobians + ?Sized> ZeroFunction for Shooting<'_, S> {
                 jac[pos] = (0..n).map(|l| row(l) * self.fy[l]).sum();
                 pos += 1;
                 for q in 0..np {
-                    let direct = if i < n {
-                        self.gp[i + q * n]
-                    } else {
-                        self.hp[q]
-                    };
+                    let direct = self.ends.parameter_derivative(i, q);
                     jac[pos] = direct + (0..n).map(|l| row(l) * phi_p[l + q * n]).sum::<f64>();
                     pos += 1;
                 }
                 if i < n {
-                    match (&self.closure, wrap) {
-                        (Some(sm), true) => {
-                            for j in 0..n {
-                                jac[pos] = -sm[i + j * n];
-                                pos += 1;
-                            }
-                        }
-                        _ => {
-                            jac[pos] = -1.0;
-                            pos += 1;
-                        }
-                    }
+                    self.ends.write_target_entries(i, wrap, jac, &mut pos);
                 }
             }
         }

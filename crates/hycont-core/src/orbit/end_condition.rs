@@ -1,0 +1,152 @@
+//! The conditions closing each segment at its end, shared by shooting and collocation.
+//!
+//! Segment $k$ ends at $y_k$ and must reach the next segment's start $x_{k+1}$ (after the last
+//! segment: $x_0$, or $S x_0$ for a symmetric closure). At an event $e$ the conditions are
+//! $g_e(y_k) - x_{k+1} = 0$ and $h_e(y_k) = 0$; at an interior point $x_c = v$ they are
+//! $y_k - x_{k+1} = 0$ and $y_{k,c} - v = 0$: $n + 1$ rows per segment.
+
+use super::signature::{Closure, SegmentEnd, Signature};
+use crate::system::HybridJacobians;
+
+/// Evaluation and linearisation of the end conditions, with their work space.
+pub(crate) struct EndConditions {
+    n: usize,
+    /// $S$ for a symmetric closure (column-major), else `None`.
+    closure: Option<Vec<f64>>,
+    gx: Vec<f64>,
+    gp: Vec<f64>,
+    hx: Vec<f64>,
+    hp: Vec<f64>,
+    gy: Vec<f64>,
+}
+
+impl EndConditions {
+    pub(crate) fn new<S: HybridJacobians + ?Sized>(system: &S, signature: &Signature) -> Self {
+        let (n, np) = (system.state_dim(), system.parameter_count());
+        let closure = match signature.closure() {
+            Closure::Periodic => None,
+            Closure::Symmetric => system.symmetry().map(|s| s.matrix),
+        };
+        Self {
+            n,
+            closure,
+            gx: vec![0.0; n * n],
+            gp: vec![0.0; n * np],
+            hx: vec![0.0; n],
+            hp: vec![0.0; np],
+            gy: vec![0.0; n],
+        }
+    }
+
+    /// Whether the last segment closes through the symmetry ($x_0$ enters as $S x_0$).
+    pub(crate) fn symmetric(&self) -> bool {
+        self.closure.is_some()
+    }
+
+    /// The state segment `k` must reach, from the next segment's start (`x_0` when `wrap`).
+    pub(crate) fn target(&self, wrap: bool, next_start: &[f64]) -> Vec<f64> {
+        let n = self.n;
+        match (&self.closure, wrap) {
+            (Some(sm), true) => (0..n)
+                .map(|i| (0..n).map(|j| sm[i + j * n] * next_start[j]).sum())
+                .collect(),
+            _ => next_start.to_vec(),
+        }
+    }
+
+    /// The $n + 1$ residual rows of a segment ending in `y` with `end`, reaching `target`.
+    pub(crate) fn residual<S: HybridJacobians + ?Sized>(
+        &mut self,
+        system: &S,
+        end: SegmentEnd,
+        y: &[f64],
+        p: &[f64],
+        target: &[f64],
+        out: &mut [f64],
+    ) {
+        let n = self.n;
+        match end {
+            SegmentEnd::Event(e) => {
+                system.reset(e, y, p, &mut self.gy);
+                for i in 0..n {
+                    out[i] = self.gy[i] - target[i];
+                }
+                out[n] = system.event(e, y, p);
+            }
+            SegmentEnd::Interior { component, value } => {
+                for i in 0..n {
+                    out[i] = y[i] - target[i];
+                }
+                out[n] = y[component] - value;
+            }
+        }
+    }
+
+    /// Linearises the conditions at `y` (then read with [`Self::state_derivative`] and
+    /// [`Self::parameter_derivative`]).
+    pub(crate) fn linearise<S: HybridJacobians + ?Sized>(
+        &mut self,
+        system: &S,
+        end: SegmentEnd,
+        y: &[f64],
+        p: &[f64],
+    ) {
+        match end {
+            SegmentEnd::Event(e) => {
+                system.reset_jacobian(e, y, p, &mut self.gx, Some(&mut self.gp));
+                system.event_gradient(e, y, p, &mut self.hx, Some(&mut self.hp));
+            }
+            SegmentEnd::Interior { component, .. } => {
+                self.gx.fill(0.0);
+                for i in 0..self.n {
+                    self.gx[i + i * self.n] = 1.0;
+                }
+                self.gp.fill(0.0);
+                self.hx.fill(0.0);
+                self.hx[component] = 1.0;
+                self.hp.fill(0.0);
+            }
+        }
+    }
+
+    /// $\partial\,\mathrm{row}_i / \partial y_j$ ($g_x$ for $i < n$, $h_x$ for $i = n$).
+    pub(crate) fn state_derivative(&self, i: usize, j: usize) -> f64 {
+        if i < self.n {
+            self.gx[i + j * self.n]
+        } else {
+            self.hx[j]
+        }
+    }
+
+    /// $\partial\,\mathrm{row}_i / \partial p_q$ at fixed $y$.
+    pub(crate) fn parameter_derivative(&self, i: usize, q: usize) -> f64 {
+        if i < self.n {
+            self.gp[i + q * self.n]
+        } else {
+            self.hp[q]
+        }
+    }
+
+    /// Writes row `i`'s (`i < n`) entries in the target's columns at `jac[*pos..]`: $-1$ (the
+    /// next start's component $i$), or row $i$ of $-S$ (all of $x_0$) after a symmetric wrap.
+    pub(crate) fn write_target_entries(
+        &self,
+        i: usize,
+        wrap: bool,
+        jac: &mut [f64],
+        pos: &mut usize,
+    ) {
+        match (&self.closure, wrap) {
+            (Some(sm), true) => {
+                for j in 0..self.n {
+                    jac[*pos] = -sm[i + j * self.n];
+                    *pos += 1;
+                }
+            }
+            _ => {
+                jac[*pos] = -1.0;
+                *pos += 1;
+            }
+        }
+    }
+}
