@@ -45,9 +45,9 @@ pub mod system;
 
 pub use error::{Error, Result};
 pub use simulate::{
-    Dop853, EventRecord, NonFiniteEvaluation, SampleTimes, Sensitivities, SensitivityMatrices,
-    SimulationSettings, SimulationStats, Simulator, StepperStats, StopReason, TimeSeries,
-    Trajectory, ZenoRecord, ZenoSettings,
+    Dop853, EventRecord, NonFiniteEvaluation, ParamSet, SampleTimes, Sensitivities,
+    SensitivityMatrices, SimulationSettings, SimulationStats, Simulator, StepperStats, StopReason,
+    TimeSeries, Trajectory, ZenoRecord, ZenoSettings,
 };
 pub use system::{
     DerivativeCheck, DerivativeKind, DerivativeMismatch, Direction, EventAction, EventId,

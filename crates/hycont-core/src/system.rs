@@ -264,6 +264,23 @@ pub trait HybridJacobians: HybridSystem {
         dp: Option<&mut [f64]>,
     );
 
+    /// The vector field $f_m$ into `f` and its Jacobians as
+    /// [`HybridJacobians::vector_field_jacobian`], together (the variational equations need
+    /// both at every stage). Override to share work between them, e.g. trigonometric functions
+    /// of the state; the default calls the two methods.
+    fn vector_field_with_jacobian(
+        &self,
+        mode: Mode,
+        x: &[f64],
+        p: &[f64],
+        f: &mut [f64],
+        dx: &mut [f64],
+        dp: Option<&mut [f64]>,
+    ) {
+        self.vector_field(mode, x, p, f);
+        self.vector_field_jacobian(mode, x, p, dx, dp);
+    }
+
     /// $\partial h_e / \partial x$ into `dx` (length $n$) and $\partial h_e / \partial p$ into `dp`
     /// (length $n_p$).
     fn event_gradient(
@@ -488,6 +505,10 @@ pub enum DerivativeKind {
     ResetState(EventId),
     /// $\partial g_e / \partial p$ of the given event.
     ResetParams(EventId),
+    /// [`HybridJacobians::vector_field_with_jacobian`] against the separate methods: $f$, then
+    /// $\partial f / \partial x$, then $\partial f / \partial p$, one column of `n` rows each
+    /// (`numeric` holds the separate methods' values; they must agree to round-off).
+    VectorFieldWithJacobian,
 }
 
 /// The worst disagreement between a supplied derivative and central differences.
@@ -583,6 +604,24 @@ pub fn check_derivatives<S: HybridJacobians + ?Sized>(
     });
     worst.push(compare(DerivativeKind::VectorFieldState, n, &ax, &nx));
     worst.push(compare(DerivativeKind::VectorFieldParams, n, &ap, &npm));
+
+    // The combined evaluation must agree with the separate ones.
+    let mut separate = vec![0.0; n];
+    system.vector_field(mode, x, p, &mut separate);
+    separate.extend_from_slice(&ax);
+    separate.extend_from_slice(&ap);
+    let mut combined = vec![0.0; n * (1 + n + np)];
+    {
+        let (f, rest) = combined.split_at_mut(n);
+        let (cx, cp) = rest.split_at_mut(n * n);
+        system.vector_field_with_jacobian(mode, x, p, f, cx, Some(cp));
+    }
+    worst.push(compare(
+        DerivativeKind::VectorFieldWithJacobian,
+        n,
+        &combined,
+        &separate,
+    ));
 
     for &e in system.events(mode) {
         let mut gx = vec![0.0; n];

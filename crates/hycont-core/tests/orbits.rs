@@ -460,3 +460,74 @@ fn invalid_signatures_are_rejected() {
     );
     assert!(bad_duration.is_err());
 }
+
+/// Dense Gaussian elimination with partial pivoting (small test systems).
+fn dense_solve(mut a: Vec<Vec<f64>>, mut b: Vec<f64>) -> Vec<f64> {
+    let n = b.len();
+    for k in 0..n {
+        let p = (k..n)
+            .max_by(|&i, &j| a[i][k].abs().total_cmp(&a[j][k].abs()))
+            .unwrap();
+        a.swap(k, p);
+        b.swap(k, p);
+        let (top, rest) = a.split_at_mut(k + 1);
+        let pivot = &top[k];
+        for (i, row) in rest.iter_mut().enumerate() {
+            let m = row[k] / pivot[k];
+            for (x, p) in row[k..].iter_mut().zip(&pivot[k..]) {
+                *x -= m * p;
+            }
+            b[k + 1 + i] -= m * b[k];
+        }
+    }
+    let mut x = vec![0.0; n];
+    for k in (0..n).rev() {
+        let s: f64 = (k + 1..n).map(|j| a[k][j] * x[j]).sum();
+        x[k] = (b[k] - s) / a[k][k];
+    }
+    x
+}
+
+/// Parameters held by inactive monitors are not differentiated (shooting skips their
+/// sensitivities); the Jacobian's other columns are unchanged, and Newton steps are the same as
+/// with the full Jacobian. "Unchanged" to the integration's accuracy (rtol 1e-12 here; 1e-9
+/// allows for the amplification into the sensitivities): the left-out columns no longer take
+/// part in the step-size control, so the steps differ slightly.
+#[test]
+fn held_parameters_are_not_differentiated_and_newton_steps_do_not_change() {
+    let guess = relaxation_guess(2.5);
+    let mut problem = shooting_problem(&Relaxation, &guess, ShootingSettings::default()).unwrap();
+    let u = pack(&guess);
+    let (m, nu) = (problem.equations(), problem.unknowns());
+    assert_eq!(m, nu);
+    let mut residual = vec![0.0; m];
+    let mut values = Vec::new();
+    problem
+        .evaluate(&u, &mut residual, Some(&mut values))
+        .unwrap();
+    let mut held = vec![vec![0.0; nu]; m];
+    for (&(r, c), v) in problem.jacobian_entries().iter().zip(&values) {
+        held[r][c] += v;
+    }
+    let full = problem.dense_jacobian(&u).unwrap();
+    let param = nu - 1; // pack: starts, durations, parameters
+    for r in 0..m {
+        for c in (0..nu).filter(|&c| c != param) {
+            let (h, f) = (held[r][c], full[r][c]);
+            assert!(
+                (h - f).abs() <= 1e-9 * (1.0 + f.abs()),
+                "entry ({r}, {c}): {h} vs {f}"
+            );
+        }
+    }
+    // The parameter's sensitivities were left out: its column differs from the full one.
+    assert!((0..m - 1).any(|r| full[r][param] != 0.0 && held[r][param] != full[r][param]));
+    // A Newton step (the parameter's monitor row has residual zero) is the same either way.
+    let mut b: Vec<f64> = residual.iter().map(|x| -x).collect();
+    b[m - 1] = 0.0;
+    let (xh, xf) = (dense_solve(held, b.clone()), dense_solve(full, b));
+    for (h, f) in xh.iter().zip(&xf) {
+        assert!((h - f).abs() <= 1e-9 * (1.0 + f.abs()), "{xh:?} vs {xf:?}");
+    }
+    assert_eq!(xh[param], 0.0);
+}

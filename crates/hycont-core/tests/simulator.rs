@@ -460,3 +460,41 @@ fn step_limit_stops_gracefully() {
     assert!(matches!(traj.stop, StopReason::StepLimit { .. }));
     assert!(traj.t_final < 100.0);
 }
+
+#[test]
+fn sensitivities_of_some_parameters_equal_those_columns_of_all() {
+    use hycont_core::ParamSet;
+    let sys = ImpactOscillator { cap: None };
+    let (p, x0, t1) = ([2.0, 0.7], [0.3, 1.1], 12.3);
+    // With the error controlled on the state only, the step sequence does not depend on which
+    // sensitivities are carried, so the columns must agree exactly.
+    let run = |which| {
+        Simulator::new(SimulationSettings::default().sensitivities_in_error(false))
+            .unwrap()
+            .run_with_sensitivities(&sys, Mode(0), 0.0, &x0, &p, t1, which)
+            .unwrap()
+    };
+    let all = run(Sensitivities::StateAndParameters);
+    let all_sens = all.sensitivities.unwrap();
+    let all_params = all_sens.params.unwrap();
+    for q in 0..2 {
+        let set = ParamSet::EMPTY.with(q).unwrap();
+        let some = run(Sensitivities::StateAndSomeParameters(set));
+        // Same steps (the error is controlled on the state), so the same numbers.
+        assert_eq!(some.state_final, all.state_final);
+        let sens = some.sensitivities.unwrap();
+        assert_eq!(sens.state, all_sens.state);
+        let params = sens.params.unwrap();
+        for k in 0..2 {
+            for i in 0..2 {
+                let expected = if k == q { all_params[i + 2 * k] } else { 0.0 };
+                assert_eq!(params[i + 2 * k], expected, "column {k} with {set:?}");
+            }
+        }
+    }
+    // No parameters: the state sensitivities and zero parameter columns.
+    let none = run(Sensitivities::StateAndSomeParameters(ParamSet::EMPTY));
+    let sens = none.sensitivities.unwrap();
+    assert_eq!(sens.state, all_sens.state);
+    assert!(sens.params.unwrap().iter().all(|&v| v == 0.0));
+}

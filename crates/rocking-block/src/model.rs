@@ -237,6 +237,83 @@ fn rest_or_lift_off(alpha: f64, omega: f64, theta_b: f64, r: f64) -> Mode {
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 pub struct RockingBlock;
 
+/// $(\sin, \cos)$ of the pivot angle $\theta_b \pm \varphi$ and the sign $\pm 1$ of mode
+/// `mode` (zeros at rest).
+#[inline]
+fn pivot(mode: Mode, phi: f64, theta_b: f64) -> (f64, f64, f64) {
+    match mode {
+        PLUS => {
+            let (sn, cs) = (theta_b + phi).sin_cos();
+            (sn, cs, 1.0)
+        }
+        MINUS => {
+            let (sn, cs) = (theta_b - phi).sin_cos();
+            (sn, cs, -1.0)
+        }
+        _ => (0.0, 0.0, 0.0),
+    }
+}
+
+/// The vector field with the pivot's `(sin, cos, sign)` given (see [`pivot`]).
+#[inline]
+fn field(mode: Mode, x: &[f64], p: &[f64], (sn, cs, sign): (f64, f64, f64), out: &mut [f64]) {
+    let (psi, r, s) = (x[1], x[2], x[3]);
+    let (omega, alpha, xi) = (p[0], p[1], p[2]);
+    let rho2 = r * r + s * s;
+    out[2] = r + omega * s - r * rho2;
+    out[3] = s - omega * r - s * rho2;
+    if mode == PLUS || mode == MINUS {
+        // psi' = 3/4 (a sin(tb + sign phi) - sign cos(tb + sign phi) - xi psi)
+        let a = alpha * omega * omega * r;
+        out[0] = psi;
+        out[1] = 0.75 * (a * sn - sign * cs - xi * psi);
+    } else {
+        out[0] = 0.0;
+        out[1] = 0.0;
+    }
+}
+
+/// The vector field's Jacobians with the pivot's `(sin, cos, sign)` given (see [`pivot`]).
+#[inline]
+fn jacobian(
+    mode: Mode,
+    x: &[f64],
+    p: &[f64],
+    (sn, cs, sign): (f64, f64, f64),
+    dx: &mut [f64],
+    dp: Option<&mut [f64]>,
+) {
+    let (psi, r, s) = (x[1], x[2], x[3]);
+    let (omega, alpha, xi) = (p[0], p[1], p[2]);
+    dx.fill(0.0);
+    // Column-major, 4 x 4: dx[i + 4 j] = d f_i / d x_j.
+    dx[2 + 4 * 2] = 1.0 - 3.0 * r * r - s * s;
+    dx[2 + 4 * 3] = omega - 2.0 * r * s;
+    dx[3 + 4 * 2] = -omega - 2.0 * r * s;
+    dx[3 + 4 * 3] = 1.0 - r * r - 3.0 * s * s;
+    let aw2 = alpha * omega * omega;
+    let moving = mode == PLUS || mode == MINUS;
+    if moving {
+        dx[4] = 1.0; // d phi' / d psi
+        // psi' = 3/4 (aw2 r sin(tb + sign phi) - sign cos(tb + sign phi) - xi psi)
+        dx[1] = 0.75 * (aw2 * r * cs * sign + sn);
+        dx[1 + 4] = -0.75 * xi;
+        dx[1 + 4 * 2] = 0.75 * aw2 * sn;
+    }
+    if let Some(dp) = dp {
+        dp.fill(0.0);
+        // Column-major, 4 x 4: dp[i + 4 q].
+        dp[2] = s;
+        dp[3] = -r;
+        if moving {
+            dp[1] = 0.75 * 2.0 * alpha * omega * r * sn;
+            dp[1 + 4] = 0.75 * omega * omega * r * sn;
+            dp[1 + 4 * 2] = -0.75 * psi;
+            dp[1 + 4 * 3] = 0.75 * (aw2 * r * cs + sign * sn);
+        }
+    }
+}
+
 impl HybridSystem for RockingBlock {
     fn state_dim(&self) -> usize {
         4
@@ -303,28 +380,7 @@ impl HybridSystem for RockingBlock {
 
     #[inline]
     fn vector_field(&self, mode: Mode, x: &[f64], p: &[f64], out: &mut [f64]) {
-        let (phi, psi, r, s) = (x[0], x[1], x[2], x[3]);
-        let (omega, alpha, xi, theta_b) = (p[0], p[1], p[2], p[3]);
-        let rho2 = r * r + s * s;
-        out[2] = r + omega * s - r * rho2;
-        out[3] = s - omega * r - s * rho2;
-        let a = alpha * omega * omega * r;
-        match mode {
-            PLUS => {
-                let (sn, cs) = (theta_b + phi).sin_cos();
-                out[0] = psi;
-                out[1] = 0.75 * (a * sn - cs - xi * psi);
-            }
-            MINUS => {
-                let (sn, cs) = (theta_b - phi).sin_cos();
-                out[0] = psi;
-                out[1] = 0.75 * (a * sn + cs - xi * psi);
-            }
-            _ => {
-                out[0] = 0.0;
-                out[1] = 0.0;
-            }
-        }
+        field(mode, x, p, pivot(mode, x[0], p[3]), out);
     }
 
     fn event(&self, event: EventId, x: &[f64], p: &[f64]) -> f64 {
@@ -395,47 +451,23 @@ impl HybridJacobians for RockingBlock {
         dx: &mut [f64],
         dp: Option<&mut [f64]>,
     ) {
-        let (phi, psi, r, s) = (x[0], x[1], x[2], x[3]);
-        let (omega, alpha, xi, theta_b) = (p[0], p[1], p[2], p[3]);
-        dx.fill(0.0);
-        // Column-major, 4 x 4: dx[i + 4 j] = d f_i / d x_j.
-        dx[2 + 4 * 2] = 1.0 - 3.0 * r * r - s * s;
-        dx[2 + 4 * 3] = omega - 2.0 * r * s;
-        dx[3 + 4 * 2] = -omega - 2.0 * r * s;
-        dx[3 + 4 * 3] = 1.0 - r * r - 3.0 * s * s;
-        let aw2 = alpha * omega * omega;
-        // (sin, cos) of the pivot angle and the sign of phi in it.
-        let (sn, cs, sign) = match mode {
-            PLUS => {
-                let (sn, cs) = (theta_b + phi).sin_cos();
-                (sn, cs, 1.0)
-            }
-            MINUS => {
-                let (sn, cs) = (theta_b - phi).sin_cos();
-                (sn, cs, -1.0)
-            }
-            _ => (0.0, 0.0, 0.0),
-        };
-        let moving = mode == PLUS || mode == MINUS;
-        if moving {
-            dx[4] = 1.0; // d phi' / d psi
-            // psi' = 3/4 (aw2 r sin(tb + sign phi) - sign cos(tb + sign phi) - xi psi)
-            dx[1] = 0.75 * (aw2 * r * cs * sign + sn);
-            dx[1 + 4] = -0.75 * xi;
-            dx[1 + 4 * 2] = 0.75 * aw2 * sn;
-        }
-        if let Some(dp) = dp {
-            dp.fill(0.0);
-            // Column-major, 4 x 4: dp[i + 4 q].
-            dp[2] = s;
-            dp[3] = -r;
-            if moving {
-                dp[1] = 0.75 * 2.0 * alpha * omega * r * sn;
-                dp[1 + 4] = 0.75 * omega * omega * r * sn;
-                dp[1 + 4 * 2] = -0.75 * psi;
-                dp[1 + 4 * 3] = 0.75 * (aw2 * r * cs + sign * sn);
-            }
-        }
+        jacobian(mode, x, p, pivot(mode, x[0], p[3]), dx, dp);
+    }
+
+    #[inline]
+    fn vector_field_with_jacobian(
+        &self,
+        mode: Mode,
+        x: &[f64],
+        p: &[f64],
+        f: &mut [f64],
+        dx: &mut [f64],
+        dp: Option<&mut [f64]>,
+    ) {
+        // One sine and cosine of the pivot angle for both.
+        let trig = pivot(mode, x[0], p[3]);
+        field(mode, x, p, trig, f);
+        jacobian(mode, x, p, trig, dx, dp);
     }
 
     fn event_gradient(

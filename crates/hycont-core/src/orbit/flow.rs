@@ -137,6 +137,33 @@ impl<S: HybridJacobians + ?Sized> HybridJacobians for SegmentFlow<'_, S> {
             self.system.vector_field_jacobian(self.mode, x, p, dx, dp);
         }
     }
+    #[inline]
+    fn vector_field_with_jacobian(
+        &self,
+        _: Mode,
+        x: &[f64],
+        p: &[f64],
+        f: &mut [f64],
+        dx: &mut [f64],
+        dp: Option<&mut [f64]>,
+    ) {
+        if self.time_sign < 0.0 {
+            let mut dp = dp;
+            self.system
+                .vector_field_with_jacobian(self.mode, x, p, f, dx, dp.as_deref_mut());
+            for v in f.iter_mut().chain(dx.iter_mut()) {
+                *v = -*v;
+            }
+            if let Some(dp) = dp {
+                for v in dp.iter_mut() {
+                    *v = -*v;
+                }
+            }
+        } else {
+            self.system
+                .vector_field_with_jacobian(self.mode, x, p, f, dx, dp);
+        }
+    }
     fn event_gradient(
         &self,
         event: EventId,

@@ -15,7 +15,7 @@ use super::signature::Signature;
 use crate::error::{Error, Result};
 use crate::orbit::flow::SegmentFlow;
 use crate::problem::ZeroFunction;
-use crate::simulate::{Sensitivities, SimulationSettings, Simulator};
+use crate::simulate::{ParamSet, Sensitivities, SimulationSettings, Simulator};
 use crate::system::{HybridJacobians, Mode};
 
 /// Settings of the shooting discretisation: integration tolerances of each segment.
@@ -169,6 +169,42 @@ impl<S: HybridJacobians + ?Sized> ZeroFunction for Shooting<'_, S> {
         residual: &mut [f64],
         jacobian: Option<&mut [f64]>,
     ) -> Result<()> {
+        self.evaluate_with(u, residual, jacobian, Sensitivities::StateAndParameters)
+    }
+
+    /// Held parameters' sensitivities are not integrated (their columns are left zero).
+    fn evaluate_held(
+        &mut self,
+        u: &[f64],
+        residual: &mut [f64],
+        jacobian: Option<&mut [f64]>,
+        held: &[bool],
+    ) -> Result<()> {
+        let mut set = Some(ParamSet::EMPTY);
+        for q in 0..self.np {
+            if !held[self.param_index(q)] {
+                set = set.and_then(|s| s.with(q));
+            }
+        }
+        // More than 64 parameters: a set cannot describe them; integrate all.
+        let which = set.map_or(
+            Sensitivities::StateAndParameters,
+            Sensitivities::StateAndSomeParameters,
+        );
+        self.evaluate_with(u, residual, jacobian, which)
+    }
+}
+
+impl<S: HybridJacobians + ?Sized> Shooting<'_, S> {
+    /// The residual and, if asked, the Jacobian with the parameter sensitivities `which` (the
+    /// columns of parameters left out are zero, apart from direct terms).
+    fn evaluate_with(
+        &mut self,
+        u: &[f64],
+        residual: &mut [f64],
+        jacobian: Option<&mut [f64]>,
+        which: Sensitivities,
+    ) -> Result<()> {
         let (n, np, kk) = (self.n, self.np, self.signature.len());
         let p = u[self.param_index(0)..self.param_index(0) + np].to_vec();
         let want = jacobian.is_some();
@@ -192,11 +228,7 @@ impl<S: HybridJacobians + ?Sized> ZeroFunction for Shooting<'_, S> {
             } else {
                 SegmentFlow::backward(self.system, mode)
             };
-            let which = if want {
-                Sensitivities::StateAndParameters
-            } else {
-                Sensitivities::None
-            };
+            let which = if want { which } else { Sensitivities::None };
             let traj =
                 self.sim
                     .run_with_sensitivities(&flow, Mode(0), 0.0, x, &p, t.abs(), which)?;

@@ -38,6 +38,26 @@ pub trait ZeroFunction {
         residual: &mut [f64],
         jacobian: Option<&mut [f64]>,
     ) -> Result<()>;
+
+    /// Like [`ZeroFunction::evaluate`], told which local unknowns the problem holds fixed
+    /// (`held[j]`: an inactive monitor of unknown `j` alone, at its value). Newton steps,
+    /// tangents and the determinant's sign do not depend on the Jacobian's entries in held
+    /// columns (the monitor's row pins the unknown's change to zero), so an implementation may
+    /// leave them zero where they are expensive (shooting: a parameter's sensitivities). The
+    /// residual must be exact. The default evaluates everything.
+    ///
+    /// # Errors
+    /// As [`ZeroFunction::evaluate`].
+    fn evaluate_held(
+        &mut self,
+        u: &[f64],
+        residual: &mut [f64],
+        jacobian: Option<&mut [f64]>,
+        held: &[bool],
+    ) -> Result<()> {
+        let _ = held;
+        self.evaluate(u, residual, jacobian)
+    }
 }
 
 /// A scalar function $\psi(u)$ of some of the problem's unknowns.
@@ -127,6 +147,9 @@ pub struct Problem<'a> {
     monitors: Vec<Monitor<'a>>,
     pattern: Option<SparsePattern>,
     values: Vec<f64>,
+    /// Work space: unknowns held by inactive single-unknown monitors (global, then one part's).
+    held: Vec<bool>,
+    held_local: Vec<bool>,
 }
 
 impl std::fmt::Debug for Problem<'_> {
@@ -157,6 +180,8 @@ impl<'a> Problem<'a> {
             monitors: Vec::new(),
             pattern: None,
             values: Vec::new(),
+            held: Vec::new(),
+            held_local: Vec::new(),
         }
     }
 
@@ -345,6 +370,13 @@ impl<'a> Problem<'a> {
 
     /// Evaluates $F(u)$ and, if asked, the Jacobian values in pattern order.
     ///
+    /// Unknowns held at their value by an inactive monitor of that unknown alone (to a relative
+    /// $4\varepsilon$; e.g. the parameters not being continued) are *held*: their Jacobian
+    /// columns (outside the monitor's own row) may be returned as zeros, because the monitor's
+    /// row pins their change to zero in Newton steps and tangents and the determinant does not
+    /// depend on them. Parts use this to skip work ([`ZeroFunction::evaluate_held`]).
+    /// [`Problem::dense_jacobian`] and [`Problem::check_jacobian`] give full columns.
+    ///
     /// # Errors
     /// Wrong dimensions, or a failing part or monitor.
     pub fn evaluate(
@@ -353,12 +385,42 @@ impl<'a> Problem<'a> {
         residual: &mut [f64],
         jacobian: Option<&mut Vec<f64>>,
     ) -> Result<()> {
+        self.evaluate_impl(u, residual, jacobian, true)
+    }
+
+    /// Marks in `self.held` the unknowns held at their value by inactive single-unknown
+    /// monitors.
+    fn mark_held(&mut self, u: &[f64]) -> Result<bool> {
+        self.held.clear();
+        self.held.resize(u.len(), false);
+        let mut any = false;
+        for m in &mut self.monitors {
+            let (Activity::Inactive(v), &[i]) = (m.activity, m.unknowns.as_slice()) else {
+                continue;
+            };
+            let value = m.function.evaluate(&u[i..=i], None)?;
+            if (value - v).abs() <= 4.0 * f64::EPSILON * v.abs().max(1.0) {
+                self.held[i] = true;
+                any = true;
+            }
+        }
+        Ok(any)
+    }
+
+    fn evaluate_impl(
+        &mut self,
+        u: &[f64],
+        residual: &mut [f64],
+        jacobian: Option<&mut Vec<f64>>,
+        use_held: bool,
+    ) -> Result<()> {
         crate::error::check_len("unknowns", u, self.unknowns())?;
         crate::error::check_len("residual", residual, self.equations())?;
         let mut jac = jacobian;
         if let Some(j) = jac.as_deref_mut() {
             j.clear();
         }
+        let any_held = jac.is_some() && use_held && self.mark_held(u)?;
         let mut local_u = Vec::new();
         for part in &mut self.parts {
             local_u.clear();
@@ -369,8 +431,16 @@ impl<'a> Problem<'a> {
                 Some(j) => {
                     let start = j.len();
                     j.resize(start + part.pattern.len(), 0.0);
-                    part.function
-                        .evaluate(&local_u, res, Some(&mut j[start..]))?;
+                    let out = Some(&mut j[start..]);
+                    if any_held {
+                        self.held_local.clear();
+                        self.held_local
+                            .extend(part.unknowns.iter().map(|&i| self.held[i]));
+                        part.function
+                            .evaluate_held(&local_u, res, out, &self.held_local)?;
+                    } else {
+                        part.function.evaluate(&local_u, res, out)?;
+                    }
                 }
                 None => part.function.evaluate(&local_u, res, None)?,
             }
@@ -442,7 +512,7 @@ impl<'a> Problem<'a> {
     pub fn dense_jacobian(&mut self, u: &[f64]) -> Result<Vec<Vec<f64>>> {
         let mut values = Vec::new();
         let mut residual = vec![0.0; self.equations()];
-        self.evaluate(u, &mut residual, Some(&mut values))?;
+        self.evaluate_impl(u, &mut residual, Some(&mut values), false)?;
         let mut out = vec![vec![0.0; self.unknowns()]; self.equations()];
         for (&(r, c), v) in self.global_pattern().iter().zip(&values) {
             out[r][c] += v;

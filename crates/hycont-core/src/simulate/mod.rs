@@ -12,7 +12,7 @@ mod trajectory;
 mod variational;
 
 pub use dop853::{Dop853, NonFiniteEvaluation, StepperStats};
-pub use settings::{SampleTimes, Sensitivities, SimulationSettings, ZenoSettings};
+pub use settings::{ParamSet, SampleTimes, Sensitivities, SimulationSettings, ZenoSettings};
 pub use trajectory::{
     EventRecord, SensitivityMatrices, SimulationStats, StopReason, TimeSeries, Trajectory,
     ZenoRecord,
@@ -173,8 +173,12 @@ impl Simulator {
         let (n, np) = (system.state_dim(), system.parameter_count());
         match which {
             Sensitivities::None => self.run(system, mode, t0, x0, p, t_end),
-            Sensitivities::State | Sensitivities::StateAndParameters => {
-                let mut ext = Variational::new(n, np, which == Sensitivities::StateAndParameters);
+            Sensitivities::State
+            | Sensitivities::StateAndParameters
+            | Sensitivities::StateAndSomeParameters(_) => {
+                let selected: Vec<usize> =
+                    (0..np).filter(|&q| which.includes_parameter(q)).collect();
+                let mut ext = Variational::new(n, np, selected);
                 self.run_impl(system, &mut ext, mode, t0, x0, p, t_end, which)
             }
         }
@@ -605,8 +609,22 @@ impl Simulator {
         } else {
             let np = system.parameter_count();
             let state = final_aug[n..n + n * n].to_vec();
-            let params = (which == Sensitivities::StateAndParameters)
-                .then(|| final_aug[n + n * n..n + n * n + n * np].to_vec());
+            let params = match which {
+                Sensitivities::StateAndParameters => {
+                    Some(final_aug[n + n * n..n + n * n + n * np].to_vec())
+                }
+                Sensitivities::StateAndSomeParameters(_) => {
+                    // Integrated columns are stored in parameter order; the others are zero.
+                    let mut out = vec![0.0; n * np];
+                    let mut col = n + n * n;
+                    for q in (0..np).filter(|&q| which.includes_parameter(q)) {
+                        out[q * n..(q + 1) * n].copy_from_slice(&final_aug[col..col + n]);
+                        col += n;
+                    }
+                    Some(out)
+                }
+                _ => None,
+            };
             Some(SensitivityMatrices { n, state, params })
         };
         Ok(Trajectory {

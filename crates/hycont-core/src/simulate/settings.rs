@@ -59,6 +59,66 @@ pub enum Sensitivities {
     State,
     /// $\Phi$ and $\Phi_p = \partial x(t) / \partial p$.
     StateAndParameters,
+    /// $\Phi$ and the columns of $\Phi_p$ of the parameters in the set; the other columns are
+    /// returned as zeros (so indices are those of [`Sensitivities::StateAndParameters`]). Each
+    /// column left out saves $n$ of the $n (1 + n + n_p)$ integrated components.
+    StateAndSomeParameters(ParamSet),
+}
+
+impl Sensitivities {
+    /// Whether parameter `q`'s column of $\Phi_p$ is integrated.
+    #[must_use]
+    pub fn includes_parameter(self, q: usize) -> bool {
+        match self {
+            Sensitivities::None | Sensitivities::State => false,
+            Sensitivities::StateAndParameters => true,
+            Sensitivities::StateAndSomeParameters(set) => set.contains(q),
+        }
+    }
+}
+
+/// A set of parameter indices below 64 (a bit set), e.g. the parameters whose sensitivities
+/// are wanted.
+///
+/// ```
+/// use hycont_core::simulate::ParamSet;
+/// let set = ParamSet::EMPTY.with(0).and_then(|s| s.with(3)).unwrap();
+/// assert!(set.contains(3) && !set.contains(1));
+/// assert_eq!(set.len(), 2);
+/// assert!(ParamSet::EMPTY.with(64).is_none()); // not representable
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+pub struct ParamSet(u64);
+
+impl ParamSet {
+    /// The empty set.
+    pub const EMPTY: ParamSet = ParamSet(0);
+    /// Largest number of parameters a set can describe.
+    pub const CAPACITY: usize = 64;
+
+    /// The set with `q` added, or `None` if `q >= 64`.
+    #[must_use]
+    pub fn with(self, q: usize) -> Option<ParamSet> {
+        (q < Self::CAPACITY).then(|| ParamSet(self.0 | (1u64 << q)))
+    }
+
+    /// Whether `q` is in the set.
+    #[must_use]
+    pub fn contains(self, q: usize) -> bool {
+        q < Self::CAPACITY && self.0 & (1u64 << q) != 0
+    }
+
+    /// Number of parameters in the set.
+    #[must_use]
+    pub fn len(self) -> usize {
+        self.0.count_ones() as usize
+    }
+
+    /// Whether the set is empty.
+    #[must_use]
+    pub fn is_empty(self) -> bool {
+        self.0 == 0
+    }
 }
 
 /// When impacts accumulate (Zeno behaviour), and what counts as accumulation.

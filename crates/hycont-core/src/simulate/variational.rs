@@ -1,7 +1,8 @@
 //! Variational equations integrated alongside the state, and their update at jumps.
 //!
 //! The augmented state is $y = (x, \Phi, \Phi_p)$ with $\Phi = \partial x / \partial x_0$
-//! ($n \times n$, column-major) and $\Phi_p = \partial x / \partial p$ ($n \times n_p$):
+//! ($n \times n$, column-major) and $\Phi_p = \partial x / \partial p$ ($n \times n_p$, or only
+//! the columns of selected parameters):
 //! $$\dot\Phi = f_x \Phi, \qquad \dot\Phi_p = f_x \Phi_p + f_p.$$
 //! At a jump through event $h$ with reset $g$, from vector field $f^-$ to $f^+$, the saltation
 //! matrix
@@ -68,11 +69,11 @@ impl<S: HybridSystem + ?Sized> Extension<S> for Plain {
     }
 }
 
-/// The state with $\Phi$ and optionally $\Phi_p$.
+/// The state with $\Phi$ and the columns of $\Phi_p$ of the selected parameters.
 pub(crate) struct Variational {
     n: usize,
-    np: usize,
-    with_params: bool,
+    /// Parameters whose columns of $\Phi_p$ are integrated, in increasing order.
+    selected: Vec<usize>,
     a: Vec<f64>,
     b: Vec<f64>,
     // Jump work space.
@@ -87,11 +88,10 @@ pub(crate) struct Variational {
 }
 
 impl Variational {
-    pub(crate) fn new(n: usize, np: usize, with_params: bool) -> Self {
+    pub(crate) fn new(n: usize, np: usize, selected: Vec<usize>) -> Self {
         Self {
             n,
-            np,
-            with_params,
+            selected,
             a: vec![0.0; n * n],
             b: vec![0.0; n * np],
             fm: vec![0.0; n],
@@ -105,13 +105,13 @@ impl Variational {
         }
     }
 
-    /// Columns of sensitivities carried: $n$ for $\Phi$ plus $n_p$ for $\Phi_p$.
+    /// Columns of sensitivities carried: $n$ for $\Phi$ plus one per selected parameter.
     fn columns(&self) -> usize {
-        if self.with_params {
-            self.n + self.np
-        } else {
-            self.n
-        }
+        self.n + self.selected.len()
+    }
+
+    fn with_params(&self) -> bool {
+        !self.selected.is_empty()
     }
 }
 
@@ -132,21 +132,26 @@ impl<S: HybridJacobians + ?Sized> Extension<S> for Variational {
     fn rhs(&mut self, system: &S, mode: Mode, p: &[f64], y: &[f64], dy: &mut [f64]) {
         let n = self.n;
         let x = &y[..n];
-        system.vector_field(mode, x, p, &mut dy[..n]);
-        let bp = if self.with_params {
+        let bp = if self.with_params() {
             Some(&mut self.b[..])
         } else {
             None
         };
-        system.vector_field_jacobian(mode, x, p, &mut self.a, bp);
+        system.vector_field_with_jacobian(mode, x, p, &mut dy[..n], &mut self.a, bp);
+        // Column j of the sensitivities: f_x times column j (plus f_p's column for parameters).
         let cols = self.columns();
-        for j in 0..cols {
-            let col = &y[n + j * n..n + (j + 1) * n];
-            let out = &mut dy[n + j * n..n + (j + 1) * n];
+        let a = &self.a[..n * n];
+        let cols_in = y[n..n * (1 + cols)].chunks_exact(n);
+        let cols_out = dy[n..n * (1 + cols)].chunks_exact_mut(n);
+        for (j, (col, out)) in cols_in.zip(cols_out).enumerate() {
+            let fp = (j >= n).then(|| {
+                let q = self.selected[j - n];
+                &self.b[q * n..(q + 1) * n]
+            });
             for (i, o) in out.iter_mut().enumerate() {
-                let mut acc = if j >= n { self.b[i + (j - n) * n] } else { 0.0 };
+                let mut acc = fp.map_or(0.0, |b| b[i]);
                 for (k, c) in col.iter().enumerate() {
-                    acc += self.a[i + k * n] * c;
+                    acc += a[i + k * n] * c;
                 }
                 *o = acc;
             }
@@ -167,14 +172,14 @@ impl<S: HybridJacobians + ?Sized> Extension<S> for Variational {
         let n = self.n;
         let xm = &y_minus[..n];
         system.vector_field(from, xm, p, &mut self.fm);
-        let hp = if self.with_params {
+        let hp = if self.with_params() {
             Some(&mut self.hp[..])
         } else {
             None
         };
         system.event_gradient(event, xm, p, &mut self.hx, hp);
         system.reset(event, xm, p, &mut y_plus[..n]);
-        let gp = if self.with_params {
+        let gp = if self.with_params() {
             Some(&mut self.gp[..])
         } else {
             None
@@ -220,7 +225,7 @@ impl<S: HybridJacobians + ?Sized> Extension<S> for Variational {
                     acc += self.salt[i + k * n] * c;
                 }
                 if j >= n {
-                    let q = j - n;
+                    let q = self.selected[j - n];
                     acc += self.gp[i + q * n] + self.v[i] * self.hp[q] / denom;
                 }
                 y_plus[n + j * n + i] = acc;
