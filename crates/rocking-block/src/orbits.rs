@@ -11,7 +11,9 @@ use hycont_core::orbit::{
     solve_symmetric_collocation, solve_symmetric_shooting,
 };
 use hycont_core::problem::NewtonSettings;
-use hycont_core::{HybridSystem, SimulationSettings, Simulator};
+use hycont_core::{
+    EventAction, EventId, EventSpec, HybridSystem, Mode, SimulationSettings, Simulator, StopReason,
+};
 use serde::{Deserialize, Serialize};
 use std::f64::consts::{FRAC_PI_2, PI};
 
@@ -180,6 +182,41 @@ fn refine_with_extrema(
     )?)
 }
 
+/// The block with every event terminal: a run stops at its first event (the scan for
+/// symmetric orbits looks at the first impact only).
+struct UntilFirstEvent;
+
+impl HybridSystem for UntilFirstEvent {
+    fn state_dim(&self) -> usize {
+        RockingBlock.state_dim()
+    }
+    fn parameter_names(&self) -> &[&'static str] {
+        RockingBlock.parameter_names()
+    }
+    fn mode_count(&self) -> usize {
+        RockingBlock.mode_count()
+    }
+    fn mode_name(&self, mode: Mode) -> &'static str {
+        RockingBlock.mode_name(mode)
+    }
+    fn events(&self, mode: Mode) -> &[EventId] {
+        RockingBlock.events(mode)
+    }
+    fn event_spec(&self, event: EventId) -> EventSpec {
+        EventSpec {
+            action: EventAction::Terminal,
+            ..RockingBlock.event_spec(event)
+        }
+    }
+    #[inline]
+    fn vector_field(&self, mode: Mode, x: &[f64], p: &[f64], out: &mut [f64]) {
+        RockingBlock.vector_field(mode, x, p, out);
+    }
+    fn event(&self, event: EventId, x: &[f64], p: &[f64]) -> f64 {
+        RockingBlock.event(event, x, p)
+    }
+}
+
 /// The symmetric period-1 orbit at `params`: a scan over the forcing phase and post-impact
 /// velocity of a one-flight half orbit, then Newton on the half-orbit problem
 /// ($x_1 = S x_0$), then $\psi = 0$ interior points for the exact amplitude.
@@ -205,17 +242,18 @@ pub fn symmetric_orbit(params: &Parameters) -> Result<RockingOrbit> {
         let theta = 2.0 * PI * f64::from(i) / 48.0;
         for psi0 in [0.05, 0.1, 0.2, 0.3, 0.45, 0.6, 0.8, 1.0, 1.3] {
             let x0 = [0.0, psi0, theta.sin(), theta.cos()];
-            let traj = sim.run(&RockingBlock, PLUS, 0.0, &x0, &p, 2.0 * half_period)?;
-            let Some(ev) = traj.events.first() else {
+            let traj = sim.run(&UntilFirstEvent, PLUS, 0.0, &x0, &p, 2.0 * half_period)?;
+            let StopReason::TerminalEvent { event, t } = traj.stop else {
                 continue;
             };
-            if ev.event != IMPACT_PLUS {
+            if event != IMPACT_PLUS {
                 continue;
             }
-            let y = &ev.state_after;
-            let miss = (ev.t - half_period).abs() / half_period
+            let mut y = [0.0; 4];
+            RockingBlock.reset(event, &traj.state_final, &p, &mut y);
+            let miss = (t - half_period).abs() / half_period
                 + (0..4).map(|j| (y[j] + x0[j]).abs()).sum::<f64>();
-            candidates.push((miss, x0, ev.t));
+            candidates.push((miss, x0, t));
         }
     }
     candidates.sort_by(|a, b| a.0.total_cmp(&b.0));
