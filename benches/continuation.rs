@@ -6,6 +6,7 @@
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use hycont::rocking_block::continuation::{Free, study_branches, study_curves};
+use hycont_continuation::RunStatistics;
 use hycont_continuation::observe::Silent;
 use std::hint::black_box;
 
@@ -22,9 +23,12 @@ fn figures_3_and_4(c: &mut Criterion) {
             .iter()
             .flat_map(|b| b.points.iter().map(|p| p.newton_iterations))
             .sum();
+        let work = branches
+            .iter()
+            .fold(RunStatistics::default(), |acc, b| acc + b.statistics);
         eprintln!(
             "{}: {} branches, {points} points (incl. special), {iterations} corrector iterations, \
-             {:.3} ms per point (one run {elapsed:?})",
+             {:.3} ms per point (one run {elapsed:?}); {work:?}",
             free.name(),
             branches.len(),
             1e3 * elapsed.as_secs_f64() / points as f64

@@ -131,6 +131,41 @@ pub struct Branch {
     pub special_points: Vec<SpecialPoint>,
     /// How it ended.
     pub end: EndReason,
+    /// The work it took.
+    #[serde(default)]
+    pub statistics: RunStatistics,
+}
+
+/// The work a continuation run did: evaluations of the problem, split into stepping along the
+/// branch and locating special points.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub struct RunStatistics {
+    /// Jacobian evaluations (each with a residual and a sparse LU factorisation) while stepping.
+    pub jacobians: usize,
+    /// Residual-only evaluations (chord iterations) while stepping.
+    pub residuals: usize,
+    /// Jacobian evaluations while locating special points.
+    pub location_jacobians: usize,
+    /// Residual-only evaluations while locating special points.
+    pub location_residuals: usize,
+    /// Analyses of solutions (multipliers and monitors).
+    pub analyses: usize,
+    /// Steps retried with half the step size (corrector failure or too large an angle).
+    pub rejected_steps: usize,
+}
+
+impl std::ops::Add for RunStatistics {
+    type Output = RunStatistics;
+    fn add(self, o: RunStatistics) -> RunStatistics {
+        RunStatistics {
+            jacobians: self.jacobians + o.jacobians,
+            residuals: self.residuals + o.residuals,
+            location_jacobians: self.location_jacobians + o.location_jacobians,
+            location_residuals: self.location_residuals + o.location_residuals,
+            analyses: self.analyses + o.analyses,
+            rejected_steps: self.rejected_steps + o.rejected_steps,
+        }
+    }
 }
 
 impl Branch {

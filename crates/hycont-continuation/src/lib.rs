@@ -62,7 +62,7 @@ mod palc;
 pub mod settings;
 pub mod switch;
 
-pub use branch::{Branch, BranchPoint, EndReason, SpecialKind, SpecialPoint};
+pub use branch::{Branch, BranchPoint, EndReason, RunStatistics, SpecialKind, SpecialPoint};
 pub use codim2::{Codim2, Condition, curve_settings};
 pub use error::{Error, Result};
 pub use observe::Observer;

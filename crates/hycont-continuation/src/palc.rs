@@ -9,7 +9,7 @@
 //! $s \in (0, h)$, by the Illinois method (bisection safeguarded) until the bracket in $s$ is below
 //! the location tolerance.
 
-use crate::branch::{Branch, BranchPoint, EndReason, SpecialKind, SpecialPoint};
+use crate::branch::{Branch, BranchPoint, EndReason, RunStatistics, SpecialKind, SpecialPoint};
 use crate::error::{Error, Result};
 use crate::observe::Observer;
 use crate::settings::{BoundOn, ContinuationSettings};
@@ -121,6 +121,9 @@ pub(crate) struct Palc<'p, 'a, P: ContinuationProblem<'a> + ?Sized> {
     values: Vec<f64>,
     res: Vec<f64>,
     slots: Vec<Slot>,
+    stats: RunStatistics,
+    /// Whether evaluations count as location work.
+    locating: bool,
     _marker: std::marker::PhantomData<&'a ()>,
 }
 
@@ -187,6 +190,8 @@ impl<'p, 'a, P: ContinuationProblem<'a> + ?Sized> Palc<'p, 'a, P> {
             values: Vec::new(),
             res: vec![0.0; n],
             slots,
+            stats: RunStatistics::default(),
+            locating: false,
             _marker: std::marker::PhantomData,
         })
     }
@@ -198,6 +203,11 @@ impl<'p, 'a, P: ContinuationProblem<'a> + ?Sized> Palc<'p, 'a, P> {
     /// Assembles and factorises $[J(u); r^\top]$ and writes $[F(u); r \cdot (u - u_0) - s]$.
     fn factor(&mut self, u: &[f64], row: &[f64], u0: &[f64], s: f64) -> Result<()> {
         let n = self.n;
+        if self.locating {
+            self.stats.location_jacobians += 1;
+        } else {
+            self.stats.jacobians += 1;
+        }
         let mut values = std::mem::take(&mut self.values);
         self.p
             .problem()
@@ -217,17 +227,33 @@ impl<'p, 'a, P: ContinuationProblem<'a> + ?Sized> Palc<'p, 'a, P> {
     /// is below the tolerance with a residual of the same order. The residual criterion matters
     /// near branch points, where the augmented Jacobian is nearly singular and evaluation noise
     /// is amplified along the (parameter-free) null direction.
+    ///
+    /// With `accurate_predictor` (location, where the predictor interpolates two nearby
+    /// solutions to high order) the residual is checked before anything is factorised: a
+    /// predictor that already solves the equations is accepted after one factorisation there.
     fn correct(
         &mut self,
         u_pred: &[f64],
         row: &[f64],
         u0: &[f64],
         s: f64,
+        accurate_predictor: bool,
     ) -> Result<(Vec<f64>, usize)> {
         let ns = self.settings.newton;
         let max_it = 2 * self.settings.target_iterations;
         let n = self.n;
         let mut u = u_pred.to_vec();
+        if accurate_predictor {
+            self.count_residual();
+            self.p
+                .problem()
+                .evaluate(&u, &mut self.res[..n - 1], None)?;
+            self.res[n - 1] = dot(row, &u) - dot(row, u0) - s;
+            if max_abs(&self.res) <= ns.residual_tol {
+                self.factor(&u, row, u0, s)?;
+                return Ok((u, 0));
+            }
+        }
         let mut du = vec![0.0; n];
         let mut last_step = f64::INFINITY;
         let mut last_res = f64::INFINITY;
@@ -237,6 +263,7 @@ impl<'p, 'a, P: ContinuationProblem<'a> + ?Sized> Palc<'p, 'a, P> {
         self.factor(&u, row, u0, s)?;
         for it in 0..=max_it {
             if !fresh {
+                self.count_residual();
                 self.p
                     .problem()
                     .evaluate(&u, &mut self.res[..n - 1], None)?;
@@ -279,6 +306,19 @@ impl<'p, 'a, P: ContinuationProblem<'a> + ?Sized> Palc<'p, 'a, P> {
         }))
     }
 
+    fn count_residual(&mut self) {
+        if self.locating {
+            self.stats.location_residuals += 1;
+        } else {
+            self.stats.residuals += 1;
+        }
+    }
+
+    fn analyse(&mut self, u: &[f64]) -> Result<PointInfo> {
+        self.stats.analyses += 1;
+        Ok(self.p.analyse(u)?)
+    }
+
     /// Tangent at `u` with the current factorisation of $[J(u); row]$ (left by
     /// [`Palc::correct`]), and the determinant of that matrix.
     fn tangent_from_factorization(&mut self) -> Result<(Vec<f64>, (f64, f64))> {
@@ -301,7 +341,7 @@ impl<'p, 'a, P: ContinuationProblem<'a> + ?Sized> Palc<'p, 'a, P> {
     /// The chart at a corrected `u`, using the factorisation the corrector left.
     fn chart(&mut self, u: Vec<f64>, _row: &[f64], iterations: usize) -> Result<Chart> {
         let (t, det) = self.tangent_from_factorization()?;
-        let info = self.p.analyse(&u)?;
+        let info = self.analyse(&u)?;
         Ok(Chart {
             u,
             t,
@@ -357,9 +397,44 @@ impl<'p, 'a, P: ContinuationProblem<'a> + ?Sized> Palc<'p, 'a, P> {
     /// (so that the determinant is continuous in `s`). With `analyse == false` the point's
     /// analysis (multipliers, monitors) is copied from `a` (enough for the fold and branch-point
     /// tests, which use the tangent and the determinant only).
-    fn chart_at(&mut self, a: &Chart, s: f64, analyse: bool) -> Result<Chart> {
-        let pred: Vec<f64> = a.u.iter().zip(&a.t).map(|(x, t)| x + s * t).collect();
-        let (u, it) = self.correct(&pred, &a.t.clone(), &a.u.clone(), s)?;
+    ///
+    /// The predictor interpolates the bracket's charts `lo` (at `s_lo`) and `hi` (at `s_hi`):
+    /// cubic Hermite in $s$ with slopes $t / (t_a \cdot t)$, which keeps it on the hyperplane
+    /// and makes it accurate to $O(w^4)$ in the bracket width $w$, so that late in a location
+    /// the predictor is already a solution; linear where a slope is unreliable (the tangent
+    /// turns away from $t_a$, e.g. next to a branch point).
+    fn chart_at(
+        &mut self,
+        a: &Chart,
+        (lo, s_lo): (&Chart, f64),
+        (hi, s_hi): (&Chart, f64),
+        s: f64,
+        analyse: bool,
+    ) -> Result<Chart> {
+        let w = s_hi - s_lo;
+        let x = (s - s_lo) / w;
+        let (d_lo, d_hi) = (dot(&a.t, &lo.t), dot(&a.t, &hi.t));
+        let pred: Vec<f64> = if d_lo > 0.5 && d_hi > 0.5 {
+            // Hermite basis on [0, 1].
+            let h00 = (1.0 + 2.0 * x) * (1.0 - x) * (1.0 - x);
+            let h10 = x * (1.0 - x) * (1.0 - x);
+            let h01 = x * x * (3.0 - 2.0 * x);
+            let h11 = x * x * (x - 1.0);
+            (0..self.n)
+                .map(|i| {
+                    h00 * lo.u[i]
+                        + h10 * w * lo.t[i] / d_lo
+                        + h01 * hi.u[i]
+                        + h11 * w * hi.t[i] / d_hi
+                })
+                .collect()
+        } else {
+            lo.u.iter()
+                .zip(&hi.u)
+                .map(|(p, q)| p + x * (q - p))
+                .collect()
+        };
+        let (u, it) = self.correct(&pred, &a.t.clone(), &a.u.clone(), s, true)?;
         if analyse {
             return self.chart(u, &a.t.clone(), it);
         }
@@ -373,34 +448,68 @@ impl<'p, 'a, P: ContinuationProblem<'a> + ?Sized> Palc<'p, 'a, P> {
         })
     }
 
-    /// Locates the zero of test slot `slot` between `a` (s = 0) and `b` (s = h): Illinois steps,
-    /// bisection when the bracket shrinks slowly or a corrector fails (next to a branch point the
-    /// augmented Jacobian is singular). Returns the chart, whether the bracket in `s` reached the
-    /// tolerance, and the final bracket width; on failure, the better bracket end.
-    fn locate(&mut self, a: &Chart, b: &Chart, h: f64, slot: usize) -> (Chart, bool, f64) {
+    /// Locates the zero of test slot `slot` between the charts `lo` and `hi` at arclengths
+    /// `s_lo < s_hi` on chart `a`'s hyperplanes, by the ITP method (Oliveira and Takahashi,
+    /// 2020: regula falsi, truncated towards the midpoint and projected into a shrinking
+    /// interval around it). It converges superlinearly for smooth test functions, from both
+    /// sides (the truncation steps over the root, so the bracket, not just one end, shrinks),
+    /// and never needs more than one evaluation beyond bisection's
+    /// $\lceil \log_2 (w_0 / \mathrm{tol}) \rceil$. A trial whose corrector fails (next to a
+    /// branch point the augmented Jacobian is singular) is retried at the midpoint. Returns the
+    /// chart, whether the bracket in `s` reached the tolerance, and the final bracket width; on
+    /// failure, the better bracket end.
+    fn locate(
+        &mut self,
+        a: &Chart,
+        (lo_chart, s_lo): (&Chart, f64),
+        (hi_chart, s_hi): (&Chart, f64),
+        slot: usize,
+    ) -> (Chart, bool, f64) {
         let det_ref = a.det.1;
         let tol = self.settings.locate_tol;
-        let (mut lo, mut hi) = (0.0, h);
-        let mut glo = self.tests(a, det_ref).values[slot];
-        let mut ghi = self.tests(b, det_ref).values[slot];
-        let (mut c_lo, mut c_hi) = (a.clone(), b.clone());
-        let mut side = 0i8;
+        let (mut lo, mut hi) = (s_lo, s_hi);
+        let mut glo = self.tests(lo_chart, det_ref).values[slot];
+        let mut ghi = self.tests(hi_chart, det_ref).values[slot];
+        let (mut c_lo, mut c_hi) = (lo_chart.clone(), hi_chart.clone());
+        // ITP constants: eps = tol / 2 (stop when the bracket is at most tol), kappa1 = 0.2 / w0,
+        // kappa2 = 2, n0 = 1.
+        let eps = 0.5 * tol;
+        let w0 = hi - lo;
+        let kappa1 = 0.2 / w0;
+        let n_max = (w0 / (2.0 * eps)).log2().ceil().max(0.0) + 1.0;
+        let mut j = 0.0;
         let mut bisect_next = false;
         // Fold and branch-point tests need no analysis of the trial points.
         let needs_analysis = !matches!(self.slots[slot], Slot::Fold | Slot::BranchPoint);
-        for _ in 0..120 {
-            if (hi - lo).abs() <= tol {
+        for _ in 0..200 {
+            let width = hi - lo;
+            if width <= tol {
                 break;
             }
-            let width = hi - lo;
-            let mut s = if bisect_next || glo == ghi {
-                0.5 * (lo + hi)
+            let mid = 0.5 * (lo + hi);
+            let s = if bisect_next || glo == ghi {
+                mid
             } else {
-                (lo * ghi - hi * glo) / (ghi - glo)
+                let r = (eps * 2f64.powf(n_max - j) - 0.5 * width).max(0.0);
+                let delta = kappa1 * width * width;
+                let x_f = (ghi * lo - glo * hi) / (ghi - glo);
+                let sigma = (mid - x_f).signum();
+                let x_t = if delta <= (mid - x_f).abs() {
+                    x_f + sigma * delta
+                } else {
+                    mid
+                };
+                if (x_t - mid).abs() <= r {
+                    x_t
+                } else {
+                    mid - sigma * r
+                }
             };
-            let margin = (0.5 * tol).min(0.25 * width);
-            s = s.clamp(lo + margin, hi - margin);
-            let Ok(c) = self.chart_at(a, s, needs_analysis) else {
+            // Strictly inside the bracket (the projection allows its ends in exact arithmetic).
+            let margin = (0.25 * eps).min(0.25 * width);
+            let s = s.clamp(lo + margin, hi - margin);
+            j += 1.0;
+            let Ok(c) = self.chart_at(a, (&c_lo, lo), (&c_hi, hi), s, needs_analysis) else {
                 if bisect_next {
                     break; // even the midpoint fails: give up with the bracket so far
                 }
@@ -411,7 +520,7 @@ impl<'p, 'a, P: ContinuationProblem<'a> + ?Sized> Palc<'p, 'a, P> {
             let gs = self.tests(&c, det_ref).values[slot];
             if gs == 0.0 {
                 let mut c = c;
-                if !needs_analysis && let Ok(info) = self.p.analyse(&c.u) {
+                if !needs_analysis && let Ok(info) = self.analyse(&c.u) {
                     c.info = info;
                 }
                 return (c, true, 0.0);
@@ -420,35 +529,56 @@ impl<'p, 'a, P: ContinuationProblem<'a> + ?Sized> Palc<'p, 'a, P> {
                 lo = s;
                 glo = gs;
                 c_lo = c;
-                if side == 1 {
-                    ghi *= 0.5;
-                }
-                side = 1;
             } else {
                 hi = s;
                 ghi = gs;
                 c_hi = c;
-                if side == -1 {
-                    glo *= 0.5;
-                }
-                side = -1;
-            }
-            if hi - lo > 0.5 * width {
-                bisect_next = true;
-                side = 0;
             }
         }
-        let width = (hi - lo).abs();
+        let width = hi - lo;
         let located = width <= tol;
-        // The bracket end nearer the zero (by the test function's magnitude at the bracket's
-        // ends, which Illinois may have halved: compare fresh values).
-        let g_lo = self.tests(&c_lo, det_ref).values[slot].abs();
-        let g_hi = self.tests(&c_hi, det_ref).values[slot].abs();
-        let mut best = if g_lo <= g_hi { c_lo } else { c_hi };
-        if !needs_analysis && let Ok(info) = self.p.analyse(&best.u) {
+        // The bracket end nearer the zero by the test function's magnitude.
+        let mut best = if glo.abs() <= ghi.abs() { c_lo } else { c_hi };
+        if !needs_analysis && let Ok(info) = self.analyse(&best.u) {
             best.info = info;
         }
         (best, located, width)
+    }
+
+    /// Locates a fold in a step that has a located branch point at `s_bp`, outside a window
+    /// of half-width $\Delta = 0.05 h$ around it, or returns `None` when the fold test changes
+    /// sign only across the window. Next to a branch point the augmented Jacobian is nearly
+    /// singular and the tangent (whose parameter component is the fold test) is dominated by
+    /// error; and on a branch through a pitchfork (the asymmetric branch at a symmetry-breaking
+    /// point) the parameter does turn at the branch point itself. Neither is a saddle-node.
+    /// The window's ends are predicted from the step's ends (the tangent at the branch point
+    /// is unreliable).
+    fn locate_fold_beside(
+        &mut self,
+        a: &Chart,
+        b: &Chart,
+        h: f64,
+        slot: usize,
+        s_bp: f64,
+    ) -> Option<(Chart, bool, f64)> {
+        let det_ref = a.det.1;
+        let delta = 0.05 * h;
+        let g = |me: &Self, c: &Chart| me.tests(c, det_ref).values[slot];
+        let ga = g(self, a);
+        if s_bp - delta > 0.0
+            && let Ok(before) = self.chart_at(a, (a, 0.0), (b, h), s_bp - delta, false)
+            && ga * g(self, &before) <= 0.0
+        {
+            return Some(self.locate(a, (a, 0.0), (&before, s_bp - delta), slot));
+        }
+        let gb = g(self, b);
+        if s_bp + delta < h
+            && let Ok(after) = self.chart_at(a, (a, 0.0), (b, h), s_bp + delta, false)
+            && gb * g(self, &after) <= 0.0
+        {
+            return Some(self.locate(a, (&after, s_bp + delta), (b, h), slot));
+        }
+        None
     }
 
     fn kind_of(slot: Slot) -> SpecialKind {
@@ -485,7 +615,7 @@ impl<'p, 'a, P: ContinuationProblem<'a> + ?Sized> Palc<'p, 'a, P> {
                 }
                 let h0 = self.settings.h0;
                 let pred: Vec<f64> = u0.iter().zip(&row).map(|(x, t)| x + h0 * t).collect();
-                let (u, it) = self.correct(&pred, &row, u0, h0)?;
+                let (u, it) = self.correct(&pred, &row, u0, h0, false)?;
                 let mut c = self.chart(u, &row, it)?;
                 if dot(&c.t, &row) < 0.0 {
                     c.t.iter_mut().for_each(|x| *x = -*x);
@@ -495,7 +625,7 @@ impl<'p, 'a, P: ContinuationProblem<'a> + ?Sized> Palc<'p, 'a, P> {
             None => {
                 let mut row = vec![0.0; n];
                 row[pi] = 1.0;
-                let (u, it) = self.correct(u0, &row, u0, 0.0)?;
+                let (u, it) = self.correct(u0, &row, u0, 0.0, false)?;
                 let mut c = self.chart(u, &row, it)?;
                 if c.t[pi] * direction < 0.0 {
                     c.t.iter_mut().for_each(|x| *x = -*x);
@@ -517,6 +647,7 @@ impl<'p, 'a, P: ContinuationProblem<'a> + ?Sized> Palc<'p, 'a, P> {
             points: vec![self.point(&a, label, 0.0)],
             special_points: Vec::new(),
             end: EndReason::MaxPoints,
+            statistics: RunStatistics::default(),
         };
         observer.point(&branch.points[0], self.parameter(&a.u));
         let start = a.u.clone();
@@ -526,7 +657,7 @@ impl<'p, 'a, P: ContinuationProblem<'a> + ?Sized> Palc<'p, 'a, P> {
             let pred: Vec<f64> = a.u.iter().zip(&a.t).map(|(x, t)| x + h * t).collect();
             let at = a.t.clone();
             let au = a.u.clone();
-            let corrected = self.correct(&pred, &at, &au, h);
+            let corrected = self.correct(&pred, &at, &au, h, false);
             let b = match corrected.and_then(|(u, it)| self.chart(u, &at, it)) {
                 Ok(b)
                     if dot(&b.t, &a.t).clamp(-1.0, 1.0).acos() <= self.settings.max_angle
@@ -535,6 +666,7 @@ impl<'p, 'a, P: ContinuationProblem<'a> + ?Sized> Palc<'p, 'a, P> {
                     b
                 }
                 Ok(_) | Err(_) if h > self.settings.h_min => {
+                    self.stats.rejected_steps += 1;
                     h = (0.5 * h).max(self.settings.h_min);
                     continue;
                 }
@@ -553,16 +685,30 @@ impl<'p, 'a, P: ContinuationProblem<'a> + ?Sized> Palc<'p, 'a, P> {
             let det_ref = a.det.1;
             let ta = self.tests(&a, det_ref);
             let tb = self.tests(&b, det_ref);
-            let mut found: Vec<(f64, usize, Chart, bool, f64)> = Vec::new();
-            for slot in 0..self.slots.len() {
+            let changed = |slot: usize| {
                 let (ga, gb) = (ta.values[slot], tb.values[slot]);
-                if ga == 0.0 || !(ga * gb <= 0.0) {
-                    continue;
+                ga != 0.0 && ga * gb <= 0.0
+            };
+            // Branch points first: a fold test change next to one is the branch point's.
+            let mut order: Vec<usize> = (0..self.slots.len()).filter(|&k| changed(k)).collect();
+            order.sort_by_key(|&k| self.slots[k] != Slot::BranchPoint);
+            let mut found: Vec<(f64, usize, Chart, bool, f64)> = Vec::new();
+            self.locating = true;
+            for slot in order {
+                let bp = found
+                    .iter()
+                    .find(|f| self.slots[f.1] == Slot::BranchPoint && f.3)
+                    .map(|f| f.0);
+                let result = match (self.slots[slot], bp) {
+                    (Slot::Fold, Some(s_bp)) => self.locate_fold_beside(&a, &b, h, slot, s_bp),
+                    _ => Some(self.locate(&a, (&a, 0.0), (&b, h), slot)),
+                };
+                if let Some((c, located, acc)) = result {
+                    let s = dot(&a.t, &c.u) - dot(&a.t, &a.u);
+                    found.push((s, slot, c, located, acc));
                 }
-                let (c, located, acc) = self.locate(&a, &b, h, slot);
-                let s = dot(&a.t, &c.u) - dot(&a.t, &a.u);
-                found.push((s, slot, c, located, acc));
             }
+            self.locating = false;
             found.sort_by(|x, y| x.0.total_cmp(&y.0));
             let (pa, pb) = (self.parameter(&a.u), self.parameter(&b.u));
             for (_, slot, c, located, acc) in found {
@@ -648,6 +794,7 @@ impl<'p, 'a, P: ContinuationProblem<'a> + ?Sized> Palc<'p, 'a, P> {
             }
             a = b;
         }
+        branch.statistics = self.stats;
         Ok(branch)
     }
 }

@@ -264,6 +264,76 @@ fn pitchfork_branch_point_is_located_and_switched() {
     }
 }
 
+/// The bifurcating branch of a pitchfork, $l = x^2$, turns in $l$ at the branch point itself:
+/// continued through it, the parameter's tangent component changes sign there, which is the
+/// branch point's doing, not a fold (the tangent is undefined at a branch point).
+#[test]
+fn a_branch_through_a_pitchfork_has_a_branch_point_and_no_fold() {
+    let mut t = Test::new(1, pitchfork, no_multipliers);
+    let u0 = t.start(&[0.7], 0.49);
+    let b = continue_branch(
+        &mut t,
+        "x^2 = l",
+        &u0,
+        -1.0,
+        &settings().parameter_bounds(-2.0, 1.0),
+        &mut Silent,
+    )
+    .unwrap();
+    let kinds: Vec<_> = b.special_points.iter().map(|s| s.kind).collect();
+    assert_eq!(
+        kinds,
+        [SpecialKind::BranchPoint, SpecialKind::EndPoint],
+        "special points {kinds:?}"
+    );
+    // Located to 1e-10 in arclength along the chart's hyperplane. Close to the branch point the
+    // corrector may land on the crossing branch x = 0, which meets the hyperplane at a small
+    // angle (~2|x|), so the parameter is less accurate than from the trivial branch (1e-9,
+    // above): about 1e-10 / (2|x|) with |x| ~ 1e-4 at the last charts.
+    let bp = &b.special_points[0];
+    assert!(
+        bp.located && bp.point.params[0].abs() < 1e-6 && bp.point.u[0].abs() < 1e-4,
+        "BP at {:?}",
+        bp.point.u
+    );
+    // Through the branch point onto the x < 0 half, to the bound l = 1.
+    let ep = &b.special_points[1];
+    assert!((ep.point.params[0] - 1.0).abs() < 1e-9 && ep.point.u[0] < -0.9);
+}
+
+/// The work counters of a run (evaluations while stepping and while locating) are consistent
+/// and survive serialisation.
+#[test]
+fn run_statistics_count_the_work() {
+    let mut t = Test::new(1, parabola, no_multipliers);
+    let u0 = t.start(&[1.0], 1.0);
+    let b = continue_branch(
+        &mut t,
+        "parabola",
+        &u0,
+        -1.0,
+        &settings().parameter_bounds(-1.0, 2.0),
+        &mut Silent,
+    )
+    .unwrap();
+    let st = b.statistics;
+    // Every point needs a factorisation at its solution; the fold and the end point were
+    // located with more.
+    assert!(st.jacobians >= b.points.len(), "{st:?}");
+    assert!(st.location_jacobians > 0, "{st:?}");
+    assert!(st.analyses >= b.points.len(), "{st:?}");
+    // Saved runs keep them; files without them still load.
+    let back = hycont_continuation::Branch::from_json(&b.to_json().unwrap()).unwrap();
+    assert_eq!(back.statistics, st);
+    let mut v: serde_json::Value = serde_json::from_str(&b.to_json().unwrap()).unwrap();
+    v.as_object_mut().unwrap().remove("statistics");
+    let old = hycont_continuation::Branch::from_json(&v.to_string()).unwrap();
+    assert_eq!(
+        old.statistics,
+        hycont_continuation::RunStatistics::default()
+    );
+}
+
 #[test]
 fn period_doubling_of_the_logistic_map_at_r_3() {
     let mut t = Test::new(1, logistic, logistic_multiplier);

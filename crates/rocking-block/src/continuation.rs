@@ -117,6 +117,7 @@ fn join(name: &str, backward: Branch, forward: Branch) -> Branch {
         points,
         special_points: specials,
         end: forward.end,
+        statistics: backward.statistics + forward.statistics,
         ..forward
     };
     relabel(&mut out);
