@@ -111,6 +111,21 @@ fn tr_test(info: &PointInfo) -> f64 {
     acc
 }
 
+/// The predictor of a step `h` from chart $(u_a, t_a)$ reached by a step `h_p` from
+/// $(u_p, t_p)$: the cubic Hermite interpolant of the two charts (unit tangents as derivatives in
+/// arclength) extrapolated to `h` beyond $u_a$. Its error is $O(h^3)$ against the tangent
+/// predictor's $O(h^2)$, so the corrector starts closer (fewer chord iterations).
+fn extrapolate(u_p: &[f64], t_p: &[f64], h_p: f64, u_a: &[f64], t_a: &[f64], h: f64) -> Vec<f64> {
+    let x = 1.0 + h / h_p;
+    let h00 = (1.0 + 2.0 * x) * (1.0 - x) * (1.0 - x);
+    let h10 = x * (1.0 - x) * (1.0 - x);
+    let h01 = x * x * (3.0 - 2.0 * x);
+    let h11 = x * x * (x - 1.0);
+    (0..u_a.len())
+        .map(|i| h00 * u_p[i] + h10 * h_p * t_p[i] + h01 * u_a[i] + h11 * h_p * t_a[i])
+        .collect()
+}
+
 /// The continuation driver for one problem.
 pub(crate) struct Palc<'p, 'a, P: ContinuationProblem<'a> + ?Sized> {
     p: &'p mut P,
@@ -653,8 +668,14 @@ impl<'p, 'a, P: ContinuationProblem<'a> + ?Sized> Palc<'p, 'a, P> {
         let start = a.u.clone();
         let mut h = self.settings.h0;
         let mut travelled = 0.0;
+        // The chart before `a` and the step from it, for the predictor; `None` after a
+        // rejected step (the tangent predictor is then used).
+        let mut previous: Option<(Vec<f64>, Vec<f64>, f64)> = None;
         'outer: while branch.points.len() < self.settings.max_points {
-            let pred: Vec<f64> = a.u.iter().zip(&a.t).map(|(x, t)| x + h * t).collect();
+            let pred = match &previous {
+                Some((u_p, t_p, h_p)) => extrapolate(u_p, t_p, *h_p, &a.u, &a.t, h),
+                None => a.u.iter().zip(&a.t).map(|(x, t)| x + h * t).collect(),
+            };
             let at = a.t.clone();
             let au = a.u.clone();
             let corrected = self.correct(&pred, &at, &au, h, false);
@@ -667,6 +688,7 @@ impl<'p, 'a, P: ContinuationProblem<'a> + ?Sized> Palc<'p, 'a, P> {
                 }
                 Ok(_) | Err(_) if h > self.settings.h_min => {
                     self.stats.rejected_steps += 1;
+                    previous = None;
                     h = (0.5 * h).max(self.settings.h_min);
                     continue;
                 }
@@ -774,6 +796,7 @@ impl<'p, 'a, P: ContinuationProblem<'a> + ?Sized> Palc<'p, 'a, P> {
             observer.point(&point, self.parameter(&b.u));
             branch.points.push(point);
             travelled += h;
+            let step = h;
             // Closed branch: back near the start after a long way.
             let dist = max_abs(
                 &b.u.iter()
@@ -792,6 +815,7 @@ impl<'p, 'a, P: ContinuationProblem<'a> + ?Sized> Palc<'p, 'a, P> {
             } else if b.iterations > self.settings.target_iterations {
                 h = (0.5 * h).max(self.settings.h_min);
             }
+            previous = Some((std::mem::take(&mut a.u), std::mem::take(&mut a.t), step));
             a = b;
         }
         branch.statistics = self.stats;
