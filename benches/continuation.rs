@@ -42,6 +42,62 @@ fn figures_3_and_4(c: &mut Criterion) {
     });
 }
 
+/// The branch AUTO-07p was timed on: the symmetric orbit continued in omega over [0.5, 4.0] at
+/// alpha = 0.66 from the Fig. 2 orbit, both directions, every detector on; at our default step
+/// control (~100 points) and with the largest step set to 0.04, which gives AUTO's ~223 points.
+/// Accuracy is equal: AUTO's discretisation (collocation NTST 40, NCOL 4, which hycont also has)
+/// puts SN1 and BP1 within 2e-10 of a rtol 1e-13 shooting run, our rtol 1e-10 shooting within
+/// 3e-10.
+fn symmetric_omega_branch(c: &mut Criterion) {
+    use hycont::rocking_block::continuation::{default_method, events, measures, settings};
+    use hycont::rocking_block::model::{Parameters, RockingBlock};
+    use hycont::rocking_block::orbits::{OrbitKind, orbit};
+    use hycont_continuation::{OrbitContinuation, continue_branch};
+    let params = Parameters::new(1.3, 0.66);
+    let start = orbit(&params, OrbitKind::Symmetric, None)
+        .unwrap()
+        .solution
+        .orbit;
+    let run = |h_max: f64| {
+        let (mut cp, u0) = OrbitContinuation::new(
+            &RockingBlock,
+            &start,
+            &default_method(),
+            Free::Omega.id(),
+            measures(),
+            events(&params),
+        )
+        .unwrap();
+        let s = settings(0.5, 4.0).steps(0.02, 1e-8, h_max);
+        let down = continue_branch(&mut cp, "symmetric", &u0, -1.0, &s, &mut Silent).unwrap();
+        let up = continue_branch(&mut cp, "symmetric", &u0, 1.0, &s, &mut Silent).unwrap();
+        (down, up)
+    };
+    for (name, h_max) in [("default steps", 0.1), ("AUTO's point count", 0.04)] {
+        let t = std::time::Instant::now();
+        let (down, up) = run(h_max);
+        let elapsed = t.elapsed();
+        let points = down.points.len() + up.points.len() - 1
+            + down.special_points.len()
+            + up.special_points.len();
+        eprintln!(
+            "symmetric omega branch, {name}: {points} points (incl. special), {:.3} ms per point \
+             (one run {elapsed:?}); {:?}",
+            1e3 * elapsed.as_secs_f64() / points as f64,
+            down.statistics + up.statistics
+        );
+    }
+    c.bench_function("continuation/symmetric_omega_branch", |b| {
+        b.iter(|| black_box(run(0.1)));
+    });
+    c.bench_function(
+        "continuation/symmetric_omega_branch_auto_point_count",
+        |b| {
+            b.iter(|| black_box(run(0.04)));
+        },
+    );
+}
+
 fn figure_6_curves(c: &mut Criterion) {
     let t = std::time::Instant::now();
     let curves = study_curves(&mut Silent).unwrap();
@@ -65,6 +121,6 @@ fn figure_6_curves(c: &mut Criterion) {
 criterion_group! {
     name = benches;
     config = Criterion::default().sample_size(10);
-    targets = figures_3_and_4, figure_6_curves
+    targets = figures_3_and_4, symmetric_omega_branch, figure_6_curves
 }
 criterion_main!(benches);

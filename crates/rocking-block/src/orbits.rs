@@ -237,7 +237,7 @@ pub fn symmetric_orbit(params: &Parameters) -> Result<RockingOrbit> {
     )?;
     // Rank guesses by how nearly one flight closes symmetrically in half a period.
     let mut candidates = Vec::new();
-    let mut sim = Simulator::new(SimulationSettings::default().rtol(1e-8).atol(1e-10))?;
+    let mut sim = Simulator::new(SimulationSettings::default().rtol(1e-6).atol(1e-8))?;
     for i in 0..48 {
         let theta = 2.0 * PI * f64::from(i) / 48.0;
         for psi0 in [0.05, 0.1, 0.2, 0.3, 0.45, 0.6, 0.8, 1.0, 1.3] {
