@@ -2,12 +2,14 @@
 //!
 //! A chart is a solution $u$ of $F(u) = 0$ ($F: \mathbb{R}^N \to \mathbb{R}^{N-1}$) with its unit
 //! tangent $t$ ($J t = 0$, oriented along the run). From chart $(u_a, t_a)$ a step $h$ predicts
-//! $u_a + h t_a$ and corrects on the hyperplane $t_a \cdot (u - u_a) = h$ with Newton on the
-//! augmented system $[F; t_a \cdot (u - u_a) - h]$, Jacobian $A = [J; t_a^\top]$. The new tangent
-//! solves $A x = e_N$. Test functions are evaluated at every chart; a sign change between two
-//! charts is located on the first chart's hyperplanes, $s \mapsto$ the solution at arclength
-//! $s \in (0, h)$, by the Illinois method (bisection safeguarded) until the bracket in $s$ is below
-//! the location tolerance.
+//! by extrapolating the cubic Hermite interpolant of the previous chart and $(u_a, t_a)$ (the
+//! tangent predictor $u_a + h t_a$ at the start and after a rejected step) and corrects on the
+//! hyperplane $t_a \cdot (u - u_a) = h$ with chord Newton on the augmented system
+//! $[F; t_a \cdot (u - u_a) - h]$, Jacobian $A = [J; t_a^\top]$. The new tangent solves
+//! $A x = e_N$. Test functions are evaluated at every chart; a sign change between two charts is
+//! located on the first chart's hyperplanes, $s \mapsto$ the solution at arclength
+//! $s \in (0, h)$, by the ITP method until the bracket in $s$ is below the location tolerance.
+//! A fold test change beside a located branch point in the same step is the branch point's.
 
 use crate::branch::{Branch, BranchPoint, EndReason, RunStatistics, SpecialKind, SpecialPoint};
 use crate::error::{Error, Result};
