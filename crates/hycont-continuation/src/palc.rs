@@ -17,6 +17,7 @@ use crate::observe::Observer;
 use crate::settings::{BoundOn, ContinuationSettings};
 use crate::{ContinuationProblem, PointInfo};
 use hycont_core::linalg::SparsePattern;
+use hycont_core::problem::JacobianUse;
 
 /// A solved chart with everything the test functions need.
 #[derive(Debug, Clone)]
@@ -218,7 +219,18 @@ impl<'p, 'a, P: ContinuationProblem<'a> + ?Sized> Palc<'p, 'a, P> {
     }
 
     /// Assembles and factorises $[J(u); r^\top]$ and writes $[F(u); r \cdot (u - u_0) - s]$.
-    fn factor(&mut self, u: &[f64], row: &[f64], u0: &[f64], s: f64) -> Result<()> {
+    ///
+    /// `purpose` tells the problem whether the Jacobian must be exact (at a solution: tangent,
+    /// determinant, multipliers) or only gives chord directions (it may then be computed more
+    /// cheaply; the residual is exact either way).
+    fn factor(
+        &mut self,
+        u: &[f64],
+        row: &[f64],
+        u0: &[f64],
+        s: f64,
+        purpose: JacobianUse,
+    ) -> Result<()> {
         let n = self.n;
         if self.locating {
             self.stats.location_jacobians += 1;
@@ -228,7 +240,7 @@ impl<'p, 'a, P: ContinuationProblem<'a> + ?Sized> Palc<'p, 'a, P> {
         let mut values = std::mem::take(&mut self.values);
         self.p
             .problem()
-            .evaluate(u, &mut self.res[..n - 1], Some(&mut values))?;
+            .evaluate_for(u, &mut self.res[..n - 1], &mut values, purpose)?;
         values.truncate(self.k);
         values.extend_from_slice(row);
         self.res[n - 1] = dot(row, u) - dot(row, u0) - s;
@@ -267,7 +279,7 @@ impl<'p, 'a, P: ContinuationProblem<'a> + ?Sized> Palc<'p, 'a, P> {
                 .evaluate(&u, &mut self.res[..n - 1], None)?;
             self.res[n - 1] = dot(row, &u) - dot(row, u0) - s;
             if max_abs(&self.res) <= ns.residual_tol {
-                self.factor(&u, row, u0, s)?;
+                self.factor(&u, row, u0, s, JacobianUse::Exact)?;
                 return Ok((u, 0));
             }
         }
@@ -277,7 +289,7 @@ impl<'p, 'a, P: ContinuationProblem<'a> + ?Sized> Palc<'p, 'a, P> {
         // Chord iterations: the Jacobian is factorised at the predictor (and again only if the
         // residual stops contracting fast); the other iterations evaluate the residual only.
         let mut fresh = true;
-        self.factor(&u, row, u0, s)?;
+        self.factor(&u, row, u0, s, JacobianUse::NewtonDirection)?;
         for it in 0..=max_it {
             if !fresh {
                 self.count_residual();
@@ -293,7 +305,7 @@ impl<'p, 'a, P: ContinuationProblem<'a> + ?Sized> Palc<'p, 'a, P> {
                     || (last_step <= ns.tol * scale && res <= 1e3 * last_step.max(ns.residual_tol)))
             {
                 // Converged: factorise at the solution for the tangent and the determinant.
-                self.factor(&u, row, u0, s)?;
+                self.factor(&u, row, u0, s, JacobianUse::Exact)?;
                 return Ok((u, it));
             }
             if it == max_it || !res.is_finite() {
@@ -301,7 +313,7 @@ impl<'p, 'a, P: ContinuationProblem<'a> + ?Sized> Palc<'p, 'a, P> {
             }
             if !fresh && res > 0.2 * last_res {
                 // Slow contraction: refresh the Jacobian.
-                self.factor(&u, row, u0, s)?;
+                self.factor(&u, row, u0, s, JacobianUse::NewtonDirection)?;
             }
             for (d, r) in du.iter_mut().zip(&self.res) {
                 *d = -r;
@@ -351,7 +363,7 @@ impl<'p, 'a, P: ContinuationProblem<'a> + ?Sized> Palc<'p, 'a, P> {
     /// determinant of $[J(u); row]$ (factorises afresh).
     fn tangent(&mut self, u: &[f64], row: &[f64]) -> Result<(Vec<f64>, (f64, f64))> {
         let zero = vec![0.0; self.n];
-        self.factor(u, row, &zero, dot(row, u))?;
+        self.factor(u, row, &zero, dot(row, u), JacobianUse::Exact)?;
         self.tangent_from_factorization()
     }
 

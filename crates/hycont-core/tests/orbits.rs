@@ -531,3 +531,33 @@ fn held_parameters_are_not_differentiated_and_newton_steps_do_not_change() {
     }
     assert_eq!(xh[param], 0.0);
 }
+
+/// A Jacobian asked for as a Newton direction may be approximate (shooting integrates it at a
+/// looser tolerance), the residual may not: it is the exact one (continuation's chord
+/// corrector uses such Jacobians at its predictor; its convergence test uses exact residuals).
+#[test]
+fn newton_direction_jacobians_are_approximate_and_residuals_exact() {
+    use hycont_core::problem::JacobianUse;
+    let guess = relaxation_guess(2.5);
+    let mut problem = shooting_problem(&Relaxation, &guess, ShootingSettings::default()).unwrap();
+    let u = pack(&guess);
+    let m = problem.equations();
+    let (mut r_exact, mut r_dir) = (vec![0.0; m], vec![0.0; m]);
+    let (mut j_exact, mut j_dir) = (Vec::new(), Vec::new());
+    problem
+        .evaluate_for(&u, &mut r_exact, &mut j_exact, JacobianUse::Exact)
+        .unwrap();
+    problem
+        .evaluate_for(&u, &mut r_dir, &mut j_dir, JacobianUse::NewtonDirection)
+        .unwrap();
+    let mut r_plain = vec![0.0; m];
+    problem.evaluate(&u, &mut r_plain, None).unwrap();
+    assert_eq!(r_dir, r_plain, "the residual is the exact one");
+    // Integrated at rtol 1e-6 instead of 1e-12: close, not equal.
+    let worst = j_exact
+        .iter()
+        .zip(&j_dir)
+        .map(|(a, b)| (a - b).abs() / (1.0 + a.abs()))
+        .fold(0.0, f64::max);
+    assert!(worst > 0.0 && worst < 1e-4, "difference {worst:e}");
+}

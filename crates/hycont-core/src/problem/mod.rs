@@ -39,25 +39,48 @@ pub trait ZeroFunction {
         jacobian: Option<&mut [f64]>,
     ) -> Result<()>;
 
-    /// Like [`ZeroFunction::evaluate`], told which local unknowns the problem holds fixed
-    /// (`held[j]`: an inactive monitor of unknown `j` alone, at its value). Newton steps,
-    /// tangents and the determinant's sign do not depend on the Jacobian's entries in held
-    /// columns (the monitor's row pins the unknown's change to zero), so an implementation may
-    /// leave them zero where they are expensive (shooting: a parameter's sensitivities). The
-    /// residual must be exact. The default evaluates everything.
+    /// Like [`ZeroFunction::evaluate`] with hints on the Jacobian: which local unknowns the
+    /// problem holds fixed, and what the Jacobian is for. Parts may use them to save work (see
+    /// [`JacobianHints`]); the residual must be exact. The default evaluates everything.
     ///
     /// # Errors
     /// As [`ZeroFunction::evaluate`].
-    fn evaluate_held(
+    fn evaluate_hinted(
         &mut self,
         u: &[f64],
         residual: &mut [f64],
         jacobian: Option<&mut [f64]>,
-        held: &[bool],
+        hints: JacobianHints<'_>,
     ) -> Result<()> {
-        let _ = held;
+        let _ = hints;
         self.evaluate(u, residual, jacobian)
     }
+}
+
+/// What a Jacobian evaluation is for.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum JacobianUse {
+    /// Everything: tangents, determinants, Floquet multipliers from the linearisation. As
+    /// accurate as the residual.
+    #[default]
+    Exact,
+    /// A Newton (chord) direction only. An approximate Jacobian changes the convergence rate,
+    /// not the solution (the exact residual decides convergence), so a part may compute it more
+    /// cheaply; shooting integrates the variational equations at a looser tolerance.
+    NewtonDirection,
+}
+
+/// Hints passed to [`ZeroFunction::evaluate_hinted`].
+#[derive(Debug, Clone, Copy)]
+pub struct JacobianHints<'a> {
+    /// `held[j]`: local unknown `j` is held fixed by the problem (an inactive monitor of that
+    /// unknown alone, at its value). Newton steps, tangents and the determinant's sign do not
+    /// depend on the Jacobian's entries in held columns (the monitor's row pins the unknown's
+    /// change to zero), so they may be left zero where expensive (shooting: a parameter's
+    /// sensitivities).
+    pub held: &'a [bool],
+    /// What the Jacobian is for.
+    pub purpose: JacobianUse,
 }
 
 /// A scalar function $\psi(u)$ of some of the problem's unknowns.
@@ -374,7 +397,7 @@ impl<'a> Problem<'a> {
     /// $4\varepsilon$; e.g. the parameters not being continued) are *held*: their Jacobian
     /// columns (outside the monitor's own row) may be returned as zeros, because the monitor's
     /// row pins their change to zero in Newton steps and tangents and the determinant does not
-    /// depend on them. Parts use this to skip work ([`ZeroFunction::evaluate_held`]).
+    /// depend on them. Parts use this to skip work ([`ZeroFunction::evaluate_hinted`]).
     /// [`Problem::dense_jacobian`] and [`Problem::check_jacobian`] give full columns.
     ///
     /// # Errors
@@ -385,7 +408,22 @@ impl<'a> Problem<'a> {
         residual: &mut [f64],
         jacobian: Option<&mut Vec<f64>>,
     ) -> Result<()> {
-        self.evaluate_impl(u, residual, jacobian, true)
+        self.evaluate_impl(u, residual, jacobian, true, JacobianUse::Exact)
+    }
+
+    /// Like [`Problem::evaluate`], with the Jacobian for `purpose` (parts may compute a Newton
+    /// direction's Jacobian more cheaply, see [`JacobianUse`]). The residual is exact.
+    ///
+    /// # Errors
+    /// As [`Problem::evaluate`].
+    pub fn evaluate_for(
+        &mut self,
+        u: &[f64],
+        residual: &mut [f64],
+        jacobian: &mut Vec<f64>,
+        purpose: JacobianUse,
+    ) -> Result<()> {
+        self.evaluate_impl(u, residual, Some(jacobian), true, purpose)
     }
 
     /// Marks in `self.held` the unknowns held at their value by inactive single-unknown
@@ -413,6 +451,7 @@ impl<'a> Problem<'a> {
         residual: &mut [f64],
         jacobian: Option<&mut Vec<f64>>,
         use_held: bool,
+        purpose: JacobianUse,
     ) -> Result<()> {
         crate::error::check_len("unknowns", u, self.unknowns())?;
         crate::error::check_len("residual", residual, self.equations())?;
@@ -421,6 +460,7 @@ impl<'a> Problem<'a> {
             j.clear();
         }
         let any_held = jac.is_some() && use_held && self.mark_held(u)?;
+        let hinted = any_held || purpose != JacobianUse::Exact;
         let mut local_u = Vec::new();
         for part in &mut self.parts {
             local_u.clear();
@@ -432,12 +472,15 @@ impl<'a> Problem<'a> {
                     let start = j.len();
                     j.resize(start + part.pattern.len(), 0.0);
                     let out = Some(&mut j[start..]);
-                    if any_held {
+                    if hinted {
                         self.held_local.clear();
                         self.held_local
-                            .extend(part.unknowns.iter().map(|&i| self.held[i]));
-                        part.function
-                            .evaluate_held(&local_u, res, out, &self.held_local)?;
+                            .extend(part.unknowns.iter().map(|&i| any_held && self.held[i]));
+                        let hints = JacobianHints {
+                            held: &self.held_local,
+                            purpose,
+                        };
+                        part.function.evaluate_hinted(&local_u, res, out, hints)?;
                     } else {
                         part.function.evaluate(&local_u, res, out)?;
                     }
@@ -512,7 +555,13 @@ impl<'a> Problem<'a> {
     pub fn dense_jacobian(&mut self, u: &[f64]) -> Result<Vec<Vec<f64>>> {
         let mut values = Vec::new();
         let mut residual = vec![0.0; self.equations()];
-        self.evaluate_impl(u, &mut residual, Some(&mut values), false)?;
+        self.evaluate_impl(
+            u,
+            &mut residual,
+            Some(&mut values),
+            false,
+            JacobianUse::Exact,
+        )?;
         let mut out = vec![vec![0.0; self.unknowns()]; self.equations()];
         for (&(r, c), v) in self.global_pattern().iter().zip(&values) {
             out[r][c] += v;
