@@ -123,6 +123,14 @@ pub trait ContinuationProblem<'a> {
     fn monitor_events(&self) -> Vec<MonitorEvent> {
         Vec::new()
     }
+    /// Weights $w_i > 0$ of the unknowns in the arclength norm
+    /// $\|v\|^2 = \sum_i w_i v_i^2$ (default: all 1). A discretised function should weigh
+    /// its node values so that the norm approximates an integral, independent of the mesh
+    /// (as AUTO's and COCO's $L_2$ norms): otherwise refining the mesh shrinks every step in
+    /// the parameter.
+    fn unknown_weights(&self) -> Option<Vec<f64>> {
+        None
+    }
 }
 
 /// Continues the branch through `u0` (an approximate solution) in the direction of increasing

@@ -319,6 +319,22 @@ impl<'a, S: HybridJacobians + ?Sized> ContinuationProblem<'a> for OrbitContinuat
             trivial: floquet.trivial,
         })
     }
+    /// Collocation: each segment's node values weigh `1 / nodes` (the segment's mean square,
+    /// as AUTO's $L_2$ norm, independent of the mesh); shooting's few segment starts, the
+    /// durations and the parameters weigh 1.
+    fn unknown_weights(&self) -> Option<Vec<f64>> {
+        let Layout::Collocation { meshes, ncol } = &self.layout else {
+            return None;
+        };
+        let n = self.like.starts[0].len();
+        let mut w = Vec::with_capacity(self.problem.unknowns());
+        for m in meshes {
+            let nodes = (m.len() - 1) * ncol + 1;
+            w.extend(std::iter::repeat_n(1.0 / nodes as f64, nodes * n));
+        }
+        w.resize(self.problem.unknowns(), 1.0);
+        Some(w)
+    }
     fn monitor_events(&self) -> Vec<MonitorEvent> {
         let mut events = vec![MonitorEvent {
             kind: SpecialKind::Grazing,

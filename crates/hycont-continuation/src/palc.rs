@@ -64,15 +64,6 @@ fn dot(a: &[f64], b: &[f64]) -> f64 {
     a.iter().zip(b).map(|(x, y)| x * y).sum()
 }
 
-fn normalize(v: &mut [f64]) {
-    let n = dot(v, v).sqrt();
-    if n > 0.0 {
-        for x in v.iter_mut() {
-            *x /= n;
-        }
-    }
-}
-
 /// Product over non-trivial multipliers of $(1 + \lambda)$ (real: complex pairs give
 /// $|1 + \lambda|^2$): changes sign when a real multiplier crosses $-1$.
 fn pd_test(info: &PointInfo) -> f64 {
@@ -138,6 +129,8 @@ pub(crate) struct Palc<'p, 'a, P: ContinuationProblem<'a> + ?Sized> {
     pattern: SparsePattern,
     values: Vec<f64>,
     res: Vec<f64>,
+    /// Arclength weights of the unknowns (see [`ContinuationProblem::unknown_weights`]).
+    w: Vec<f64>,
     slots: Vec<Slot>,
     stats: RunStatistics,
     /// Whether evaluations count as location work.
@@ -199,6 +192,17 @@ impl<'p, 'a, P: ContinuationProblem<'a> + ?Sized> Palc<'p, 'a, P> {
                 level: b.max,
             });
         }
+        let w = match p.unknown_weights() {
+            Some(w) if w.len() == n && w.iter().all(|&x| x > 0.0 && x.is_finite()) => w,
+            Some(w) => {
+                return Err(Error::InvalidSetting {
+                    name: "unknown_weights",
+                    value: w.len() as f64,
+                    reason: "need one finite positive weight per unknown",
+                });
+            }
+            None => vec![1.0; n],
+        };
         Ok(Self {
             p,
             settings,
@@ -207,11 +211,34 @@ impl<'p, 'a, P: ContinuationProblem<'a> + ?Sized> Palc<'p, 'a, P> {
             pattern,
             values: Vec::new(),
             res: vec![0.0; n],
+            w,
             slots,
             stats: RunStatistics::default(),
             locating: false,
             _marker: std::marker::PhantomData,
         })
+    }
+
+    /// The weighted inner product $\langle a, b \rangle_W = \sum_i w_i a_i b_i$ of arclength.
+    fn wdot(&self, a: &[f64], b: &[f64]) -> f64 {
+        a.iter()
+            .zip(b)
+            .zip(&self.w)
+            .map(|((x, y), w)| w * x * y)
+            .sum()
+    }
+
+    fn wnormalize(&self, v: &mut [f64]) {
+        let norm = self.wdot(v, v).sqrt();
+        if norm > 0.0 {
+            v.iter_mut().for_each(|x| *x /= norm);
+        }
+    }
+
+    /// The augmented Jacobian's last row for the hyperplanes of tangent `t`: $W t$, so that the
+    /// row applied to $u - u_a$ is $\langle t, u - u_a \rangle_W$.
+    fn row_of(&self, t: &[f64]) -> Vec<f64> {
+        t.iter().zip(&self.w).map(|(x, w)| w * x).collect()
     }
 
     fn parameter(&self, u: &[f64]) -> f64 {
@@ -355,7 +382,7 @@ impl<'p, 'a, P: ContinuationProblem<'a> + ?Sized> Palc<'p, 'a, P> {
         let mut x = vec![0.0; self.n];
         x[self.n - 1] = 1.0;
         self.pattern.solve_in_place(&mut x)?;
-        normalize(&mut x);
+        self.wnormalize(&mut x);
         Ok((x, det))
     }
 
@@ -442,7 +469,7 @@ impl<'p, 'a, P: ContinuationProblem<'a> + ?Sized> Palc<'p, 'a, P> {
     ) -> Result<Chart> {
         let w = s_hi - s_lo;
         let x = (s - s_lo) / w;
-        let (d_lo, d_hi) = (dot(&a.t, &lo.t), dot(&a.t, &hi.t));
+        let (d_lo, d_hi) = (self.wdot(&a.t, &lo.t), self.wdot(&a.t, &hi.t));
         let pred: Vec<f64> = if d_lo > 0.5 && d_hi > 0.5 {
             // Hermite basis on [0, 1].
             let h00 = (1.0 + 2.0 * x) * (1.0 - x) * (1.0 - x);
@@ -463,9 +490,10 @@ impl<'p, 'a, P: ContinuationProblem<'a> + ?Sized> Palc<'p, 'a, P> {
                 .map(|(p, q)| p + x * (q - p))
                 .collect()
         };
-        let (u, it) = self.correct(&pred, &a.t.clone(), &a.u.clone(), s, true)?;
+        let row = self.row_of(&a.t);
+        let (u, it) = self.correct(&pred, &row, &a.u.clone(), s, true)?;
         if analyse {
-            return self.chart(u, &a.t.clone(), it);
+            return self.chart(u, &row, it);
         }
         let (t, det) = self.tangent_from_factorization()?;
         Ok(Chart {
@@ -637,16 +665,17 @@ impl<'p, 'a, P: ContinuationProblem<'a> + ?Sized> Palc<'p, 'a, P> {
         // branch point leaves it along the requested branch.
         let mut a = match initial_tangent {
             Some(t) => {
-                let mut row = t.to_vec();
-                normalize(&mut row);
+                let mut dir = t.to_vec();
+                self.wnormalize(&mut dir);
                 if direction < 0.0 {
-                    row.iter_mut().for_each(|x| *x = -*x);
+                    dir.iter_mut().for_each(|x| *x = -*x);
                 }
                 let h0 = self.settings.h0;
-                let pred: Vec<f64> = u0.iter().zip(&row).map(|(x, t)| x + h0 * t).collect();
+                let pred: Vec<f64> = u0.iter().zip(&dir).map(|(x, t)| x + h0 * t).collect();
+                let row = self.row_of(&dir);
                 let (u, it) = self.correct(&pred, &row, u0, h0, false)?;
                 let mut c = self.chart(u, &row, it)?;
-                if dot(&c.t, &row) < 0.0 {
+                if self.wdot(&c.t, &dir) < 0.0 {
                     c.t.iter_mut().for_each(|x| *x = -*x);
                 }
                 c
@@ -664,7 +693,7 @@ impl<'p, 'a, P: ContinuationProblem<'a> + ?Sized> Palc<'p, 'a, P> {
         };
         // The determinant with the chart's own oriented tangent as the last row, consistent with
         // the following charts (each uses its predecessor's tangent).
-        let own = a.t.clone();
+        let own = self.row_of(&a.t);
         a.det = self.tangent(&a.u, &own)?.1;
         let mut label = 1;
         let mut branch = Branch {
@@ -690,12 +719,12 @@ impl<'p, 'a, P: ContinuationProblem<'a> + ?Sized> Palc<'p, 'a, P> {
                 Some((u_p, t_p, h_p)) => extrapolate(u_p, t_p, *h_p, &a.u, &a.t, h),
                 None => a.u.iter().zip(&a.t).map(|(x, t)| x + h * t).collect(),
             };
-            let at = a.t.clone();
+            let at = self.row_of(&a.t);
             let au = a.u.clone();
             let corrected = self.correct(&pred, &at, &au, h, false);
             let b = match corrected.and_then(|(u, it)| self.chart(u, &at, it)) {
                 Ok(b)
-                    if dot(&b.t, &a.t).clamp(-1.0, 1.0).acos() <= self.settings.max_angle
+                    if self.wdot(&b.t, &a.t).clamp(-1.0, 1.0).acos() <= self.settings.max_angle
                         || h <= self.settings.h_min =>
                 {
                     b
@@ -714,7 +743,7 @@ impl<'p, 'a, P: ContinuationProblem<'a> + ?Sized> Palc<'p, 'a, P> {
             };
             // Orient the new tangent along the run.
             let mut b = b;
-            if dot(&b.t, &a.t) < 0.0 {
+            if self.wdot(&b.t, &a.t) < 0.0 {
                 b.t.iter_mut().for_each(|x| *x = -*x);
             }
             // Sign changes of test functions, located and sorted along the step.
@@ -740,7 +769,7 @@ impl<'p, 'a, P: ContinuationProblem<'a> + ?Sized> Palc<'p, 'a, P> {
                     _ => Some(self.locate(&a, (&a, 0.0), (&b, h), slot)),
                 };
                 if let Some((c, located, acc)) = result {
-                    let s = dot(&a.t, &c.u) - dot(&a.t, &a.u);
+                    let s = self.wdot(&a.t, &c.u) - self.wdot(&a.t, &a.u);
                     found.push((s, slot, c, located, acc));
                 }
             }

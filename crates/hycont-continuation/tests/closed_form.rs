@@ -47,6 +47,7 @@ struct Test {
     multipliers: fn(&[f64]) -> Vec<(f64, f64)>,
     events: Vec<MonitorEvent>,
     fail_above: f64,
+    weights: Option<Vec<f64>>,
 }
 
 impl Test {
@@ -76,6 +77,7 @@ impl Test {
             multipliers,
             events: Vec::new(),
             fail_above: f64::INFINITY,
+            weights: None,
         }
     }
     /// u0 = (state, parameter, active monitor value = parameter).
@@ -122,6 +124,9 @@ impl ContinuationProblem<'static> for Test {
     }
     fn monitor_events(&self) -> Vec<MonitorEvent> {
         self.events.clone()
+    }
+    fn unknown_weights(&self) -> Option<Vec<f64>> {
+        self.weights.clone()
     }
 }
 
@@ -210,6 +215,49 @@ fn fold_of_x_squared_minus_l_is_located_at_zero() {
     assert_eq!(b.end, EndReason::Bound);
     let ep = b.special(SpecialKind::EndPoint).next().unwrap();
     assert!((ep.point.params[0] - 2.0).abs() < 1e-9 && ep.point.u[0] < 0.0);
+}
+
+/// Arclength weights change the steps, not the branch: weighing x by 100 makes each step
+/// 10 times shorter in x near the fold, so the run takes more points to the same bound, and
+/// the fold is at l = 0 either way. Invalid weights are refused.
+#[test]
+fn arclength_weights_change_the_steps_not_the_branch() {
+    let mut points = Vec::new();
+    for weights in [None, Some(vec![100.0, 1.0, 1.0])] {
+        let mut t = Test::new(1, parabola, no_multipliers);
+        t.weights = weights;
+        let u0 = t.start(&[1.0], 1.0);
+        let b = continue_branch(
+            &mut t,
+            "parabola",
+            &u0,
+            -1.0,
+            &settings().parameter_bounds(-1.0, 2.0),
+            &mut Silent,
+        )
+        .unwrap();
+        let sn = b.special(SpecialKind::Fold).next().unwrap();
+        assert!(sn.located && sn.point.params[0].abs() < 1e-9);
+        for p in &b.points {
+            assert!((p.u[0] * p.u[0] - p.u[1]).abs() < 1e-9);
+        }
+        points.push(b.points.len());
+    }
+    assert!(points[1] > 2 * points[0], "points {points:?}");
+    for bad in [
+        vec![1.0, 1.0],
+        vec![0.0, 1.0, 1.0],
+        vec![f64::NAN, 1.0, 1.0],
+    ] {
+        let mut t = Test::new(1, parabola, no_multipliers);
+        t.weights = Some(bad.clone());
+        let u0 = t.start(&[1.0], 1.0);
+        let err = continue_branch(&mut t, "p", &u0, -1.0, &settings(), &mut Silent).unwrap_err();
+        assert!(
+            err.to_string().contains("unknown_weights"),
+            "{bad:?}: {err}"
+        );
+    }
 }
 
 #[test]

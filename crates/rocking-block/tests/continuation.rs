@@ -265,6 +265,50 @@ fn collocation_and_shooting_continuations_agree_on_the_fold() {
     assert!((folds[0] - folds[1]).abs() < 1e-7, "{folds:?}");
 }
 
+/// The arclength of collocation weighs each segment's nodes by 1 / nodes (an L2 norm of the
+/// orbit, as AUTO's), so refining the mesh does not shrink the steps: the same branch piece
+/// takes about as many points with 4 times the mesh. (With the plain Euclidean norm of all
+/// unknowns the steps shrink like 1 / sqrt(nodes): about twice the points.)
+#[test]
+fn collocation_steps_do_not_depend_on_the_mesh() {
+    let params = Parameters::new(1.3, 0.66);
+    let start = orbit(&params, OrbitKind::Symmetric, None)
+        .unwrap()
+        .solution
+        .orbit;
+    let mut points = Vec::new();
+    for ntst in [10, 40] {
+        let method = OrbitMethod::Collocation(CollocationSettings {
+            ntst,
+            ncol: 4,
+            adapt: 1,
+        });
+        let (mut cp, u0) = OrbitContinuation::new(
+            &RockingBlock,
+            &start,
+            &method,
+            OMEGA,
+            measures(),
+            events(&params),
+        )
+        .unwrap();
+        let s = ContinuationSettings::default()
+            .parameter_bounds(0.5, 4.0)
+            .steps(0.02, 1e-8, 0.1)
+            .stop_at(SpecialKind::Fold);
+        let b = continue_branch(&mut cp, "sym", &u0, -1.0, &s, &mut Silent).unwrap();
+        assert_eq!(
+            b.end,
+            hycont_continuation::EndReason::Reached(SpecialKind::Fold)
+        );
+        points.push(b.points.len() as f64);
+    }
+    assert!(
+        points[1] <= 1.25 * points[0] && points[1] >= 0.8 * points[0],
+        "points with NTST 10 and 40: {points:?}"
+    );
+}
+
 #[test]
 fn continue_cli_saves_and_restarts() {
     let dir = std::env::temp_dir().join(format!("rocking-block-cont-{}", std::process::id()));
