@@ -4,9 +4,11 @@
 //! tangent $t$ ($J t = 0$, oriented along the run). From chart $(u_a, t_a)$ a step $h$ predicts
 //! by extrapolating the cubic Hermite interpolant of the previous chart and $(u_a, t_a)$ (the
 //! tangent predictor $u_a + h t_a$ at the start and after a rejected step) and corrects on the
-//! hyperplane $t_a \cdot (u - u_a) = h$ with chord Newton on the augmented system
-//! $[F; t_a \cdot (u - u_a) - h]$, Jacobian $A = [J; t_a^\top]$. The new tangent solves
-//! $A x = e_N$. Test functions are evaluated at every chart; a sign change between two charts is
+//! hyperplane $\langle t_a, u - u_a \rangle_W = h$ with chord Newton on the augmented system
+//! $[F; \langle t_a, u - u_a \rangle_W - h]$, Jacobian $A = [J; (W t_a)^\top]$, where
+//! $\langle \cdot, \cdot \rangle_W$ is the arclength inner product with the problem's unknown
+//! weights (see [`crate::ContinuationProblem::unknown_weights`]; tangents have unit $W$-norm).
+//! The new tangent solves $A x = e_N$. Test functions are evaluated at every chart; a sign change between two charts is
 //! located on the first chart's hyperplanes, $s \mapsto$ the solution at arclength
 //! $s \in (0, h)$, by the ITP method until the bracket in $s$ is below the location tolerance.
 //! A fold test change beside a located branch point in the same step is the branch point's.
@@ -30,7 +32,7 @@ struct Chart {
     det: (f64, f64),
 }
 
-/// Test-function values at a chart, in a fixed order (see [`Tests::names`]).
+/// Test-function values at a chart, one per slot of [`Palc::slots`], in that order.
 #[derive(Debug, Clone)]
 struct Tests {
     values: Vec<f64>,
@@ -455,7 +457,7 @@ impl<'p, 'a, P: ContinuationProblem<'a> + ?Sized> Palc<'p, 'a, P> {
     /// tests, which use the tangent and the determinant only).
     ///
     /// The predictor interpolates the bracket's charts `lo` (at `s_lo`) and `hi` (at `s_hi`):
-    /// cubic Hermite in $s$ with slopes $t / (t_a \cdot t)$, which keeps it on the hyperplane
+    /// cubic Hermite in $s$ with slopes $t / \langle t_a, t \rangle_W$, which keeps it on the hyperplane
     /// and makes it accurate to $O(w^4)$ in the bracket width $w$, so that late in a location
     /// the predictor is already a solution; linear where a slope is unreliable (the tangent
     /// turns away from $t_a$, e.g. next to a branch point).
