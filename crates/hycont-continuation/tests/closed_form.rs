@@ -466,6 +466,33 @@ fn monitor_events_are_located() {
     assert_eq!(sb[0].monitor, Some(0));
 }
 
+/// A bound on a monitor ends the branch with an end point located on it: on x^2 = l, past the
+/// fold, the monitor x reaches -0.5 at l = 0.25.
+#[test]
+fn a_monitor_bound_ends_the_branch_at_a_located_end_point() {
+    let mut t = Test::new(1, parabola, no_multipliers);
+    let u0 = t.start(&[1.0], 1.0);
+    let b = continue_branch(
+        &mut t,
+        "parabola",
+        &u0,
+        -1.0,
+        &settings()
+            .parameter_bounds(-1.0, 2.0)
+            .monitor_bounds(0, -0.5, 2.0),
+        &mut Silent,
+    )
+    .unwrap();
+    assert_eq!(b.end, EndReason::Bound);
+    let ep = b.special_points.last().unwrap();
+    assert_eq!((ep.kind, ep.monitor), (SpecialKind::EndPoint, Some(0)));
+    assert!(ep.located);
+    assert!((ep.point.monitors[0] + 0.5).abs() < 1e-9);
+    assert!((ep.point.params[0] - 0.25).abs() < 1e-9);
+    // The fold came first.
+    assert_eq!(b.special_points[0].kind, SpecialKind::Fold);
+}
+
 #[test]
 fn reversing_the_direction_finds_the_same_special_points() {
     let mut t = Test::new(1, logistic, logistic_multiplier);

@@ -14,6 +14,7 @@ use hycont_core::ParamId;
 use hycont_core::orbit::{PeriodicOrbit, ShootingSettings};
 use serde::{Deserialize, Serialize};
 use serde_json::{Value, json};
+use std::f64::consts::FRAC_PI_2;
 
 /// Index of Amp among the monitors of a rocking-block branch (after `period` and
 /// `min_duration`).
@@ -96,11 +97,14 @@ pub fn default_method() -> OrbitMethod {
     })
 }
 
-/// Settings for a branch in `free` over `[min, max]`.
+/// Settings for a branch in `free` over `[min, max]`. Orbits stand while their amplitude is
+/// below $\pi/2$: a branch whose amplitude reaches it (the block overturns) ends there with a
+/// located end point on the `amp` bound.
 #[must_use]
 pub fn settings(min: f64, max: f64) -> ContinuationSettings {
     ContinuationSettings::default()
         .parameter_bounds(min, max)
+        .monitor_bounds(AMP, -FRAC_PI_2, FRAC_PI_2)
         .steps(0.02, 1e-8, 0.1)
 }
 

@@ -309,6 +309,41 @@ fn collocation_steps_do_not_depend_on_the_mesh() {
     );
 }
 
+/// Orbits whose amplitude reaches pi/2 overturn: the symmetric branch continued in alpha at
+/// omega = 1.3 far beyond the study's range ends there, with a located end point on the amp
+/// bound (without the bound it ran on through overturning orbits to alpha = 20).
+#[test]
+fn a_branch_ends_where_the_amplitude_reaches_pi_over_2() {
+    let params = Parameters::new(1.3, 0.66);
+    let start = orbit(&params, OrbitKind::Symmetric, None)
+        .unwrap()
+        .solution
+        .orbit;
+    let (mut cp, u0) = OrbitContinuation::new(
+        &RockingBlock,
+        &start,
+        &default_method(),
+        Free::Alpha.id(),
+        measures(),
+        events(&params),
+    )
+    .unwrap();
+    let s = rocking_block::continuation::settings(0.01, 20.0);
+    let b = continue_branch(&mut cp, "sym", &u0, 1.0, &s, &mut Silent).unwrap();
+    assert_eq!(b.end, hycont_continuation::EndReason::Bound);
+    let ep = b.special_points.last().unwrap();
+    assert_eq!((ep.kind, ep.monitor), (SpecialKind::EndPoint, Some(AMP)));
+    assert!(ep.located);
+    assert!((ep.point.monitors[AMP] - std::f64::consts::FRAC_PI_2).abs() < 1e-9);
+    let alpha = ep.point.params[1];
+    assert!(alpha > 3.0 && alpha < 5.0, "alpha {alpha}");
+    assert!(
+        b.points
+            .iter()
+            .all(|p| p.monitors[AMP] < std::f64::consts::FRAC_PI_2)
+    );
+}
+
 #[test]
 fn continue_cli_saves_and_restarts() {
     let dir = std::env::temp_dir().join(format!("rocking-block-cont-{}", std::process::id()));
