@@ -108,11 +108,37 @@ pub fn settings(min: f64, max: f64) -> ContinuationSettings {
         .steps(0.02, 1e-8, 0.1)
 }
 
+/// The located special point a run ended on (a bound, an inadmissible orbit, a `stop_at`
+/// kind): the last point of the branch it ends, which the run's points stop short of.
+fn end_point(b: &Branch) -> Option<BranchPoint> {
+    let ended_on_special = matches!(
+        b.end,
+        EndReason::Bound | EndReason::Inadmissible(_) | EndReason::Reached(_)
+    );
+    b.special_points
+        .last()
+        .filter(|s| ended_on_special && s.located)
+        .map(|s| s.point.clone())
+}
+
+/// Appends the located special point a run ended on to its points (see [`end_point`]), so
+/// that the branch's points reach it (figures draw them), and relabels.
+fn close_end(b: &mut Branch) {
+    if let Some(p) = end_point(b) {
+        b.points.push(p);
+    }
+    relabel(b);
+}
+
 /// Joins a backward and a forward run from the same start into one branch, in increasing
-/// continuation order (backward reversed), relabelled.
+/// continuation order (backward reversed), with the end points the runs ended on at both ends
+/// (see [`end_point`]), relabelled.
 fn join(name: &str, backward: Branch, forward: Branch) -> Branch {
-    let mut points: Vec<BranchPoint> = backward.points.into_iter().rev().collect();
+    let mut points: Vec<BranchPoint> = end_point(&backward).into_iter().collect();
+    let fwd_end = end_point(&forward);
+    points.extend(backward.points.into_iter().rev());
     points.extend(forward.points.into_iter().skip(1));
+    points.extend(fwd_end);
     let mut specials = backward.special_points;
     specials.reverse();
     specials.extend(forward.special_points);
@@ -221,11 +247,10 @@ pub fn study_branches(free: Free, observer: &mut dyn Observer) -> Result<Vec<Bra
             .cloned();
         if let Some(sym_bp) = near.filter(|s| (s.point.params[q] - end.bracket.1).abs() < 1e-2) {
             asym.special_points.pop();
-            asym.points.push(sym_bp.point.clone());
             asym.special_points.push(sym_bp);
         }
     }
-    relabel(&mut asym);
+    close_end(&mut asym);
     let pd = asym.special(SpecialKind::PeriodDoubling).next().cloned();
     out.push(asym);
     // The period-2 branch from the first period doubling.
@@ -236,7 +261,7 @@ pub fn study_branches(free: Free, observer: &mut dyn Observer) -> Result<Vec<Bra
         let s = settings(min, max);
         let mut p2 = continue_along(&mut doubled, "period-2", &u0, &dir, 1.0, &s, observer)
             .map_err(cont_err)?;
-        relabel(&mut p2);
+        close_end(&mut p2);
         out.push(p2);
     }
     Ok(out)
@@ -412,9 +437,13 @@ pub fn continue_orbit(
                observer: &mut dyn Observer| {
         continue_branch(cp, name, &u0, dir, &s, observer).map_err(cont_err)
     };
+    let single = |mut b: Branch| {
+        close_end(&mut b);
+        b
+    };
     Ok(match direction {
-        Direction::Up => run(&mut cp, 1.0, observer)?,
-        Direction::Down => run(&mut cp, -1.0, observer)?,
+        Direction::Up => single(run(&mut cp, 1.0, observer)?),
+        Direction::Down => single(run(&mut cp, -1.0, observer)?),
         Direction::Both => {
             let back = run(&mut cp, -1.0, observer)?;
             let fwd = run(&mut cp, 1.0, observer)?;

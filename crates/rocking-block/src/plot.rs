@@ -416,15 +416,53 @@ pub fn branches_svg(
             )))
             .map_err(|e| plot_err(path, e))?;
     }
+    let points: Vec<(f64, f64)> = xs().zip(ys()).collect();
     chart
         .configure_series_labels()
         .border_style(BLACK)
         .background_style(WHITE.mix(0.85))
-        .position(SeriesLabelPosition::UpperRight)
+        .position(emptiest_corner(&points, (x_lo, x_hi), (0.0, y_hi)))
         .draw()
         .map_err(|e| plot_err(path, e))?;
     root.present().map_err(|e| plot_err(path, e))?;
     Ok(())
+}
+
+/// The corner of the plot area whose quarter (the outer 45 % in x, 30 % in y) holds the fewest
+/// data points, for the legend (so that it does not hide the branches).
+fn emptiest_corner(
+    points: &[(f64, f64)],
+    (x_lo, x_hi): (f64, f64),
+    (y_lo, y_hi): (f64, f64),
+) -> SeriesLabelPosition {
+    let (wx, wy) = (0.45 * (x_hi - x_lo), 0.3 * (y_hi - y_lo));
+    let count = |right: bool, upper: bool| {
+        points
+            .iter()
+            .filter(|(x, y)| {
+                let in_x = if right {
+                    *x >= x_hi - wx
+                } else {
+                    *x <= x_lo + wx
+                };
+                let in_y = if upper {
+                    *y >= y_hi - wy
+                } else {
+                    *y <= y_lo + wy
+                };
+                in_x && in_y
+            })
+            .count()
+    };
+    [
+        (SeriesLabelPosition::UpperRight, count(true, true)),
+        (SeriesLabelPosition::UpperLeft, count(false, true)),
+        (SeriesLabelPosition::LowerRight, count(true, false)),
+        (SeriesLabelPosition::LowerLeft, count(false, false)),
+    ]
+    .into_iter()
+    .min_by_key(|(_, c)| *c)
+    .map_or(SeriesLabelPosition::UpperRight, |(p, _)| p)
 }
 
 /// Fig. 6: the curves in the (omega, alpha) plane, the regions of stable symmetric (between the
@@ -907,4 +945,27 @@ pub fn marginals_svg(
     }
     root.present().map_err(|e| plot_err(path, e))?;
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_legend_goes_to_the_emptiest_corner() {
+        // A branch rising to the upper right (Fig. 4): the legend must not cover it.
+        let rising: Vec<(f64, f64)> = (0..50).map(|i| (f64::from(i), f64::from(i))).collect();
+        let corner = emptiest_corner(&rising, (0.0, 49.0), (0.0, 49.0));
+        assert!(matches!(
+            corner,
+            SeriesLabelPosition::UpperLeft | SeriesLabelPosition::LowerRight
+        ));
+        // Data everywhere but the lower left.
+        let mut others: Vec<(f64, f64)> = Vec::new();
+        for (x, y) in [(45.0, 45.0), (5.0, 45.0), (45.0, 5.0)] {
+            others.extend(std::iter::repeat_n((x, y), 3));
+        }
+        let corner = emptiest_corner(&others, (0.0, 50.0), (0.0, 50.0));
+        assert!(matches!(corner, SeriesLabelPosition::LowerLeft));
+    }
 }

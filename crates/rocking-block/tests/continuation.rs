@@ -135,6 +135,19 @@ fn figure_4_special_points_match_the_study() {
         (SpecialKind::Grazing, 1),
     ];
     let labels = study_labels(&branches, Free::Alpha, &offsets);
+    // Branches end on the special points their runs ended at: the symmetric branch runs from
+    // GR2 (terminal) to the bound alpha = 1.06, the asymmetric branch from BP3 to the bound, the
+    // period-2 branch to the bound.
+    let alpha = |p: &hycont_continuation::BranchPoint| p.params[1];
+    let gr2 = branches[0].special(SpecialKind::Grazing).next().unwrap();
+    assert_eq!(branches[0].points[0].u, gr2.point.u);
+    for b in &branches {
+        assert!(
+            (alpha(b.points.last().unwrap()) - 1.06).abs() < 1e-9,
+            "{}",
+            b.name
+        );
+    }
     let names: Vec<&str> = labels.iter().map(|l| l.3.as_str()).collect();
     assert_eq!(
         names,
