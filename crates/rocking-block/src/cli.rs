@@ -104,6 +104,15 @@ pub struct ContinueArgs {
     /// Start: which orbit.
     #[arg(long, value_enum, default_value_t = KindArg::Symmetric)]
     pub kind: KindArg,
+    /// Initial angle for --kind simulate.
+    #[arg(long, default_value_t = 0.01, allow_negative_numbers = true)]
+    pub phi0: f64,
+    /// Initial angular velocity for --kind simulate.
+    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
+    pub psi0: f64,
+    /// Forcing phase for --kind simulate.
+    #[arg(long, default_value_t = std::f64::consts::FRAC_PI_2, allow_negative_numbers = true)]
+    pub beta: f64,
     /// Smallest parameter value (default: 0.5 for omega, 0.01 for alpha).
     #[arg(long, allow_negative_numbers = true)]
     pub min: Option<f64>,
@@ -461,7 +470,9 @@ fn run_continue(args: &ContinueArgs, out: &mut dyn Write) -> Result<()> {
             KindArg::AsymmetricNeg => OrbitKind::AsymmetricNeg,
             KindArg::Simulate => OrbitKind::Simulate,
         };
-        orbit(&params, kind, None)?.solution.orbit
+        orbit(&params, kind, Some((args.phi0, args.psi0, args.beta)))?
+            .solution
+            .orbit
     };
     let branch = continue_orbit(
         "branch",

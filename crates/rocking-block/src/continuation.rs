@@ -193,6 +193,12 @@ pub fn branch_both_ways(
     .map_err(cont_err)?;
     let s = settings(min, max);
     let back = continue_branch(&mut cp, name, &u0, -1.0, &s, observer).map_err(cont_err)?;
+    if back.end == EndReason::Closed {
+        // The branch is a closed curve, all of it in the first run.
+        let mut b = back;
+        relabel(&mut b);
+        return Ok((b, cp));
+    }
     let fwd = continue_branch(&mut cp, name, &u0, 1.0, &s, observer).map_err(cont_err)?;
     Ok((join(name, back, fwd), cp))
 }
@@ -446,8 +452,13 @@ pub fn continue_orbit(
         Direction::Down => single(run(&mut cp, -1.0, observer)?),
         Direction::Both => {
             let back = run(&mut cp, -1.0, observer)?;
-            let fwd = run(&mut cp, 1.0, observer)?;
-            join(name, back, fwd)
+            if back.end == EndReason::Closed {
+                // A closed curve, all of it in the first run.
+                single(back)
+            } else {
+                let fwd = run(&mut cp, 1.0, observer)?;
+                join(name, back, fwd)
+            }
         }
     })
 }

@@ -357,6 +357,43 @@ fn a_branch_ends_where_the_amplitude_reaches_pi_over_2() {
     );
 }
 
+/// The asymmetric branch in omega is a closed curve: through BP2 onto its mirror image and back
+/// through BP1. Continued both ways from a point on it, the first run goes all the way round,
+/// and the branch is that loop once (not twice, joined with a second run). The start can be
+/// the orbit a simulation settles on, from --phi0/--psi0/--beta.
+#[test]
+fn a_closed_branch_is_traversed_once() {
+    let bin = env!("CARGO_BIN_EXE_rocking-block");
+    let out = std::process::Command::new(bin)
+        .args(["continue", "--free", "omega", "--kind", "simulate"])
+        .args([
+            "--phi0",
+            "0.01",
+            "--psi0",
+            "0",
+            "--beta",
+            "1.5707963267948966",
+        ])
+        .arg("--json")
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(v["end"], "Closed");
+    let kinds: Vec<&str> = v["special_points"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|s| s["kind"].as_str().unwrap())
+        .collect();
+    let count = |k: &str| kinds.iter().filter(|&&x| x == k).count();
+    assert_eq!((count("BP"), count("SB")), (2, 4), "{kinds:?}");
+}
+
 #[test]
 fn continue_cli_saves_and_restarts() {
     let dir = std::env::temp_dir().join(format!("rocking-block-cont-{}", std::process::id()));
