@@ -52,42 +52,38 @@ fn figures_3_and_4(c: &mut Criterion) {
 /// 2.4e-10 and the multipliers within 1e-10. (hycont's collocation on that mesh takes
 /// 1.5 ms/point, as AUTO.)
 fn symmetric_omega_branch(c: &mut Criterion) {
-    use hycont::rocking_block::continuation::{default_method, events, measures, settings};
-    use hycont::rocking_block::model::{Parameters, RockingBlock};
+    use hycont::rocking_block::continuation::{
+        Direction, continue_in, default_method, orbit_continuation, settings,
+    };
+    use hycont::rocking_block::model::Parameters;
     use hycont::rocking_block::orbits::{OrbitKind, orbit};
-    use hycont_continuation::{OrbitContinuation, continue_branch};
     let params = Parameters::new(1.3, 0.66);
     let start = orbit(&params, OrbitKind::Symmetric, None)
         .unwrap()
         .solution
         .orbit;
     let run = |h_max: f64| {
-        let (mut cp, u0) = OrbitContinuation::new(
-            &RockingBlock,
-            &start,
-            &default_method(),
-            Free::Omega.id(),
-            measures(),
-            events(&params),
-        )
-        .unwrap();
+        let (mut cp, u0) = orbit_continuation(&start, Free::Omega, &default_method()).unwrap();
         let s = settings(0.5, 4.0).steps(0.02, 1e-8, h_max);
-        let down = continue_branch(&mut cp, "symmetric", &u0, -1.0, &s, &mut Silent).unwrap();
-        let up = continue_branch(&mut cp, "symmetric", &u0, 1.0, &s, &mut Silent).unwrap();
-        (down, up)
+        continue_in(&mut cp, "symmetric", &u0, Direction::Both, &s, &mut Silent).unwrap()
     };
     for (name, h_max) in [("default steps", 0.1), ("AUTO's point count", 0.04)] {
         let t = std::time::Instant::now();
-        let (down, up) = run(h_max);
+        let b = run(h_max);
         let elapsed = t.elapsed();
-        let points = down.points.len() + up.points.len() - 1
-            + down.special_points.len()
-            + up.special_points.len();
+        // Solutions computed: the points and the special points (the branch's end points are
+        // both; count them once).
+        let ends = b
+            .special_points
+            .iter()
+            .filter(|s| b.points.iter().any(|p| p.u == s.point.u))
+            .count();
+        let points = b.points.len() + b.special_points.len() - ends;
         eprintln!(
             "symmetric omega branch, {name}: {points} points (incl. special), {:.3} ms per point \
              (one run {elapsed:?}); {:?}",
             1e3 * elapsed.as_secs_f64() / points as f64,
-            down.statistics + up.statistics
+            b.statistics
         );
     }
     c.bench_function("continuation/symmetric_omega_branch", |b| {

@@ -164,6 +164,70 @@ fn relabel(b: &mut Branch) {
     }
 }
 
+/// The continuation problem of a rocking-block orbit in `free` (the study's measures and
+/// events) and its starting unknowns.
+///
+/// # Errors
+/// Invalid parameters, or an orbit that cannot be solved or continued.
+pub fn orbit_continuation(
+    start: &PeriodicOrbit,
+    free: Free,
+    method: &OrbitMethod,
+) -> Result<(OrbitContinuation<'static, RockingBlock>, Vec<f64>)> {
+    let params = Parameters {
+        omega: start.params[0],
+        alpha: start.params[1],
+        xi: start.params[2],
+        theta_b: start.params[3],
+    };
+    params.validate()?;
+    OrbitContinuation::new(
+        &RockingBlock,
+        start,
+        method,
+        free.id(),
+        measures(),
+        events(&params),
+    )
+    .map_err(cont_err)
+}
+
+/// Runs `cp` from `u0` with `settings` in `direction`. The branch ends with the located point a
+/// run ended on (see [`end_point`]); both ways, the runs are joined, unless the first closes
+/// the branch (a closed curve, all of it in that run).
+///
+/// # Errors
+/// If the start cannot be continued.
+pub fn continue_in(
+    cp: &mut OrbitContinuation<'static, RockingBlock>,
+    name: &str,
+    u0: &[f64],
+    direction: Direction,
+    settings: &ContinuationSettings,
+    observer: &mut dyn Observer,
+) -> Result<Branch> {
+    let mut run = |dir: f64, observer: &mut dyn Observer| {
+        continue_branch(cp, name, u0, dir, settings, observer).map_err(cont_err)
+    };
+    let single = |mut b: Branch| {
+        close_end(&mut b);
+        b
+    };
+    Ok(match direction {
+        Direction::Up => single(run(1.0, observer)?),
+        Direction::Down => single(run(-1.0, observer)?),
+        Direction::Both => {
+            let back = run(-1.0, observer)?;
+            if back.end == EndReason::Closed {
+                single(back)
+            } else {
+                let fwd = run(1.0, observer)?;
+                join(name, back, fwd)
+            }
+        }
+    })
+}
+
 /// The branch of `start` in `free` over `[min, max]`, both directions, joined.
 ///
 /// # Errors
@@ -176,31 +240,10 @@ pub fn branch_both_ways(
     max: f64,
     observer: &mut dyn Observer,
 ) -> Result<(Branch, OrbitContinuation<'static, RockingBlock>)> {
-    let params = Parameters {
-        omega: start.params[0],
-        alpha: start.params[1],
-        xi: start.params[2],
-        theta_b: start.params[3],
-    };
-    let (mut cp, u0) = OrbitContinuation::new(
-        &RockingBlock,
-        start,
-        &default_method(),
-        free.id(),
-        measures(),
-        events(&params),
-    )
-    .map_err(cont_err)?;
+    let (mut cp, u0) = orbit_continuation(start, free, &default_method())?;
     let s = settings(min, max);
-    let back = continue_branch(&mut cp, name, &u0, -1.0, &s, observer).map_err(cont_err)?;
-    if back.end == EndReason::Closed {
-        // The branch is a closed curve, all of it in the first run.
-        let mut b = back;
-        relabel(&mut b);
-        return Ok((b, cp));
-    }
-    let fwd = continue_branch(&mut cp, name, &u0, 1.0, &s, observer).map_err(cont_err)?;
-    Ok((join(name, back, fwd), cp))
+    let b = continue_in(&mut cp, name, &u0, Direction::Both, &s, observer)?;
+    Ok((b, cp))
 }
 
 /// Converts a continuation error.
@@ -398,7 +441,7 @@ impl SavedRun {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum Direction {
-    /// Increasing parameter first, then decreasing, joined.
+    /// Both ways from the start (decreasing first), joined in increasing order.
     Both,
     /// Increasing parameter.
     Up,
@@ -421,46 +464,8 @@ pub fn continue_orbit(
     method: &OrbitMethod,
     observer: &mut dyn Observer,
 ) -> Result<Branch> {
-    let params = Parameters {
-        omega: start.params[0],
-        alpha: start.params[1],
-        xi: start.params[2],
-        theta_b: start.params[3],
-    };
-    params.validate()?;
-    let (mut cp, u0) = OrbitContinuation::new(
-        &RockingBlock,
-        start,
-        method,
-        free.id(),
-        measures(),
-        events(&params),
-    )
-    .map_err(cont_err)?;
-    let s = settings(min, max);
-    let run = |cp: &mut OrbitContinuation<'static, RockingBlock>,
-               dir: f64,
-               observer: &mut dyn Observer| {
-        continue_branch(cp, name, &u0, dir, &s, observer).map_err(cont_err)
-    };
-    let single = |mut b: Branch| {
-        close_end(&mut b);
-        b
-    };
-    Ok(match direction {
-        Direction::Up => single(run(&mut cp, 1.0, observer)?),
-        Direction::Down => single(run(&mut cp, -1.0, observer)?),
-        Direction::Both => {
-            let back = run(&mut cp, -1.0, observer)?;
-            if back.end == EndReason::Closed {
-                // A closed curve, all of it in the first run.
-                single(back)
-            } else {
-                let fwd = run(&mut cp, 1.0, observer)?;
-                join(name, back, fwd)
-            }
-        }
-    })
+    let (mut cp, u0) = orbit_continuation(start, free, method)?;
+    continue_in(&mut cp, name, &u0, direction, &settings(min, max), observer)
 }
 
 /// A two-parameter curve of the study: the kind of point it continues and the branch in

@@ -2,15 +2,15 @@
 
 use hycont_continuation::observe::Silent;
 use hycont_continuation::{
-    ContinuationSettings, OrbitContinuation, OrbitMethod, SpecialKind, continue_branch,
+    Branch, ContinuationSettings, OrbitMethod, SpecialKind, continue_branch,
 };
-use hycont_core::orbit::CollocationSettings;
+use hycont_core::orbit::{CollocationSettings, PeriodicOrbit};
 use rocking_block::continuation::{
-    AMP, Direction, Free, continue_orbit, default_method, events, measures, study_branches,
+    AMP, Direction, Free, continue_orbit, default_method, orbit_continuation, study_branches,
     study_labels,
 };
 use rocking_block::orbits::{OrbitKind, orbit};
-use rocking_block::{OMEGA, Parameters, RockingBlock};
+use rocking_block::{Parameters, RockingBlock};
 
 fn label_value(labels: &[(SpecialKind, f64, f64, String)], name: &str) -> f64 {
     labels
@@ -243,6 +243,16 @@ fn reversing_the_direction_finds_the_same_special_points() {
     assert!((bp - bp2).abs() < 1e-8, "{bp} vs {bp2}");
 }
 
+/// The symmetric branch from `start`, continued down in omega by `method` until its fold.
+fn down_to_the_fold(start: &PeriodicOrbit, method: &OrbitMethod) -> Branch {
+    let (mut cp, u0) = orbit_continuation(start, Free::Omega, method).unwrap();
+    let s = ContinuationSettings::default()
+        .parameter_bounds(0.5, 4.0)
+        .steps(0.02, 1e-8, 0.1)
+        .stop_at(SpecialKind::Fold);
+    continue_branch(&mut cp, "sym", &u0, -1.0, &s, &mut Silent).unwrap()
+}
+
 #[test]
 fn collocation_and_shooting_continuations_agree_on_the_fold() {
     let params = Parameters::new(1.3, 0.66);
@@ -259,20 +269,7 @@ fn collocation_and_shooting_continuations_agree_on_the_fold() {
             adapt: 1,
         }),
     ] {
-        let (mut cp, u0) = OrbitContinuation::new(
-            &RockingBlock,
-            &start,
-            &method,
-            OMEGA,
-            measures(),
-            events(&params),
-        )
-        .unwrap();
-        let s = ContinuationSettings::default()
-            .parameter_bounds(0.5, 4.0)
-            .steps(0.02, 1e-8, 0.1)
-            .stop_at(SpecialKind::Fold);
-        let b = continue_branch(&mut cp, "sym", &u0, -1.0, &s, &mut Silent).unwrap();
+        let b = down_to_the_fold(&start, &method);
         folds.push(b.special(SpecialKind::Fold).next().unwrap().point.params[0]);
     }
     assert!((folds[0] - folds[1]).abs() < 1e-7, "{folds:?}");
@@ -296,20 +293,7 @@ fn collocation_steps_do_not_depend_on_the_mesh() {
             ncol: 4,
             adapt: 1,
         });
-        let (mut cp, u0) = OrbitContinuation::new(
-            &RockingBlock,
-            &start,
-            &method,
-            OMEGA,
-            measures(),
-            events(&params),
-        )
-        .unwrap();
-        let s = ContinuationSettings::default()
-            .parameter_bounds(0.5, 4.0)
-            .steps(0.02, 1e-8, 0.1)
-            .stop_at(SpecialKind::Fold);
-        let b = continue_branch(&mut cp, "sym", &u0, -1.0, &s, &mut Silent).unwrap();
+        let b = down_to_the_fold(&start, &method);
         assert_eq!(
             b.end,
             hycont_continuation::EndReason::Reached(SpecialKind::Fold)
@@ -332,15 +316,7 @@ fn a_branch_ends_where_the_amplitude_reaches_pi_over_2() {
         .unwrap()
         .solution
         .orbit;
-    let (mut cp, u0) = OrbitContinuation::new(
-        &RockingBlock,
-        &start,
-        &default_method(),
-        Free::Alpha.id(),
-        measures(),
-        events(&params),
-    )
-    .unwrap();
+    let (mut cp, u0) = orbit_continuation(&start, Free::Alpha, &default_method()).unwrap();
     let s = rocking_block::continuation::settings(0.01, 20.0);
     let b = continue_branch(&mut cp, "sym", &u0, 1.0, &s, &mut Silent).unwrap();
     assert_eq!(b.end, hycont_continuation::EndReason::Bound);
