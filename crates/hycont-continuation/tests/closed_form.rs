@@ -182,6 +182,12 @@ fn delayed_logistic_multipliers(u: &[f64]) -> Vec<(f64, f64)> {
     hycont_core::linalg::eigenvalues(2, &a).unwrap()
 }
 
+/// The branch x^2 = l from (x, l) = (1, 1), continued towards decreasing l.
+fn parabola_down(t: &mut Test, s: &ContinuationSettings) -> hycont_continuation::Branch {
+    let u0 = t.start(&[1.0], 1.0);
+    continue_branch(t, "parabola", &u0, -1.0, s, &mut Silent).unwrap()
+}
+
 fn settings() -> ContinuationSettings {
     ContinuationSettings::default().steps(0.01, 1e-8, 0.05)
 }
@@ -189,16 +195,7 @@ fn settings() -> ContinuationSettings {
 #[test]
 fn fold_of_x_squared_minus_l_is_located_at_zero() {
     let mut t = Test::new(1, parabola, no_multipliers);
-    let u0 = t.start(&[1.0], 1.0);
-    let b = continue_branch(
-        &mut t,
-        "parabola",
-        &u0,
-        -1.0,
-        &settings().parameter_bounds(-1.0, 2.0),
-        &mut Silent,
-    )
-    .unwrap();
+    let b = parabola_down(&mut t, &settings().parameter_bounds(-1.0, 2.0));
     let folds: Vec<_> = b.special(SpecialKind::Fold).collect();
     assert_eq!(folds.len(), 1);
     let sn = folds[0];
@@ -226,16 +223,7 @@ fn arclength_weights_change_the_steps_not_the_branch() {
     for weights in [None, Some(vec![100.0, 1.0, 1.0])] {
         let mut t = Test::new(1, parabola, no_multipliers);
         t.weights = weights;
-        let u0 = t.start(&[1.0], 1.0);
-        let b = continue_branch(
-            &mut t,
-            "parabola",
-            &u0,
-            -1.0,
-            &settings().parameter_bounds(-1.0, 2.0),
-            &mut Silent,
-        )
-        .unwrap();
+        let b = parabola_down(&mut t, &settings().parameter_bounds(-1.0, 2.0));
         let sn = b.special(SpecialKind::Fold).next().unwrap();
         assert!(sn.located && sn.point.params[0].abs() < 1e-9);
         for p in &b.points {
@@ -354,16 +342,7 @@ fn a_branch_through_a_pitchfork_has_a_branch_point_and_no_fold() {
 #[test]
 fn run_statistics_count_the_work() {
     let mut t = Test::new(1, parabola, no_multipliers);
-    let u0 = t.start(&[1.0], 1.0);
-    let b = continue_branch(
-        &mut t,
-        "parabola",
-        &u0,
-        -1.0,
-        &settings().parameter_bounds(-1.0, 2.0),
-        &mut Silent,
-    )
-    .unwrap();
+    let b = parabola_down(&mut t, &settings().parameter_bounds(-1.0, 2.0));
     let st = b.statistics;
     // Every point needs a factorisation at its solution; the fold and the end point were
     // located with more.
@@ -449,16 +428,7 @@ fn monitor_events_are_located() {
         level: 0.7,
         terminal: false,
     }];
-    let u0 = t.start(&[1.0], 1.0);
-    let b = continue_branch(
-        &mut t,
-        "parabola",
-        &u0,
-        -1.0,
-        &settings().parameter_bounds(-1.0, 2.0),
-        &mut Silent,
-    )
-    .unwrap();
+    let b = parabola_down(&mut t, &settings().parameter_bounds(-1.0, 2.0));
     let sb: Vec<_> = b.special(SpecialKind::BoundaryTouch).collect();
     assert_eq!(sb.len(), 1);
     assert!((sb[0].point.monitors[0] - 0.7).abs() < 1e-9);
@@ -471,18 +441,12 @@ fn monitor_events_are_located() {
 #[test]
 fn a_monitor_bound_ends_the_branch_at_a_located_end_point() {
     let mut t = Test::new(1, parabola, no_multipliers);
-    let u0 = t.start(&[1.0], 1.0);
-    let b = continue_branch(
+    let b = parabola_down(
         &mut t,
-        "parabola",
-        &u0,
-        -1.0,
         &settings()
             .parameter_bounds(-1.0, 2.0)
             .monitor_bounds(0, -0.5, 2.0),
-        &mut Silent,
-    )
-    .unwrap();
+    );
     assert_eq!(b.end, EndReason::Bound);
     let ep = b.special_points.last().unwrap();
     assert_eq!((ep.kind, ep.monitor), (SpecialKind::EndPoint, Some(0)));
