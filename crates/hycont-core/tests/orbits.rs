@@ -190,34 +190,48 @@ fn check_part(part: &mut dyn ZeroFunction, u: &[f64], tol: f64) {
     assert!(err < tol, "Jacobian entry ({row}, {col}) off by {err:e}");
 }
 
+/// A scalar equation f(x) = 0 with the derivative it claims.
+struct Scalar {
+    f: fn(f64) -> f64,
+    df: fn(f64) -> f64,
+}
+
+impl ZeroFunction for Scalar {
+    fn unknowns(&self) -> usize {
+        1
+    }
+    fn equations(&self) -> usize {
+        1
+    }
+    fn jacobian_pattern(&self) -> Vec<(usize, usize)> {
+        vec![(0, 0)]
+    }
+    fn evaluate(
+        &mut self,
+        u: &[f64],
+        r: &mut [f64],
+        j: Option<&mut [f64]>,
+    ) -> hycont_core::Result<()> {
+        r[0] = (self.f)(u[0]);
+        if let Some(j) = j {
+            j[0] = (self.df)(u[0]);
+        }
+        Ok(())
+    }
+}
+
+fn scalar_problem(f: fn(f64) -> f64, df: fn(f64) -> f64) -> Problem<'static> {
+    let mut problem = Problem::new(1);
+    problem
+        .add_part(Box::new(Scalar { f, df }), vec![0])
+        .unwrap();
+    problem
+}
+
 #[test]
 fn a_wrong_jacobian_is_caught_by_the_problem_check() {
-    struct Bad;
-    impl ZeroFunction for Bad {
-        fn unknowns(&self) -> usize {
-            1
-        }
-        fn equations(&self) -> usize {
-            1
-        }
-        fn jacobian_pattern(&self) -> Vec<(usize, usize)> {
-            vec![(0, 0)]
-        }
-        fn evaluate(
-            &mut self,
-            u: &[f64],
-            r: &mut [f64],
-            j: Option<&mut [f64]>,
-        ) -> hycont_core::Result<()> {
-            r[0] = u[0].sin();
-            if let Some(j) = j {
-                j[0] = u[0].cos() * 1.01;
-            }
-            Ok(())
-        }
-    }
-    let mut problem = Problem::new(1);
-    problem.add_part(Box::new(Bad), vec![0]).unwrap();
+    // sin with a derivative 1 % off.
+    let mut problem = scalar_problem(f64::sin, |x| x.cos() * 1.01);
     let (err, _, _) = problem.check_jacobian(&[0.3], 1e-6).unwrap();
     assert!(err > 1e-3);
 }
@@ -262,32 +276,7 @@ fn a_family_of_orbits_gives_a_singular_jacobian_error() {
 #[test]
 fn newton_failure_reports_its_history() {
     // x^2 + 1 = 0 has no real root.
-    struct NoRoot;
-    impl ZeroFunction for NoRoot {
-        fn unknowns(&self) -> usize {
-            1
-        }
-        fn equations(&self) -> usize {
-            1
-        }
-        fn jacobian_pattern(&self) -> Vec<(usize, usize)> {
-            vec![(0, 0)]
-        }
-        fn evaluate(
-            &mut self,
-            u: &[f64],
-            r: &mut [f64],
-            j: Option<&mut [f64]>,
-        ) -> hycont_core::Result<()> {
-            r[0] = u[0] * u[0] + 1.0;
-            if let Some(j) = j {
-                j[0] = 2.0 * u[0];
-            }
-            Ok(())
-        }
-    }
-    let mut problem = Problem::new(1);
-    problem.add_part(Box::new(NoRoot), vec![0]).unwrap();
+    let mut problem = scalar_problem(|x| x * x + 1.0, |x| 2.0 * x);
     match newton(&mut problem, &[0.7], &NewtonSettings::default()).unwrap_err() {
         Error::NewtonFailed { history, reason } => {
             assert!(!history.is_empty(), "{reason}");
