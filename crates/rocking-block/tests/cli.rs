@@ -1,10 +1,8 @@
 //! The `rocking-block` command line: output contract and error behaviour.
 
-use std::process::Command;
+mod common;
 
-fn bin() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_rocking-block"))
-}
+use common::{RunOk, bin};
 
 #[test]
 fn simulate_json_has_the_documented_fields() {
@@ -13,13 +11,7 @@ fn simulate_json_has_the_documented_fields() {
             "simulate", "--omega", "1.3", "--alpha", "0.66", "--phi0", "0.01", "--psi0", "0",
         ])
         .args(["--beta", "1.5707963267948966", "--periods", "10", "--json"])
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+        .run_ok();
     let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     assert_eq!(v["outcome"], "running");
     assert!(v["t_end"].as_f64().unwrap() > 48.0);
@@ -38,18 +30,12 @@ fn simulate_writes_csv_and_svg() {
     let dir = std::env::temp_dir().join(format!("rocking-block-cli-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let (csv, svg) = (dir.join("run.csv"), dir.join("run.svg"));
-    let out = bin()
+    bin()
         .args(["simulate", "--periods", "3", "--beta", "1.57", "--csv"])
         .arg(&csv)
         .arg("--svg")
         .arg(&svg)
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+        .run_ok();
     let text = std::fs::read_to_string(&csv).unwrap();
     assert!(text.starts_with("t,mode,phi,psi,r,s\n"));
     assert!(text.lines().count() > 500);
@@ -92,13 +78,7 @@ fn orbit_json_reports_the_symmetric_orbit() {
                 "symmetric",
             ])
             .args(["--method", method, "--json"])
-            .output()
-            .unwrap();
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
+            .run_ok();
         let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
         assert!(
             (v["amp"].as_f64().unwrap() - 0.43843).abs() < 5e-6,
@@ -119,16 +99,7 @@ fn orbit_json_reports_the_symmetric_orbit() {
 #[test]
 fn figure_2_writes_json_and_svg() {
     let dir = std::env::temp_dir().join(format!("rocking-block-fig2-{}", std::process::id()));
-    let out = bin()
-        .args(["figure", "2", "--out"])
-        .arg(&dir)
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    bin().args(["figure", "2", "--out"]).arg(&dir).run_ok();
     let v: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(dir.join("fig2.json")).unwrap()).unwrap();
     assert_eq!(v["figure"], 2);
@@ -172,16 +143,7 @@ fn unknown_figures_and_bad_settings_fail_cleanly() {
 fn figures_3_and_4_write_branches_in_the_study_format() {
     let dir = std::env::temp_dir().join(format!("rocking-block-fig34-{}", std::process::id()));
     for n in ["3", "4"] {
-        let out = bin()
-            .args(["figure", n, "--out"])
-            .arg(&dir)
-            .output()
-            .unwrap();
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
+        bin().args(["figure", n, "--out"]).arg(&dir).run_ok();
         let v: serde_json::Value = serde_json::from_str(
             &std::fs::read_to_string(dir.join(format!("fig{n}.json"))).unwrap(),
         )
@@ -219,16 +181,7 @@ fn figures_3_and_4_write_branches_in_the_study_format() {
 #[test]
 fn figure_6_writes_curves_and_test_points() {
     let dir = std::env::temp_dir().join(format!("rocking-block-fig6-{}", std::process::id()));
-    let out = bin()
-        .args(["figure", "6", "--out"])
-        .arg(&dir)
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    bin().args(["figure", "6", "--out"]).arg(&dir).run_ok();
     let v: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(dir.join("fig6.json")).unwrap()).unwrap();
     assert_eq!(v["figure"], 6);
@@ -269,7 +222,7 @@ fn figure_6_writes_curves_and_test_points() {
 fn shards_merge_into_the_same_figure_as_one_run() {
     let dir = std::env::temp_dir().join(format!("rocking-block-shards-{}", std::process::id()));
     for i in 0..2 {
-        let out = bin()
+        bin()
             .args([
                 "figure",
                 "10",
@@ -282,28 +235,16 @@ fn shards_merge_into_the_same_figure_as_one_run() {
                 "--out",
             ])
             .arg(&dir)
-            .output()
-            .unwrap();
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
+            .run_ok();
     }
     let merged = dir.join("merged");
-    let out = bin()
+    bin()
         .arg("merge")
         .arg(dir.join("fig10.shard-0-of-2.json"))
         .arg(dir.join("fig10.shard-1-of-2.json"))
         .arg("--out")
         .arg(&merged)
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+        .run_ok();
     let whole = dir.join("whole");
     let out = bin()
         .args(["figure", "10", "--trials", "200", "--seed", "4", "--out"])

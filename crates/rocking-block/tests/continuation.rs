@@ -1,5 +1,9 @@
 //! Continuation of the rocking block against the study's published special points (Figs. 3, 4).
 
+mod common;
+
+use common::{RunOk, bin};
+
 use hycont_continuation::observe::Silent;
 use hycont_continuation::{
     Branch, ContinuationSettings, OrbitMethod, SpecialKind, continue_branch,
@@ -339,8 +343,7 @@ fn a_branch_ends_where_the_amplitude_reaches_pi_over_2() {
 /// the orbit a simulation settles on, from --phi0/--psi0/--beta.
 #[test]
 fn a_closed_branch_is_traversed_once() {
-    let bin = env!("CARGO_BIN_EXE_rocking-block");
-    let out = std::process::Command::new(bin)
+    let out = bin()
         .args(["continue", "--free", "omega", "--kind", "simulate"])
         .args([
             "--phi0",
@@ -351,13 +354,7 @@ fn a_closed_branch_is_traversed_once() {
             "1.5707963267948966",
         ])
         .arg("--json")
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+        .run_ok();
     let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     assert_eq!(v["end"], "Closed");
     let kinds: Vec<&str> = v["special_points"]
@@ -375,8 +372,7 @@ fn continue_cli_saves_and_restarts() {
     let dir = std::env::temp_dir().join(format!("rocking-block-cont-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let run = dir.join("run.json");
-    let bin = env!("CARGO_BIN_EXE_rocking-block");
-    let out = std::process::Command::new(bin)
+    let out = bin()
         .args([
             "continue",
             "--free",
@@ -387,13 +383,7 @@ fn continue_cli_saves_and_restarts() {
             "--out",
         ])
         .arg(&run)
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+        .run_ok();
     let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     assert_eq!(v["free"][0], "omega");
     let kinds: Vec<&str> = v["special_points"]
@@ -403,17 +393,11 @@ fn continue_cli_saves_and_restarts() {
         .map(|s| s["kind"].as_str().unwrap())
         .collect();
     assert_eq!(kinds, ["BP", "SN", "GR"]);
-    let out = std::process::Command::new(bin)
+    let out = bin()
         .args(["continue", "--free", "omega", "--json", "--restart"])
         .arg(&run)
         .args(["--label", "20"])
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+        .run_ok();
     let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     let sn = v["special_points"]
         .as_array()
@@ -422,7 +406,7 @@ fn continue_cli_saves_and_restarts() {
         .find(|s| s["kind"] == "SN")
         .unwrap();
     assert!((sn["omega"].as_f64().unwrap() - 0.909_619_23).abs() < 1e-7);
-    let bad = std::process::Command::new(bin)
+    let bad = bin()
         .args(["continue", "--free", "omega", "--restart"])
         .arg(&run)
         .args(["--label", "9999"])

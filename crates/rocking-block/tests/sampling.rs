@@ -1,5 +1,9 @@
 //! The classifier and the sampling figures against the study's reference behaviour.
 
+mod common;
+
+use common::{RunOk, bin};
+
 use hycont_sample::basin::{Progress, run};
 use rocking_block::classes::{
     Class, ClassifierSettings, Decision, RockingClassifier, base_class, classify,
@@ -226,7 +230,6 @@ fn figure_5_shows_the_period_doubling_cascade() {
 
 #[test]
 fn classify_cli_batch_and_errors() {
-    let bin = env!("CARGO_BIN_EXE_rocking-block");
     let dir = std::env::temp_dir().join(format!("rocking-block-cls-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let (input, output) = (dir.join("in.csv"), dir.join("out.csv"));
@@ -235,18 +238,12 @@ fn classify_cli_batch_and_errors() {
         "omega,alpha,beta,phi0,psi0\n1.3,0.3,0,0.01,0\n1.3,0.66,0,0.01,0\n",
     )
     .unwrap();
-    let out = std::process::Command::new(bin)
+    bin()
         .args(["classify", "--input"])
         .arg(&input)
         .arg("--output")
         .arg(&output)
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+        .run_ok();
     let text = std::fs::read_to_string(&output).unwrap();
     let classes: Vec<&str> = text
         .lines()
@@ -255,7 +252,7 @@ fn classify_cli_batch_and_errors() {
         .collect();
     assert_eq!(classes, ["equilibrium", "overturn_neg"]);
     std::fs::write(&input, "omega,alpha\n1,2\n").unwrap();
-    let out = std::process::Command::new(bin)
+    let out = bin()
         .args(["classify", "--input"])
         .arg(&input)
         .arg("--output")
@@ -270,7 +267,7 @@ fn classify_cli_batch_and_errors() {
             .count(),
         1
     );
-    let out = std::process::Command::new(bin)
+    let out = bin()
         .args(["classify", "--omega", "1.3", "--alpha", "0.3", "--json"])
         .output()
         .unwrap();
