@@ -107,19 +107,31 @@ fn tr_test(info: &PointInfo) -> f64 {
     acc
 }
 
+/// The cubic Hermite interpolant at $x$ of values `u0`, `u1` at $x = 0, 1$ with derivatives
+/// `c0 * d0`, `c1 * d1` (in $x$), e.g. charts `width` apart in arclength with tangents scaled to
+/// arclength derivatives. $x$ outside $[0, 1]$ extrapolates.
+fn hermite(
+    u0: &[f64],
+    (c0, d0): (f64, &[f64]),
+    u1: &[f64],
+    (c1, d1): (f64, &[f64]),
+    x: f64,
+) -> Vec<f64> {
+    let h00 = (1.0 + 2.0 * x) * (1.0 - x) * (1.0 - x);
+    let h10 = x * (1.0 - x) * (1.0 - x);
+    let h01 = x * x * (3.0 - 2.0 * x);
+    let h11 = x * x * (x - 1.0);
+    (0..u0.len())
+        .map(|i| h00 * u0[i] + h10 * c0 * d0[i] + h01 * u1[i] + h11 * c1 * d1[i])
+        .collect()
+}
+
 /// The predictor of a step `h` from chart $(u_a, t_a)$ reached by a step `h_p` from
 /// $(u_p, t_p)$: the cubic Hermite interpolant of the two charts (unit tangents as derivatives in
 /// arclength) extrapolated to `h` beyond $u_a$. Its error is $O(h^3)$ against the tangent
 /// predictor's $O(h^2)$, so the corrector starts closer (fewer chord iterations).
 fn extrapolate(u_p: &[f64], t_p: &[f64], h_p: f64, u_a: &[f64], t_a: &[f64], h: f64) -> Vec<f64> {
-    let x = 1.0 + h / h_p;
-    let h00 = (1.0 + 2.0 * x) * (1.0 - x) * (1.0 - x);
-    let h10 = x * (1.0 - x) * (1.0 - x);
-    let h01 = x * x * (3.0 - 2.0 * x);
-    let h11 = x * x * (x - 1.0);
-    (0..u_a.len())
-        .map(|i| h00 * u_p[i] + h10 * h_p * t_p[i] + h01 * u_a[i] + h11 * h_p * t_a[i])
-        .collect()
+    hermite(u_p, (h_p, t_p), u_a, (h_p, t_a), 1.0 + h / h_p)
 }
 
 /// The continuation driver for one problem.
@@ -473,19 +485,7 @@ impl<'p, 'a, P: ContinuationProblem<'a> + ?Sized> Palc<'p, 'a, P> {
         let x = (s - s_lo) / w;
         let (d_lo, d_hi) = (self.wdot(&a.t, &lo.t), self.wdot(&a.t, &hi.t));
         let pred: Vec<f64> = if d_lo > 0.5 && d_hi > 0.5 {
-            // Hermite basis on [0, 1].
-            let h00 = (1.0 + 2.0 * x) * (1.0 - x) * (1.0 - x);
-            let h10 = x * (1.0 - x) * (1.0 - x);
-            let h01 = x * x * (3.0 - 2.0 * x);
-            let h11 = x * x * (x - 1.0);
-            (0..self.n)
-                .map(|i| {
-                    h00 * lo.u[i]
-                        + h10 * w * lo.t[i] / d_lo
-                        + h01 * hi.u[i]
-                        + h11 * w * hi.t[i] / d_hi
-                })
-                .collect()
+            hermite(&lo.u, (w / d_lo, &lo.t), &hi.u, (w / d_hi, &hi.t), x)
         } else {
             lo.u.iter()
                 .zip(&hi.u)
