@@ -76,6 +76,7 @@ pub struct Shooting<'a, S: ?Sized> {
     ends: EndConditions,
     // Work space.
     fy: Vec<f64>,
+    loose_residual: Vec<f64>,
 }
 
 impl<'a, S: HybridJacobians + ?Sized> Shooting<'a, S> {
@@ -109,6 +110,7 @@ impl<'a, S: HybridJacobians + ?Sized> Shooting<'a, S> {
             cache: None,
             ends,
             fy: vec![0.0; n],
+            loose_residual: Vec::new(),
         })
     }
 
@@ -217,8 +219,12 @@ impl<S: HybridJacobians + ?Sized> ZeroFunction for Shooting<'_, S> {
         );
         match (hints.purpose, jacobian) {
             (JacobianUse::NewtonDirection, Some(jac)) => {
-                let mut loose_residual = vec![0.0; residual.len()];
-                self.evaluate_with(u, &mut loose_residual, Some(jac), which, true)?;
+                // The loose integration's residual is not the exact one: keep it aside.
+                let mut loose = std::mem::take(&mut self.loose_residual);
+                loose.resize(residual.len(), 0.0);
+                let out = self.evaluate_with(u, &mut loose, Some(jac), which, true);
+                self.loose_residual = loose;
+                out?;
                 self.evaluate_with(u, residual, None, which, false)
             }
             (_, jac) => self.evaluate_with(u, residual, jac, which, false),
