@@ -192,9 +192,9 @@ pub fn orbit_continuation(
     .map_err(cont_err)
 }
 
-/// Runs `cp` from `u0` with `settings` in `direction`. The branch ends with the located point a
-/// run ended on (see [`end_point`]); both ways, the runs are joined, unless the first closes
-/// the branch (a closed curve, all of it in that run).
+/// Runs `cp` from `u0` with `settings` in `direction`. The branch ends with the located special
+/// point a run ended on (a bound, an inadmissible orbit, a `stop_at` kind); both ways, the runs
+/// are joined, unless the first closes the branch (a closed curve, all of it in that run).
 ///
 /// # Errors
 /// If the start cannot be continued.
