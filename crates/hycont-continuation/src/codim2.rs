@@ -70,22 +70,8 @@ impl Condition {
     }
 }
 
-/// Product over the non-trivial multipliers of `(shift + m)` (complex pairs give the squared
-/// modulus, counted once).
 fn product(f: &Floquet, shift: f64) -> f64 {
-    f.multipliers
-        .iter()
-        .zip(&f.trivial)
-        .filter(|(_, t)| !**t)
-        .fold(1.0, |acc, ((re, im), _)| {
-            if *im > 0.0 {
-                acc * ((shift + re).powi(2) + im * im)
-            } else if *im < 0.0 {
-                acc
-            } else {
-                acc * (shift + re)
-            }
-        })
+    crate::shifted_product(&f.multipliers, &f.trivial, shift)
 }
 
 /// The defining equation as a part of the shooting problem: one equation over all the shooting

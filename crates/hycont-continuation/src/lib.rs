@@ -84,6 +84,33 @@ pub struct PointInfo {
     pub multipliers: Vec<(f64, f64)>,
     /// Which multipliers are trivial (never trigger PD, TR or stability changes).
     pub trivial: Vec<bool>,
+    /// A factor of the branch-point test beyond the sign of the augmented Jacobian's
+    /// determinant, for branch points the problem's own Jacobian cannot see: a half-orbit
+    /// problem of a symmetric orbit is regular where the symmetry breaks (a half-map multiplier
+    /// $\mu = -1$, a full-orbit multiplier $\lambda = \mu^2 = 1$), and reports
+    /// $\prod (1 + \mu)$ over the non-trivial half-map multipliers here, so that the
+    /// branch-point test changes sign there as on the full problem. `None`: no factor.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub branch_point_factor: Option<f64>,
+}
+
+/// Product over the non-trivial multipliers $m$ of $(\mathrm{shift} + m)$, real: a complex pair
+/// contributes its squared modulus $|\mathrm{shift} + m|^2$ once. Changes sign when a real
+/// multiplier crosses $-\mathrm{shift}$.
+pub(crate) fn shifted_product(multipliers: &[(f64, f64)], trivial: &[bool], shift: f64) -> f64 {
+    multipliers
+        .iter()
+        .zip(trivial)
+        .filter(|(_, t)| !**t)
+        .fold(1.0, |acc, ((re, im), _)| {
+            if *im > 0.0 {
+                acc * ((shift + re).powi(2) + im * im)
+            } else if *im < 0.0 {
+                acc
+            } else {
+                acc * (shift + re)
+            }
+        })
 }
 
 /// An event on a monitor function: a special point where monitor `monitor` crosses `level`.

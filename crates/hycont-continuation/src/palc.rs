@@ -66,22 +66,10 @@ fn dot(a: &[f64], b: &[f64]) -> f64 {
     a.iter().zip(b).map(|(x, y)| x * y).sum()
 }
 
-/// Product over non-trivial multipliers of $(1 + \lambda)$ (real: complex pairs give
-/// $|1 + \lambda|^2$): changes sign when a real multiplier crosses $-1$.
+/// Product over non-trivial multipliers of $(1 + \lambda)$: changes sign when a real
+/// multiplier crosses $-1$.
 fn pd_test(info: &PointInfo) -> f64 {
-    info.multipliers
-        .iter()
-        .zip(&info.trivial)
-        .filter(|(_, t)| !**t)
-        .fold(1.0, |acc, ((re, im), _)| {
-            if *im > 0.0 {
-                acc * ((1.0 + re).powi(2) + im * im)
-            } else if *im < 0.0 {
-                acc
-            } else {
-                acc * (1.0 + re)
-            }
-        })
+    crate::shifted_product(&info.multipliers, &info.trivial, 1.0)
 }
 
 /// Product over pairs of non-trivial multipliers of $(\lambda_i \lambda_j - 1)$, real part: changes
@@ -428,7 +416,11 @@ impl<'p, 'a, P: ContinuationProblem<'a> + ?Sized> Palc<'p, 'a, P> {
             .iter()
             .map(|slot| match *slot {
                 Slot::Fold => c.t[pi],
-                Slot::BranchPoint => c.det.0 * (c.det.1 - det_ref).clamp(-700.0, 700.0).exp(),
+                Slot::BranchPoint => {
+                    c.det.0
+                        * (c.det.1 - det_ref).clamp(-700.0, 700.0).exp()
+                        * c.info.branch_point_factor.unwrap_or(1.0)
+                }
                 Slot::PeriodDoubling => pd_test(&c.info),
                 Slot::Torus => tr_test(&c.info),
                 Slot::Event { level, monitor, .. } => c.info.monitors[monitor] - level,
@@ -538,8 +530,13 @@ impl<'p, 'a, P: ContinuationProblem<'a> + ?Sized> Palc<'p, 'a, P> {
         let n_max = (w0 / (2.0 * eps)).log2().ceil().max(0.0) + 1.0;
         let mut j = 0.0;
         let mut bisect_next = false;
-        // Fold and branch-point tests need no analysis of the trial points.
-        let needs_analysis = !matches!(self.slots[slot], Slot::Fold | Slot::BranchPoint);
+        // Fold and branch-point tests need no analysis of the trial points, unless the
+        // branch-point test has a factor from the analysis.
+        let needs_analysis = match self.slots[slot] {
+            Slot::Fold => false,
+            Slot::BranchPoint => a.info.branch_point_factor.is_some(),
+            _ => true,
+        };
         for _ in 0..200 {
             let width = hi - lo;
             if width <= tol {
@@ -796,10 +793,11 @@ impl<'p, 'a, P: ContinuationProblem<'a> + ?Sized> Palc<'p, 'a, P> {
                 }
                 label += 1;
                 let mut c = c;
-                if kind == SpecialKind::BranchPoint {
-                    // At a branch point the augmented Jacobian is singular and the tangent solved
-                    // there tends to the other branch's direction: keep this branch's tangent,
-                    // from the bracketing chart (branch switching needs it).
+                // At a branch point the augmented Jacobian is singular and the tangent solved
+                // there tends to the other branch's direction: keep this branch's tangent, from
+                // the bracketing chart (branch switching needs it). Not where only the problem's
+                // branch-point factor changed sign: the Jacobian is regular there.
+                if kind == SpecialKind::BranchPoint && a.det.0 != b.det.0 {
                     c.t.clone_from(&a.t);
                 }
                 let special = SpecialPoint {

@@ -48,6 +48,7 @@ struct Test {
     events: Vec<MonitorEvent>,
     fail_above: f64,
     weights: Option<Vec<f64>>,
+    bp_factor: Option<fn(&[f64]) -> f64>,
 }
 
 impl Test {
@@ -78,6 +79,7 @@ impl Test {
             events: Vec::new(),
             fail_above: f64::INFINITY,
             weights: None,
+            bp_factor: None,
         }
     }
     /// u0 = (state, parameter, active monitor value = parameter).
@@ -120,6 +122,7 @@ impl ContinuationProblem<'static> for Test {
             monitors: vec![u[0]],
             trivial: vec![false; m.len()],
             multipliers: m,
+            branch_point_factor: self.bp_factor.map(|f| f(u)),
         })
     }
     fn monitor_events(&self) -> Vec<MonitorEvent> {
@@ -335,6 +338,40 @@ fn a_branch_through_a_pitchfork_has_a_branch_point_and_no_fold() {
     // Through the branch point onto the x < 0 half, to the bound l = 1.
     let ep = &b.special_points[1];
     assert!((ep.point.params[0] - 1.0).abs() < 1e-9 && ep.point.u[0] < -0.9);
+}
+
+/// A branch-point factor from the analysis (as a half-orbit problem reports where the symmetry
+/// breaks, which its own Jacobian does not see) marks a branch point where it changes sign,
+/// located like the determinant's: on x^2 = l with factor x - 1/2, at l = 1/4; the fold at
+/// l = 0 is still a fold.
+#[test]
+fn a_branch_point_factor_from_the_analysis_is_located() {
+    fn half_minus_x(u: &[f64]) -> f64 {
+        0.5 - u[0]
+    }
+    let mut t = Test::new(1, parabola, no_multipliers);
+    let plain = parabola_down(&mut t, &settings().parameter_bounds(-1.0, 2.0));
+    assert_eq!(plain.special(SpecialKind::BranchPoint).count(), 0);
+    t.bp_factor = Some(half_minus_x);
+    let b = parabola_down(&mut t, &settings().parameter_bounds(-1.0, 2.0));
+    let kinds: Vec<_> = b.special_points.iter().map(|s| s.kind).collect();
+    assert_eq!(
+        kinds,
+        [
+            SpecialKind::BranchPoint,
+            SpecialKind::Fold,
+            SpecialKind::EndPoint
+        ],
+        "special points {kinds:?}"
+    );
+    let bp = &b.special_points[0];
+    assert!(
+        bp.located && (bp.point.params[0] - 0.25).abs() < 1e-9,
+        "BP at l = {}",
+        bp.point.params[0]
+    );
+    let sn = &b.special_points[1];
+    assert!(sn.located && sn.point.params[0].abs() < 1e-9);
 }
 
 /// The work counters of a run (evaluations while stepping and while locating) are consistent

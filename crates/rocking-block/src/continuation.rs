@@ -164,8 +164,14 @@ fn relabel(b: &mut Branch) {
     }
 }
 
+/// Relative tolerance to which a start orbit must be symmetric to be continued on its half
+/// orbit.
+const SYMMETRIC_TOL: f64 = 1e-6;
+
 /// The continuation problem of a rocking-block orbit in `free` (the study's measures and
-/// events) and its starting unknowns.
+/// events) and its starting unknowns. A symmetric orbit (to 1e-6) is continued on its half
+/// orbit: the same orbits and special points for half the work per point (see
+/// [`OrbitContinuation`]); [`continue_in`] returns its branches in the full orbit's unknowns.
 ///
 /// # Errors
 /// Invalid parameters, or an orbit that cannot be solved or continued.
@@ -181,6 +187,13 @@ pub fn orbit_continuation(
         theta_b: start.params[3],
     };
     params.validate()?;
+    let half;
+    let start = if start.is_symmetric(&RockingBlock, SYMMETRIC_TOL) {
+        half = start.half_of_symmetric(&RockingBlock, SYMMETRIC_TOL)?;
+        &half
+    } else {
+        start
+    };
     OrbitContinuation::new(
         &RockingBlock,
         start,
@@ -195,6 +208,7 @@ pub fn orbit_continuation(
 /// Runs `cp` from `u0` with `settings` in `direction`. The branch ends with the located special
 /// point a run ended on (a bound, an inadmissible orbit, a `stop_at` kind); both ways, the runs
 /// are joined, unless the first closes the branch (a closed curve, all of it in that run).
+/// Points are in the full orbit's unknowns (see [`OrbitContinuation::full_branch`]).
 ///
 /// # Errors
 /// If the start cannot be continued.
@@ -213,7 +227,7 @@ pub fn continue_in(
         close_end(&mut b);
         b
     };
-    Ok(match direction {
+    let branch = match direction {
         Direction::Up => single(run(1.0, observer)?),
         Direction::Down => single(run(-1.0, observer)?),
         Direction::Both => {
@@ -225,10 +239,13 @@ pub fn continue_in(
                 join(name, back, fwd)
             }
         }
-    })
+    };
+    Ok(cp.full_branch(&branch))
 }
 
-/// The branch of `start` in `free` over `[min, max]`, both directions, joined.
+/// The branch of `start` in `free` over `[min, max]`, both directions, joined, and the
+/// problem of full orbits to switch branches on (see
+/// [`OrbitContinuation::full_orbit_problem`]).
 ///
 /// # Errors
 /// If the start orbit cannot be continued.
@@ -243,7 +260,12 @@ pub fn branch_both_ways(
     let (mut cp, u0) = orbit_continuation(start, free, &default_method())?;
     let s = settings(min, max);
     let b = continue_in(&mut cp, name, &u0, Direction::Both, &s, observer)?;
-    Ok((b, cp))
+    let full = if cp.is_half_orbit() {
+        cp.full_orbit_problem(measures()).map_err(cont_err)?
+    } else {
+        cp
+    };
+    Ok((b, full))
 }
 
 /// Converts a continuation error.

@@ -6,12 +6,12 @@ use common::{RunOk, bin};
 
 use hycont_continuation::observe::Silent;
 use hycont_continuation::{
-    Branch, ContinuationSettings, OrbitMethod, SpecialKind, continue_branch,
+    Branch, ContinuationSettings, OrbitContinuation, OrbitMethod, SpecialKind, continue_branch,
 };
 use hycont_core::orbit::{CollocationSettings, PeriodicOrbit};
 use rocking_block::continuation::{
-    AMP, Direction, Free, continue_orbit, default_method, orbit_continuation, study_branches,
-    study_labels,
+    AMP, Direction, Free, continue_in, continue_orbit, default_method, events, measures,
+    orbit_continuation, settings, study_branches, study_labels,
 };
 use rocking_block::orbits::{OrbitKind, orbit};
 use rocking_block::{Parameters, RockingBlock};
@@ -247,14 +247,148 @@ fn reversing_the_direction_finds_the_same_special_points() {
     assert!((bp - bp2).abs() < 1e-8, "{bp} vs {bp2}");
 }
 
+/// Symmetric orbits are continued on their half orbit (half the segments; the symmetry-breaking
+/// branch points from the half map's multiplier -1). Against the same branch continued on the
+/// full orbit: the same points (the half problem weighs its unknowns so that arclength is the
+/// full problem's), the same special points and the same multipliers, to the integration's
+/// accuracy (rtol 1e-10); the points convert to the full orbit's unknowns.
+#[test]
+fn half_orbit_and_full_orbit_continuations_agree() {
+    let params = Parameters::new(1.3, 0.66);
+    let start = orbit(&params, OrbitKind::Symmetric, None)
+        .unwrap()
+        .solution
+        .orbit;
+    let s = settings(0.5, 4.0);
+    let (mut half, u0) = orbit_continuation(&start, Free::Omega, &default_method()).unwrap();
+    assert!(half.is_half_orbit());
+    let on_half = continue_in(&mut half, "half", &u0, Direction::Both, &s, &mut Silent).unwrap();
+    let (mut full, u0) = OrbitContinuation::new(
+        &RockingBlock,
+        &start,
+        &default_method(),
+        Free::Omega.id(),
+        measures(),
+        events(&params),
+    )
+    .unwrap();
+    assert!(!full.is_half_orbit());
+    let on_full = continue_in(&mut full, "full", &u0, Direction::Both, &s, &mut Silent).unwrap();
+    let kinds = |b: &Branch| b.special_points.iter().map(|s| s.kind).collect::<Vec<_>>();
+    assert_eq!(kinds(&on_half), kinds(&on_full));
+    assert!(
+        on_half
+            .special_points
+            .iter()
+            .any(|s| s.kind == SpecialKind::BranchPoint)
+    );
+    assert_eq!(on_half.points.len(), on_full.points.len());
+    let close = |a: &[f64], b: &[f64], tol: f64| {
+        a.len() == b.len()
+            && a.iter()
+                .zip(b)
+                .all(|(x, y)| (x - y).abs() <= tol * (1.0 + y.abs()))
+    };
+    let points = |b: &Branch| {
+        let mut all: Vec<_> = b.points.clone();
+        all.extend(b.special_points.iter().map(|s| s.point.clone()));
+        all
+    };
+    for (h, f) in points(&on_half).iter().zip(&points(&on_full)) {
+        // The unknowns in the full orbit's layout, the parameters to the location tolerance.
+        assert!(close(&h.u, &f.u, 1e-8), "{:?} vs {:?}", h.u, f.u);
+        assert!(close(&h.params, &f.params, 1e-9));
+        assert!(close(&h.monitors, &f.monitors, 1e-8));
+        assert_eq!(h.unstable, f.unstable);
+        // Multipliers with their trivial flags, in the same order.
+        let sorted = |p: &hycont_continuation::BranchPoint| {
+            let mut m: Vec<_> = p
+                .multipliers
+                .iter()
+                .copied()
+                .zip(p.trivial.clone())
+                .collect();
+            m.sort_by(|a, b| a.0.0.total_cmp(&b.0.0).then(a.0.1.total_cmp(&b.0.1)));
+            m
+        };
+        let (mh, mf) = (sorted(h), sorted(f));
+        let flat = |m: &[((f64, f64), bool)]| {
+            m.iter()
+                .flat_map(|((a, b), _)| [*a, *b])
+                .collect::<Vec<_>>()
+        };
+        assert!(close(&flat(&mh), &flat(&mf), 1e-8), "{mh:?} vs {mf:?}");
+        assert!(
+            mh.iter().zip(&mf).all(|(a, b)| a.1 == b.1),
+            "{mh:?} vs {mf:?}"
+        );
+    }
+}
+
 /// The symmetric branch from `start`, continued down in omega by `method` until its fold.
 fn down_to_the_fold(start: &PeriodicOrbit, method: &OrbitMethod) -> Branch {
+    down_to_the_fold_on(start, method).0
+}
+
+/// As [`down_to_the_fold`], with the problem it was continued on (the half-orbit problem).
+fn down_to_the_fold_on(
+    start: &PeriodicOrbit,
+    method: &OrbitMethod,
+) -> (Branch, OrbitContinuation<'static, RockingBlock>) {
     let (mut cp, u0) = orbit_continuation(start, Free::Omega, method).unwrap();
     let s = ContinuationSettings::default()
         .parameter_bounds(0.5, 4.0)
         .steps(0.02, 1e-8, 0.1)
         .stop_at(SpecialKind::Fold);
-    continue_branch(&mut cp, "sym", &u0, -1.0, &s, &mut Silent).unwrap()
+    let b = continue_branch(&mut cp, "sym", &u0, -1.0, &s, &mut Silent).unwrap();
+    (b, cp)
+}
+
+/// The points of a half-orbit branch, unfolded, solve the full orbit's problem, for both
+/// discretisations (shooting starts, collocation nodes), and the unfolded tangent is its
+/// tangent (J t = 0).
+#[test]
+fn unfolded_half_orbit_points_solve_the_full_problem() {
+    let params = Parameters::new(1.3, 0.66);
+    let start = orbit(&params, OrbitKind::Symmetric, None)
+        .unwrap()
+        .solution
+        .orbit;
+    for method in [
+        default_method(),
+        OrbitMethod::Collocation(CollocationSettings {
+            ntst: 10,
+            ncol: 4,
+            adapt: 1,
+        }),
+    ] {
+        let (b, cp) = down_to_the_fold_on(&start, &method);
+        assert!(cp.is_half_orbit());
+        let mut full = cp.full_orbit_problem(measures()).unwrap();
+        let problem = full.problem_mut();
+        // A point, the symmetry-breaking branch point BP1 (where the half problem is regular:
+        // its own tangent is kept) and the fold.
+        let kinds: Vec<_> = b.special_points.iter().map(|s| s.kind).collect();
+        assert_eq!(kinds, [SpecialKind::BranchPoint, SpecialKind::Fold]);
+        let specials = b.special_points.iter().map(|s| &s.point);
+        for p in std::iter::once(&b.points[b.points.len() / 2]).chain(specials) {
+            let q = cp.full_point(p);
+            assert_eq!(q.u.len(), problem.unknowns());
+            assert_eq!(q.u.len(), 2 * p.u.len() - 5); // 4 parameters and the active slot
+            let mut r = vec![0.0; problem.equations()];
+            let mut jac = Vec::new();
+            problem.evaluate(&q.u, &mut r, Some(&mut jac)).unwrap();
+            let res = r.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+            assert!(res < 1e-8, "{method:?}: full residual {res:e}");
+            // J t = 0 for the unfolded tangent.
+            let dense = problem.dense_jacobian(&q.u).unwrap();
+            let jt = dense
+                .iter()
+                .map(|row| row.iter().zip(&q.tangent).map(|(a, t)| a * t).sum::<f64>())
+                .fold(0.0f64, |m, x| m.max(x.abs()));
+            assert!(jt < 1e-6, "{method:?}: |J t| = {jt:e}");
+        }
+    }
 }
 
 #[test]

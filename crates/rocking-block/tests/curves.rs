@@ -92,6 +92,17 @@ fn curves_started_in_figure_3_pass_through_the_points_of_figure_4() {
             (got - expected).abs() < 1e-6,
             "{kind:?}: curve alpha {got} vs Fig. 4 {expected}"
         );
+        // The full orbit's period on every point (half-orbit curves included): one forcing
+        // period, 2 pi / omega.
+        for p in &c.branch.points {
+            let forcing = 2.0 * std::f64::consts::PI / p.params[0];
+            assert!(
+                (p.monitors[0] - forcing).abs() < 1e-8 * forcing,
+                "{kind:?}: period {} at omega {}",
+                p.monitors[0],
+                p.params[0]
+            );
+        }
     }
     // The SB curve from SB2 (asymmetric branch of Fig. 3) reaches SB3 of Fig. 4.
     let sb2 = fig3[1]

@@ -24,7 +24,9 @@ pub use floquet::Floquet;
 pub use periodic_orbit::PeriodicOrbit;
 pub use shooting::{CachedSegment, LinearizationCache, Shooting, ShootingSettings};
 pub use signature::{Closure, SegmentEnd, SegmentSpec, Signature};
-pub use symmetry::{SymmetricSolution, solve_symmetric_collocation, solve_symmetric_shooting};
+pub use symmetry::{
+    SymmetricSolution, solve_symmetric_collocation, solve_symmetric_shooting, symmetric_floquet,
+};
 
 use crate::error::Result;
 use crate::problem::{

@@ -149,6 +149,44 @@ impl PeriodicOrbit {
     }
 }
 
+/// The multipliers of a half orbit ([`Closure::Symmetric`]) from its half monodromy
+/// $M_{1/2}$ (the Jacobian of $x_0 \mapsto x_K$, saltations included, where the closure is
+/// $x_K = S x_0$): the half map $P_{1/2} = S \circ \phi_{T/2}$ has Jacobian $S M_{1/2}$ and
+/// multipliers $\mu$; the full period map has Jacobian $(S M_{1/2})^2$ and multipliers
+/// $\lambda = \mu^2$. Returns `(half, full)`, each with its trivial multipliers flagged (the
+/// half map's for the period $T/2$, the full map's for $T$).
+///
+/// # Errors
+/// If the system has no symmetry, the orbit is not a half orbit, `half_monodromy` is not
+/// $n \times n$, or the eigenvalue computation fails.
+pub fn symmetric_floquet<S: HybridSystem + ?Sized>(
+    system: &S,
+    half: &PeriodicOrbit,
+    half_monodromy: &[f64],
+) -> Result<(Floquet, Floquet)> {
+    let n = system.state_dim();
+    if half.signature.closure() != Closure::Symmetric {
+        return Err(Error::InvalidSignature {
+            segment: 0,
+            reason: "not a half orbit (closure is periodic)".into(),
+        });
+    }
+    if half_monodromy.len() != n * n {
+        return Err(Error::DimensionMismatch {
+            what: "half monodromy",
+            expected: n * n,
+            found: half_monodromy.len(),
+        });
+    }
+    let sym = symmetry_of(system)?;
+    let half_map = floquet::matmul(n, &sym.matrix, half_monodromy);
+    let full_map = floquet::matmul(n, &half_map, &half_map);
+    let half_period = half.period();
+    let half_floquet = Floquet::from_monodromy(system, &half.params, half_period, half_map)?;
+    let full = Floquet::from_monodromy(system, &half.params, 2.0 * half_period, full_map)?;
+    Ok((half_floquet, full))
+}
+
 /// A solved symmetric orbit.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct SymmetricSolution {
@@ -181,17 +219,10 @@ pub fn solve_symmetric_shooting<S: HybridJacobians + ?Sized>(
     let mut problem = super::shooting_problem(system, half_guess, settings)?;
     let sol = crate::problem::newton(&mut problem, &super::pack(half_guess), newton_settings)?;
     let half = super::unpack(half_guess, &sol.u);
-    let n = system.state_dim();
-    let sym = symmetry_of(system)?;
-    // Half map Jacobian: S M_half (the wrap saltation already maps into sigma(m_0)).
+    // The wrap saltation of M_half already maps into sigma(m_0).
     let m_half = monodromy_by_shooting(system, &half, settings)?.monodromy;
-    let half_map = floquet::matmul(n, &sym.matrix, &m_half);
-    let half_period = half.period();
-    let half_floquet =
-        Floquet::from_monodromy(system, &half.params, half_period, half_map.clone())?;
-    let full_m = floquet::matmul(n, &half_map, &half_map);
+    let (half_floquet, floquet) = symmetric_floquet(system, &half, &m_half)?;
     let full_orbit = half.unfold_symmetric(system)?;
-    let floquet = Floquet::from_monodromy(system, &half.params, full_orbit.period(), full_m)?;
     Ok(SymmetricSolution {
         full: OrbitSolution {
             orbit: full_orbit,
@@ -223,14 +254,9 @@ pub fn solve_symmetric_collocation<S: HybridJacobians + ?Sized>(
     }
     let sol = super::solve_collocation(system, half_guess, settings, newton_settings)?;
     let half = sol.solution.orbit.clone();
-    let n = system.state_dim();
-    let sym = symmetry_of(system)?;
-    let half_map = floquet::matmul(n, &sym.matrix, &sol.solution.floquet.monodromy);
-    let half_floquet =
-        Floquet::from_monodromy(system, &half.params, half.period(), half_map.clone())?;
-    let full_m = floquet::matmul(n, &half_map, &half_map);
+    let (half_floquet, floquet) =
+        symmetric_floquet(system, &half, &sol.solution.floquet.monodromy)?;
     let full_orbit = half.unfold_symmetric(system)?;
-    let floquet = Floquet::from_monodromy(system, &half.params, full_orbit.period(), full_m)?;
     Ok(SymmetricSolution {
         full: OrbitSolution {
             orbit: full_orbit,
