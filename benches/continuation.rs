@@ -45,18 +45,23 @@ fn figures_3_and_4(c: &mut Criterion) {
 /// The branch AUTO-07p was timed on: the symmetric orbit continued in omega over [0.5, 4.0] at
 /// alpha = 0.66 from the Fig. 2 orbit, both directions, every detector on; at our default step
 /// control (~100 points) and with the largest step set to 0.04, which gives AUTO's ~223 points.
+/// As every symmetric start in the rocking block, it is continued on its half orbit (the same
+/// points, special points to 1e-10 and multipliers to 1e-8 of the full orbit's problem, which is
+/// benchmarked too).
 /// Accuracy is equal: AUTO's discretisation (collocation with 40 mesh intervals over the orbit,
 /// NCOL 4; hycont's collocation with NTST 10 on each of the orbit's 4 segments) puts SN1, BP1
 /// and GR1 within 5e-11 and BP2 within 1.3e-8 of a rtol 1e-13 shooting run, the multipliers
 /// within 3e-10 (relative); our default shooting (rtol 1e-10) puts every special point within
-/// 2.4e-10 and the multipliers within 1e-10. (hycont's collocation on that mesh takes
-/// 1.5 ms/point, as AUTO.)
+/// 2.4e-10 and the multipliers within 1e-10 (half orbit: 3e-10). (hycont's collocation on that
+/// mesh takes 1.5 ms/point, as AUTO.)
 fn symmetric_omega_branch(c: &mut Criterion) {
     use hycont::rocking_block::continuation::{
-        Direction, continue_in, default_method, orbit_continuation, settings,
+        Direction, continue_in, default_method, events, measures, orbit_continuation, settings,
     };
     use hycont::rocking_block::model::Parameters;
     use hycont::rocking_block::orbits::{OrbitKind, orbit};
+    use hycont::rocking_block::{OMEGA, RockingBlock};
+    use hycont_continuation::OrbitContinuation;
     let params = Parameters::new(1.3, 0.66);
     let start = orbit(&params, OrbitKind::Symmetric, None)
         .unwrap()
@@ -67,9 +72,27 @@ fn symmetric_omega_branch(c: &mut Criterion) {
         let s = settings(0.5, 4.0).steps(0.02, 1e-8, h_max);
         continue_in(&mut cp, "symmetric", &u0, Direction::Both, &s, &mut Silent).unwrap()
     };
-    for (name, h_max) in [("default steps", 0.1), ("AUTO's point count", 0.04)] {
+    let run_full = || {
+        let (mut cp, u0) = OrbitContinuation::new(
+            &RockingBlock,
+            &start,
+            &default_method(),
+            OMEGA,
+            measures(),
+            events(&params),
+        )
+        .unwrap();
+        let s = settings(0.5, 4.0);
+        continue_in(&mut cp, "symmetric", &u0, Direction::Both, &s, &mut Silent).unwrap()
+    };
+    let runs: [(&str, &dyn Fn() -> hycont_continuation::Branch); 3] = [
+        ("default steps", &|| run(0.1)),
+        ("AUTO's point count", &|| run(0.04)),
+        ("default steps, full orbit", &run_full),
+    ];
+    for (name, go) in runs {
         let t = std::time::Instant::now();
-        let b = run(h_max);
+        let b = go();
         let elapsed = t.elapsed();
         // Solutions computed: the points and the special points (the branch's end points are
         // both; count them once).
@@ -95,6 +118,9 @@ fn symmetric_omega_branch(c: &mut Criterion) {
             b.iter(|| black_box(run(0.04)));
         },
     );
+    c.bench_function("continuation/symmetric_omega_branch_full_orbit", |b| {
+        b.iter(|| black_box(run_full()));
+    });
 }
 
 fn figure_6_curves(c: &mut Criterion) {
