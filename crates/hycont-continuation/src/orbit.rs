@@ -12,8 +12,7 @@
 //! problem's unknowns with [`OrbitContinuation::full_branch`]; branches are switched on the
 //! full problem ([`OrbitContinuation::full_orbit_problem`]).
 
-use crate::branch::Branch;
-use crate::branch::{BranchPoint, SpecialKind};
+use crate::branch::{Branch, BranchPoint, SpecialKind};
 use crate::error::{Error, Result};
 use crate::switch::branch_switch_direction;
 use crate::{ContinuationProblem, MonitorEvent, PointInfo};
@@ -127,9 +126,18 @@ impl<'a, S: HybridJacobians + ?Sized> OrbitContinuation<'a, S> {
         let q = parameter.index();
         let half_of = match orbit.signature.closure() {
             Closure::Periodic => None,
-            Closure::Symmetric => Some(system.symmetry().ok_or_else(|| Error::SwitchFailed {
-                reason: "a half orbit needs a system with a symmetry".into(),
-            })?),
+            Closure::Symmetric => {
+                Some(
+                    system
+                        .symmetry()
+                        .ok_or_else(|| hycont_core::Error::InvalidSignature {
+                            segment: 0,
+                            reason:
+                                "a half orbit (symmetric closure) needs a system with a symmetry"
+                                    .into(),
+                        })?,
+                )
+            }
         };
         let (mut problem, base, layout, like) = match method {
             OrbitMethod::Shooting(settings) => {
@@ -203,7 +211,7 @@ impl<'a, S: HybridJacobians + ?Sized> OrbitContinuation<'a, S> {
         self.collapsed = Some(k);
     }
 
-    /// The orbit at unknowns `u`.
+    /// The orbit at unknowns `u` (on a half-orbit problem, the half orbit).
     #[must_use]
     pub fn orbit(&self, u: &[f64]) -> PeriodicOrbit {
         match &self.layout {
