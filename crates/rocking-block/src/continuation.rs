@@ -3,8 +3,11 @@
 
 use crate::error::{Error, Result};
 use crate::model::{ALPHA, OMEGA, Parameters, RockingBlock};
-use crate::orbits::{OrbitKind, amplitude, grazing_margin, orbit};
+use crate::orbits::{
+    OrbitKind, RockingOrbit, amplitude, grazing_margin, mean_phi, orbit, solve_with_extrema,
+};
 use hycont_continuation::observe::Observer;
+use hycont_continuation::observe::Silent;
 use hycont_continuation::{
     Branch, BranchPoint, ContinuationSettings, EndReason, Measures, MonitorEvent,
     OrbitContinuation, OrbitMethod, SpecialKind, branch_switch_direction, continue_along,
@@ -336,6 +339,67 @@ pub fn study_branches(free: Free, observer: &mut dyn Observer) -> Result<Vec<Bra
         out.push(p2);
     }
     Ok(out)
+}
+
+/// The asymmetric orbit at `params` leaning to the side `positive` (mean $\varphi > 0$), by
+/// continuation: the symmetric orbit at `params` is continued in alpha (down, then up) to a
+/// symmetry-breaking branch point, the asymmetric branch is switched on there and continued to
+/// `params.alpha`, where it ends with a located end point; the mirror image is taken if it leans
+/// the other way. Reaches asymmetric orbits no simulation settles on (unstable ones).
+///
+/// # Errors
+/// [`Error::Continuation`] if no asymmetric branch from a branch point of the symmetric orbit's
+/// alpha branch reaches `params.alpha`; the symmetric orbit's errors.
+pub fn asymmetric_by_continuation(params: &Parameters, positive: bool) -> Result<RockingOrbit> {
+    params.validate()?;
+    let target = params.alpha;
+    let sym = orbit(params, OrbitKind::Symmetric, None)?.solution.orbit;
+    let (mut cp, u0) = orbit_continuation(&sym, Free::Alpha, &default_method())?;
+    let (lo, hi) = (0.01, 10.0);
+    let q = ALPHA.index();
+    for dir in [-1.0, 1.0] {
+        let s = settings(lo, hi).stop_at(SpecialKind::BranchPoint);
+        let b =
+            continue_branch(&mut cp, "symmetric", &u0, dir, &s, &mut Silent).map_err(cont_err)?;
+        let Some(bp) = b
+            .special(SpecialKind::BranchPoint)
+            .find(|s| s.located)
+            .map(|s| cp.full_point(&s.point))
+        else {
+            continue;
+        };
+        let mut full = cp.full_orbit_problem(measures()).map_err(cont_err)?;
+        let Ok(phi) = branch_switch_direction(&mut full, &bp.u, &bp.tangent) else {
+            continue;
+        };
+        // To the target alpha, where the branch ends on its bound (or back at a branch point).
+        let bounds = if target > bp.params[q] {
+            (lo, target)
+        } else {
+            (target, hi)
+        };
+        let s = settings(bounds.0, bounds.1).stop_at(SpecialKind::BranchPoint);
+        let asym = continue_along(&mut full, "asymmetric", &bp.u, &phi, 1.0, &s, &mut Silent)
+            .map_err(cont_err)?;
+        let Some(end) = end_point(&asym).filter(|p| (p.params[q] - target).abs() < 1e-9) else {
+            continue;
+        };
+        let found = full.orbit(&end.u);
+        if found.is_symmetric(&RockingBlock, SYMMETRIC_TOL) {
+            continue;
+        }
+        let found = if (mean_phi(&found)? > 0.0) == positive {
+            found
+        } else {
+            found.symmetric_image(&RockingBlock)?
+        };
+        return solve_with_extrema(&found);
+    }
+    Err(Error::Continuation(format!(
+        "no asymmetric branch from a symmetry-breaking branch point of the symmetric orbits at \
+         omega = {} reaches alpha = {target}",
+        params.omega
+    )))
 }
 
 fn multipliers_json(m: &[(f64, f64)]) -> Value {

@@ -331,6 +331,13 @@ pub fn orbit_from_simulation(
         .into());
     }
     let guess = PeriodicOrbit::from_simulation(&RockingBlock, &traj, &p, 1e-6)?;
+    solve_with_extrema(&guess)
+}
+
+/// The orbit near `guess` (with or without interior points) solved by shooting, with every
+/// $\psi = 0$ interior point, so that the amplitude is exact.
+pub(crate) fn solve_with_extrema(guess: &PeriodicOrbit) -> Result<RockingOrbit> {
+    let guess = guess.without_interior_points(&RockingBlock)?;
     let shooting = ShootingSettings::default();
     let sol = solve_shooting(&RockingBlock, &guess, shooting, &newton_settings())?;
     let refined = refine_with_extrema(&sol, shooting)?;
@@ -341,7 +348,10 @@ pub fn orbit_from_simulation(
 }
 
 /// Time-average of $\varphi$ over an orbit (sign tells the leaning side of an asymmetric orbit).
-fn mean_phi(orbit: &PeriodicOrbit) -> Result<f64> {
+///
+/// # Errors
+/// If sampling the orbit fails (never for a solved orbit).
+pub fn mean_phi(orbit: &PeriodicOrbit) -> Result<f64> {
     let series = orbit.sample(&RockingBlock, 64, &sim_settings())?;
     let mut acc = 0.0;
     for s in &series {
@@ -357,11 +367,26 @@ fn mean_phi(orbit: &PeriodicOrbit) -> Result<f64> {
 }
 
 /// The asymmetric period-1 orbit leaning to the side `positive`: found by simulation from a few
-/// forcing phases, and mapped by the symmetry if it leans the other way.
+/// forcing phases, and mapped by the symmetry if it leans the other way; where no simulation
+/// settles on one (it is unstable), by continuation from a symmetry-breaking branch point of the
+/// symmetric orbits ([`crate::continuation::asymmetric_by_continuation`]).
 ///
 /// # Errors
-/// [`hycont_core::Error::NotPeriodic`] if no simulation settles on an asymmetric orbit.
+/// [`crate::Error::Continuation`] (with the simulations' failure) if neither finds one.
 pub fn asymmetric_orbit(params: &Parameters, positive: bool) -> Result<RockingOrbit> {
+    let by_simulation = match asymmetric_by_simulation(params, positive) {
+        Ok(found) => return Ok(found),
+        Err(e) => e,
+    };
+    crate::continuation::asymmetric_by_continuation(params, positive).map_err(|e| {
+        crate::Error::Continuation(format!(
+            "no asymmetric orbit: by simulation, {by_simulation}; by {e}"
+        ))
+    })
+}
+
+/// [`asymmetric_orbit`] by simulation only.
+fn asymmetric_by_simulation(params: &Parameters, positive: bool) -> Result<RockingOrbit> {
     let mut last = None;
     for beta in [FRAC_PI_2, 0.0, PI, 1.0, 2.0, 4.0, 5.0] {
         for phi0 in [0.01, 0.1, -0.1] {

@@ -325,6 +325,50 @@ fn half_orbit_and_full_orbit_continuations_agree() {
     }
 }
 
+/// Unstable asymmetric orbits, which no simulation settles on, are found by continuation from
+/// a symmetry-breaking branch point of the symmetric orbits: at (omega, alpha) = (1.3, 1.0),
+/// past PD1, on Fig. 4's asymmetric branch (continued down from there, it has PD1 at the
+/// study's 0.7365), leaning to the requested sides. Below BP3 there is none.
+#[test]
+fn unstable_asymmetric_orbits_are_found_by_continuation() {
+    use rocking_block::orbits::mean_phi;
+    let params = Parameters::new(1.3, 1.0);
+    let pos = orbit(&params, OrbitKind::AsymmetricPos, None).unwrap();
+    let neg = orbit(&params, OrbitKind::AsymmetricNeg, None).unwrap();
+    for (o, sign) in [(&pos, 1.0), (&neg, -1.0)] {
+        assert!(o.solution.floquet.unstable > 0);
+        assert!(!o.solution.orbit.is_symmetric(&RockingBlock, 1e-6));
+        assert!(sign * mean_phi(&o.solution.orbit).unwrap() > 1e-3);
+        assert!((o.solution.orbit.params[1] - 1.0).abs() < 1e-12);
+    }
+    let amp = |o: &rocking_block::orbits::RockingOrbit| {
+        rocking_block::orbits::amplitude(&o.solution.orbit)
+    };
+    assert!((amp(&pos) - amp(&neg)).abs() < 1e-9);
+    let b = continue_orbit(
+        "asymmetric",
+        &pos.solution.orbit,
+        Free::Alpha,
+        0.7,
+        1.06,
+        Direction::Down,
+        &default_method(),
+        &mut Silent,
+    )
+    .unwrap();
+    let pd = b.special(SpecialKind::PeriodDoubling).next().unwrap();
+    assert!(
+        (pd.point.params[1] - 0.7365).abs() < 5e-5,
+        "{:?}",
+        pd.point.params
+    );
+    let none = orbit(&Parameters::new(1.3, 0.5), OrbitKind::AsymmetricPos, None);
+    assert!(matches!(
+        none,
+        Err(rocking_block::Error::Continuation(ref m)) if m.contains("no asymmetric")
+    ));
+}
+
 /// The symmetric branch from `start`, continued down in omega by `method` until its fold.
 fn down_to_the_fold(start: &PeriodicOrbit, method: &OrbitMethod) -> Branch {
     down_to_the_fold_on(start, method).0
