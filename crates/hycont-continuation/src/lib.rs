@@ -5,6 +5,12 @@
 //! period doublings (PD), tori (TR) and events on monitor functions (e.g. boundary touch SB,
 //! grazing GR), branch switching, and serialisable, restartable [`Branch`] results.
 //!
+//! Hybrid periodic orbits are continued by [`OrbitContinuation`] (multiple shooting or
+//! collocation; $\mathbb{Z}_2$-symmetric orbits on their half orbit, at half the cost, with
+//! symmetry-breaking branch points detected from the half map), two-parameter curves of special
+//! points by [`Codim2`]; `examples/symmetric_branch.rs` in the `hycont` package shows a
+//! half-orbit branch and a switch to the asymmetric branch.
+//!
 //! Problem (what: [`ContinuationProblem`]), algorithm (how: PALC, [`continue_branch`]), settings
 //! ([`ContinuationSettings`]) and results ([`Branch`]) are separate; observers
 //! ([`Observer`]) see every point.
