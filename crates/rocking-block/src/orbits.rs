@@ -318,17 +318,24 @@ pub fn orbit_from_simulation(
         &p,
         periods * params.forcing_period(),
     )?;
-    if !matches!(traj.stop, hycont_core::StopReason::EndReached)
-        || !traj.zeno.is_empty() && traj.mode_final == crate::REST
-    {
-        return Err(hycont_core::Error::NotPeriodic {
-            reason: format!(
-                "the simulation ended with {:?} in mode {}",
-                traj.stop,
-                RockingBlock.mode_name(traj.mode_final)
-            ),
+    let from = format!("from phi0 = {phi0}, psi0 = {psi0}, beta = {beta}");
+    let reason = match traj.stop {
+        StopReason::TerminalEvent { event, t }
+            if event == crate::OVERTURN_NEG || event == crate::OVERTURN_POS =>
+        {
+            Some(format!("the block overturns at t = {t:.4} {from}"))
         }
-        .into());
+        StopReason::EndReached if traj.mode_final == crate::REST && !traj.zeno.is_empty() => Some(
+            format!("the block comes to rest {from} (no rocking orbit to settle on)"),
+        ),
+        StopReason::EndReached => None,
+        other => Some(format!(
+            "the simulation {from} ended with {other:?} in mode {}",
+            RockingBlock.mode_name(traj.mode_final)
+        )),
+    };
+    if let Some(reason) = reason {
+        return Err(hycont_core::Error::NotPeriodic { reason }.into());
     }
     let guess = PeriodicOrbit::from_simulation(&RockingBlock, &traj, &p, 1e-6)?;
     solve_with_extrema(&guess)
@@ -387,7 +394,7 @@ pub fn asymmetric_orbit(params: &Parameters, positive: bool) -> Result<RockingOr
 
 /// [`asymmetric_orbit`] by simulation only.
 fn asymmetric_by_simulation(params: &Parameters, positive: bool) -> Result<RockingOrbit> {
-    let mut last = None;
+    let (mut last, mut tried, mut symmetric) = (None, 0, 0);
     for beta in [FRAC_PI_2, 0.0, PI, 1.0, 2.0, 4.0, 5.0] {
         for phi0 in [0.01, 0.1, -0.1] {
             match orbit_from_simulation(params, phi0, 0.0, beta, 300.0) {
@@ -408,17 +415,20 @@ fn asymmetric_by_simulation(params: &Parameters, positive: bool) -> Result<Rocki
                         half_multipliers: None,
                     });
                 }
-                Ok(_) => {}
+                Ok(_) => symmetric += 1,
                 Err(e) => last = Some(e),
             }
+            tried += 1;
         }
     }
-    Err(last.unwrap_or_else(|| {
-        hycont_core::Error::NotPeriodic {
-            reason: "every simulation settled on a symmetric orbit".into(),
-        }
-        .into()
-    }))
+    let last = last.map_or_else(String::new, |e| format!("; the last failure: {e}"));
+    Err(hycont_core::Error::NotPeriodic {
+        reason: format!(
+            "none of {tried} simulations settled on an asymmetric orbit ({symmetric} on the \
+             symmetric one{last})"
+        ),
+    }
+    .into())
 }
 
 /// The orbit of the given kind (for [`OrbitKind::Simulate`], from $\varphi_0 = 0.01$, $\psi_0 = 0$,

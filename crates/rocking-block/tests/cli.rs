@@ -128,6 +128,30 @@ fn figure_2_writes_json_and_svg() {
     std::fs::remove_dir_all(&dir).ok();
 }
 
+/// A start that has no orbit fails with exit code 1 and one line saying what happened to the
+/// block: it comes to rest, or it overturns (with the time), from the given initial state.
+#[test]
+fn starts_without_an_orbit_say_what_the_block_does() {
+    for (args, needle) in [
+        (
+            &[
+                "continue", "--free", "omega", "--omega", "1.0", "--kind", "simulate",
+            ][..],
+            "comes to rest from phi0 = 0.01",
+        ),
+        (
+            &["orbit", "--kind", "simulate", "--beta", "0"][..],
+            "overturns at t = 8.5702",
+        ),
+    ] {
+        let out = bin().args(args).output().unwrap();
+        assert_eq!(out.status.code(), Some(1), "{args:?}");
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(err.trim_end().lines().count(), 1, "{args:?}: {err}");
+        assert!(err.contains(needle), "{args:?}: {err}");
+    }
+}
+
 #[test]
 fn unknown_figures_and_bad_settings_fail_cleanly() {
     assert_one_line_usage_error(&["figure", "11"], "figures 2 to 10");
