@@ -111,10 +111,13 @@ impl<S: ?Sized> std::fmt::Debug for OrbitContinuation<'_, S> {
 
 impl<'a, S: HybridJacobians + ?Sized> OrbitContinuation<'a, S> {
     /// The continuation problem of `orbit` (a solution, or a good guess: it is solved first)
-    /// in parameter `parameter`, and the starting unknowns.
+    /// in parameter `parameter`, and the starting unknowns. A half orbit
+    /// ([`PeriodicOrbit::half_of_symmetric`]) gives the half-orbit problem of its symmetric
+    /// orbits.
     ///
     /// # Errors
-    /// If the orbit cannot be solved or the problem cannot be built.
+    /// If the orbit cannot be solved or the problem cannot be built; a half orbit of a system
+    /// without a symmetry.
     pub fn new(
         system: &'a S,
         orbit: &PeriodicOrbit,
