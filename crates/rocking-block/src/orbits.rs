@@ -379,8 +379,10 @@ pub fn mean_phi(orbit: &PeriodicOrbit) -> Result<f64> {
 /// symmetric orbits ([`crate::continuation::asymmetric_by_continuation`]).
 ///
 /// # Errors
-/// [`crate::Error::Continuation`] (with the simulations' failure) if neither finds one.
+/// Invalid parameters; [`crate::Error::Continuation`] (with the simulations' failure) if neither
+/// finds one.
 pub fn asymmetric_orbit(params: &Parameters, positive: bool) -> Result<RockingOrbit> {
+    params.validate()?;
     let by_simulation = match asymmetric_by_simulation(params, positive) {
         Ok(found) => return Ok(found),
         Err(e) => e,

@@ -161,6 +161,10 @@ fn unknown_figures_and_bad_settings_fail_cleanly() {
     assert_one_line_usage_error(&["orbit", "--ncol", "9"], "ncol");
     assert_one_line_usage_error(&["orbit", "--kind", "sideways"], "sideways");
     assert_one_line_usage_error(&["orbit", "--omega", "0"], "omega");
+    assert_one_line_usage_error(
+        &["orbit", "--kind", "asymmetric-pos", "--alpha", "-1"],
+        "alpha",
+    );
 }
 
 #[test]
