@@ -16,6 +16,14 @@ use rocking_block::continuation::{
 use rocking_block::orbits::{OrbitKind, orbit};
 use rocking_block::{Parameters, RockingBlock};
 
+/// The study's start: the symmetric orbit at (omega, alpha) = (1.3, 0.66) (Fig. 2).
+fn fig2_symmetric() -> PeriodicOrbit {
+    orbit(&Parameters::new(1.3, 0.66), OrbitKind::Symmetric, None)
+        .unwrap()
+        .solution
+        .orbit
+}
+
 fn label_value(labels: &[(SpecialKind, f64, f64, String)], name: &str) -> f64 {
     labels
         .iter()
@@ -81,10 +89,7 @@ fn figure_3_special_points_match_the_study() {
     // GR1 ends the lower symmetric sheet where a flight's interior dip touches phi = 0
     // (terminal: beyond it phi changes sign inside the flight). Checked independently of the
     // grazing margin by dense samples of the orbit: the smallest s phi inside the flights is 0.
-    let template = orbit(&Parameters::new(1.3, 0.66), OrbitKind::Symmetric, None)
-        .unwrap()
-        .solution
-        .orbit;
+    let template = fig2_symmetric();
     let gr = sym.special(SpecialKind::Grazing).next().unwrap();
     // The branch does not go on past it (no lower-sheet orbit beyond GR1).
     assert!(
@@ -199,11 +204,7 @@ fn figure_4_special_points_match_the_study() {
 fn reversing_the_direction_finds_the_same_special_points() {
     // Continue the symmetric branch downwards from omega = 1.3 (BP1, then SN1), and from a point
     // of the lower sheet upwards through SN1 and back to BP1: the same points to 1e-8.
-    let params = Parameters::new(1.3, 0.66);
-    let start = orbit(&params, OrbitKind::Symmetric, None)
-        .unwrap()
-        .solution
-        .orbit;
+    let start = fig2_symmetric();
     let down = continue_orbit(
         "down",
         &start,
@@ -255,10 +256,7 @@ fn reversing_the_direction_finds_the_same_special_points() {
 #[test]
 fn half_orbit_and_full_orbit_continuations_agree() {
     let params = Parameters::new(1.3, 0.66);
-    let start = orbit(&params, OrbitKind::Symmetric, None)
-        .unwrap()
-        .solution
-        .orbit;
+    let start = fig2_symmetric();
     let s = settings(0.5, 4.0);
     let (mut half, u0) = orbit_continuation(&start, Free::Omega, &default_method()).unwrap();
     assert!(half.is_half_orbit());
@@ -369,6 +367,18 @@ fn unstable_asymmetric_orbits_are_found_by_continuation() {
     ));
 }
 
+/// The default shooting and collocation on a coarse mesh (NTST 10 per segment, NCOL 4).
+fn shooting_and_collocation() -> [OrbitMethod; 2] {
+    [
+        default_method(),
+        OrbitMethod::Collocation(CollocationSettings {
+            ntst: 10,
+            ncol: 4,
+            adapt: 1,
+        }),
+    ]
+}
+
 /// The symmetric branch from `start`, continued down in omega by `method` until its fold.
 fn down_to_the_fold(start: &PeriodicOrbit, method: &OrbitMethod) -> Branch {
     down_to_the_fold_on(start, method).0
@@ -393,19 +403,8 @@ fn down_to_the_fold_on(
 /// tangent (J t = 0).
 #[test]
 fn unfolded_half_orbit_points_solve_the_full_problem() {
-    let params = Parameters::new(1.3, 0.66);
-    let start = orbit(&params, OrbitKind::Symmetric, None)
-        .unwrap()
-        .solution
-        .orbit;
-    for method in [
-        default_method(),
-        OrbitMethod::Collocation(CollocationSettings {
-            ntst: 10,
-            ncol: 4,
-            adapt: 1,
-        }),
-    ] {
+    let start = fig2_symmetric();
+    for method in shooting_and_collocation() {
         let (b, cp) = down_to_the_fold_on(&start, &method);
         assert!(cp.is_half_orbit());
         let mut full = cp.full_orbit_problem(measures()).unwrap();
@@ -437,20 +436,9 @@ fn unfolded_half_orbit_points_solve_the_full_problem() {
 
 #[test]
 fn collocation_and_shooting_continuations_agree_on_the_fold() {
-    let params = Parameters::new(1.3, 0.66);
-    let start = orbit(&params, OrbitKind::Symmetric, None)
-        .unwrap()
-        .solution
-        .orbit;
+    let start = fig2_symmetric();
     let mut folds = Vec::new();
-    for method in [
-        default_method(),
-        OrbitMethod::Collocation(CollocationSettings {
-            ntst: 10,
-            ncol: 4,
-            adapt: 1,
-        }),
-    ] {
+    for method in shooting_and_collocation() {
         let b = down_to_the_fold(&start, &method);
         folds.push(b.special(SpecialKind::Fold).next().unwrap().point.params[0]);
     }
@@ -463,11 +451,7 @@ fn collocation_and_shooting_continuations_agree_on_the_fold() {
 /// unknowns the steps shrink like 1 / sqrt(nodes): about twice the points.)
 #[test]
 fn collocation_steps_do_not_depend_on_the_mesh() {
-    let params = Parameters::new(1.3, 0.66);
-    let start = orbit(&params, OrbitKind::Symmetric, None)
-        .unwrap()
-        .solution
-        .orbit;
+    let start = fig2_symmetric();
     let mut points = Vec::new();
     for ntst in [10, 40] {
         let method = OrbitMethod::Collocation(CollocationSettings {
@@ -493,11 +477,7 @@ fn collocation_steps_do_not_depend_on_the_mesh() {
 /// bound (without the bound it ran on through overturning orbits to alpha = 20).
 #[test]
 fn a_branch_ends_where_the_amplitude_reaches_pi_over_2() {
-    let params = Parameters::new(1.3, 0.66);
-    let start = orbit(&params, OrbitKind::Symmetric, None)
-        .unwrap()
-        .solution
-        .orbit;
+    let start = fig2_symmetric();
     let (mut cp, u0) = orbit_continuation(&start, Free::Alpha, &default_method()).unwrap();
     let s = rocking_block::continuation::settings(0.01, 20.0);
     let b = continue_branch(&mut cp, "sym", &u0, 1.0, &s, &mut Silent).unwrap();
