@@ -144,17 +144,8 @@ impl<'p, 'a, P: ContinuationProblem<'a> + ?Sized> Palc<'p, 'a, P> {
     pub(crate) fn new(p: &'p mut P, settings: ContinuationSettings) -> Result<Self> {
         settings.validate()?;
         let problem = p.problem();
-        let (n, m) = (problem.unknowns(), problem.equations());
-        if n != m + 1 {
-            return Err(Error::NotOneDimensional {
-                unknowns: n,
-                equations: m,
-            });
-        }
-        let mut entries = problem.jacobian_entries();
-        let k = entries.len();
-        entries.extend((0..n).map(|j| (m, j)));
-        let pattern = SparsePattern::new(n, n, &entries)?;
+        let (pattern, k) = crate::switch::augmented_pattern(problem)?;
+        let n = problem.unknowns();
         let mut slots = Vec::new();
         let d = settings.detect;
         if d.fold {

@@ -3,6 +3,27 @@
 use crate::ContinuationProblem;
 use crate::error::{Error, Result};
 use hycont_core::linalg::SparsePattern;
+use hycont_core::problem::Problem;
+
+/// The sparsity pattern of the augmented Jacobian $[J; r^\top]$ of a problem with one more
+/// unknown than equations (a dense last row), and the number of entries of $J$ (which come
+/// first in its values).
+///
+/// # Errors
+/// [`Error::NotOneDimensional`] if the problem does not have one more unknown than equations.
+pub(crate) fn augmented_pattern(problem: &Problem<'_>) -> Result<(SparsePattern, usize)> {
+    let (n, m) = (problem.unknowns(), problem.equations());
+    if n != m + 1 {
+        return Err(Error::NotOneDimensional {
+            unknowns: n,
+            equations: m,
+        });
+    }
+    let mut entries = problem.jacobian_entries();
+    let k = entries.len();
+    entries.extend((0..n).map(|j| (m, j)));
+    Ok((SparsePattern::new(n, n, &entries)?, k))
+}
 
 /// At a (located) branch point `u` of a branch with tangent `t`, the direction of the other
 /// branch: the null vector $\varphi$ of the augmented Jacobian $[J(u); t^\top]$ (so that
@@ -17,17 +38,8 @@ pub fn branch_switch_direction<'a, P: ContinuationProblem<'a> + ?Sized>(
     t: &[f64],
 ) -> Result<Vec<f64>> {
     let problem = p.problem();
+    let (mut pattern, k) = augmented_pattern(problem)?;
     let (n, m) = (problem.unknowns(), problem.equations());
-    if n != m + 1 {
-        return Err(Error::NotOneDimensional {
-            unknowns: n,
-            equations: m,
-        });
-    }
-    let mut entries = problem.jacobian_entries();
-    let k = entries.len();
-    entries.extend((0..n).map(|j| (m, j)));
-    let mut pattern = SparsePattern::new(n, n, &entries)?;
     let mut values = Vec::new();
     let mut res = vec![0.0; m];
     problem.evaluate(u, &mut res, Some(&mut values))?;
