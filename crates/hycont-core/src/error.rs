@@ -118,6 +118,13 @@ pub enum Error {
         /// What failed.
         reason: String,
     },
+    /// A measure of an orbit is ill-defined for the system or the orbit (a component, segment or
+    /// event that does not exist, a duplicate name).
+    #[error("invalid measure: {reason}")]
+    InvalidMeasure {
+        /// What is wrong, naming the bad value.
+        reason: String,
+    },
     /// An event transition was requested by the system that it cannot carry out.
     #[error("event transition at t = {t} from mode {mode} is invalid: {reason}")]
     InvalidTransition {

@@ -188,7 +188,7 @@ impl SparsePattern {
         self.lu.as_ref().is_some_and(|st| st.ready)
     }
 
-    fn solve_cols(&mut self, b: &mut [f64], k: usize) -> Result<()> {
+    fn solve_cols(&mut self, b: &mut [f64], k: usize, transpose: bool) -> Result<()> {
         let n = self.nrows;
         let Some(st) = self.lu.as_mut().filter(|st| st.ready) else {
             return Err(Error::SingularMatrix {
@@ -208,14 +208,26 @@ impl SparsePattern {
         let rhs = MatMut::from_column_major_slice_mut(b, n, k);
         // SAFETY-free: the permutation arrays are the ones the factorisation produced.
         let row_perm = PermRef::new_checked(&st.row_perm, &st.row_perm_inv, n);
-        st.numeric.solve_in_place_with_conj(
-            row_perm,
-            st.symbolic.col_perm(),
-            Conj::No,
-            rhs,
-            Par::Seq,
-            MemStack::new(&mut st.solve_buf),
-        );
+        let stack = MemStack::new(&mut st.solve_buf);
+        if transpose {
+            st.numeric.solve_transpose_in_place_with_conj(
+                row_perm,
+                st.symbolic.col_perm(),
+                Conj::No,
+                rhs,
+                Par::Seq,
+                stack,
+            );
+        } else {
+            st.numeric.solve_in_place_with_conj(
+                row_perm,
+                st.symbolic.col_perm(),
+                Conj::No,
+                rhs,
+                Par::Seq,
+                stack,
+            );
+        }
         if b.iter().all(|v| v.is_finite()) {
             Ok(())
         } else {
@@ -275,7 +287,16 @@ impl SparsePattern {
     /// (numerically singular matrix).
     pub fn solve_in_place(&mut self, b: &mut [f64]) -> Result<()> {
         crate::error::check_len("right-hand side", b, self.nrows)?;
-        self.solve_cols(b, 1)
+        self.solve_cols(b, 1, false)
+    }
+
+    /// Solves $A^\top x = b$ in place with the last factorisation.
+    ///
+    /// # Errors
+    /// As [`SparsePattern::solve_in_place`].
+    pub fn solve_transpose_in_place(&mut self, b: &mut [f64]) -> Result<()> {
+        crate::error::check_len("right-hand side", b, self.nrows)?;
+        self.solve_cols(b, 1, true)
     }
 
     /// Solves $A X = B$ for `k` right-hand sides stored column-major (`n x k`).
@@ -284,7 +305,7 @@ impl SparsePattern {
     /// As [`SparsePattern::solve_in_place`].
     pub fn solve_many_in_place(&mut self, b: &mut [f64], k: usize) -> Result<()> {
         crate::error::check_len("right-hand sides", b, self.nrows * k)?;
-        self.solve_cols(b, k)
+        self.solve_cols(b, k, false)
     }
 }
 

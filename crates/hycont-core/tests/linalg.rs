@@ -102,6 +102,25 @@ fn several_right_hand_sides_at_once() {
 }
 
 #[test]
+fn transposed_solves_use_the_same_factorisation() {
+    let mut rng = Rng(11);
+    for n in [1usize, 7, 150] {
+        let (entries, values) = random_matrix(n, &mut rng);
+        let mut pattern = SparsePattern::new(n, n, &entries).unwrap();
+        pattern.factorize(&values).unwrap();
+        let a = dense(n, &entries, &values);
+        let b: Vec<f64> = (0..n).map(|_| rng.next() - 0.5).collect();
+        let mut x = b.clone();
+        pattern.solve_transpose_in_place(&mut x).unwrap();
+        // A^T x = b, column i of A dotted with x.
+        for i in 0..n {
+            let atx: f64 = (0..n).map(|j| a[(j, i)] * x[j]).sum();
+            assert!((atx - b[i]).abs() < 1e-12, "n = {n}");
+        }
+    }
+}
+
+#[test]
 fn singular_and_unfactorised_matrices_are_errors() {
     let mut pattern = SparsePattern::new(2, 2, &[(0, 0), (1, 0)]).unwrap();
     assert!(

@@ -14,7 +14,7 @@ use super::floquet::{Floquet, matmul, saltation};
 use super::signature::Signature;
 use super::{OrbitSolution, PeriodicOrbit};
 use crate::error::{Error, Result};
-use crate::problem::{Activity, NewtonSettings, Problem, UnknownMonitor, ZeroFunction, newton};
+use crate::problem::{NewtonSettings, Problem, ZeroFunction, newton};
 use crate::simulate::{SimulationSettings, Simulator};
 use crate::system::{HybridJacobians, Mode};
 use serde::{Deserialize, Serialize};
@@ -434,6 +434,19 @@ impl<S: HybridJacobians + ?Sized> ZeroFunction for Collocation<'_, S> {
     }
 }
 
+impl<S: HybridJacobians + ?Sized> super::OrbitEquations for Collocation<'_, S> {
+    fn closure_entries(&self) -> Vec<usize> {
+        let (n, kk) = (self.n, self.signature.len());
+        let ntst = self.meshes[kk - 1].len() - 1;
+        let rb = self.row_offset(kk - 1) + ntst * self.basis.ncol * n;
+        let per_row = if self.ends.symmetric() { n } else { 1 };
+        super::end_condition::closure_positions(&self.jacobian_pattern(), rb..rb + n, per_row)
+    }
+    fn first_parameter(&self) -> usize {
+        self.param_index(0)
+    }
+}
+
 /// A periodic orbit solved by collocation: the orbit (segment starts and durations read off the
 /// collocation solution), the meshes and node values, and multipliers from the condensed
 /// collocation Jacobian.
@@ -477,7 +490,7 @@ fn uniform_mesh(ntst: usize) -> Mesh {
 }
 
 /// Node states of each segment of `orbit` on the given meshes, by simulating the segments.
-fn initial_nodes<S: HybridJacobians + ?Sized>(
+pub(crate) fn initial_nodes<S: HybridJacobians + ?Sized>(
     system: &S,
     orbit: &PeriodicOrbit,
     meshes: &[Mesh],
@@ -565,18 +578,8 @@ fn collocation_problem_impl<'a, S: HybridJacobians + ?Sized>(
     ncol: usize,
 ) -> Result<(Problem<'a>, usize)> {
     let coll = Collocation::new(system, orbit.signature.clone(), meshes, ncol)?;
-    let nu = coll.unknowns();
     let first_param = coll.param_index(0);
-    let mut problem = Problem::new(nu);
-    problem.add_part(Box::new(coll), (0..nu).collect())?;
-    for (q, name) in system.parameter_names().iter().enumerate() {
-        problem.add_monitor(
-            name,
-            Box::new(UnknownMonitor),
-            vec![first_param + q],
-            Activity::Inactive(orbit.params[q]),
-        )?;
-    }
+    let problem = super::orbit_problem(system, Box::new(coll), first_param, &orbit.params)?;
     Ok((problem, first_param))
 }
 

@@ -150,3 +150,23 @@ impl EndConditions {
         }
     }
 }
+
+/// Positions in a Jacobian pattern of the closure's target entries: the last `per_row` entries
+/// of each row in `rows` (the last segment's continuity rows write their target entries last).
+pub(crate) fn closure_positions(
+    pattern: &[(usize, usize)],
+    rows: std::ops::Range<usize>,
+    per_row: usize,
+) -> Vec<usize> {
+    let mut out = Vec::with_capacity(rows.len() * per_row);
+    for r in rows {
+        let positions: Vec<usize> = pattern
+            .iter()
+            .enumerate()
+            .filter(|(_, e)| e.0 == r)
+            .map(|(i, _)| i)
+            .collect();
+        out.extend_from_slice(&positions[positions.len().saturating_sub(per_row)..]);
+    }
+    out
+}

@@ -7,10 +7,13 @@
 //! ```
 
 mod collocation;
+mod discretisation;
 mod end_condition;
 mod floquet;
 mod flow;
+mod measure;
 mod periodic_orbit;
+mod scan;
 mod shooting;
 mod signature;
 mod symmetry;
@@ -20,8 +23,14 @@ pub use collocation::{
     collocation_pack, collocation_problem, collocation_unpack, gauss_legendre_points,
     solve_collocation,
 };
+pub use discretisation::{Discretisation, OrbitEquations, OrbitMethod, orbit_problem};
 pub use floquet::Floquet;
+pub use measure::{
+    Extremum, ExtremumKind, GrazingMargin, Measure, MeasureSet, SegmentDuration, SegmentPoint,
+    SegmentValue, TimeAverage,
+};
 pub use periodic_orbit::PeriodicOrbit;
+pub use scan::{CriticalPoint, OrbitScan, ScanNeeds, Turn, Watch, scan};
 pub use shooting::{CachedSegment, LinearizationCache, Shooting, ShootingSettings};
 pub use signature::{Closure, SegmentEnd, SegmentSpec, Signature};
 pub use symmetry::{
@@ -29,9 +38,7 @@ pub use symmetry::{
 };
 
 use crate::error::Result;
-use crate::problem::{
-    Activity, NewtonIteration, NewtonSettings, Problem, UnknownMonitor, ZeroFunction, newton,
-};
+use crate::problem::{NewtonIteration, NewtonSettings, Problem, newton};
 use crate::simulate::{Sensitivities, SimulationSettings, Simulator};
 use crate::system::{HybridJacobians, Mode};
 use flow::SegmentFlow;
@@ -126,19 +133,8 @@ fn problem_of_shooting<'a, S: HybridJacobians + ?Sized>(
     shooting: Shooting<'a, S>,
     params: &[f64],
 ) -> Result<Problem<'a>> {
-    let nu = shooting.unknowns();
     let first_param = shooting.param_index(0);
-    let mut problem = Problem::new(nu);
-    problem.add_part(Box::new(shooting), (0..nu).collect())?;
-    for (q, name) in system.parameter_names().iter().enumerate() {
-        problem.add_monitor(
-            name,
-            Box::new(UnknownMonitor),
-            vec![first_param + q],
-            Activity::Inactive(params[q]),
-        )?;
-    }
-    Ok(problem)
+    orbit_problem(system, Box::new(shooting), first_param, params)
 }
 
 /// Floquet multipliers of `orbit` from cached segment linearisations, if the cache holds every

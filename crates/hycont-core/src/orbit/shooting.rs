@@ -232,6 +232,18 @@ impl<S: HybridJacobians + ?Sized> ZeroFunction for Shooting<'_, S> {
     }
 }
 
+impl<S: HybridJacobians + ?Sized> super::OrbitEquations for Shooting<'_, S> {
+    fn closure_entries(&self) -> Vec<usize> {
+        let (n, kk) = (self.n, self.signature.len());
+        let r0 = (kk - 1) * (n + 1);
+        let per_row = if self.ends.symmetric() { n } else { 1 };
+        super::end_condition::closure_positions(&self.jacobian_pattern(), r0..r0 + n, per_row)
+    }
+    fn first_parameter(&self) -> usize {
+        self.param_index(0)
+    }
+}
+
 impl<S: HybridJacobians + ?Sized> Shooting<'_, S> {
     /// The residual and, if asked, the Jacobian with the parameter sensitivities `which` (the
     /// columns of parameters left out are zero, apart from direct terms); with `loose`, by the

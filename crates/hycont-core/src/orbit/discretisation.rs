@@ -1,0 +1,347 @@
+//! The discretisation of an orbit's boundary-value problem as data: the method and the layout
+//! of its unknowns, enough to turn a point's unknowns back into an orbit, to rebuild the
+//! problem (restarts, branch switching, curves) and to compute multipliers. Serialisable, so
+//! that saved runs of either method can be restarted.
+//!
+//! Unknowns of both methods: the segment states first (shooting: each segment's start;
+//! collocation: each segment's `ntst * ncol + 1` node states), then the $K$ durations, then the
+//! parameters.
+
+use super::collocation::{
+    Collocation, CollocationSettings, Mesh, collocation_floquet, collocation_pack,
+    collocation_unpack, initial_nodes, solve_collocation,
+};
+use super::shooting::{LinearizationCache, Shooting, ShootingSettings};
+use super::{Floquet, PeriodicOrbit, monodromy_by_shooting, monodromy_from_cache, pack, unpack};
+use crate::error::Result;
+use crate::problem::{Activity, NewtonSettings, Problem, UnknownMonitor, ZeroFunction};
+use crate::system::{HybridJacobians, HybridSystem, Z2Symmetry};
+use serde::{Deserialize, Serialize};
+
+/// How to discretise an orbit's boundary-value problem (the user's choice; see
+/// [`Discretisation`] for the resulting layout).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub enum OrbitMethod {
+    /// Multiple shooting on the variational equations.
+    Shooting(ShootingSettings),
+    /// Orthogonal collocation (the mesh is adapted when the orbit is first solved).
+    Collocation(CollocationSettings),
+}
+
+impl Default for OrbitMethod {
+    /// Shooting with default settings.
+    fn default() -> Self {
+        OrbitMethod::Shooting(ShootingSettings::default())
+    }
+}
+
+/// A discretised orbit problem's layout.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub enum Discretisation {
+    /// Multiple shooting: unknowns are the segment starts, durations and parameters.
+    Shooting(ShootingSettings),
+    /// Collocation on these meshes (one per segment) with polynomials of degree `ncol`.
+    Collocation {
+        /// One mesh per segment.
+        meshes: Vec<Mesh>,
+        /// Collocation points per interval.
+        ncol: usize,
+    },
+}
+
+/// The equations of a discretised orbit problem: a [`ZeroFunction`] over the unknowns of
+/// [`Discretisation`], closing the last segment onto the first (periodic or symmetric).
+pub trait OrbitEquations: ZeroFunction {
+    /// Positions, in the Jacobian's values, of the closure's coupling of the last segment's end
+    /// conditions to the first segment's start ($-I$, or $-S$ for a half orbit). Scaling them by
+    /// $c$ gives the Jacobian of the problem closed by $x_K = c\,x_0$ ($c\,S x_0$): $c = -1$ is
+    /// singular where a multiplier is $-1$.
+    fn closure_entries(&self) -> Vec<usize>;
+    /// Local index of the first parameter (segment states and durations come before).
+    fn first_parameter(&self) -> usize;
+}
+
+/// A problem over `part`'s unknowns, with every parameter held by an inactive monitor named
+/// after it (the first parameter at local index `first_param`).
+///
+/// # Errors
+/// If the part's unknowns cannot be indexed.
+pub fn orbit_problem<'a, S: HybridSystem + ?Sized>(
+    system: &S,
+    part: Box<dyn ZeroFunction + 'a>,
+    first_param: usize,
+    params: &[f64],
+) -> Result<Problem<'a>> {
+    let nu = part.unknowns();
+    let mut problem = Problem::new(nu);
+    problem.add_part(part, (0..nu).collect())?;
+    for (q, name) in system.parameter_names().iter().enumerate() {
+        problem.add_monitor(
+            name,
+            Box::new(UnknownMonitor),
+            vec![first_param + q],
+            Activity::Inactive(params[q]),
+        )?;
+    }
+    Ok(problem)
+}
+
+impl Discretisation {
+    /// The discretisation of `orbit` by `method` with the starting unknowns and the orbit they
+    /// hold: shooting packs the orbit as it is (the first continuation step solves it);
+    /// collocation solves it (adapting the mesh) and keeps the mesh.
+    ///
+    /// # Errors
+    /// Invalid settings, or a collocation solve that fails.
+    pub fn prepare<S: HybridJacobians + ?Sized>(
+        method: &OrbitMethod,
+        system: &S,
+        orbit: &PeriodicOrbit,
+    ) -> Result<(Self, PeriodicOrbit, Vec<f64>)> {
+        orbit.validate(system)?;
+        match *method {
+            OrbitMethod::Shooting(settings) => {
+                Ok((Self::Shooting(settings), orbit.clone(), pack(orbit)))
+            }
+            OrbitMethod::Collocation(settings) => {
+                let sol = solve_collocation(system, orbit, settings, &NewtonSettings::default())?;
+                let u = sol.unknowns();
+                Ok((
+                    Self::Collocation {
+                        meshes: sol.meshes,
+                        ncol: settings.ncol,
+                    },
+                    sol.solution.orbit,
+                    u,
+                ))
+            }
+        }
+    }
+
+    /// The equations for orbits with `like`'s signature; shooting records its linearisations
+    /// into `cache` when given.
+    ///
+    /// # Errors
+    /// Invalid settings or meshes.
+    pub fn equations<'a, S: HybridJacobians + ?Sized>(
+        &self,
+        system: &'a S,
+        like: &PeriodicOrbit,
+        cache: Option<LinearizationCache>,
+    ) -> Result<Box<dyn OrbitEquations + 'a>> {
+        Ok(match self {
+            Self::Shooting(s) => {
+                let eq = Shooting::new(system, like.signature.clone(), *s)?;
+                Box::new(match cache {
+                    Some(c) => eq.with_cache(c),
+                    None => eq,
+                })
+            }
+            Self::Collocation { meshes, ncol } => Box::new(Collocation::new(
+                system,
+                like.signature.clone(),
+                meshes.clone(),
+                *ncol,
+            )?),
+        })
+    }
+
+    /// The problem of orbits like `like` (parameters held at `like`'s values by monitors named
+    /// after them), with the shooting linearisations recorded into `cache` when given.
+    ///
+    /// # Errors
+    /// As [`Discretisation::equations`].
+    pub fn problem<'a, S: HybridJacobians + ?Sized>(
+        &self,
+        system: &'a S,
+        like: &PeriodicOrbit,
+        cache: Option<LinearizationCache>,
+    ) -> Result<Problem<'a>> {
+        let eq = self.equations(system, like, cache)?;
+        let first = eq.first_parameter();
+        orbit_problem(system, eq, first, &like.params)
+    }
+
+    /// The unknowns of `orbit` (collocation: node states by integrating the segments).
+    ///
+    /// # Errors
+    /// An integration failure.
+    pub fn pack<S: HybridJacobians + ?Sized>(
+        &self,
+        system: &S,
+        orbit: &PeriodicOrbit,
+    ) -> Result<Vec<f64>> {
+        match self {
+            Self::Shooting(_) => Ok(pack(orbit)),
+            Self::Collocation { meshes, ncol } => {
+                let nodes = initial_nodes(system, orbit, meshes, *ncol)?;
+                Ok(collocation_pack(&nodes, orbit))
+            }
+        }
+    }
+
+    /// The orbit at unknowns `u` (signature and parameter count of `like`).
+    #[must_use]
+    pub fn unpack(&self, like: &PeriodicOrbit, u: &[f64]) -> PeriodicOrbit {
+        match self {
+            Self::Shooting(_) => unpack(like, u),
+            Self::Collocation { meshes, ncol } => collocation_unpack(like, meshes, *ncol, u).1,
+        }
+    }
+
+    /// Floquet multipliers at unknowns `u` (shooting: from `cache` when it holds this orbit's
+    /// linearisations, else by integrating; collocation: by condensation of the collocation
+    /// Jacobian). On a half orbit, the half map's monodromy (before $S$).
+    ///
+    /// # Errors
+    /// Integration, singular blocks or eigenvalue failures.
+    pub fn floquet<S: HybridJacobians + ?Sized>(
+        &self,
+        system: &S,
+        like: &PeriodicOrbit,
+        u: &[f64],
+        cache: Option<&LinearizationCache>,
+    ) -> Result<(PeriodicOrbit, Floquet)> {
+        match self {
+            Self::Shooting(s) => {
+                let orbit = unpack(like, u);
+                let cached = match cache {
+                    Some(c) => monodromy_from_cache(system, &orbit, c)?,
+                    None => None,
+                };
+                let f = match cached {
+                    Some(f) => f,
+                    None => monodromy_by_shooting(system, &orbit, *s)?,
+                };
+                Ok((orbit, f))
+            }
+            Self::Collocation { meshes, ncol } => {
+                let (nodes, orbit) = collocation_unpack(like, meshes, *ncol, u);
+                let f = collocation_floquet(system, &orbit, meshes, &nodes, *ncol)?;
+                Ok((orbit, f))
+            }
+        }
+    }
+
+    /// The number of unknowns holding segment states (they come first).
+    #[must_use]
+    pub fn segment_values(&self, like: &PeriodicOrbit) -> usize {
+        let n = like.starts[0].len();
+        match self {
+            Self::Shooting(_) => like.segment_count() * n,
+            Self::Collocation { meshes, ncol } => {
+                meshes.iter().map(|m| ((m.len() - 1) * ncol + 1) * n).sum()
+            }
+        }
+    }
+
+    /// The indices of the unknowns an orbit is read from: the segment starts (collocation: each
+    /// segment's first node), the durations and the parameters. A function of the orbit
+    /// ([`super::Measure`]) depends on these only.
+    #[must_use]
+    pub fn orbit_columns(&self, like: &PeriodicOrbit) -> Vec<usize> {
+        let n = like.starts[0].len();
+        let kk = like.segment_count();
+        let nv = self.segment_values(like);
+        let mut cols = Vec::new();
+        match self {
+            Self::Shooting(_) => cols.extend(0..nv),
+            Self::Collocation { meshes, ncol } => {
+                let mut off = 0;
+                for m in meshes {
+                    cols.extend(off..off + n);
+                    off += ((m.len() - 1) * ncol + 1) * n;
+                }
+            }
+        }
+        cols.extend(nv..nv + kk + like.params.len());
+        cols
+    }
+
+    /// Arclength weights of the unknowns (see the continuation's weighted norm): collocation
+    /// weighs each segment's node values by `copies / nodes` (a mean square, independent of the
+    /// mesh), shooting's starts by `copies`; durations weigh `copies`, everything else 1.
+    /// `None` when every weight would be 1. `copies` is 2 on a half orbit (its segments stand
+    /// for the full orbit's two copies).
+    #[must_use]
+    pub fn unknown_weights(
+        &self,
+        like: &PeriodicOrbit,
+        copies: f64,
+        total: usize,
+    ) -> Option<Vec<f64>> {
+        let n = like.starts[0].len();
+        let mut w = Vec::with_capacity(total);
+        match self {
+            Self::Shooting(_) if copies == 1.0 => return None,
+            Self::Shooting(_) => w.resize(self.segment_values(like), copies),
+            Self::Collocation { meshes, ncol } => {
+                for m in meshes {
+                    let nodes = (m.len() - 1) * ncol + 1;
+                    w.extend(std::iter::repeat_n(copies / nodes as f64, nodes * n));
+                }
+            }
+        }
+        w.extend(std::iter::repeat_n(copies, like.segment_count()));
+        w.resize(total, 1.0);
+        Some(w)
+    }
+
+    /// The discretisation of an orbit made of `copies` copies of these segments (collocation:
+    /// each mesh repeated).
+    #[must_use]
+    pub fn repeated(&self, copies: usize) -> Self {
+        match self {
+            Self::Shooting(s) => Self::Shooting(*s),
+            Self::Collocation { meshes, ncol } => Self::Collocation {
+                meshes: (0..copies).flat_map(|_| meshes.iter().cloned()).collect(),
+                ncol: *ncol,
+            },
+        }
+    }
+
+    /// Unknowns (or a tangent) `v` of an orbit like `like` with its segments repeated: the
+    /// segment values followed by their images under `image` (each state mapped; `None`: a
+    /// plain copy), the durations twice, then the rest. The unknowns of the full orbit of a half
+    /// orbit, or of an orbit traversed twice, in [`Discretisation::repeated`]`(2)`.
+    #[must_use]
+    pub fn repeat_unknowns(
+        &self,
+        like: &PeriodicOrbit,
+        v: &[f64],
+        image: Option<&Z2Symmetry>,
+    ) -> Vec<f64> {
+        let n = like.starts[0].len();
+        let (nv, kk) = (self.segment_values(like), like.segment_count());
+        let mut out = Vec::with_capacity(v.len() + nv + kk);
+        out.extend_from_slice(&v[..nv]);
+        match image {
+            Some(sym) => {
+                let mut y = vec![0.0; n];
+                for x in v[..nv].chunks_exact(n) {
+                    sym.apply(x, &mut y);
+                    out.extend_from_slice(&y);
+                }
+            }
+            None => out.extend_from_slice(&v[..nv]),
+        }
+        out.extend_from_slice(&v[nv..nv + kk]);
+        out.extend_from_slice(&v[nv..nv + kk]);
+        out.extend_from_slice(&v[nv + kk..]);
+        out
+    }
+
+    /// The method this discretisation was made by (collocation: the mesh size of the first
+    /// segment, no adaptation).
+    #[must_use]
+    pub fn method(&self) -> OrbitMethod {
+        match self {
+            Self::Shooting(s) => OrbitMethod::Shooting(*s),
+            Self::Collocation { meshes, ncol } => OrbitMethod::Collocation(CollocationSettings {
+                ntst: meshes.first().map_or(1, |m| m.len() - 1),
+                ncol: *ncol,
+                adapt: 0,
+            }),
+        }
+    }
+}

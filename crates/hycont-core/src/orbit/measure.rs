@@ -1,0 +1,519 @@
+//! Measures of periodic orbits: scalar functions of an orbit recorded along branches, usable as
+//! continuation parameters, event monitors and two-parameter conditions (COCO's monitor
+//! functions on orbits).
+//!
+//! Generic measures for any hybrid system:
+//! - [`Extremum`]: the true maximum, minimum or largest modulus of a state component over the
+//!   orbit (segment starts and ends and the interior critical points, not mesh values);
+//! - [`GrazingMargin`]: the signed margin of a trajectory's interior turning points to an event
+//!   surface, zero at a grazing;
+//! - [`SegmentValue`]: a state component at a segment's start or end (e.g. an impact velocity);
+//! - [`TimeAverage`]: the time average of a state component;
+//! - [`SegmentDuration`]: a segment's duration.
+//!
+//! A [`MeasureSet`] evaluates several measures with one integration pass over the orbit
+//! ([`scan`]). Closures `Fn(&S, &PeriodicOrbit) -> f64` are measures too.
+//!
+//! ```
+//! use hycont_core::orbit::{Extremum, Measure, MeasureSet, TimeAverage};
+//! # use hycont_core::{Direction, EventAction, EventId, EventSpec, HybridSystem, HybridJacobians, Mode};
+//! # use hycont_core::orbit::{PeriodicOrbit, Signature, SegmentSpec, SegmentEnd};
+//! # struct Osc;
+//! # impl HybridSystem for Osc {
+//! #     fn state_dim(&self) -> usize { 2 }
+//! #     fn parameter_names(&self) -> &[&'static str] { &["w"] }
+//! #     fn mode_count(&self) -> usize { 1 }
+//! #     fn mode_name(&self, _: Mode) -> &'static str { "m" }
+//! #     fn events(&self, _: Mode) -> &[EventId] { &[] }
+//! #     fn event_spec(&self, _: EventId) -> EventSpec { unreachable!() }
+//! #     fn vector_field(&self, _: Mode, x: &[f64], p: &[f64], out: &mut [f64]) {
+//! #         out[0] = p[0] * x[1]; out[1] = -p[0] * x[0];
+//! #     }
+//! #     fn event(&self, _: EventId, _: &[f64], _: &[f64]) -> f64 { 0.0 }
+//! # }
+//! # impl HybridJacobians for Osc {
+//! #     fn vector_field_jacobian(&self, _: Mode, x: &[f64], p: &[f64], dx: &mut [f64], dp: Option<&mut [f64]>) {
+//! #         dx.copy_from_slice(&[0.0, -p[0], p[0], 0.0]);
+//! #         if let Some(dp) = dp { dp[0] = x[1]; dp[1] = -x[0]; }
+//! #     }
+//! #     fn event_gradient(&self, _: EventId, _: &[f64], _: &[f64], _: &mut [f64], _: Option<&mut [f64]>) {}
+//! # }
+//! // The circle x0 = 2 cos(t), x1 = -2 sin(t) of x0' = x1, x1' = -x0, as one segment from
+//! // x1 = 0 to x1 = 0 (a full turn).
+//! let sig = Signature::new(&Osc, vec![SegmentSpec {
+//!     mode: Mode(0), end: SegmentEnd::Interior { component: 1, value: 0.0 } }]).unwrap();
+//! let orbit = PeriodicOrbit::new(&Osc, sig, vec![vec![2.0, 0.0]],
+//!                                vec![2.0 * std::f64::consts::PI], vec![1.0]).unwrap();
+//! let mut set = MeasureSet::new();
+//! let min = set.add("min_x0", Extremum::min(0)).unwrap();
+//! let mean = set.add("mean_x0", TimeAverage::new(0)).unwrap();
+//! let values = set.evaluate(&Osc, &orbit).unwrap();
+//! assert!((values[min] + 2.0).abs() < 1e-9);   // the interior minimum at t = pi
+//! assert!(values[mean].abs() < 1e-9);
+//! ```
+
+use super::scan::{OrbitScan, ScanNeeds, Turn, Watch, scan};
+use super::{Closure, PeriodicOrbit};
+use crate::error::{Error, Result};
+use crate::simulate::SimulationSettings;
+use crate::system::{EventId, HybridJacobians, HybridSystem, Z2Symmetry};
+
+/// A scalar measure of a periodic orbit.
+pub trait Measure<S: ?Sized> {
+    /// What the measure needs from the scan of the orbit (default: nothing, no integration).
+    fn needs(&self) -> ScanNeeds {
+        ScanNeeds::default()
+    }
+    /// The value on a full orbit, with the scan of [`Measure::needs`] (empty if it needs none).
+    ///
+    /// # Errors
+    /// If the measure does not apply to the orbit (e.g. a segment index out of range).
+    fn value(&self, system: &S, orbit: &PeriodicOrbit, scan: &OrbitScan) -> Result<f64>;
+    /// Whether, on a $\mathbb{Z}_2$-symmetric orbit, the value equals the value computed on its
+    /// half orbit (the first half of the segments); then half orbits need not be unfolded to
+    /// be measured. Default: `false`.
+    fn invariant_under(&self, system: &S, symmetry: &Z2Symmetry) -> bool {
+        let _ = (system, symmetry);
+        false
+    }
+}
+
+impl<S: ?Sized, F: Fn(&S, &PeriodicOrbit) -> f64> Measure<S> for F {
+    fn value(&self, system: &S, orbit: &PeriodicOrbit, _: &OrbitScan) -> Result<f64> {
+        Ok(self(system, orbit))
+    }
+}
+
+/// Row `c` of $S$ as $\pm e_c$: `Some(+1.0)` or `Some(-1.0)`, else `None`.
+fn component_sign(symmetry: &Z2Symmetry, n: usize, c: usize) -> Option<f64> {
+    let row = |j: usize| symmetry.matrix[c + j * n];
+    let own = row(c);
+    ((own == 1.0 || own == -1.0) && (0..n).all(|j| j == c || row(j) == 0.0)).then_some(own)
+}
+
+fn check_component<S: HybridSystem + ?Sized>(system: &S, c: usize) -> Result<()> {
+    if c < system.state_dim() {
+        Ok(())
+    } else {
+        Err(Error::InvalidMeasure {
+            reason: format!(
+                "state component {c} does not exist (dimension {})",
+                system.state_dim()
+            ),
+        })
+    }
+}
+
+fn check_segment(orbit: &PeriodicOrbit, k: usize) -> Result<()> {
+    if k < orbit.segment_count() {
+        Ok(())
+    } else {
+        Err(Error::InvalidMeasure {
+            reason: format!(
+                "segment {k} does not exist (the orbit has {})",
+                orbit.segment_count()
+            ),
+        })
+    }
+}
+
+/// Which extremum an [`Extremum`] measures.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+pub enum ExtremumKind {
+    /// $\max_t x_c(t)$.
+    Max,
+    /// $\min_t x_c(t)$.
+    Min,
+    /// $\max_t |x_c(t)|$.
+    MaxAbs,
+}
+
+/// The true extremum of state component $x_c$ over the orbit: over the segments' start states,
+/// their end states (before jumps) and the interior critical points of $x_c$ (located on the
+/// integrator's dense output), so that it is smooth along a branch (not a mesh maximum).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Extremum {
+    /// The component.
+    pub component: usize,
+    /// Which extremum.
+    pub kind: ExtremumKind,
+}
+
+impl Extremum {
+    /// $\max_t x_c(t)$.
+    #[must_use]
+    pub fn max(component: usize) -> Self {
+        Self {
+            component,
+            kind: ExtremumKind::Max,
+        }
+    }
+    /// $\min_t x_c(t)$.
+    #[must_use]
+    pub fn min(component: usize) -> Self {
+        Self {
+            component,
+            kind: ExtremumKind::Min,
+        }
+    }
+    /// $\max_t |x_c(t)|$ (e.g. the rocking block's amplitude).
+    #[must_use]
+    pub fn max_abs(component: usize) -> Self {
+        Self {
+            component,
+            kind: ExtremumKind::MaxAbs,
+        }
+    }
+}
+
+impl<S: HybridSystem + ?Sized> Measure<S> for Extremum {
+    fn needs(&self) -> ScanNeeds {
+        ScanNeeds {
+            watches: vec![Watch::Component(self.component)],
+            ..ScanNeeds::default()
+        }
+    }
+    fn value(&self, system: &S, orbit: &PeriodicOrbit, scan: &OrbitScan) -> Result<f64> {
+        let c = self.component;
+        check_component(system, c)?;
+        let values = orbit
+            .starts
+            .iter()
+            .chain(&scan.ends)
+            .map(|x| x[c])
+            .chain(scan.critical_of(Watch::Component(c)).map(|p| p.value));
+        Ok(match self.kind {
+            ExtremumKind::Max => values.fold(f64::NEG_INFINITY, f64::max),
+            ExtremumKind::Min => values.fold(f64::INFINITY, f64::min),
+            ExtremumKind::MaxAbs => values.map(f64::abs).fold(0.0, f64::max),
+        })
+    }
+    fn invariant_under(&self, system: &S, symmetry: &Z2Symmetry) -> bool {
+        match component_sign(symmetry, system.state_dim(), self.component) {
+            Some(_) if self.kind == ExtremumKind::MaxAbs => true,
+            Some(s) => s > 0.0,
+            None => false,
+        }
+    }
+}
+
+/// The signed grazing margin of an orbit to the surfaces of `events`: the smallest value of
+/// $\sigma h_e(x)$ over the points where the flow turns back towards the surface $h_e = 0$
+/// before reaching it (local minima of $\sigma h_e$ along segments in modes that monitor $e$,
+/// with $\sigma = +1$ for a falling event, $-1$ for a rising one: $\sigma h_e > 0$ before the
+/// crossing), or `cap` when there is no such point. It is zero where such a turning point
+/// touches the surface (a grazing) and negative past it, where the trajectory crosses the
+/// surface inside a segment (the orbit no longer has its signature).
+#[derive(Debug, Clone, PartialEq)]
+pub struct GrazingMargin {
+    /// The events whose surfaces are watched.
+    pub events: Vec<EventId>,
+    /// The value without turning points (default `f64::MAX`).
+    pub cap: f64,
+}
+
+impl GrazingMargin {
+    /// The margin to the surfaces of `events`.
+    #[must_use]
+    pub fn new(events: impl IntoIterator<Item = EventId>) -> Self {
+        Self {
+            events: events.into_iter().collect(),
+            cap: f64::MAX,
+        }
+    }
+
+    /// Sets the value reported when no flow turns back towards a surface.
+    #[must_use]
+    pub fn cap(mut self, cap: f64) -> Self {
+        self.cap = cap;
+        self
+    }
+}
+
+impl<S: HybridJacobians + ?Sized> Measure<S> for GrazingMargin {
+    fn needs(&self) -> ScanNeeds {
+        ScanNeeds {
+            watches: self.events.iter().map(|&e| Watch::Event(e)).collect(),
+            ..ScanNeeds::default()
+        }
+    }
+    fn value(&self, system: &S, _: &PeriodicOrbit, scan: &OrbitScan) -> Result<f64> {
+        let mut margin = self.cap;
+        for &e in &self.events {
+            let sigma = system
+                .event_spec(e)
+                .direction
+                .sign_before()
+                .ok_or_else(|| Error::InvalidMeasure {
+                    reason: format!("{e} has no crossing direction: a grazing margin needs one"),
+                })?;
+            let wanted = if sigma > 0.0 { Turn::Min } else { Turn::Max };
+            for p in scan
+                .critical_of(Watch::Event(e))
+                .filter(|p| p.turn == wanted)
+            {
+                margin = margin.min(sigma * p.value);
+            }
+        }
+        Ok(margin)
+    }
+    /// Invariant when the events are closed under the symmetry's event map (the mirrored
+    /// segments then have the same margins).
+    fn invariant_under(&self, _: &S, symmetry: &Z2Symmetry) -> bool {
+        self.events.iter().all(|e| {
+            symmetry
+                .events
+                .get(e.0)
+                .is_some_and(|m| self.events.contains(m))
+        })
+    }
+}
+
+/// Where a [`SegmentValue`] is read.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+pub enum SegmentPoint {
+    /// The segment's start state (after the previous jump).
+    Start,
+    /// The segment's end state (before its jump): needs an integration.
+    End,
+}
+
+/// State component $x_c$ at a segment's start or end, e.g. the velocity just before an impact
+/// (COCO's grazing monitor of an impacting orbit: it vanishes at a grazing impact).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct SegmentValue {
+    /// The segment.
+    pub segment: usize,
+    /// The component.
+    pub component: usize,
+    /// Start or end.
+    pub at: SegmentPoint,
+}
+
+impl SegmentValue {
+    /// $x_c$ at the start of segment `segment`.
+    #[must_use]
+    pub fn start(segment: usize, component: usize) -> Self {
+        Self {
+            segment,
+            component,
+            at: SegmentPoint::Start,
+        }
+    }
+    /// $x_c$ at the end of segment `segment`, before its jump.
+    #[must_use]
+    pub fn end(segment: usize, component: usize) -> Self {
+        Self {
+            segment,
+            component,
+            at: SegmentPoint::End,
+        }
+    }
+}
+
+impl<S: HybridSystem + ?Sized> Measure<S> for SegmentValue {
+    fn needs(&self) -> ScanNeeds {
+        ScanNeeds {
+            ends: self.at == SegmentPoint::End,
+            ..ScanNeeds::default()
+        }
+    }
+    fn value(&self, system: &S, orbit: &PeriodicOrbit, scan: &OrbitScan) -> Result<f64> {
+        check_component(system, self.component)?;
+        check_segment(orbit, self.segment)?;
+        Ok(match self.at {
+            SegmentPoint::Start => orbit.starts[self.segment][self.component],
+            SegmentPoint::End => scan.ends[self.segment][self.component],
+        })
+    }
+}
+
+/// The time average $\frac1T \int_0^T x_c\,dt$ of state component $x_c$ over the orbit.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct TimeAverage {
+    /// The component.
+    pub component: usize,
+}
+
+impl TimeAverage {
+    /// The time average of component `component`.
+    #[must_use]
+    pub fn new(component: usize) -> Self {
+        Self { component }
+    }
+}
+
+impl<S: HybridSystem + ?Sized> Measure<S> for TimeAverage {
+    fn needs(&self) -> ScanNeeds {
+        ScanNeeds {
+            integrals: vec![self.component],
+            ..ScanNeeds::default()
+        }
+    }
+    fn value(&self, system: &S, orbit: &PeriodicOrbit, scan: &OrbitScan) -> Result<f64> {
+        check_component(system, self.component)?;
+        let integral = scan
+            .integral(self.component)
+            .ok_or_else(|| Error::InvalidMeasure {
+                reason: format!("component {} was not integrated", self.component),
+            })?;
+        Ok(integral / orbit.period())
+    }
+    fn invariant_under(&self, system: &S, symmetry: &Z2Symmetry) -> bool {
+        component_sign(symmetry, system.state_dim(), self.component) == Some(1.0)
+    }
+}
+
+/// The duration of segment `segment`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct SegmentDuration {
+    /// The segment.
+    pub segment: usize,
+}
+
+impl SegmentDuration {
+    /// The duration of segment `segment`.
+    #[must_use]
+    pub fn new(segment: usize) -> Self {
+        Self { segment }
+    }
+}
+
+impl<S: ?Sized> Measure<S> for SegmentDuration {
+    fn value(&self, _: &S, orbit: &PeriodicOrbit, _: &OrbitScan) -> Result<f64> {
+        check_segment(orbit, self.segment)?;
+        Ok(orbit.durations[self.segment])
+    }
+}
+
+/// Named measures evaluated together: one scan of the orbit serves all of them.
+///
+/// On a half orbit ([`Closure::Symmetric`]) the values are those of the full orbit: the half
+/// orbit is measured directly when every measure is [invariant](Measure::invariant_under)
+/// under the system's symmetry, and unfolded otherwise.
+pub struct MeasureSet<'a, S: ?Sized> {
+    names: Vec<String>,
+    measures: Vec<Box<dyn Measure<S> + 'a>>,
+    settings: SimulationSettings,
+}
+
+impl<S: ?Sized> std::fmt::Debug for MeasureSet<'_, S> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("MeasureSet")
+            .field("names", &self.names)
+            .finish_non_exhaustive()
+    }
+}
+
+impl<S: ?Sized> Default for MeasureSet<'_, S> {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl<'a, S: ?Sized> MeasureSet<'a, S> {
+    /// An empty set; scans integrate at `rtol = 1e-10`, `atol = 1e-12`.
+    #[must_use]
+    pub fn new() -> Self {
+        Self {
+            names: Vec::new(),
+            measures: Vec::new(),
+            settings: SimulationSettings::default().rtol(1e-10).atol(1e-12),
+        }
+    }
+
+    /// Sets the integration settings of the scans.
+    #[must_use]
+    pub fn with_settings(mut self, settings: SimulationSettings) -> Self {
+        self.settings = settings;
+        self
+    }
+
+    /// Adds a measure; returns its index in the values of [`MeasureSet::evaluate`].
+    ///
+    /// # Errors
+    /// [`Error::InvalidMeasure`] if the name is empty or already taken.
+    pub fn add(&mut self, name: &str, measure: impl Measure<S> + 'a) -> Result<usize> {
+        if name.is_empty() || self.names.iter().any(|n| n == name) {
+            return Err(Error::InvalidMeasure {
+                reason: format!("measure name {name:?} is empty or already used"),
+            });
+        }
+        self.names.push(name.to_string());
+        self.measures.push(Box::new(measure));
+        Ok(self.names.len() - 1)
+    }
+
+    /// The names, in order.
+    #[must_use]
+    pub fn names(&self) -> &[String] {
+        &self.names
+    }
+
+    /// Number of measures.
+    #[must_use]
+    pub fn len(&self) -> usize {
+        self.names.len()
+    }
+
+    /// Whether the set is empty.
+    #[must_use]
+    pub fn is_empty(&self) -> bool {
+        self.names.is_empty()
+    }
+}
+
+impl<S: HybridJacobians + ?Sized> MeasureSet<'_, S> {
+    /// The values of all measures on `orbit` (a full orbit or a half orbit).
+    ///
+    /// # Errors
+    /// A measure that fails, or a failing scan.
+    pub fn evaluate(&self, system: &S, orbit: &PeriodicOrbit) -> Result<Vec<f64>> {
+        self.evaluate_indices(system, orbit, 0..self.measures.len())
+    }
+
+    /// The value of measure `index` alone (only its own needs are scanned).
+    ///
+    /// # Errors
+    /// As [`MeasureSet::evaluate`]; an index out of range.
+    pub fn evaluate_one(&self, system: &S, orbit: &PeriodicOrbit, index: usize) -> Result<f64> {
+        if index >= self.measures.len() {
+            return Err(Error::InvalidMeasure {
+                reason: format!("measure {index} does not exist ({} measures)", self.len()),
+            });
+        }
+        Ok(self.evaluate_indices(system, orbit, index..=index)?[0])
+    }
+
+    fn evaluate_indices(
+        &self,
+        system: &S,
+        orbit: &PeriodicOrbit,
+        indices: impl Iterator<Item = usize> + Clone,
+    ) -> Result<Vec<f64>> {
+        let unfolded;
+        let orbit = match (orbit.signature.closure(), system.symmetry()) {
+            (Closure::Symmetric, Some(sym))
+                if !indices
+                    .clone()
+                    .all(|i| self.measures[i].invariant_under(system, &sym)) =>
+            {
+                unfolded = orbit.unfold_symmetric(system)?;
+                &unfolded
+            }
+            _ => orbit,
+        };
+        let mut needs = ScanNeeds::default();
+        for i in indices.clone() {
+            needs.merge(&self.measures[i].needs());
+        }
+        let scanned = if needs.is_empty() {
+            OrbitScan::default()
+        } else {
+            scan(system, orbit, &needs, &self.settings)?
+        };
+        indices
+            .map(|i| self.measures[i].value(system, orbit, &scanned))
+            .collect()
+    }
+}

@@ -1,0 +1,452 @@
+//! One integration pass over an orbit's segments that collects what measures need: each
+//! segment's end state (before its jump), the critical points of scalar functions along the
+//! flow, and integrals of state components.
+//!
+//! A critical point of $q(x)$ along the flow of mode $m$ is a zero of
+//! $\dot q = \nabla q(x) \cdot f_m(x)$: a local minimum where $\dot q$ rises through zero, a
+//! local maximum where it falls. They are located as events on the dense output (to the
+//! simulator's event tolerance). Segment boundaries that are interior points of the signature
+//! (state continuous, e.g. a split at $\psi = 0$) are critical points when $\dot q$ vanishes
+//! there; those are reported with the exact state of the orbit's unknowns.
+
+use super::PeriodicOrbit;
+use super::signature::SegmentEnd;
+use crate::error::{Error, Result};
+use crate::simulate::{SimulationSettings, Simulator, StopReason, ZenoSettings};
+use crate::system::{
+    Direction, EventAction, EventId, EventSpec, HybridJacobians, HybridSystem, Mode,
+};
+use serde::{Deserialize, Serialize};
+use std::cell::RefCell;
+
+/// A scalar function of the state whose critical points along the flow a scan reports.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
+pub enum Watch {
+    /// State component $x_c$ (critical where $f_c(x) = 0$).
+    Component(usize),
+    /// The event function $h_e(x, p)$, in the modes that monitor the event (critical where
+    /// $\nabla h_e \cdot f = 0$).
+    Event(EventId),
+}
+
+/// Whether a critical point is a local minimum or maximum of the watched function.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
+pub enum Turn {
+    /// A local minimum.
+    Min,
+    /// A local maximum.
+    Max,
+}
+
+/// A critical point of a watched function along a segment.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct CriticalPoint {
+    /// The watched function.
+    pub watch: Watch,
+    /// Minimum or maximum.
+    pub turn: Turn,
+    /// The segment it lies in (a boundary point belongs to the segment it starts).
+    pub segment: usize,
+    /// Time from the segment's start.
+    pub t: f64,
+    /// The state there.
+    pub state: Vec<f64>,
+    /// The value of the watched function there.
+    pub value: f64,
+}
+
+/// What a scan must collect (the union of what a set of measures needs).
+#[derive(Debug, Clone, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub struct ScanNeeds {
+    /// Functions whose critical points are wanted.
+    pub watches: Vec<Watch>,
+    /// State components whose integrals over each segment are wanted.
+    pub integrals: Vec<usize>,
+    /// Whether the segments' end states are wanted (a scan always has them; a measure that
+    /// needs nothing else asks for this).
+    pub ends: bool,
+}
+
+impl ScanNeeds {
+    /// Adds `other`'s needs (without duplicates).
+    pub fn merge(&mut self, other: &ScanNeeds) {
+        for w in &other.watches {
+            if !self.watches.contains(w) {
+                self.watches.push(*w);
+            }
+        }
+        for c in &other.integrals {
+            if !self.integrals.contains(c) {
+                self.integrals.push(*c);
+            }
+        }
+        self.ends |= other.ends;
+    }
+
+    /// Whether anything needs integrating.
+    #[must_use]
+    pub fn is_empty(&self) -> bool {
+        self.watches.is_empty() && self.integrals.is_empty() && !self.ends
+    }
+}
+
+/// The result of [`scan`].
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+pub struct OrbitScan {
+    /// End state of each segment, before its jump.
+    pub ends: Vec<Vec<f64>>,
+    /// Critical points of the watched functions, by segment and time.
+    pub critical: Vec<CriticalPoint>,
+    /// `integrals[k][i]`: the integral over segment `k` of the `i`-th component of
+    /// [`ScanNeeds::integrals`].
+    pub integrals: Vec<Vec<f64>>,
+    /// The components integrated, in the order of `integrals[k]`.
+    pub integrated: Vec<usize>,
+}
+
+impl OrbitScan {
+    /// The critical points of one watched function.
+    pub fn critical_of(&self, watch: Watch) -> impl Iterator<Item = &CriticalPoint> {
+        self.critical.iter().filter(move |c| c.watch == watch)
+    }
+
+    /// The integral of state component `component` over the whole orbit, if it was integrated.
+    #[must_use]
+    pub fn integral(&self, component: usize) -> Option<f64> {
+        let i = self.integrated.iter().position(|&c| c == component)?;
+        Some(self.integrals.iter().map(|v| v[i]).sum())
+    }
+}
+
+/// The value of a watched function and its rate $\dot q = \nabla q \cdot f$ along the flow of
+/// `mode`.
+pub(crate) fn watched<S: HybridJacobians + ?Sized>(
+    system: &S,
+    watch: Watch,
+    mode: Mode,
+    x: &[f64],
+    p: &[f64],
+    f: &mut [f64],
+    grad: &mut [f64],
+) -> (f64, f64) {
+    system.vector_field(mode, x, p, f);
+    match watch {
+        Watch::Component(c) => (x[c], f[c]),
+        Watch::Event(e) => {
+            system.event_gradient(e, x, p, grad, None);
+            let rate = grad.iter().zip(f.iter()).map(|(a, b)| a * b).sum();
+            (system.event(e, x, p), rate)
+        }
+    }
+}
+
+/// Whether `watch` applies in `mode` (events only where the mode monitors them).
+fn applies<S: HybridSystem + ?Sized>(system: &S, watch: Watch, mode: Mode) -> bool {
+    match watch {
+        Watch::Component(_) => true,
+        Watch::Event(e) => system.events(mode).contains(&e),
+    }
+}
+
+/// Checks that every watch and integral refers to the system.
+///
+/// # Errors
+/// [`Error::InvalidMeasure`] naming the bad component or event.
+pub fn check_needs<S: HybridSystem + ?Sized>(system: &S, needs: &ScanNeeds) -> Result<()> {
+    let n = system.state_dim();
+    let events = (0..system.mode_count())
+        .flat_map(|m| system.events(Mode(m)).to_vec())
+        .collect::<Vec<_>>();
+    for w in &needs.watches {
+        match *w {
+            Watch::Component(c) if c >= n => {
+                return Err(Error::InvalidMeasure {
+                    reason: format!("state component {c} does not exist (dimension {n})"),
+                });
+            }
+            Watch::Event(e) if !events.contains(&e) => {
+                return Err(Error::InvalidMeasure {
+                    reason: format!("{e} is not monitored in any mode of the system"),
+                });
+            }
+            _ => {}
+        }
+    }
+    if let Some(c) = needs.integrals.iter().find(|&&c| c >= n) {
+        return Err(Error::InvalidMeasure {
+            reason: format!("state component {c} does not exist (dimension {n})"),
+        });
+    }
+    Ok(())
+}
+
+/// One segment's mode as a system for the scan: the state extended by the integrals, and two
+/// recorded identity events per watched function ($\dot q$ rising: minimum; falling: maximum).
+struct ScanFlow<'a, S: ?Sized> {
+    system: &'a S,
+    mode: Mode,
+    n: usize,
+    watches: Vec<Watch>,
+    integrals: &'a [usize],
+    ids: Vec<EventId>,
+    /// `-1.0` integrates backward (a negative duration).
+    time_sign: f64,
+    f: RefCell<Vec<f64>>,
+    grad: RefCell<Vec<f64>>,
+}
+
+impl<S: HybridJacobians + ?Sized> HybridSystem for ScanFlow<'_, S> {
+    fn state_dim(&self) -> usize {
+        self.n + self.integrals.len()
+    }
+    fn parameter_names(&self) -> &[&'static str] {
+        self.system.parameter_names()
+    }
+    fn mode_count(&self) -> usize {
+        1
+    }
+    fn mode_name(&self, _: Mode) -> &'static str {
+        self.system.mode_name(self.mode)
+    }
+    fn events(&self, _: Mode) -> &[EventId] {
+        &self.ids
+    }
+    fn event_spec(&self, event: EventId) -> EventSpec {
+        EventSpec {
+            name: "critical point",
+            direction: if event.0.is_multiple_of(2) {
+                Direction::Rising
+            } else {
+                Direction::Falling
+            },
+            action: EventAction::Jump { to: Mode(0) },
+        }
+    }
+    fn vector_field(&self, _: Mode, x: &[f64], p: &[f64], out: &mut [f64]) {
+        let n = self.n;
+        self.system
+            .vector_field(self.mode, &x[..n], p, &mut out[..n]);
+        for (i, &c) in self.integrals.iter().enumerate() {
+            out[n + i] = x[c];
+        }
+        if self.time_sign < 0.0 {
+            for v in out.iter_mut() {
+                *v = -*v;
+            }
+        }
+    }
+    fn event(&self, event: EventId, x: &[f64], p: &[f64]) -> f64 {
+        let (mut f, mut g) = (self.f.borrow_mut(), self.grad.borrow_mut());
+        let w = self.watches[event.0 / 2];
+        watched(self.system, w, self.mode, &x[..self.n], p, &mut f, &mut g).1
+    }
+}
+
+/// Scans `orbit` (each segment integrated once from its start for its duration): end states,
+/// critical points of `needs.watches` and integrals of `needs.integrals`. Critical points within
+/// $10^{-9} \max(1, T_k)$ of a segment's ends belong to the boundary and are not reported from
+/// the integration; boundaries that are interior points of the signature are checked directly.
+/// A segment with a negative duration (a continuation step past its collapse) is integrated
+/// backward and contributes its end state and integrals only.
+///
+/// # Errors
+/// Invalid needs or an integration failure.
+pub fn scan<S: HybridJacobians + ?Sized>(
+    system: &S,
+    orbit: &PeriodicOrbit,
+    needs: &ScanNeeds,
+    settings: &SimulationSettings,
+) -> Result<OrbitScan> {
+    check_needs(system, needs)?;
+    let n = system.state_dim();
+    let mut sim = Simulator::new(settings.clone().record_events(true).zeno(ZenoSettings {
+        min_contracting: usize::MAX,
+        min_interval: 0.0,
+        ..ZenoSettings::default()
+    }))?;
+    let mut out = OrbitScan {
+        integrated: needs.integrals.clone(),
+        ..OrbitScan::default()
+    };
+    let segs = orbit.signature.segments();
+    for (k, seg) in segs.iter().enumerate() {
+        let duration = orbit.durations[k];
+        let watches: Vec<Watch> = if duration >= 0.0 {
+            needs
+                .watches
+                .iter()
+                .copied()
+                .filter(|&w| applies(system, w, seg.mode))
+                .collect()
+        } else {
+            Vec::new()
+        };
+        let flow = ScanFlow {
+            system,
+            mode: seg.mode,
+            n,
+            ids: (0..2 * watches.len()).map(EventId).collect(),
+            watches,
+            integrals: &needs.integrals,
+            time_sign: duration.signum(),
+            f: RefCell::new(vec![0.0; n]),
+            grad: RefCell::new(vec![0.0; n]),
+        };
+        let mut x0 = orbit.starts[k].clone();
+        x0.resize(n + needs.integrals.len(), 0.0);
+        let traj = sim.run(&flow, Mode(0), 0.0, &x0, &orbit.params, duration.abs())?;
+        if !matches!(traj.stop, StopReason::EndReached) {
+            return Err(Error::InvalidSignature {
+                segment: k,
+                reason: format!("the scan of the segment stopped early: {:?}", traj.stop),
+            });
+        }
+        let margin = 1e-9 * duration.abs().max(1.0);
+        for e in &traj.events {
+            if e.t <= margin || e.t >= duration - margin {
+                continue;
+            }
+            let turn = if e.event.0.is_multiple_of(2) {
+                Turn::Min
+            } else {
+                Turn::Max
+            };
+            let first = flow.watches[e.event.0 / 2];
+            let state = &e.state_before[..n];
+            push_unique(
+                &mut out.critical,
+                system,
+                orbit,
+                first,
+                turn,
+                (k, e.t),
+                state,
+            );
+            // Other watched functions critical at the same point: the simulator restarts on
+            // their zero and does not report them.
+            let scale = 1.0 + state.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+            for &w in flow.watches.iter().filter(|&&w| w != first) {
+                let (mut f, mut g) = (vec![0.0; n], vec![0.0; n]);
+                let rate = watched(system, w, seg.mode, state, &orbit.params, &mut f, &mut g).1;
+                if rate.abs() <= 1e-9 * scale {
+                    let turn = classify(system, w, seg.mode, state, &orbit.params);
+                    push_unique(&mut out.critical, system, orbit, w, turn, (k, e.t), state);
+                }
+            }
+        }
+        let sign = duration.signum();
+        out.ends.push(traj.state_final[..n].to_vec());
+        out.integrals
+            .push(traj.state_final[n..].iter().map(|v| sign * v).collect());
+    }
+    boundary_points(system, orbit, &needs.watches, &mut out);
+    out.critical.sort_by(|a, b| {
+        (a.segment, a.t)
+            .partial_cmp(&(b.segment, b.t))
+            .expect("finite")
+    });
+    Ok(out)
+}
+
+/// Adds the critical points that are segment boundaries of the signature: the start of a
+/// segment that follows an interior point (the state is continuous there) where a watched
+/// function's rate vanishes to $10^{-8}$ relative to $|\nabla q| |f|$, classified by the sign of
+/// the rate a short way ($10^{-6}$ relative) along the flow on either side.
+fn boundary_points<S: HybridJacobians + ?Sized>(
+    system: &S,
+    orbit: &PeriodicOrbit,
+    watches: &[Watch],
+    out: &mut OrbitScan,
+) {
+    let segs = orbit.signature.segments();
+    let kk = segs.len();
+    let n = system.state_dim();
+    let p = &orbit.params;
+    let (mut f, mut grad) = (vec![0.0; n], vec![0.0; n]);
+    for k in 0..kk {
+        let before = (k + kk - 1) % kk;
+        if !matches!(segs[before].end, SegmentEnd::Interior { .. }) || orbit.durations[k] < 0.0 {
+            continue;
+        }
+        let mode = segs[k].mode;
+        let x = &orbit.starts[k];
+        for &w in watches.iter().filter(|&&w| applies(system, w, mode)) {
+            let (value, rate) = watched(system, w, mode, x, p, &mut f, &mut grad);
+            let gnorm = match w {
+                Watch::Component(_) => 1.0,
+                Watch::Event(_) => grad.iter().map(|g| g * g).sum::<f64>().sqrt(),
+            };
+            let fnorm = f.iter().map(|v| v * v).sum::<f64>().sqrt();
+            if !(rate.abs() <= 1e-8 * (gnorm * fnorm).max(f64::MIN_POSITIVE)) {
+                continue;
+            }
+            let turn = classify(system, w, mode, x, p);
+            out.critical.push(CriticalPoint {
+                watch: w,
+                turn,
+                segment: k,
+                t: 0.0,
+                state: x.clone(),
+                value,
+            });
+        }
+    }
+}
+
+/// Whether a critical point of `watch` at `x` is a minimum or a maximum: the sign of the change
+/// of its rate a short way ($10^{-6}$ relative) along the flow on either side.
+fn classify<S: HybridJacobians + ?Sized>(
+    system: &S,
+    watch: Watch,
+    mode: Mode,
+    x: &[f64],
+    p: &[f64],
+) -> Turn {
+    let n = x.len();
+    let (mut f, mut g) = (vec![0.0; n], vec![0.0; n]);
+    system.vector_field(mode, x, p, &mut f);
+    let fnorm = f.iter().map(|v| v * v).sum::<f64>().sqrt();
+    let scale = x.iter().fold(1.0f64, |m, v| m.max(v.abs()));
+    let dt = 1e-6 * scale / fnorm.max(f64::MIN_POSITIVE);
+    let dir = f.clone();
+    let mut rate_at = |sign: f64| {
+        let shifted: Vec<f64> = x.iter().zip(&dir).map(|(a, b)| a + sign * dt * b).collect();
+        watched(system, watch, mode, &shifted, p, &mut f, &mut g).1
+    };
+    if rate_at(1.0) - rate_at(-1.0) > 0.0 {
+        Turn::Min
+    } else {
+        Turn::Max
+    }
+}
+
+/// Records a critical point unless the same one (watch, segment, turn, time to
+/// $10^{-8} \max(1, T_k)$) is already recorded.
+fn push_unique<S: HybridSystem + ?Sized>(
+    critical: &mut Vec<CriticalPoint>,
+    system: &S,
+    orbit: &PeriodicOrbit,
+    watch: Watch,
+    turn: Turn,
+    (segment, t): (usize, f64),
+    state: &[f64],
+) {
+    let tol = 1e-8 * orbit.durations[segment].abs().max(1.0);
+    if critical.iter().any(|c| {
+        c.watch == watch && c.segment == segment && c.turn == turn && (c.t - t).abs() <= tol
+    }) {
+        return;
+    }
+    let value = match watch {
+        Watch::Component(c) => state[c],
+        Watch::Event(e) => system.event(e, state, &orbit.params),
+    };
+    critical.push(CriticalPoint {
+        watch,
+        turn,
+        segment,
+        t,
+        state: state.to_vec(),
+        value,
+    });
+}
