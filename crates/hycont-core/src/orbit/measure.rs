@@ -53,7 +53,7 @@
 //! ```
 
 use super::scan::{OrbitScan, ScanNeeds, Turn, Watch, scan};
-use super::{Closure, PeriodicOrbit};
+use super::{Closure, PeriodicOrbit, SegmentEnd};
 use crate::error::{Error, Result};
 use crate::simulate::SimulationSettings;
 use crate::system::{EventId, HybridJacobians, HybridSystem, Z2Symmetry};
@@ -76,6 +76,55 @@ pub trait Measure<S: ?Sized> {
         let _ = (system, symmetry);
         false
     }
+    /// The gradient of the value with respect to the orbit's coordinates (the segment starts,
+    /// the durations, the parameters, in the order of [`super::pack`]) when it is known exactly,
+    /// e.g. because the value is one of them; `None` (the default) where it is not (the
+    /// two-parameter curves then take differences).
+    fn gradient(&self, system: &S, orbit: &PeriodicOrbit, scan: &OrbitScan) -> Option<Vec<f64>> {
+        let _ = (system, orbit, scan);
+        None
+    }
+    /// The value on `orbit` (a full or a half orbit), with its own scan at the
+    /// [`MeasureSet`]'s default tolerances: a shorthand for a one-measure set.
+    ///
+    /// # Errors
+    /// As [`MeasureSet::evaluate`].
+    fn evaluate(&self, system: &S, orbit: &PeriodicOrbit) -> Result<f64>
+    where
+        Self: Sized,
+        S: HybridJacobians,
+    {
+        let mut set = MeasureSet::new();
+        set.add("measure", Borrowed(self))?;
+        Ok(set.evaluate(system, orbit)?[0])
+    }
+}
+
+/// A measure by reference (for [`Measure::evaluate`]).
+struct Borrowed<'m, M>(&'m M);
+
+impl<S: ?Sized, M: Measure<S>> Measure<S> for Borrowed<'_, M> {
+    fn needs(&self) -> ScanNeeds {
+        self.0.needs()
+    }
+    fn value(&self, system: &S, orbit: &PeriodicOrbit, scan: &OrbitScan) -> Result<f64> {
+        self.0.value(system, orbit, scan)
+    }
+    fn invariant_under(&self, system: &S, symmetry: &Z2Symmetry) -> bool {
+        self.0.invariant_under(system, symmetry)
+    }
+    fn gradient(&self, system: &S, orbit: &PeriodicOrbit, scan: &OrbitScan) -> Option<Vec<f64>> {
+        self.0.gradient(system, orbit, scan)
+    }
+}
+
+/// The unit vector of coordinate `i` of `orbit` (see [`Measure::gradient`]), times `sign`.
+fn unit(orbit: &PeriodicOrbit, i: usize, sign: f64) -> Vec<f64> {
+    let n = orbit.starts.first().map_or(0, Vec::len);
+    let len = orbit.segment_count() * (n + 1) + orbit.params.len();
+    let mut g = vec![0.0; len];
+    g[i] = sign;
+    g
 }
 
 impl<S: ?Sized, F: Fn(&S, &PeriodicOrbit) -> f64> Measure<S> for F {
@@ -129,8 +178,10 @@ pub enum ExtremumKind {
 }
 
 /// The true extremum of state component $x_c$ over the orbit: over the segments' start states,
-/// their end states (before jumps) and the interior critical points of $x_c$ (located on the
-/// integrator's dense output), so that it is smooth along a branch (not a mesh maximum).
+/// their end states before jumps, and the interior critical points of $x_c$ (located on the
+/// integrator's dense output), so that it is smooth along a branch (not a mesh maximum). Where
+/// the orbit's signature splits a segment at an extremum (e.g. at $\dot x_c = 0$), the value is
+/// the split point's state, exact to the orbit's unknowns.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Extremum {
     /// The component.
@@ -166,6 +217,46 @@ impl Extremum {
     }
 }
 
+impl Extremum {
+    /// The extremum and, when it is attained at a segment start, that segment.
+    fn attained(&self, orbit: &PeriodicOrbit, scan: &OrbitScan) -> (f64, Option<usize>) {
+        let c = self.component;
+        let key = |v: f64| match self.kind {
+            ExtremumKind::Max => v,
+            ExtremumKind::Min => -v,
+            ExtremumKind::MaxAbs => v.abs(),
+        };
+        // End states count where a jump follows (the next start is the state after it); at
+        // an interior point the next start is the same state, exactly.
+        let segs = orbit.signature.segments();
+        let ends = scan
+            .ends
+            .iter()
+            .zip(segs)
+            .filter(|(_, s)| matches!(s.end, SegmentEnd::Event(_)))
+            .map(|(x, _)| (x[c], None));
+        let starts = orbit
+            .starts
+            .iter()
+            .enumerate()
+            .map(|(k, x)| (x[c], Some(k)));
+        let interior = scan
+            .critical_of(Watch::Component(c))
+            .filter(|p| p.t > 0.0)
+            .map(|p| (p.value, None));
+        let mut best = (f64::NEG_INFINITY, f64::NAN, None);
+        for (v, at) in starts.chain(ends).chain(interior) {
+            if key(v) > best.0 {
+                best = (key(v), v, at);
+            }
+        }
+        match self.kind {
+            ExtremumKind::MaxAbs => (best.0, best.2),
+            _ => (best.1, best.2),
+        }
+    }
+}
+
 impl<S: HybridSystem + ?Sized> Measure<S> for Extremum {
     fn needs(&self) -> ScanNeeds {
         ScanNeeds {
@@ -174,19 +265,8 @@ impl<S: HybridSystem + ?Sized> Measure<S> for Extremum {
         }
     }
     fn value(&self, system: &S, orbit: &PeriodicOrbit, scan: &OrbitScan) -> Result<f64> {
-        let c = self.component;
-        check_component(system, c)?;
-        let values = orbit
-            .starts
-            .iter()
-            .chain(&scan.ends)
-            .map(|x| x[c])
-            .chain(scan.critical_of(Watch::Component(c)).map(|p| p.value));
-        Ok(match self.kind {
-            ExtremumKind::Max => values.fold(f64::NEG_INFINITY, f64::max),
-            ExtremumKind::Min => values.fold(f64::INFINITY, f64::min),
-            ExtremumKind::MaxAbs => values.map(f64::abs).fold(0.0, f64::max),
-        })
+        check_component(system, self.component)?;
+        Ok(self.attained(orbit, scan).0)
     }
     fn invariant_under(&self, system: &S, symmetry: &Z2Symmetry) -> bool {
         match component_sign(symmetry, system.state_dim(), self.component) {
@@ -194,6 +274,17 @@ impl<S: HybridSystem + ?Sized> Measure<S> for Extremum {
             Some(s) => s > 0.0,
             None => false,
         }
+    }
+    /// Exact where the extremum is a segment's start (e.g. a split of the signature at
+    /// $\dot x_c = 0$): the unit vector of that coordinate.
+    fn gradient(&self, system: &S, orbit: &PeriodicOrbit, scan: &OrbitScan) -> Option<Vec<f64>> {
+        let c = self.component;
+        let k = self.attained(orbit, scan).1?;
+        let sign = match self.kind {
+            ExtremumKind::MaxAbs => orbit.starts[k][c].signum(),
+            _ => 1.0,
+        };
+        Some(unit(orbit, k * system.state_dim() + c, sign))
     }
 }
 
@@ -326,6 +417,11 @@ impl<S: HybridSystem + ?Sized> Measure<S> for SegmentValue {
             SegmentPoint::End => scan.ends[self.segment][self.component],
         })
     }
+    fn gradient(&self, system: &S, orbit: &PeriodicOrbit, _: &OrbitScan) -> Option<Vec<f64>> {
+        let i = self.segment * system.state_dim() + self.component;
+        (self.at == SegmentPoint::Start && self.segment < orbit.segment_count())
+            .then(|| unit(orbit, i, 1.0))
+    }
 }
 
 /// The time average $\frac1T \int_0^T x_c\,dt$ of state component $x_c$ over the orbit.
@@ -383,6 +479,11 @@ impl<S: ?Sized> Measure<S> for SegmentDuration {
     fn value(&self, _: &S, orbit: &PeriodicOrbit, _: &OrbitScan) -> Result<f64> {
         check_segment(orbit, self.segment)?;
         Ok(orbit.durations[self.segment])
+    }
+    fn gradient(&self, _: &S, orbit: &PeriodicOrbit, _: &OrbitScan) -> Option<Vec<f64>> {
+        let n = orbit.starts.first().map_or(0, Vec::len);
+        (self.segment < orbit.segment_count())
+            .then(|| unit(orbit, orbit.segment_count() * n + self.segment, 1.0))
     }
 }
 
@@ -483,6 +584,41 @@ impl<S: HybridJacobians + ?Sized> MeasureSet<'_, S> {
             });
         }
         Ok(self.evaluate_indices(system, orbit, index..=index)?[0])
+    }
+
+    /// The value of measure `index` and its exact gradient with respect to the orbit's
+    /// coordinates ([`Measure::gradient`]); no gradient for a half orbit that had to be
+    /// unfolded.
+    ///
+    /// # Errors
+    /// As [`MeasureSet::evaluate_one`].
+    pub fn evaluate_with_gradient(
+        &self,
+        system: &S,
+        orbit: &PeriodicOrbit,
+        index: usize,
+    ) -> Result<(f64, Option<Vec<f64>>)> {
+        if index >= self.measures.len() {
+            return Err(Error::InvalidMeasure {
+                reason: format!("measure {index} does not exist ({} measures)", self.len()),
+            });
+        }
+        let m = &self.measures[index];
+        let unfold = orbit.signature.closure() == Closure::Symmetric
+            && system
+                .symmetry()
+                .is_some_and(|sym| !m.invariant_under(system, &sym));
+        if unfold {
+            return Ok((self.evaluate_one(system, orbit, index)?, None));
+        }
+        let needs = m.needs();
+        let scanned = if needs.is_empty() {
+            OrbitScan::default()
+        } else {
+            scan(system, orbit, &needs, &self.settings)?
+        };
+        let value = m.value(system, orbit, &scanned)?;
+        Ok((value, m.gradient(system, orbit, &scanned)))
     }
 
     fn evaluate_indices(

@@ -133,6 +133,43 @@ impl PeriodicOrbit {
         Self::new(system, signature, starts, durations, params.to_vec())
     }
 
+    /// The same orbit with its segments rotated so that it starts right after `event` (its last
+    /// segment ends at `event`): e.g. to fix the index of the segment an impact ends, whatever
+    /// the point where a simulation was read off ([`PeriodicOrbit::from_simulation`]).
+    ///
+    /// # Errors
+    /// [`Error::InvalidSignature`] if no segment ends at `event`, or the orbit is a half orbit
+    /// (its closure ties its first segment to its last).
+    pub fn starting_after<S: HybridSystem + ?Sized>(
+        &self,
+        system: &S,
+        event: crate::system::EventId,
+    ) -> Result<Self> {
+        let segs = self.signature.segments();
+        let k = segs
+            .iter()
+            .position(|s| s.end == SegmentEnd::Event(event))
+            .ok_or_else(|| Error::InvalidSignature {
+                segment: 0,
+                reason: format!("no segment ends at {event}"),
+            })?;
+        if self.signature.closure() != super::Closure::Periodic {
+            return Err(Error::InvalidSignature {
+                segment: k,
+                reason: "a half orbit cannot be rotated".into(),
+            });
+        }
+        let order: Vec<usize> = (k + 1..segs.len()).chain(0..=k).collect();
+        let signature = Signature::new(system, order.iter().map(|&i| segs[i]).collect())?;
+        Self::new(
+            system,
+            signature,
+            order.iter().map(|&i| self.starts[i].clone()).collect(),
+            order.iter().map(|&i| self.durations[i]).collect(),
+            self.params.clone(),
+        )
+    }
+
     /// Builds an orbit by integrating from `x0` along `signature` (each segment until its end
     /// condition, at most `max_duration` long), e.g. from a guess of one point of the orbit.
     /// The last segment's end state need not return to `x0`: Newton closes the orbit.
@@ -147,38 +184,7 @@ impl PeriodicOrbit {
         max_duration: f64,
         settings: &SimulationSettings,
     ) -> Result<Self> {
-        check_len("initial state", x0, system.state_dim())?;
-        let mut sim = simulator(settings)?;
-        let mut x = x0.to_vec();
-        let mut starts = Vec::new();
-        let mut durations = Vec::new();
-        for (k, seg) in signature.segments().iter().enumerate() {
-            starts.push(x.clone());
-            let flow = SegmentFlow {
-                system,
-                mode: seg.mode,
-                stop: Some(seg.end),
-                split: None,
-                time_sign: 1.0,
-            };
-            let traj = sim.run(&flow, Mode(0), 0.0, &x, params, max_duration)?;
-            let StopReason::TerminalEvent { t, .. } = traj.stop else {
-                return Err(Error::InvalidSignature {
-                    segment: k,
-                    reason: format!(
-                        "the end condition is not reached within {max_duration} from {x:?}"
-                    ),
-                });
-            };
-            durations.push(t);
-            x.clone_from(&traj.state_final);
-            if let SegmentEnd::Event(e) = seg.end {
-                let mut y = vec![0.0; x.len()];
-                system.reset(e, &x, params, &mut y);
-                x = y;
-            }
-        }
-        Self::new(system, signature, starts, durations, params.to_vec())
+        follow(system, signature, x0, params, max_duration, settings).map(|(orbit, _)| orbit)
     }
 
     /// Splits every segment at the interior points where state component `component` crosses
@@ -312,11 +318,29 @@ impl PeriodicOrbit {
         Ok(out)
     }
 
-    /// Checks that `system`'s event actions still match the signature (e.g. after editing).
+    /// Checks the orbit against `system`: the signature still matches its events (e.g. after
+    /// editing), one finite start state of the system's dimension and one finite duration per
+    /// segment, and the system's number of finite parameters.
     ///
     /// # Errors
-    /// As [`Signature::new`].
+    /// As [`Signature::new`]; [`Error::DimensionMismatch`] or [`Error::NonFinite`] naming the
+    /// bad value.
     pub fn validate<S: HybridSystem + ?Sized>(&self, system: &S) -> Result<()> {
+        let k = self.signature.len();
+        if self.starts.len() != k || self.durations.len() != k {
+            return Err(Error::DimensionMismatch {
+                what: "segment starts/durations",
+                expected: k,
+                found: self.starts.len().min(self.durations.len()),
+            });
+        }
+        for x in &self.starts {
+            check_len("segment start", x, system.state_dim())?;
+            check_finite("segment start", x)?;
+        }
+        check_finite("durations", &self.durations)?;
+        check_len("parameters", &self.params, system.parameter_count())?;
+        check_finite("parameters", &self.params)?;
         Signature::with_closure(
             system,
             self.signature.segments().to_vec(),
@@ -335,4 +359,50 @@ impl PeriodicOrbit {
         }
         Ok(())
     }
+}
+
+/// Follows `x0` along `signature` (each segment until its end condition, at most
+/// `max_duration`): the orbit of [`PeriodicOrbit::from_initial_state`] and the state after the
+/// last segment's end (after its jump).
+pub(crate) fn follow<S: HybridSystem + ?Sized>(
+    system: &S,
+    signature: Signature,
+    x0: &[f64],
+    params: &[f64],
+    max_duration: f64,
+    settings: &SimulationSettings,
+) -> Result<(PeriodicOrbit, Vec<f64>)> {
+    check_len("initial state", x0, system.state_dim())?;
+    let mut sim = simulator(settings)?;
+    let mut x = x0.to_vec();
+    let mut starts = Vec::new();
+    let mut durations = Vec::new();
+    for (k, seg) in signature.segments().iter().enumerate() {
+        starts.push(x.clone());
+        let flow = SegmentFlow {
+            system,
+            mode: seg.mode,
+            stop: Some(seg.end),
+            split: None,
+            time_sign: 1.0,
+        };
+        let traj = sim.run(&flow, Mode(0), 0.0, &x, params, max_duration)?;
+        let StopReason::TerminalEvent { t, .. } = traj.stop else {
+            return Err(Error::InvalidSignature {
+                segment: k,
+                reason: format!(
+                    "the end condition is not reached within {max_duration} from {x:?}"
+                ),
+            });
+        };
+        durations.push(t);
+        x.clone_from(&traj.state_final);
+        if let SegmentEnd::Event(e) = seg.end {
+            let mut y = vec![0.0; x.len()];
+            system.reset(e, &x, params, &mut y);
+            x = y;
+        }
+    }
+    let orbit = PeriodicOrbit::new(system, signature, starts, durations, params.to_vec())?;
+    Ok((orbit, x))
 }

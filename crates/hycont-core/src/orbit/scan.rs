@@ -242,10 +242,18 @@ impl<S: HybridJacobians + ?Sized> HybridSystem for ScanFlow<'_, S> {
     }
 }
 
+/// Relative width of the band at each end of a segment in which critical points found by
+/// integration belong to the boundary (see [`scan`]).
+pub const BOUNDARY_BAND: f64 = 1e-6;
+
 /// Scans `orbit` (each segment integrated once from its start for its duration): end states,
 /// critical points of `needs.watches` and integrals of `needs.integrals`. Critical points within
-/// $10^{-9} \max(1, T_k)$ of a segment's ends belong to the boundary and are not reported from
-/// the integration; boundaries that are interior points of the signature are checked directly.
+/// [`BOUNDARY_BAND`]` * max(1, T_k)` of a segment's ends belong to the boundary and are not
+/// reported from the integration: boundaries that are interior points of the signature are
+/// checked directly (with their exact states), and a segment's end before a jump is a state of
+/// its own. The band is wider than any difference step a gradient takes, so that a critical
+/// point at a boundary is not reported twice with values that differ by the integration error
+/// (which would make a measure jump).
 /// A segment with a negative duration (a continuation step past its collapse) is integrated
 /// backward and contributes its end state and integrals only.
 ///
@@ -301,7 +309,7 @@ pub fn scan<S: HybridJacobians + ?Sized>(
                 reason: format!("the scan of the segment stopped early: {:?}", traj.stop),
             });
         }
-        let margin = 1e-9 * duration.abs().max(1.0);
+        let margin = BOUNDARY_BAND * duration.abs().max(1.0);
         for e in &traj.events {
             if e.t <= margin || e.t >= duration - margin {
                 continue;

@@ -83,17 +83,27 @@ impl Signature {
                 reason: "a signature needs at least one segment".into(),
             });
         }
+        if let Some((i, seg)) = segments
+            .iter()
+            .enumerate()
+            .find(|(_, s)| s.mode.0 >= system.mode_count())
+        {
+            return Err(Error::InvalidSignature {
+                segment: i,
+                reason: format!("mode {} does not exist", seg.mode),
+            });
+        }
         for (i, seg) in segments.iter().enumerate() {
-            let next = match (&symmetry, i + 1 == k) {
-                (Some(sym), true) => sym.modes[segments[0].mode.0],
-                _ => segments[(i + 1) % k].mode,
-            };
-            if seg.mode.0 >= system.mode_count() {
-                return Err(Error::InvalidSignature {
-                    segment: i,
-                    reason: format!("mode {} does not exist", seg.mode),
-                });
-            }
+            let next =
+                match (&symmetry, i + 1 == k) {
+                    (Some(sym), true) => *sym.modes.get(segments[0].mode.0).ok_or_else(|| {
+                        Error::InvalidSignature {
+                            segment: i,
+                            reason: format!("the symmetry does not map mode {}", segments[0].mode),
+                        }
+                    })?,
+                    _ => segments[(i + 1) % k].mode,
+                };
             match seg.end {
                 SegmentEnd::Event(e) => {
                     if !system.events(seg.mode).contains(&e) {

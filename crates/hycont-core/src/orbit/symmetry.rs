@@ -9,8 +9,9 @@ use super::signature::{Closure, SegmentEnd, SegmentSpec, Signature};
 use super::{
     Floquet, OrbitSolution, PeriodicOrbit, ShootingSettings, floquet, monodromy_by_shooting,
 };
-use crate::error::{Error, Result};
+use crate::error::{Error, Result, check_finite, check_len};
 use crate::problem::NewtonSettings;
+use crate::simulate::SimulationSettings;
 use crate::system::{HybridJacobians, HybridSystem, Z2Symmetry};
 use serde::{Deserialize, Serialize};
 
@@ -267,4 +268,126 @@ pub fn solve_symmetric_collocation<S: HybridJacobians + ?Sized>(
         half,
         half_floquet,
     })
+}
+
+/// How [`find_symmetric_orbit`] looks for a symmetric orbit.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SymmetricSearch {
+    /// Start states of the half orbit's first segment to try (e.g. a grid of velocities and
+    /// forcing phases on an impact surface).
+    pub seeds: Vec<Vec<f64>>,
+    /// The half orbit's duration, if it is known (half a forcing period for a forced system):
+    /// guesses are ranked by it too, and only solutions with it (to `1e-6` relative) count.
+    pub half_period: Option<f64>,
+    /// The longest a segment may last when a seed is followed (default 100).
+    pub max_duration: f64,
+    /// How many of the best-ranked guesses Newton's method tries (default 12).
+    pub candidates: usize,
+    /// Integration settings for following the seeds (default `rtol = 1e-6`, `atol = 1e-8`: the
+    /// guesses are only ranked).
+    pub scan: SimulationSettings,
+    /// Shooting settings of the Newton solves (default [`ShootingSettings::default`]).
+    pub shooting: ShootingSettings,
+    /// Newton settings (default [`NewtonSettings::default`]).
+    pub newton: NewtonSettings,
+}
+
+impl SymmetricSearch {
+    /// A search from `seeds` with the defaults above.
+    #[must_use]
+    pub fn new(seeds: Vec<Vec<f64>>) -> Self {
+        Self {
+            seeds,
+            half_period: None,
+            max_duration: 100.0,
+            candidates: 12,
+            scan: SimulationSettings::default().rtol(1e-6).atol(1e-8),
+            shooting: ShootingSettings::default(),
+            newton: NewtonSettings::default(),
+        }
+    }
+
+    /// Sets the expected half-orbit duration.
+    #[must_use]
+    pub fn half_period(mut self, t: f64) -> Self {
+        self.half_period = Some(t);
+        self
+    }
+}
+
+/// A $\mathbb{Z}_2$-symmetric periodic orbit whose half orbit has the signature `half`
+/// ([`Closure::Symmetric`]): every seed is followed along the signature (each segment to its
+/// end condition) and ranked by how nearly it closes, $\|x_K - S x_0\|_1$ (plus the relative
+/// miss of the half period, when given); Newton's method on the half-orbit problem
+/// ([`solve_symmetric_shooting`]) is tried from the best-ranked guesses.
+///
+/// # Errors
+/// A signature that is not a half orbit's, seeds or parameters of the wrong length or not
+/// finite; [`Error::NotPeriodic`] if no seed reaches the end of the signature;
+/// [`Error::NewtonFailed`] (the last failure) if no guess converges to an orbit with the
+/// half period.
+pub fn find_symmetric_orbit<S: HybridJacobians + ?Sized>(
+    system: &S,
+    half: &Signature,
+    params: &[f64],
+    search: &SymmetricSearch,
+) -> Result<SymmetricSolution> {
+    if half.closure() != Closure::Symmetric {
+        return Err(Error::InvalidSignature {
+            segment: 0,
+            reason: "the search needs a half orbit's signature (symmetric closure)".into(),
+        });
+    }
+    let sym = symmetry_of(system)?;
+    check_len("parameters", params, system.parameter_count())?;
+    check_finite("parameters", params)?;
+    let n = system.state_dim();
+    let mut candidates = Vec::new();
+    let mut image = vec![0.0; n];
+    for x0 in &search.seeds {
+        check_len("seed", x0, n)?;
+        check_finite("seed", x0)?;
+        let Ok((guess, end)) = super::periodic_orbit::follow(
+            system,
+            half.clone(),
+            x0,
+            params,
+            search.max_duration,
+            &search.scan,
+        ) else {
+            continue;
+        };
+        sym.apply(x0, &mut image);
+        let mut miss: f64 = end.iter().zip(&image).map(|(a, b)| (a - b).abs()).sum();
+        if let Some(t) = search.half_period {
+            miss += (guess.period() - t).abs() / t;
+        }
+        candidates.push((miss, guess));
+    }
+    if candidates.is_empty() {
+        return Err(Error::NotPeriodic {
+            reason: format!(
+                "none of {} seeds reaches the end of the half orbit's signature",
+                search.seeds.len()
+            ),
+        });
+    }
+    candidates.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let mut last_err = None;
+    for (_, guess) in candidates.into_iter().take(search.candidates.max(1)) {
+        match solve_symmetric_shooting(system, &guess, search.shooting, &search.newton) {
+            Ok(sol)
+                if search
+                    .half_period
+                    .is_none_or(|t| (sol.half.period() - t).abs() < 1e-6 * t) =>
+            {
+                return Ok(sol);
+            }
+            Ok(_) => {}
+            Err(e) => last_err = Some(e),
+        }
+    }
+    Err(last_err.unwrap_or_else(|| Error::NotPeriodic {
+        reason: "no guess converged to an orbit with the expected half period".into(),
+    }))
 }

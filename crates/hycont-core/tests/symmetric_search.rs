@@ -1,0 +1,135 @@
+//! The generic search for symmetric orbits against a closed form.
+//!
+//! Model: the Hopf normal form $x' = y + x(a - x^2 - y^2)$, $y' = -x + y(a - x^2 - y^2)$, which
+//! is symmetric under $S = -I$. In polar form $r' = r(a - r^2)$, $\theta' = -1$: the circle
+//! $r = \sqrt a$ is the only periodic orbit, with period $2\pi$, and it is symmetric (half a
+//! turn is a rotation by $\pi$, which is $S$). The half orbit from $y = 0$ to $y = 0$ lasts $\pi$.
+//! Radial perturbations decay as $e^{-2at}$, and the half map $S \circ \phi_\pi$ maps a radial
+//! perturbation to a radial one of the same sign: its non-trivial multiplier is
+//! $\mu = e^{-2\pi a}$, the full period's $\lambda = \mu^2 = e^{-4\pi a}$.
+
+use approx::assert_abs_diff_eq;
+use hycont_core::orbit::{
+    Closure, SegmentEnd, SegmentSpec, Signature, SymmetricSearch, find_symmetric_orbit,
+};
+use hycont_core::{Error, EventId, EventSpec, HybridJacobians, HybridSystem, Mode, Z2Symmetry};
+use std::f64::consts::PI;
+
+struct Hopf;
+
+impl HybridSystem for Hopf {
+    fn state_dim(&self) -> usize {
+        2
+    }
+    fn parameter_names(&self) -> &[&'static str] {
+        &["a"]
+    }
+    fn mode_count(&self) -> usize {
+        1
+    }
+    fn mode_name(&self, _: Mode) -> &'static str {
+        "smooth"
+    }
+    fn events(&self, _: Mode) -> &[EventId] {
+        &[]
+    }
+    fn event_spec(&self, _: EventId) -> EventSpec {
+        unreachable!("no events")
+    }
+    fn vector_field(&self, _: Mode, x: &[f64], p: &[f64], f: &mut [f64]) {
+        let r = p[0] - x[0] * x[0] - x[1] * x[1];
+        f[0] = x[1] + x[0] * r;
+        f[1] = -x[0] + x[1] * r;
+    }
+    fn event(&self, _: EventId, _: &[f64], _: &[f64]) -> f64 {
+        unreachable!("no events")
+    }
+    fn symmetry(&self) -> Option<Z2Symmetry> {
+        Some(Z2Symmetry {
+            matrix: vec![-1.0, 0.0, 0.0, -1.0],
+            modes: vec![Mode(0)],
+            events: vec![],
+        })
+    }
+}
+
+impl HybridJacobians for Hopf {
+    fn vector_field_jacobian(
+        &self,
+        _: Mode,
+        x: &[f64],
+        p: &[f64],
+        dx: &mut [f64],
+        dp: Option<&mut [f64]>,
+    ) {
+        let r = p[0] - x[0] * x[0] - x[1] * x[1];
+        dx[0] = r - 2.0 * x[0] * x[0];
+        dx[1] = -1.0 - 2.0 * x[0] * x[1];
+        dx[2] = 1.0 - 2.0 * x[0] * x[1];
+        dx[3] = r - 2.0 * x[1] * x[1];
+        if let Some(dp) = dp {
+            dp[0] = x[0];
+            dp[1] = x[1];
+        }
+    }
+    fn event_gradient(
+        &self,
+        _: EventId,
+        _: &[f64],
+        _: &[f64],
+        _: &mut [f64],
+        _: Option<&mut [f64]>,
+    ) {
+    }
+}
+
+fn half_signature() -> Signature {
+    Signature::with_closure(
+        &Hopf,
+        vec![SegmentSpec {
+            mode: Mode(0),
+            end: SegmentEnd::Interior {
+                component: 1,
+                value: 0.0,
+            },
+        }],
+        Closure::Symmetric,
+    )
+    .unwrap()
+}
+
+#[test]
+fn the_circle_is_found_from_a_grid_of_seeds() {
+    let a = 1.44;
+    let seeds: Vec<Vec<f64>> = [0.3, 0.8, 2.5].iter().map(|&x| vec![x, 0.0]).collect();
+    let search = SymmetricSearch::new(seeds).half_period(PI);
+    let sol = find_symmetric_orbit(&Hopf, &half_signature(), &[a], &search).unwrap();
+    assert_abs_diff_eq!(sol.half.starts[0][0].abs(), a.sqrt(), epsilon = 1e-10);
+    assert_abs_diff_eq!(sol.half.period(), PI, epsilon = 1e-10);
+    assert!(sol.full.orbit.is_symmetric(&Hopf, 1e-9));
+    let mu: Vec<_> = sol.half_floquet.nontrivial().collect();
+    assert_eq!(mu.len(), 1);
+    assert_abs_diff_eq!(mu[0].0, (-2.0 * PI * a).exp(), epsilon = 1e-10);
+    let lambda: Vec<_> = sol.full.floquet.nontrivial().collect();
+    assert_abs_diff_eq!(lambda[0].0, (-4.0 * PI * a).exp(), epsilon = 1e-12);
+}
+
+#[test]
+fn bad_searches_are_errors() {
+    let search = SymmetricSearch::new(vec![vec![1.0]]);
+    assert!(matches!(
+        find_symmetric_orbit(&Hopf, &half_signature(), &[1.0], &search),
+        Err(Error::DimensionMismatch { what: "seed", .. })
+    ));
+    let search = SymmetricSearch::new(vec![vec![f64::NAN, 0.0]]);
+    assert!(matches!(
+        find_symmetric_orbit(&Hopf, &half_signature(), &[1.0], &search),
+        Err(Error::NonFinite { .. })
+    ));
+    let periodic = Signature::new(&Hopf, half_signature().segments().to_vec()).unwrap();
+    let search = SymmetricSearch::new(vec![vec![1.0, 0.0]]);
+    assert!(find_symmetric_orbit(&Hopf, &periodic, &[1.0], &search).is_err());
+    // The expected half period is wrong: no guess qualifies.
+    let search = SymmetricSearch::new(vec![vec![1.0, 0.0]]).half_period(1.0);
+    assert!(find_symmetric_orbit(&Hopf, &half_signature(), &[1.0], &search).is_err());
+}
