@@ -8,12 +8,10 @@
 //!   simulation with variational equations;
 //! - [`hycont_continuation`]: pseudo-arclength continuation of periodic orbits, special points,
 //!   branch switching and two-parameter curves;
-//! - [`hycont_sample`]: brute-force bifurcation diagrams and basin stability;
-//! - [`rocking_block`]: the flagship application, the harmonically forced rocking block.
+//! - [`hycont_sample`]: brute-force bifurcation diagrams and basin stability.
 #![deny(missing_docs)]
 
 pub use hycont_continuation;
 pub use hycont_core;
 pub use hycont_core::*;
 pub use hycont_sample;
-pub use rocking_block;

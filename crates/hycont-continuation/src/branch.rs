@@ -1,38 +1,39 @@
 //! Results: branches of points with their special points, serialisable and restartable.
 
 use crate::error::{Error, Result};
+use crate::quantity::{Label, MeasureId, Quantity};
+use hycont_core::ParamId;
 use serde::{Deserialize, Serialize};
 
-/// The kind of a special point (the study's labels).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
+/// The kind of a special point, with its label (AUTO's and COCO's two-letter labels, or a
+/// user's [`Label`]). Serialised as the label text.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum SpecialKind {
-    /// Fold (saddle-node, limit point).
-    #[serde(rename = "SN")]
+    /// Fold (saddle-node, limit point): `SN`.
     Fold,
-    /// Branch point (e.g. symmetry breaking).
-    #[serde(rename = "BP")]
+    /// Branch point (e.g. symmetry breaking): `BP`.
     BranchPoint,
-    /// Period doubling.
-    #[serde(rename = "PD")]
+    /// Period doubling: `PD`.
     PeriodDoubling,
-    /// Torus (Neimark-Sacker).
-    #[serde(rename = "TR")]
+    /// Torus (Neimark-Sacker): `TR`.
     Torus,
-    /// Boundary touch (a monitor reaches a boundary level, e.g. Amp at the static boundary).
-    #[serde(rename = "SB")]
+    /// Boundary touch (a measure reaches a boundary level, e.g. an amplitude at a static
+    /// boundary): `SB`.
     BoundaryTouch,
-    /// Grazing (an interior extremum touches the impact surface).
-    #[serde(rename = "GR")]
+    /// Grazing (a trajectory touches an event surface tangentially): `GR`.
     Grazing,
-    /// End point of the branch.
-    #[serde(rename = "EP")]
+    /// End point of the branch (a bound): `EP`.
     EndPoint,
+    /// A user point: a parameter or measure at a value asked for: `UZ`.
+    UserPoint,
+    /// A user event with its own label.
+    Custom(Label),
 }
 
 impl SpecialKind {
-    /// The study's two-letter label.
+    /// The label (`SN`, `BP`, ..., or the user's).
     #[must_use]
-    pub fn label(self) -> &'static str {
+    pub fn label(&self) -> &str {
         match self {
             SpecialKind::Fold => "SN",
             SpecialKind::BranchPoint => "BP",
@@ -41,7 +42,46 @@ impl SpecialKind {
             SpecialKind::BoundaryTouch => "SB",
             SpecialKind::Grazing => "GR",
             SpecialKind::EndPoint => "EP",
+            SpecialKind::UserPoint => "UZ",
+            SpecialKind::Custom(l) => l.as_str(),
         }
+    }
+
+    /// The kind with this label.
+    ///
+    /// # Errors
+    /// [`Error::InvalidLabel`] if it is neither built in nor a valid user label.
+    pub fn from_label(text: &str) -> Result<Self> {
+        Ok(match text {
+            "SN" => SpecialKind::Fold,
+            "BP" => SpecialKind::BranchPoint,
+            "PD" => SpecialKind::PeriodDoubling,
+            "TR" => SpecialKind::Torus,
+            "SB" => SpecialKind::BoundaryTouch,
+            "GR" => SpecialKind::Grazing,
+            "EP" => SpecialKind::EndPoint,
+            "UZ" => SpecialKind::UserPoint,
+            other => SpecialKind::Custom(Label::new(other)?),
+        })
+    }
+}
+
+impl std::fmt::Display for SpecialKind {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.label())
+    }
+}
+
+impl Serialize for SpecialKind {
+    fn serialize<Z: serde::Serializer>(&self, s: Z) -> std::result::Result<Z::Ok, Z::Error> {
+        s.serialize_str(self.label())
+    }
+}
+
+impl<'de> Deserialize<'de> for SpecialKind {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> std::result::Result<Self, D::Error> {
+        let text = String::deserialize(d)?;
+        SpecialKind::from_label(&text).map_err(serde::de::Error::custom)
     }
 }
 
@@ -71,10 +111,66 @@ pub struct BranchPoint {
 }
 
 impl BranchPoint {
+    /// The point with unknowns `u`, tangent `tangent` and the analysis `info`.
+    #[must_use]
+    pub fn from_info(
+        info: &crate::PointInfo,
+        u: Vec<f64>,
+        tangent: Vec<f64>,
+        newton_iterations: usize,
+        step: f64,
+    ) -> Self {
+        let unstable = info
+            .multipliers
+            .iter()
+            .zip(&info.trivial)
+            .filter(|((re, im), t)| !**t && re.hypot(*im) > 1.0)
+            .count();
+        BranchPoint {
+            label: 0,
+            u,
+            tangent,
+            params: info.params.clone(),
+            monitors: info.monitors.clone(),
+            multipliers: info.multipliers.clone(),
+            trivial: info.trivial.clone(),
+            unstable,
+            newton_iterations,
+            step,
+        }
+    }
+
     /// Whether the point is stable (no unstable non-trivial multiplier).
     #[must_use]
     pub fn stable(&self) -> bool {
         self.unstable == 0
+    }
+
+    /// The value of a parameter or measure at this point, if the branch has it.
+    #[must_use]
+    pub fn get(&self, q: impl Into<Quantity>) -> Option<f64> {
+        match q.into() {
+            Quantity::Parameter(p) => self.params.get(p.index()).copied(),
+            Quantity::Measure(m) => self.monitors.get(m.index()).copied(),
+        }
+    }
+}
+
+/// `point[p]`: the value of parameter `p` (panics if the branch has no such parameter; see
+/// [`BranchPoint::get`]).
+impl std::ops::Index<ParamId> for BranchPoint {
+    type Output = f64;
+    fn index(&self, p: ParamId) -> &f64 {
+        &self.params[p.index()]
+    }
+}
+
+/// `point[m]`: the value of measure `m` (panics if the branch has no such measure; see
+/// [`BranchPoint::get`]).
+impl std::ops::Index<MeasureId> for BranchPoint {
+    type Output = f64;
+    fn index(&self, m: MeasureId) -> &f64 {
+        &self.monitors[m.index()]
     }
 }
 
@@ -89,10 +185,14 @@ pub struct SpecialPoint {
     pub bracket: (f64, f64),
     /// Whether it was located to the tolerance (otherwise `point` is the best estimate).
     pub located: bool,
-    /// Final parameter uncertainty of the location.
+    /// Final arclength uncertainty of the location.
     pub accuracy: f64,
-    /// For monitor events: the index of the monitor.
-    pub monitor: Option<usize>,
+    /// For events, user points and end points: the quantity that reached its level.
+    #[serde(default)]
+    pub on: Option<Quantity>,
+    /// For events, user points and end points: the level it reached.
+    #[serde(default)]
+    pub level: Option<f64>,
 }
 
 /// Why a branch ended.
@@ -184,9 +284,89 @@ impl Branch {
             })
     }
 
+    /// The special point with the given label.
+    ///
+    /// # Errors
+    /// [`Error::NoSuchLabel`] if no special point has it (a regular point does not count).
+    pub fn special_at(&self, label: usize) -> Result<&SpecialPoint> {
+        self.special_points
+            .iter()
+            .find(|s| s.point.label == label)
+            .ok_or_else(|| Error::NoSuchLabel {
+                label,
+                branch: self.name.clone(),
+            })
+    }
+
     /// The special points of one kind.
     pub fn special(&self, kind: SpecialKind) -> impl Iterator<Item = &SpecialPoint> {
         self.special_points.iter().filter(move |s| s.kind == kind)
+    }
+
+    /// The located special point the run ended on (a bound, an inadmissible orbit, a
+    /// [`crate::ContinuationSettings::stop_at`] kind), which the regular points stop short of.
+    #[must_use]
+    pub fn end_point(&self) -> Option<&BranchPoint> {
+        let ended_on_special = matches!(
+            self.end,
+            EndReason::Bound | EndReason::Inadmissible(_) | EndReason::Reached(_)
+        );
+        self.special_points
+            .last()
+            .filter(|s| ended_on_special && s.located)
+            .map(|s| &s.point)
+    }
+
+    /// Appends the located special point the run ended on ([`Branch::end_point`]) to the
+    /// points, so that they reach it (plots draw the points), and relabels.
+    pub fn close_end(&mut self) {
+        if let Some(p) = self.end_point().cloned() {
+            self.points.push(p);
+        }
+        self.relabel();
+    }
+
+    /// One branch from a backward and a forward run from the same start: the backward run
+    /// reversed, then the forward one (the shared start once), with the end points the runs
+    /// ended on at both ends ([`Branch::end_point`]), labelled afresh; the work of both.
+    #[must_use]
+    pub fn joined(name: &str, backward: Branch, forward: Branch) -> Branch {
+        let mut points: Vec<BranchPoint> = backward.end_point().cloned().into_iter().collect();
+        let fwd_end = forward.end_point().cloned();
+        points.extend(backward.points.into_iter().rev());
+        points.extend(forward.points.into_iter().skip(1));
+        points.extend(fwd_end);
+        let mut specials = backward.special_points;
+        specials.reverse();
+        specials.extend(forward.special_points);
+        let mut out = Branch {
+            name: name.to_string(),
+            points,
+            special_points: specials,
+            end: forward.end,
+            statistics: backward.statistics + forward.statistics,
+            ..forward
+        };
+        out.relabel();
+        out
+    }
+
+    /// Numbers the points `1..` in order, then the special points after them.
+    pub fn relabel(&mut self) {
+        for (i, p) in self.points.iter_mut().enumerate() {
+            p.label = i + 1;
+        }
+        let base = self.points.len();
+        for (i, s) in self.special_points.iter_mut().enumerate() {
+            s.point.label = base + i + 1;
+        }
+    }
+
+    /// Whether the run ended where it should (a bound, a stop point, admissibility, a closed
+    /// curve, the point limit) rather than by a corrector failure.
+    #[must_use]
+    pub fn ended_cleanly(&self) -> bool {
+        !matches!(self.end, EndReason::CorrectorFailed(_))
     }
 
     /// The continuation parameter of a point.

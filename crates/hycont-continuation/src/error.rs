@@ -36,6 +36,36 @@ pub enum Error {
         /// The branch's name.
         branch: String,
     },
+    /// A label for a user event is not valid.
+    #[error("invalid label {label:?}: {reason}")]
+    InvalidLabel {
+        /// The text given.
+        label: String,
+        /// What is wrong.
+        reason: &'static str,
+    },
+    /// A parameter or measure that the problem does not have.
+    #[error("{quantity} does not exist (there are {count})")]
+    NoSuchQuantity {
+        /// The handle given.
+        quantity: crate::Quantity,
+        /// How many parameters or measures there are.
+        count: usize,
+    },
+    /// A special point at which the asked operation is not defined.
+    #[error("cannot {operation} at label {label} of branch {branch}: it is {kind} ({reason})")]
+    WrongSpecialPoint {
+        /// What was asked (e.g. "switch branches").
+        operation: &'static str,
+        /// The label.
+        label: usize,
+        /// The branch.
+        branch: String,
+        /// The kind of point there.
+        kind: String,
+        /// Why it does not apply.
+        reason: &'static str,
+    },
     /// Branch switching could not find a second direction.
     #[error("branch switching failed: {reason}")]
     SwitchFailed {

@@ -65,14 +65,19 @@ pub mod error;
 pub mod observe;
 pub mod orbit;
 mod palc;
+pub mod quantity;
 pub mod settings;
 pub mod switch;
 
 pub use branch::{Branch, BranchPoint, EndReason, RunStatistics, SpecialKind, SpecialPoint};
-pub use codim2::{Codim2, Condition, curve_settings};
+pub use codim2::{Codim2, CurveCondition, curve_settings};
 pub use error::{Error, Result};
+pub use hycont_core::orbit::{Discretisation, OrbitMethod};
 pub use observe::Observer;
-pub use orbit::{Measures, OrbitContinuation, OrbitMethod};
+pub use orbit::{
+    CurveSpec, OrbitBranch, OrbitContinuation, OrbitRun, RunDirection, SharedMeasures, can_switch,
+};
+pub use quantity::{Label, MeasureId, Quantity};
 pub use settings::{Bound, BoundOn, ContinuationSettings, Detect};
 pub use switch::branch_switch_direction;
 
@@ -119,13 +124,15 @@ pub(crate) fn shifted_product(multipliers: &[(f64, f64)], trivial: &[bool], shif
         })
 }
 
-/// An event on a monitor function: a special point where monitor `monitor` crosses `level`.
+/// An event: a special point where a parameter or measure crosses `level` (COCO's
+/// `coco_add_event`), labelled with `kind` (e.g. [`SpecialKind::BoundaryTouch`], a user's
+/// [`SpecialKind::Custom`] label, or [`SpecialKind::UserPoint`] for a value asked for).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct MonitorEvent {
-    /// The label given to it (e.g. [`SpecialKind::BoundaryTouch`]).
+    /// The label given to it.
     pub kind: SpecialKind,
-    /// Index of the monitor.
-    pub monitor: usize,
+    /// The quantity watched.
+    pub on: Quantity,
     /// The level.
     pub level: f64,
     /// Whether the branch ends there (e.g. grazing: beyond it the orbits are not admissible).
@@ -152,7 +159,7 @@ pub trait ContinuationProblem<'a> {
     /// # Errors
     /// If the analysis fails (the continuation then shrinks the step).
     fn analyse(&mut self, u: &[f64]) -> hycont_core::Result<PointInfo>;
-    /// Events on monitors to detect and locate (default: none).
+    /// Events to detect and locate (default: none).
     fn monitor_events(&self) -> Vec<MonitorEvent> {
         Vec::new()
     }

@@ -14,6 +14,15 @@ pub trait Observer {
     }
 }
 
+impl<O: Observer + ?Sized> Observer for &mut O {
+    fn point(&mut self, point: &BranchPoint, parameter: f64) {
+        (**self).point(point, parameter);
+    }
+    fn special(&mut self, special: &SpecialPoint) {
+        (**self).special(special);
+    }
+}
+
 /// Ignores everything.
 #[derive(Debug, Clone, Copy, Default)]
 pub struct Silent;

@@ -16,8 +16,10 @@
 use crate::branch::{Branch, BranchPoint, EndReason, RunStatistics, SpecialKind, SpecialPoint};
 use crate::error::{Error, Result};
 use crate::observe::Observer;
+use crate::quantity::Quantity;
 use crate::settings::{BoundOn, ContinuationSettings};
 use crate::{ContinuationProblem, PointInfo};
+use hycont_core::ParamId;
 use hycont_core::linalg::SparsePattern;
 use hycont_core::problem::JacobianUse;
 
@@ -38,6 +40,17 @@ struct Tests {
     values: Vec<f64>,
 }
 
+/// Where an event's or bound's value is read.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Source {
+    /// The continuation parameter's unknown (no analysis needed).
+    Continued,
+    /// `info.params[i]`.
+    Param(usize),
+    /// `info.monitors[i]`.
+    Monitor(usize),
+}
+
 /// What each test-function slot means.
 #[derive(Debug, Clone, Copy, PartialEq)]
 enum Slot {
@@ -46,14 +59,15 @@ enum Slot {
     PeriodDoubling,
     Torus,
     Event {
-        index: usize,
         kind: SpecialKind,
         level: f64,
-        monitor: usize,
+        source: Source,
+        on: Quantity,
         terminal: bool,
     },
     Bound {
-        monitor: Option<usize>,
+        source: Source,
+        on: Quantity,
         level: f64,
     },
 }
@@ -161,29 +175,27 @@ impl<'p, 'a, P: ContinuationProblem<'a> + ?Sized> Palc<'p, 'a, P> {
             slots.push(Slot::Torus);
         }
         if d.monitor_events {
-            for (index, ev) in p.monitor_events().into_iter().enumerate() {
+            for ev in p.monitor_events() {
                 slots.push(Slot::Event {
-                    index,
                     kind: ev.kind,
                     level: ev.level,
-                    monitor: ev.monitor,
+                    source: Self::source(p, ev.on)?,
+                    on: ev.on,
                     terminal: ev.terminal,
                 });
             }
         }
         for b in &settings.bounds {
-            let monitor = match b.on {
-                BoundOn::Parameter => None,
-                BoundOn::Monitor(i) => Some(i),
+            let (source, on) = match b.on {
+                BoundOn::ContinuationParameter => (
+                    Source::Continued,
+                    Quantity::Parameter(ParamId(p.parameter_position())),
+                ),
+                BoundOn::Quantity(q) => (Self::source(p, q)?, q),
             };
-            slots.push(Slot::Bound {
-                monitor,
-                level: b.min,
-            });
-            slots.push(Slot::Bound {
-                monitor,
-                level: b.max,
-            });
+            for level in [b.min, b.max] {
+                slots.push(Slot::Bound { source, on, level });
+            }
         }
         let w = match p.unknown_weights() {
             Some(w) if w.len() == n && w.iter().all(|&x| x > 0.0 && x.is_finite()) => w,
@@ -210,6 +222,31 @@ impl<'p, 'a, P: ContinuationProblem<'a> + ?Sized> Palc<'p, 'a, P> {
             locating: false,
             _marker: std::marker::PhantomData,
         })
+    }
+
+    /// Where the value of `q` is read, checked against the problem's parameters and monitors.
+    fn source(p: &P, q: Quantity) -> Result<Source> {
+        match q {
+            Quantity::Parameter(id) if id.index() == p.parameter_position() => {
+                Ok(Source::Continued)
+            }
+            Quantity::Parameter(id) => {
+                let count = p.parameter_names().len();
+                if id.index() < count {
+                    Ok(Source::Param(id.index()))
+                } else {
+                    Err(Error::NoSuchQuantity { quantity: q, count })
+                }
+            }
+            Quantity::Measure(m) => {
+                let count = p.monitor_names().len();
+                if m.index() < count {
+                    Ok(Source::Monitor(m.index()))
+                } else {
+                    Err(Error::NoSuchQuantity { quantity: q, count })
+                }
+            }
+        }
     }
 
     /// The weighted inner product $\langle a, b \rangle_W = \sum_i w_i a_i b_i$ of arclength.
@@ -414,35 +451,23 @@ impl<'p, 'a, P: ContinuationProblem<'a> + ?Sized> Palc<'p, 'a, P> {
                 }
                 Slot::PeriodDoubling => pd_test(&c.info),
                 Slot::Torus => tr_test(&c.info),
-                Slot::Event { level, monitor, .. } => c.info.monitors[monitor] - level,
-                Slot::Bound { monitor, level } => match monitor {
-                    None => c.u[pi] - level,
-                    Some(m) => c.info.monitors[m] - level,
-                },
+                Slot::Event { level, source, .. } | Slot::Bound { source, level, .. } => {
+                    let value = match source {
+                        Source::Continued => c.u[pi],
+                        Source::Param(i) => c.info.params[i],
+                        Source::Monitor(i) => c.info.monitors[i],
+                    };
+                    value - level
+                }
             })
             .collect();
         Tests { values }
     }
 
     fn point(&self, c: &Chart, label: usize, step: f64) -> BranchPoint {
-        let unstable = c
-            .info
-            .multipliers
-            .iter()
-            .zip(&c.info.trivial)
-            .filter(|((re, im), t)| !**t && re.hypot(*im) > 1.0)
-            .count();
         BranchPoint {
             label,
-            u: c.u.clone(),
-            tangent: c.t.clone(),
-            params: c.info.params.clone(),
-            monitors: c.info.monitors.clone(),
-            multipliers: c.info.multipliers.clone(),
-            trivial: c.info.trivial.clone(),
-            unstable,
-            newton_iterations: c.iterations,
-            step,
+            ..BranchPoint::from_info(&c.info, c.u.clone(), c.t.clone(), c.iterations, step)
         }
     }
 
@@ -526,6 +551,7 @@ impl<'p, 'a, P: ContinuationProblem<'a> + ?Sized> Palc<'p, 'a, P> {
         let needs_analysis = match self.slots[slot] {
             Slot::Fold => false,
             Slot::BranchPoint => a.info.branch_point_factor.is_some(),
+            Slot::Event { source, .. } | Slot::Bound { source, .. } => source != Source::Continued,
             _ => true,
         };
         for _ in 0..200 {
@@ -797,9 +823,12 @@ impl<'p, 'a, P: ContinuationProblem<'a> + ?Sized> Palc<'p, 'a, P> {
                     bracket: (pa, pb),
                     located,
                     accuracy: acc,
-                    monitor: match self.slots[slot] {
-                        Slot::Event { monitor, .. } => Some(monitor),
-                        Slot::Bound { monitor, .. } => monitor,
+                    on: match self.slots[slot] {
+                        Slot::Event { on, .. } | Slot::Bound { on, .. } => Some(on),
+                        _ => None,
+                    },
+                    level: match self.slots[slot] {
+                        Slot::Event { level, .. } | Slot::Bound { level, .. } => Some(level),
                         _ => None,
                     },
                 };

@@ -1,11 +1,12 @@
 //! Continuation settings: a validated builder with `Default`.
 
 use crate::error::{Error, Result};
+use crate::quantity::Quantity;
 use hycont_core::problem::NewtonSettings;
 use serde::{Deserialize, Serialize};
 
-/// Bounds on the continuation parameter and the monitors; leaving them ends the branch with an
-/// end point (EP) located on the bound.
+/// Bounds on the continuation parameter, other parameters and measures; leaving them ends the
+/// branch with an end point (EP) located on the bound.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct Bound {
     /// What is bounded.
@@ -19,10 +20,10 @@ pub struct Bound {
 /// The quantity a [`Bound`] applies to.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 pub enum BoundOn {
-    /// The continuation parameter.
-    Parameter,
-    /// Monitor number `i` of the problem's [`crate::PointInfo::monitors`].
-    Monitor(usize),
+    /// The continuation parameter, whichever it is.
+    ContinuationParameter,
+    /// A parameter or measure reported by the problem.
+    Quantity(Quantity),
 }
 
 /// Which test functions are evaluated along the branch.
@@ -120,18 +121,18 @@ impl ContinuationSettings {
     #[must_use]
     pub fn parameter_bounds(mut self, min: f64, max: f64) -> Self {
         self.bounds.push(Bound {
-            on: BoundOn::Parameter,
+            on: BoundOn::ContinuationParameter,
             min,
             max,
         });
         self
     }
 
-    /// Bounds monitor `index` to `[min, max]`.
+    /// Bounds a parameter or measure to `[min, max]`.
     #[must_use]
-    pub fn monitor_bounds(mut self, index: usize, min: f64, max: f64) -> Self {
+    pub fn bounds(mut self, on: impl Into<Quantity>, min: f64, max: f64) -> Self {
         self.bounds.push(Bound {
-            on: BoundOn::Monitor(index),
+            on: BoundOn::Quantity(on.into()),
             min,
             max,
         });
@@ -204,6 +205,7 @@ impl ContinuationSettings {
                 return bad("bounds", b.min, "min must be < max");
             }
         }
+
         Ok(())
     }
 }

@@ -2,8 +2,8 @@
 
 use hycont_continuation::observe::{Counter, Silent};
 use hycont_continuation::{
-    Branch, ContinuationProblem, ContinuationSettings, Detect, EndReason, MonitorEvent, PointInfo,
-    SpecialKind, branch_switch_direction, continue_along, continue_branch,
+    Branch, ContinuationProblem, ContinuationSettings, Detect, EndReason, MeasureId, MonitorEvent,
+    PointInfo, Quantity, SpecialKind, branch_switch_direction, continue_along, continue_branch,
 };
 use hycont_core::problem::{Activity, Problem, UnknownMonitor, ZeroFunction};
 
@@ -461,7 +461,7 @@ fn monitor_events_are_located() {
     let mut t = Test::new(1, parabola, no_multipliers);
     t.events = vec![MonitorEvent {
         kind: SpecialKind::BoundaryTouch,
-        monitor: 0,
+        on: MeasureId::new(0).into(),
         level: 0.7,
         terminal: false,
     }];
@@ -470,7 +470,8 @@ fn monitor_events_are_located() {
     assert_eq!(sb.len(), 1);
     assert!((sb[0].point.monitors[0] - 0.7).abs() < 1e-9);
     assert!((sb[0].point.params[0] - 0.49).abs() < 1e-9);
-    assert_eq!(sb[0].monitor, Some(0));
+    assert_eq!(sb[0].on, Some(Quantity::Measure(MeasureId::new(0))));
+    assert_eq!(sb[0].level, Some(0.7));
 }
 
 /// A bound on a monitor ends the branch with an end point located on it: on x^2 = l, past the
@@ -482,11 +483,14 @@ fn a_monitor_bound_ends_the_branch_at_a_located_end_point() {
         &mut t,
         &settings()
             .parameter_bounds(-1.0, 2.0)
-            .monitor_bounds(0, -0.5, 2.0),
+            .bounds(MeasureId::new(0), -0.5, 2.0),
     );
     assert_eq!(b.end, EndReason::Bound);
     let ep = b.special_points.last().unwrap();
-    assert_eq!((ep.kind, ep.monitor), (SpecialKind::EndPoint, Some(0)));
+    assert_eq!(
+        (ep.kind, ep.on),
+        (SpecialKind::EndPoint, Some(MeasureId::new(0).into()))
+    );
     assert!(ep.located);
     assert!((ep.point.monitors[0] + 0.5).abs() < 1e-9);
     assert!((ep.point.params[0] - 0.25).abs() < 1e-9);

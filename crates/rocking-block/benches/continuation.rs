@@ -1,13 +1,13 @@
-//! Continuation benchmarks (issue: continuation). Run with `cargo bench --bench continuation`.
+//! Continuation benchmarks (issue: continuation). Run with `cargo bench -p rocking-block --bench continuation`.
 //!
 //! All branches of Figs. 3 and 4 with every special point located (the target: both together in
 //! under 0.5 s), and all curves of Fig. 6 (target: under 2 s). Reference: AUTO-07p continues the symmetric omega branch (223 points, NTST 40,
 //! NCOL 4) in 0.32-0.39 s on the project machine, ~1.5 ms a point.
 
 use criterion::{Criterion, criterion_group, criterion_main};
-use hycont::rocking_block::continuation::{Free, study_branches, study_curves};
 use hycont_continuation::RunStatistics;
 use hycont_continuation::observe::Silent;
+use rocking_block::continuation::{Free, study_branches, study_curves};
 use std::hint::black_box;
 
 fn figures_3_and_4(c: &mut Criterion) {
@@ -15,6 +15,7 @@ fn figures_3_and_4(c: &mut Criterion) {
         let t = std::time::Instant::now();
         let branches = study_branches(free, &mut Silent).unwrap();
         let elapsed = t.elapsed();
+        let branches: Vec<_> = branches.into_iter().map(|b| b.branch).collect();
         let points: usize = branches
             .iter()
             .map(|b| b.points.len() + b.special_points.len())
@@ -55,36 +56,24 @@ fn figures_3_and_4(c: &mut Criterion) {
 /// 2.4e-10 and the multipliers within 1e-10 (half orbit: 3e-10). (hycont's collocation on that
 /// mesh takes 1.5 ms/point, as AUTO.)
 fn symmetric_omega_branch(c: &mut Criterion) {
-    use hycont::rocking_block::continuation::{
-        Direction, continue_in, default_method, events, measures, orbit_continuation, settings,
-    };
-    use hycont::rocking_block::model::Parameters;
-    use hycont::rocking_block::orbits::{OrbitKind, orbit};
-    use hycont::rocking_block::{OMEGA, RockingBlock};
-    use hycont_continuation::OrbitContinuation;
+    use hycont_continuation::RunDirection;
+    use rocking_block::continuation::{default_method, study_run};
+    use rocking_block::model::Parameters;
+    use rocking_block::orbits::{OrbitKind, orbit};
     let params = Parameters::new(1.3, 0.66);
     let start = orbit(&params, OrbitKind::Symmetric, None)
         .unwrap()
         .solution
         .orbit;
-    let run = |h_max: f64| {
-        let (mut cp, u0) = orbit_continuation(&start, Free::Omega, &default_method()).unwrap();
-        let s = settings(0.5, 4.0).steps(0.02, 1e-8, h_max);
-        continue_in(&mut cp, "symmetric", &u0, Direction::Both, &s, &mut Silent).unwrap()
+    let branch = |h_max: f64, half: bool| {
+        let mut run = study_run(Free::Omega, &params, (0.5, 4.0), default_method()).unwrap();
+        run.steps(0.02, 1e-8, h_max).half_orbits(half);
+        run.run("symmetric", &start, RunDirection::Both)
+            .unwrap()
+            .branch
     };
-    let run_full = || {
-        let (mut cp, u0) = OrbitContinuation::new(
-            &RockingBlock,
-            &start,
-            &default_method(),
-            OMEGA,
-            measures(),
-            events(&params),
-        )
-        .unwrap();
-        let s = settings(0.5, 4.0);
-        continue_in(&mut cp, "symmetric", &u0, Direction::Both, &s, &mut Silent).unwrap()
-    };
+    let run = |h_max: f64| branch(h_max, true);
+    let run_full = || branch(0.1, false);
     let runs: [(&str, &dyn Fn() -> hycont_continuation::Branch); 3] = [
         ("default steps", &|| run(0.1)),
         ("AUTO's point count", &|| run(0.04)),
@@ -131,10 +120,10 @@ fn figure_6_curves(c: &mut Criterion) {
         eprintln!(
             "{} curve: {} points",
             cv.kind.label(),
-            cv.branch.points.len()
+            cv.branch.branch.points.len()
         );
     }
-    let points: usize = curves.iter().map(|c| c.branch.points.len()).sum();
+    let points: usize = curves.iter().map(|c| c.branch.branch.points.len()).sum();
     eprintln!(
         "all curves (with the Fig. 3/4 branches they start from): {points} points in {elapsed:?}"
     );

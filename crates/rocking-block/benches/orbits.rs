@@ -1,4 +1,4 @@
-//! Periodic-orbit benchmarks (issue: orbits). Run with `cargo bench --bench orbits`.
+//! Periodic-orbit benchmarks (issue: orbits). Run with `cargo bench -p rocking-block --bench orbits`.
 //!
 //! One Newton solve of the symmetric orbit at (omega, alpha) = (1.3, 0.66) from the converged
 //! orbit at omega = 1.31, on a problem built once (pattern and symbolic LU reused, as along a
@@ -7,13 +7,13 @@
 //! orbit (NTST 40, NCOL 4). Also the cost of the multipliers.
 
 use criterion::{Criterion, criterion_group, criterion_main};
-use hycont::orbit::{
+use hycont_core::orbit::{
     CollocationSettings, ShootingSettings, collocation_problem, monodromy_by_shooting, pack,
     shooting_problem, solve_collocation,
 };
-use hycont::problem::{Activity, NewtonSettings, newton};
-use hycont::rocking_block::orbits::{OrbitKind, orbit};
-use hycont::rocking_block::{Parameters, RockingBlock};
+use hycont_core::problem::{Activity, NewtonSettings, newton};
+use rocking_block::orbits::{OrbitKind, orbit};
+use rocking_block::{Parameters, RockingBlock};
 use std::hint::black_box;
 
 fn symmetric_orbit_solves(c: &mut Criterion) {

@@ -1,4 +1,4 @@
-//! Sampling benchmarks (issue: sampling). Run with `cargo bench --bench sampling`.
+//! Sampling benchmarks (issue: sampling). Run with `cargo bench -p rocking-block --bench sampling`.
 //!
 //! Reference: a Python/scipy implementation of the same classifier costs 0.04-2.4 s per trial
 //! and ~15-20 ms per forcing period of brute-force simulation on the project machine. Targets
@@ -7,9 +7,9 @@
 //! under 10 min. Throughput is measured on 2,000-trial basins (trials per second = 2000 / time).
 
 use criterion::{Criterion, criterion_group, criterion_main};
-use hycont::rocking_block::classes::RockingClassifier;
-use hycont::rocking_block::figures::sampling::{fig7_study, figure5};
 use hycont_sample::basin::{Progress, run};
+use rocking_block::classes::RockingClassifier;
+use rocking_block::figures::sampling::{fig7_study, figure5};
 use std::hint::black_box;
 
 fn sampling(c: &mut Criterion) {

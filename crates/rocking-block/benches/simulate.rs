@@ -1,4 +1,4 @@
-//! Simulation benchmarks (issue: foundation). Run with `cargo bench --bench simulate`.
+//! Simulation benchmarks (issue: foundation). Run with `cargo bench -p rocking-block --bench simulate`.
 //!
 //! The reference figure: scipy's DOP853 integrating 400 forcing periods of the rocking block at
 //! (omega, alpha) = (1.3, 0.66), rtol 1e-10, atol 1e-12, takes 1.5-2.4 s with 190,764 RHS
@@ -7,8 +7,8 @@
 //! 400 periods (from beta = 0 the block overturns at t = 8.57; see the study tests).
 
 use criterion::{Criterion, criterion_group, criterion_main};
-use hycont::rocking_block::{Parameters, RockingBlock, initial_mode, initial_state};
-use hycont::{SampleTimes, Sensitivities, SimulationSettings, Simulator};
+use hycont_core::{SampleTimes, Sensitivities, SimulationSettings, Simulator};
+use rocking_block::{Parameters, RockingBlock, initial_mode, initial_state};
 use std::f64::consts::{FRAC_PI_2, PI};
 use std::hint::black_box;
 

@@ -1,13 +1,13 @@
 //! The symmetric period-1 orbit of the rocking block at (omega, alpha) = (1.3, 0.66), by multiple
 //! shooting and by collocation, with its Floquet multipliers.
 //!
-//! Run with `cargo run --release --example symmetric_orbit`.
+//! Run with `cargo run --release -p rocking-block --example symmetric_orbit`.
 
-use hycont::orbit::CollocationSettings;
-use hycont::rocking_block::Parameters;
-use hycont::rocking_block::orbits::{OrbitKind, orbit};
+use hycont_core::orbit::CollocationSettings;
+use rocking_block::Parameters;
+use rocking_block::orbits::{OrbitKind, orbit};
 
-fn main() -> Result<(), hycont::rocking_block::Error> {
+fn main() -> Result<(), rocking_block::Error> {
     let params = Parameters::new(1.3, 0.66);
     let shooting = orbit(&params, OrbitKind::Symmetric, None)?;
     let collocation = shooting.by_collocation(CollocationSettings::default())?;

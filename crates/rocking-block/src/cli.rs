@@ -122,7 +122,7 @@ pub struct ContinueArgs {
     /// Direction.
     #[arg(long, value_enum, default_value_t = DirectionArg::Both)]
     pub direction: DirectionArg,
-    /// Discretisation (restarts need shooting, the default).
+    /// Discretisation (a collocation run restarted by collocation keeps its mesh).
     #[arg(long, value_enum, default_value_t = MethodArg::Shooting)]
     pub method: MethodArg,
     /// Restart from this saved run (a file written by --out).
@@ -401,18 +401,16 @@ fn run_merge(args: &MergeArgs, out: &mut dyn Write) -> Result<()> {
 }
 
 fn run_continue(args: &ContinueArgs, out: &mut dyn Write) -> Result<()> {
-    use crate::continuation::{
-        Direction, Free, SavedRun, branch_json, continue_orbit, study_labels,
-    };
+    use crate::continuation::{AMP, Free, continue_orbit, default_method, study_labels, study_run};
     use crate::orbits::{OrbitKind, orbit};
+    use crate::report::branch_json;
+    use hycont_continuation::{OrbitBranch, OrbitMethod, RunDirection};
     let free = match args.free {
         FreeArg::Omega => Free::Omega,
         FreeArg::Alpha => Free::Alpha,
     };
-    let (min, max) = match free {
-        Free::Omega => (args.min.unwrap_or(0.5), args.max.unwrap_or(4.0)),
-        Free::Alpha => (args.min.unwrap_or(0.01), args.max.unwrap_or(1.06)),
-    };
+    let (lo, hi) = free.range();
+    let (min, max) = (args.min.unwrap_or(lo), args.max.unwrap_or(hi));
     if !(min < max) {
         return Err(Error::InvalidArgument {
             name: "min/max",
@@ -421,28 +419,19 @@ fn run_continue(args: &ContinueArgs, out: &mut dyn Write) -> Result<()> {
         });
     }
     let method = match args.method {
-        MethodArg::Shooting => crate::continuation::default_method(),
+        MethodArg::Shooting => default_method(),
         MethodArg::Collocation => {
-            if args.restart.is_some() || args.out.is_some() {
-                return Err(Error::InvalidArgument {
-                    name: "method",
-                    value: "collocation".into(),
-                    reason: "saved runs and restarts use shooting (the default)",
-                });
-            }
-            hycont_continuation::OrbitMethod::Collocation(
-                hycont_core::orbit::CollocationSettings::default(),
-            )
+            OrbitMethod::Collocation(hycont_core::orbit::CollocationSettings::default())
         }
     };
-    let mut direction = match args.direction {
-        DirectionArg::Both => Direction::Both,
-        DirectionArg::Up => Direction::Up,
-        DirectionArg::Down => Direction::Down,
+    let direction = match args.direction {
+        DirectionArg::Both => RunDirection::Both,
+        DirectionArg::Up => RunDirection::Up,
+        DirectionArg::Down => RunDirection::Down,
     };
-    let start = if let (Some(path), Some(label)) = (&args.restart, args.label) {
+    let branch = if let (Some(path), Some(label)) = (&args.restart, args.label) {
         let text = std::fs::read_to_string(path).map_err(io_err(path))?;
-        let saved: SavedRun = serde_json::from_str(&text).map_err(|e| Error::InvalidArgument {
+        let saved = OrbitBranch::from_json(&text).map_err(|e| Error::InvalidArgument {
             name: "restart",
             value: path.display().to_string(),
             reason: if e.is_syntax() {
@@ -451,16 +440,11 @@ fn run_continue(args: &ContinueArgs, out: &mut dyn Write) -> Result<()> {
                 "not a run saved by `continue --out`"
             },
         })?;
-        let (orbit_at, dir) = saved.orbit_at(label)?;
-        if args.direction == DirectionArg::Both {
-            // Restarting: keep going the way the saved run went.
-            direction = if dir > 0.0 {
-                Direction::Up
-            } else {
-                Direction::Down
-            };
-        }
-        orbit_at
+        let params = Parameters::from_vec(&saved.template.params);
+        let mut run = study_run(free, &params, (min, max), method)?;
+        // Restarting both ways: keep going the way the saved run went.
+        let way = (args.direction != DirectionArg::Both).then_some(direction);
+        run.restart("branch", &saved, label, way)?
     } else {
         let params = Parameters::new(args.omega, args.alpha);
         params.validate()?;
@@ -470,42 +454,38 @@ fn run_continue(args: &ContinueArgs, out: &mut dyn Write) -> Result<()> {
             KindArg::AsymmetricNeg => OrbitKind::AsymmetricNeg,
             KindArg::Simulate => OrbitKind::Simulate,
         };
-        orbit(&params, kind, Some((args.phi0, args.psi0, args.beta)))?
-            .solution
-            .orbit
+        let start = orbit(&params, kind, Some((args.phi0, args.psi0, args.beta)))?;
+        let mut silent = hycont_continuation::observe::Silent;
+        let start = &start.solution.orbit;
+        continue_orbit(
+            "branch",
+            start,
+            free,
+            (min, max),
+            direction,
+            method,
+            &mut silent,
+        )?
     };
-    let branch = continue_orbit(
-        "branch",
-        &start,
-        free,
-        min,
-        max,
-        direction,
-        &method,
-        &mut hycont_continuation::observe::Silent,
-    )?;
     let stdout_err = |source| Error::Io {
         path: PathBuf::from("<stdout>"),
         source,
     };
     if let Some(path) = &args.out {
         ensure_parent(path)?;
-        let saved = SavedRun {
-            free,
-            start: start.clone(),
-            branch: branch.clone(),
-        };
-        let text = serde_json::to_string(&saved).expect("run serialises");
+        let text = branch
+            .to_json()
+            .expect("a branch of finite values serialises");
         std::fs::write(path, text).map_err(io_err(path))?;
     }
     if let Some(path) = &args.svg {
         ensure_parent(path)?;
         let labels = study_labels(std::slice::from_ref(&branch), free, &[]);
-        let params = Parameters::new(start.params[0], start.params[1]);
+        let params = Parameters::from_vec(&branch.template.params);
         crate::plot::branches_svg(
             path,
             &format!("continuation in {}", free.name()),
-            std::slice::from_ref(&branch),
+            std::slice::from_ref(&branch.branch),
             free,
             &labels,
             params.static_boundary(),
@@ -516,23 +496,17 @@ fn run_continue(args: &ContinueArgs, out: &mut dyn Write) -> Result<()> {
             serde_json::to_string_pretty(&branch_json(&branch, free)).expect("branch serialises");
         writeln!(out, "{text}").map_err(stdout_err)?;
     } else {
-        let q = free.id().index();
-        writeln!(
-            out,
-            "{} points, ended: {:?}",
-            branch.points.len(),
-            branch.end
-        )
-        .map_err(stdout_err)?;
-        for s in &branch.special_points {
+        let b = &branch.branch;
+        writeln!(out, "{} points, ended: {:?}", b.points.len(), b.end).map_err(stdout_err)?;
+        for s in &b.special_points {
             writeln!(
                 out,
                 "  {} label {} {} = {:.10} amp {:.8}{}",
                 s.kind.label(),
                 s.point.label,
                 free.name(),
-                s.point.params[q],
-                s.point.monitors[crate::continuation::AMP],
+                s.point[free.id()],
+                s.point[AMP],
                 if s.located { "" } else { " (not located)" }
             )
             .map_err(stdout_err)?;

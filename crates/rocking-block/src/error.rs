@@ -9,9 +9,13 @@ pub enum Error {
     /// An error of the numerical core (bad input, integration failure, ...).
     #[error(transparent)]
     Core(#[from] hycont_core::Error),
-    /// Continuation failed before a branch could start.
+    /// Continuation failed before a branch could start, or was asked for something a branch
+    /// does not have.
     #[error("continuation: {0}")]
-    Continuation(String),
+    Continuation(hycont_continuation::Error),
+    /// No orbit of the kind asked for was found.
+    #[error("{0}")]
+    NoOrbit(String),
     /// A command-line value is invalid.
     #[error("invalid argument {name} = {value}: {reason}")]
     InvalidArgument {
@@ -40,13 +44,32 @@ pub enum Error {
     },
 }
 
+impl From<hycont_continuation::Error> for Error {
+    /// Errors of the numerical core stay core errors (their classification as usage errors
+    /// does not depend on where they surfaced).
+    fn from(e: hycont_continuation::Error) -> Self {
+        match e {
+            hycont_continuation::Error::Core(c) => Error::Core(c),
+            other => Error::Continuation(other),
+        }
+    }
+}
+
 impl Error {
     /// Whether the error is the user's input (exit code 2) rather than a failure (exit code 1).
     #[must_use]
     pub fn is_usage(&self) -> bool {
+        use hycont_continuation::Error as C;
         matches!(
             self,
             Error::InvalidArgument { .. }
+                | Error::Continuation(
+                    C::NoSuchLabel { .. }
+                        | C::InvalidSetting { .. }
+                        | C::InvalidLabel { .. }
+                        | C::NoSuchQuantity { .. }
+                        | C::WrongSpecialPoint { .. }
+                )
                 | Error::Core(
                     hycont_core::Error::ParameterOutOfRange { .. }
                         | hycont_core::Error::NonFinite { .. }

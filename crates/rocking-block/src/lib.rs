@@ -24,6 +24,7 @@ pub mod figures;
 pub mod model;
 pub mod orbits;
 pub mod plot;
+pub mod report;
 pub mod simulation;
 
 pub use error::{Error, Result};

@@ -158,6 +158,20 @@ impl Parameters {
         Ok(())
     }
 
+    /// Parameters from a vector in the model's order (`omega, alpha, xi, theta_b`; missing
+    /// entries take the defaults).
+    #[must_use]
+    pub fn from_vec(p: &[f64]) -> Self {
+        let d = Self::default();
+        let at = |i: usize, default: f64| p.get(i).copied().unwrap_or(default);
+        Self {
+            omega: at(0, d.omega),
+            alpha: at(1, d.alpha),
+            xi: at(2, d.xi),
+            theta_b: at(3, d.theta_b),
+        }
+    }
+
     /// The parameter vector in the model's order (`omega, alpha, xi, theta_b`).
     #[must_use]
     pub fn to_vec(&self) -> Vec<f64> {

@@ -344,7 +344,7 @@ pub fn branches_svg(
     let ys = || {
         branches
             .iter()
-            .flat_map(|b| b.points.iter().map(|p| p.monitors[AMP]))
+            .flat_map(|b| b.points.iter().map(|p| p[AMP]))
     };
     let (x_lo, x_hi) = range(xs());
     let (_, y_hi) = range(ys().chain([boundary]));
@@ -383,7 +383,7 @@ pub fn branches_svg(
             let stop = k.min(b.points.len() - 1);
             let pts: Vec<(f64, f64)> = b.points[start..=stop]
                 .iter()
-                .map(|p| (p.params[q], p.monitors[AMP]))
+                .map(|p| (p.params[q], p[AMP]))
                 .collect();
             if b.points[start].stable() {
                 chart

@@ -6,15 +6,15 @@ use common::{RunOk, bin};
 
 use hycont_continuation::observe::Silent;
 use hycont_continuation::{
-    Branch, ContinuationSettings, OrbitContinuation, OrbitMethod, SpecialKind, continue_branch,
+    Branch, ContinuationSettings, OrbitContinuation, OrbitMethod, Quantity, RunDirection,
+    SpecialKind, continue_branch,
 };
 use hycont_core::orbit::{CollocationSettings, PeriodicOrbit};
 use rocking_block::continuation::{
-    AMP, Direction, Free, continue_in, continue_orbit, default_method, events, measures,
-    orbit_continuation, settings, study_branches, study_labels,
+    AMP, Free, continue_orbit, default_method, study_branches, study_labels, study_run,
 };
 use rocking_block::orbits::{OrbitKind, orbit};
-use rocking_block::{Parameters, RockingBlock};
+use rocking_block::{ALPHA, OMEGA, Parameters, RockingBlock};
 
 /// The study's start: the symmetric orbit at (omega, alpha) = (1.3, 0.66) (Fig. 2).
 fn fig2_symmetric() -> PeriodicOrbit {
@@ -34,8 +34,9 @@ fn label_value(labels: &[(SpecialKind, f64, f64, String)], name: &str) -> f64 {
 
 #[test]
 fn figure_3_special_points_match_the_study() {
-    let branches = study_branches(Free::Omega, &mut Silent).unwrap();
-    let labels = study_labels(&branches, Free::Omega, &[]);
+    let runs = study_branches(Free::Omega, &mut Silent).unwrap();
+    let labels = study_labels(&runs, Free::Omega, &[]);
+    let branches: Vec<Branch> = runs.into_iter().map(|b| b.branch).collect();
     let names: Vec<&str> = labels.iter().map(|l| l.3.as_str()).collect();
     assert_eq!(
         names,
@@ -73,7 +74,7 @@ fn figure_3_special_points_match_the_study() {
     // The symmetric branch is stable between SN1 and BP1, unstable on BP1..BP2, stable above BP2.
     let sym = &branches[0];
     for p in &sym.points {
-        let (w, amp) = (p.params[0], p.monitors[AMP]);
+        let (w, amp) = (p.params[0], p[AMP]);
         if amp > 0.35 && w > 0.95 && w < 1.12 {
             assert!(p.stable(), "omega {w}");
         }
@@ -95,7 +96,7 @@ fn figure_3_special_points_match_the_study() {
     assert!(
         sym.points
             .iter()
-            .filter(|p| p.monitors[AMP] < 0.2)
+            .filter(|p| p[AMP] < 0.2)
             .all(|p| p.params[0] <= gr.point.params[0] + 1e-9)
     );
     let interior_min = |u: &[f64]| {
@@ -129,21 +130,22 @@ fn figure_3_special_points_match_the_study() {
     let before = sym
         .points
         .iter()
-        .find(|p| p.monitors[AMP] < 0.2 && p.params[0] < gr.point.params[0] - 0.02)
+        .find(|p| p[AMP] < 0.2 && p.params[0] < gr.point.params[0] - 0.02)
         .unwrap();
     assert!(interior_min(&before.u) > 1e-4);
 }
 
 #[test]
 fn figure_4_special_points_match_the_study() {
-    let branches = study_branches(Free::Alpha, &mut Silent).unwrap();
+    let runs = study_branches(Free::Alpha, &mut Silent).unwrap();
     let offsets = [
         (SpecialKind::BranchPoint, 2),
         (SpecialKind::BoundaryTouch, 2),
         (SpecialKind::Fold, 1),
         (SpecialKind::Grazing, 1),
     ];
-    let labels = study_labels(&branches, Free::Alpha, &offsets);
+    let labels = study_labels(&runs, Free::Alpha, &offsets);
+    let branches: Vec<Branch> = runs.into_iter().map(|b| b.branch).collect();
     // Branches end on the special points their runs ended at: the symmetric branch runs from
     // GR2 (terminal) to the bound alpha = 1.06, the asymmetric branch from BP3 to the bound, the
     // period-2 branch to the bound.
@@ -205,45 +207,24 @@ fn reversing_the_direction_finds_the_same_special_points() {
     // Continue the symmetric branch downwards from omega = 1.3 (BP1, then SN1), and from a point
     // of the lower sheet upwards through SN1 and back to BP1: the same points to 1e-8.
     let start = fig2_symmetric();
-    let down = continue_orbit(
-        "down",
-        &start,
-        Free::Omega,
-        0.5,
-        4.0,
-        Direction::Down,
-        &default_method(),
-        &mut Silent,
-    )
-    .unwrap();
-    let sn = down.special(SpecialKind::Fold).next().unwrap().point.params[0];
-    let bp = down
-        .special(SpecialKind::BranchPoint)
-        .next()
-        .unwrap()
-        .point
-        .params[0];
+    let way = |name, start: &PeriodicOrbit, range| {
+        let b = continue_orbit(
+            name,
+            start,
+            Free::Omega,
+            range,
+            RunDirection::Down,
+            default_method(),
+            &mut Silent,
+        )
+        .unwrap();
+        let at = |k| b.special(k).next().unwrap().point[OMEGA];
+        (at(SpecialKind::Fold), at(SpecialKind::BranchPoint), b)
+    };
+    let (sn, bp, down) = way("down", &start, (0.5, 4.0));
     // A point on the lower sheet, past the fold.
-    let lower = down.points.iter().find(|p| p.monitors[AMP] < 0.2).unwrap();
-    let lower_orbit = hycont_core::orbit::unpack(&start, &lower.u);
-    let back = continue_orbit(
-        "back",
-        &lower_orbit,
-        Free::Omega,
-        0.5,
-        1.3,
-        Direction::Down,
-        &default_method(),
-        &mut Silent,
-    )
-    .unwrap();
-    let sn2 = back.special(SpecialKind::Fold).next().unwrap().point.params[0];
-    let bp2 = back
-        .special(SpecialKind::BranchPoint)
-        .next()
-        .unwrap()
-        .point
-        .params[0];
+    let lower = down.branch.points.iter().find(|p| p[AMP] < 0.2).unwrap();
+    let (sn2, bp2, _) = way("back", &down.orbit_of(lower).unwrap(), (0.5, 1.3));
     assert!((sn - sn2).abs() < 1e-8, "{sn} vs {sn2}");
     assert!((bp - bp2).abs() < 1e-8, "{bp} vs {bp2}");
 }
@@ -257,21 +238,16 @@ fn reversing_the_direction_finds_the_same_special_points() {
 fn half_orbit_and_full_orbit_continuations_agree() {
     let params = Parameters::new(1.3, 0.66);
     let start = fig2_symmetric();
-    let s = settings(0.5, 4.0);
-    let (mut half, u0) = orbit_continuation(&start, Free::Omega, &default_method()).unwrap();
+    let mut run = study_run(Free::Omega, &params, (0.5, 4.0), default_method()).unwrap();
+    let (half, _) = run.problem(&start).unwrap();
     assert!(half.is_half_orbit());
-    let on_half = continue_in(&mut half, "half", &u0, Direction::Both, &s, &mut Silent).unwrap();
-    let (mut full, u0) = OrbitContinuation::new(
-        &RockingBlock,
-        &start,
-        &default_method(),
-        Free::Omega.id(),
-        measures(),
-        events(&params),
-    )
-    .unwrap();
+    drop(half);
+    let on_half = run.run("half", &start, RunDirection::Both).unwrap().branch;
+    run.half_orbits(false);
+    let (full, _) = run.problem(&start).unwrap();
     assert!(!full.is_half_orbit());
-    let on_full = continue_in(&mut full, "full", &u0, Direction::Both, &s, &mut Silent).unwrap();
+    drop(full);
+    let on_full = run.run("full", &start, RunDirection::Both).unwrap().branch;
     let kinds = |b: &Branch| b.special_points.iter().map(|s| s.kind).collect::<Vec<_>>();
     assert_eq!(kinds(&on_half), kinds(&on_full));
     assert!(
@@ -332,6 +308,10 @@ fn unstable_asymmetric_orbits_are_found_by_continuation() {
     use rocking_block::orbits::mean_phi;
     let params = Parameters::new(1.3, 1.0);
     let pos = orbit(&params, OrbitKind::AsymmetricPos, None).unwrap();
+    let amplitude = |o: &PeriodicOrbit| {
+        use hycont_core::orbit::{Extremum, Measure};
+        Extremum::max_abs(0).evaluate(&RockingBlock, o).unwrap()
+    };
     let neg = orbit(&params, OrbitKind::AsymmetricNeg, None).unwrap();
     for (o, sign) in [(&pos, 1.0), (&neg, -1.0)] {
         assert!(o.solution.floquet.unstable > 0);
@@ -339,31 +319,28 @@ fn unstable_asymmetric_orbits_are_found_by_continuation() {
         assert!(sign * mean_phi(&o.solution.orbit).unwrap() > 1e-3);
         assert!((o.solution.orbit.params[1] - 1.0).abs() < 1e-12);
     }
-    let amp = |o: &rocking_block::orbits::RockingOrbit| {
-        rocking_block::orbits::amplitude(&o.solution.orbit)
-    };
+    let amp = |o: &rocking_block::orbits::RockingOrbit| amplitude(&o.solution.orbit);
     assert!((amp(&pos) - amp(&neg)).abs() < 1e-9);
     let b = continue_orbit(
         "asymmetric",
         &pos.solution.orbit,
         Free::Alpha,
-        0.7,
-        1.06,
-        Direction::Down,
-        &default_method(),
+        (0.7, 1.06),
+        RunDirection::Down,
+        default_method(),
         &mut Silent,
     )
     .unwrap();
     let pd = b.special(SpecialKind::PeriodDoubling).next().unwrap();
     assert!(
-        (pd.point.params[1] - 0.7365).abs() < 5e-5,
+        (pd.point[ALPHA] - 0.7365).abs() < 5e-5,
         "{:?}",
         pd.point.params
     );
     let none = orbit(&Parameters::new(1.3, 0.5), OrbitKind::AsymmetricPos, None);
     assert!(matches!(
         none,
-        Err(rocking_block::Error::Continuation(ref m)) if m.contains("no asymmetric")
+        Err(rocking_block::Error::NoOrbit(ref m)) if m.contains("no asymmetric")
     ));
 }
 
@@ -389,7 +366,9 @@ fn down_to_the_fold_on(
     start: &PeriodicOrbit,
     method: &OrbitMethod,
 ) -> (Branch, OrbitContinuation<'static, RockingBlock>) {
-    let (mut cp, u0) = orbit_continuation(start, Free::Omega, method).unwrap();
+    let params = Parameters::new(1.3, 0.66);
+    let run = study_run(Free::Omega, &params, (0.5, 4.0), *method).unwrap();
+    let (mut cp, u0) = run.problem(start).unwrap();
     let s = ContinuationSettings::default()
         .parameter_bounds(0.5, 4.0)
         .steps(0.02, 1e-8, 0.1)
@@ -407,7 +386,7 @@ fn unfolded_half_orbit_points_solve_the_full_problem() {
     for method in shooting_and_collocation() {
         let (b, cp) = down_to_the_fold_on(&start, &method);
         assert!(cp.is_half_orbit());
-        let mut full = cp.full_orbit_problem(measures()).unwrap();
+        let mut full = cp.full_orbit_problem().unwrap();
         let problem = full.problem_mut();
         // A point, the symmetry-breaking branch point BP1 (where the half problem is regular:
         // its own tangent is kept) and the fold.
@@ -440,7 +419,7 @@ fn collocation_and_shooting_continuations_agree_on_the_fold() {
     let mut folds = Vec::new();
     for method in shooting_and_collocation() {
         let b = down_to_the_fold(&start, &method);
-        folds.push(b.special(SpecialKind::Fold).next().unwrap().point.params[0]);
+        folds.push(b.special(SpecialKind::Fold).next().unwrap().point[OMEGA]);
     }
     assert!((folds[0] - folds[1]).abs() < 1e-7, "{folds:?}");
 }
@@ -478,21 +457,23 @@ fn collocation_steps_do_not_depend_on_the_mesh() {
 #[test]
 fn a_branch_ends_where_the_amplitude_reaches_pi_over_2() {
     let start = fig2_symmetric();
-    let (mut cp, u0) = orbit_continuation(&start, Free::Alpha, &default_method()).unwrap();
-    let s = rocking_block::continuation::settings(0.01, 20.0);
-    let b = continue_branch(&mut cp, "sym", &u0, 1.0, &s, &mut Silent).unwrap();
+    let params = Parameters::new(1.3, 0.66);
+    let mut run = study_run(Free::Alpha, &params, (0.01, 20.0), default_method()).unwrap();
+    let b = run.run("sym", &start, RunDirection::Up).unwrap().branch;
     assert_eq!(b.end, hycont_continuation::EndReason::Bound);
     let ep = b.special_points.last().unwrap();
-    assert_eq!((ep.kind, ep.monitor), (SpecialKind::EndPoint, Some(AMP)));
+    assert_eq!(
+        (ep.kind, ep.on),
+        (SpecialKind::EndPoint, Some(Quantity::Measure(AMP)))
+    );
     assert!(ep.located);
-    assert!((ep.point.monitors[AMP] - std::f64::consts::FRAC_PI_2).abs() < 1e-9);
+    assert!((ep.point[AMP] - std::f64::consts::FRAC_PI_2).abs() < 1e-9);
     let alpha = ep.point.params[1];
     assert!(alpha > 3.0 && alpha < 5.0, "alpha {alpha}");
-    assert!(
-        b.points
-            .iter()
-            .all(|p| p.monitors[AMP] < std::f64::consts::FRAC_PI_2)
-    );
+    // The branch reaches its end point; every orbit before it stands.
+    let (last, before) = b.points.split_last().unwrap();
+    assert_eq!(last.u, ep.point.u);
+    assert!(before.iter().all(|p| p[AMP] < std::f64::consts::FRAC_PI_2));
 }
 
 /// The asymmetric branch in omega is a closed curve: through BP2 onto its mirror image and back

@@ -1,167 +1,94 @@
-//! Two-parameter curves (Fig. 6): each passes through the one-parameter points it started from
-//! and through the corresponding points of the other one-parameter run, to 1e-6.
+//! Two-parameter curves (Fig. 6): each passes through the one-parameter special points it
+//! started from, and its user points (UZ) where it crosses alpha = 0.66 and omega = 1.3 are the
+//! special points of Figs. 3 and 4 there, to 1e-9; a curve meets a separate one-parameter run.
 
+use approx::assert_abs_diff_eq;
 use hycont_continuation::observe::Silent;
-use hycont_continuation::{Condition, SpecialKind};
-use hycont_core::orbit::unpack;
-use rocking_block::continuation::{Free, curve, study_branches};
+use hycont_continuation::{CurveSpec, MeasureId, OrbitMethod, RunDirection, SpecialKind};
+use hycont_core::orbit::CollocationSettings;
+use rocking_block::continuation::{
+    Free, continue_orbit, default_method, study_branches, study_curves, study_run,
+};
 use rocking_block::orbits::{OrbitKind, orbit};
-use rocking_block::{Parameters, RockingBlock};
-
-/// The alpha of a curve where it ends on the bound omega = 1.3 (located exactly).
-fn alpha_at_end(c: &rocking_block::continuation::Curve) -> f64 {
-    let ep = c
-        .branch
-        .special(SpecialKind::EndPoint)
-        .find(|s| (s.point.params[0] - 1.3).abs() < 1e-9)
-        .unwrap_or_else(|| panic!("{:?} curve does not reach omega = 1.3", c.kind));
-    ep.point.params[1]
-}
+use rocking_block::{ALPHA, OMEGA, Parameters};
+use std::f64::consts::PI;
 
 #[test]
-fn curves_started_in_figure_3_pass_through_the_points_of_figure_4() {
-    let params = Parameters::new(1.3, 0.66);
+fn the_curves_meet_the_special_points_of_figures_3_and_4() {
     let fig3 = study_branches(Free::Omega, &mut Silent).unwrap();
     let fig4 = study_branches(Free::Alpha, &mut Silent).unwrap();
-    let template = orbit(&params, OrbitKind::Symmetric, None)
-        .unwrap()
-        .solution
-        .orbit;
-    let point = |b: &hycont_continuation::Branch, k: SpecialKind| {
-        b.special(k).next().unwrap().point.clone()
+    let specials = |branches: &[hycont_continuation::OrbitBranch], k: SpecialKind, q| {
+        branches
+            .iter()
+            .flat_map(|b| b.special(k))
+            .map(|s| s.point[q])
+            .collect::<Vec<f64>>()
     };
-    // Curves from alpha = 0.66 (Fig. 3) to omega = 1.3 (Fig. 4's line), exact end points there.
-    let cases = [
-        (
-            SpecialKind::Fold,
-            Condition::SymmetricFold,
-            (0.5, 1.3),
-            true,
-        ),
-        (
-            SpecialKind::BranchPoint,
-            Condition::SymmetryBreaking,
-            (0.5, 1.3),
-            true,
-        ),
-        (
-            SpecialKind::Grazing,
-            Condition::Grazing { index: 1 },
-            (0.5, 1.3),
-            true,
-        ),
-    ];
-    for (kind, condition, range, symmetric) in cases {
-        let start = point(&fig3[0], kind);
-        let mut o = unpack(&template, &start.u);
-        for d in &mut o.durations {
-            if d.abs() < 1e-8 {
-                *d = 0.0;
+    let curves = study_curves(&mut Silent).unwrap();
+    let kinds: Vec<SpecialKind> = curves.iter().map(|c| c.kind).collect();
+    use SpecialKind::{BoundaryTouch as SB, BranchPoint as BP, Fold as SN, Grazing as GR};
+    assert_eq!(kinds, [SN, BP, SB, GR, SpecialKind::PeriodDoubling]);
+    // How many special points of its kind each curve meets on alpha = 0.66 and omega = 1.3:
+    // SN1 | SN2; BP1, BP2 | BP3; SB1, SB2 | SB3; GR1 | GR2; PD1.
+    let expected = [(1, 1), (2, 1), (2, 1), (1, 1), (0, 1)];
+    for (c, (n_alpha, n_omega)) in curves.iter().zip(expected) {
+        let uz: Vec<_> = c.branch.special(SpecialKind::UserPoint).collect();
+        let on_alpha: Vec<f64> = uz
+            .iter()
+            .filter(|s| (s.point[ALPHA] - 0.66).abs() < 1e-9)
+            .map(|s| s.point[OMEGA])
+            .collect();
+        let on_omega: Vec<f64> = uz
+            .iter()
+            .filter(|s| (s.point[OMEGA] - 1.3).abs() < 1e-9)
+            .map(|s| s.point[ALPHA])
+            .collect();
+        assert_eq!(
+            (on_alpha.len(), on_omega.len()),
+            (n_alpha, n_omega),
+            "{}",
+            c.kind
+        );
+        for (values, fig, q) in [(on_alpha, &fig3, OMEGA), (on_omega, &fig4, ALPHA)] {
+            let reference = specials(fig, c.kind, q);
+            for v in values {
+                let nearest = reference
+                    .iter()
+                    .map(|r| (r - v).abs())
+                    .fold(f64::INFINITY, f64::min);
+                assert!(
+                    nearest < 1e-9,
+                    "{} UZ at {v}: {nearest:e} from Fig. 3/4",
+                    c.kind
+                );
             }
         }
-        let o = if symmetric {
-            o.half_of_symmetric(&RockingBlock, 1e-5).unwrap()
-        } else {
-            o
-        };
-        let condition = match condition {
-            Condition::Collapse { .. } => Condition::Collapse {
-                segment: o
-                    .durations
-                    .iter()
-                    .enumerate()
-                    .min_by(|a, b| a.1.total_cmp(b.1))
-                    .unwrap()
-                    .0,
-            },
-            c => c,
-        };
-        let c = curve(kind.label(), &o, condition, range, &mut Silent).unwrap();
-        // Through its start...
-        assert!(
-            c.branch
-                .points
-                .iter()
-                .any(|p| (p.params[0] - start.params[0]).abs() < 1e-9
-                    && (p.params[1] - 0.66).abs() < 1e-9)
-        );
-        // ...and through Fig. 4's point of the same kind at omega = 1.3.
-        let expected = point(&fig4[0], kind).params[1];
-        let got = alpha_at_end(&c);
-        assert!(
-            (got - expected).abs() < 1e-6,
-            "{kind:?}: curve alpha {got} vs Fig. 4 {expected}"
-        );
-        // The full orbit's period on every point (half-orbit curves included): one forcing
-        // period, 2 pi / omega.
-        for p in &c.branch.points {
-            let forcing = 2.0 * std::f64::consts::PI / p.params[0];
-            assert!(
-                (p.monitors[0] - forcing).abs() < 1e-8 * forcing,
-                "{kind:?}: period {} at omega {}",
-                p.monitors[0],
-                p.params[0]
-            );
+        // Every point is a period-1 orbit of the forcing (half-orbit curves report the full
+        // period), and the curve lies in the study's window.
+        for p in &c.branch.branch.points {
+            let forcing = 2.0 * PI / p[OMEGA];
+            assert_abs_diff_eq!(p[MeasureId::PERIOD], forcing, epsilon = 1e-8 * forcing);
+            assert!(p[OMEGA] >= 0.5 - 1e-9 && p[OMEGA] <= 4.0 + 1e-9);
         }
     }
-    // The SB curve from SB2 (asymmetric branch of Fig. 3) reaches SB3 of Fig. 4.
-    let sb2 = fig3[1]
-        .special(SpecialKind::BoundaryTouch)
-        .last()
-        .unwrap()
-        .point
-        .clone();
-    let c = curve(
-        "SB",
-        &unpack(&template, &sb2.u),
-        Condition::Monitor {
-            index: 0,
-            level: params.static_boundary(),
-        },
-        (1.3, 4.0),
-        &mut Silent,
-    )
-    .unwrap();
-    let sb3 = fig4[1]
-        .special(SpecialKind::BoundaryTouch)
-        .next()
-        .unwrap()
-        .point
-        .params[1];
-    assert!((alpha_at_end(&c) - sb3).abs() < 1e-6);
 }
 
 #[test]
 fn the_period_doubling_curve_meets_a_separate_alpha_continuation() {
-    // The PD curve from PD1 (omega = 1.3) followed to omega = 2.0, against the PD found by an
-    // alpha-continuation of the asymmetric orbit at omega = 2.0.
-    use rocking_block::continuation::{Direction, continue_orbit, default_method};
+    // The PD curve from PD1 (omega = 1.3), with a user point at omega = 2, against the PD
+    // found by an alpha continuation of the asymmetric orbit at omega = 2.
     let params = Parameters::new(1.3, 0.66);
     let fig4 = study_branches(Free::Alpha, &mut Silent).unwrap();
-    let template = orbit(&params, OrbitKind::Symmetric, None)
-        .unwrap()
-        .solution
-        .orbit;
-    let pd1 = fig4[1]
-        .special(SpecialKind::PeriodDoubling)
-        .next()
-        .unwrap()
-        .point
-        .clone();
-    let c = curve(
-        "PD",
-        &unpack(&template, &pd1.u),
-        Condition::PeriodDoubling,
-        (0.5, 2.0),
-        &mut Silent,
-    )
-    .unwrap();
-    let ep = c
-        .branch
-        .special(SpecialKind::EndPoint)
-        .find(|s| (s.point.params[0] - 2.0).abs() < 1e-9)
+    let pd1 = fig4[1].special(SpecialKind::PeriodDoubling).next().unwrap();
+    let mut run = study_run(Free::Alpha, &params, Free::Alpha.range(), default_method()).unwrap();
+    let spec = CurveSpec::new(OMEGA)
+        .bounds(0.5, 4.0)
+        .user_points(OMEGA, [2.0]);
+    let c = run
+        .curve_at("PD", &fig4[1], pd1.point.label, &spec)
         .unwrap();
-    let alpha_curve = ep.point.params[1];
+    let uz = c.special(SpecialKind::UserPoint).next().unwrap();
+    let alpha_curve = uz.point[ALPHA];
     let asym = orbit(&Parameters::new(2.0, 0.7), OrbitKind::AsymmetricPos, None)
         .unwrap()
         .solution
@@ -170,66 +97,41 @@ fn the_period_doubling_curve_meets_a_separate_alpha_continuation() {
         "asym",
         &asym,
         Free::Alpha,
-        0.5,
-        1.06,
-        Direction::Up,
-        &default_method(),
+        (0.5, 1.06),
+        RunDirection::Up,
+        default_method(),
         &mut Silent,
     )
     .unwrap();
-    let pd = b
-        .special(SpecialKind::PeriodDoubling)
-        .next()
-        .unwrap()
-        .point
-        .params[1];
-    assert!((pd - alpha_curve).abs() < 1e-6, "{pd} vs {alpha_curve}");
+    let pd = b.special(SpecialKind::PeriodDoubling).next().unwrap().point[ALPHA];
+    assert_abs_diff_eq!(pd, alpha_curve, epsilon = 1e-9);
 }
 
+/// The symmetry-breaking curve by collocation (its own branch and curve on NTST 20, NCOL 4)
+/// meets the shooting branch point BP3 at omega = 1.3 to the discretisation's accuracy.
 #[test]
-fn named_constructors_build_the_same_curves() {
-    use hycont_continuation::{Codim2, ContinuationProblem, continue_branch, curve_settings};
-    use hycont_core::orbit::ShootingSettings;
-    use rocking_block::continuation::measures;
-    use rocking_block::{ALPHA, OMEGA};
+fn a_collocation_curve_agrees_with_shooting() {
     let params = Parameters::new(1.3, 0.66);
-    let fig3 = study_branches(Free::Omega, &mut Silent).unwrap();
-    let template = orbit(&params, OrbitKind::Symmetric, None)
+    let start = orbit(&params, OrbitKind::Symmetric, None)
         .unwrap()
         .solution
         .orbit;
-    let bp = fig3[0]
+    let method = OrbitMethod::Collocation(CollocationSettings::default());
+    let mut run = study_run(Free::Omega, &params, (1.0, 1.35), method).unwrap();
+    let b = run.run("symmetric", &start, RunDirection::Down).unwrap();
+    let bp1 = b.special(SpecialKind::BranchPoint).next().unwrap();
+    assert_abs_diff_eq!(bp1.point[OMEGA], 1.142_793_27, epsilon = 1e-7);
+    let spec = CurveSpec::new(ALPHA)
+        .bounds(0.01, 1.06)
+        .user_points(OMEGA, [1.3])
+        .direction(RunDirection::Up);
+    let c = run.curve_at("BP", &b, bp1.point.label, &spec).unwrap();
+    let bp3 = c.special(SpecialKind::UserPoint).next().unwrap().point[ALPHA];
+    let fig4 = study_branches(Free::Alpha, &mut Silent).unwrap();
+    let shooting = fig4[0]
         .special(SpecialKind::BranchPoint)
         .next()
         .unwrap()
-        .point
-        .clone();
-    let half = unpack(&template, &bp.u)
-        .half_of_symmetric(&RockingBlock, 1e-5)
-        .unwrap();
-    let settings = ShootingSettings {
-        rtol: 1e-10,
-        atol: 1e-12,
-    };
-    let (mut cp, u0) =
-        Codim2::from_branch_point(&RockingBlock, &half, settings, OMEGA, ALPHA, measures())
-            .unwrap();
-    let alpha_monitor = cp.monitor_names().len() - 1;
-    let s = curve_settings()
-        .parameter_bounds(1.0, 1.3)
-        .monitor_bounds(alpha_monitor, 0.01, 1.06);
-    let b = continue_branch(&mut cp, "BP", &u0, 1.0, &s, &mut Silent).unwrap();
-    let end = b
-        .special(SpecialKind::EndPoint)
-        .next()
-        .unwrap()
-        .point
-        .params[1];
-    let bp3 = study_branches(Free::Alpha, &mut Silent).unwrap()[0]
-        .special(SpecialKind::BranchPoint)
-        .next()
-        .unwrap()
-        .point
-        .params[1];
-    assert!((end - bp3).abs() < 1e-6, "{end} vs {bp3}");
+        .point[ALPHA];
+    assert_abs_diff_eq!(bp3, shooting, epsilon = 1e-7);
 }

@@ -1,7 +1,7 @@
-//! End-to-end: the README's simulation example (400 forcing periods at the study's start point)
-//! through the `hycont` facade, checked against the study's asymmetric period-1 orbit.
+//! End-to-end: the README's simulation (400 forcing periods at the study's start point)
+//! checked against the study's asymmetric period-1 orbit.
 
-use hycont::rocking_block::{Outcome, SimulationRequest, simulate};
+use rocking_block::{Outcome, SimulationRequest, simulate};
 use std::f64::consts::FRAC_PI_2;
 
 #[test]

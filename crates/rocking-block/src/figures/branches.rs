@@ -2,10 +2,11 @@
 //! from the first period doubling), with special points.
 
 use super::{FigureFiles, write_json};
-use crate::continuation::{Free, branch_json, study_branches, study_labels};
+use crate::continuation::{Free, study_branches, study_labels};
 use crate::error::Result;
 use crate::model::Parameters;
 use crate::plot;
+use crate::report::branch_json;
 use hycont_continuation::SpecialKind;
 use hycont_continuation::observe::Observer;
 use serde_json::json;
@@ -45,10 +46,11 @@ pub fn branches_figure(free: Free, out: &Path, observer: &mut dyn Observer) -> R
     let json_path = out.join(format!("fig{n}.json"));
     write_json(&json_path, &json)?;
     let svg_path = out.join(format!("fig{n}.svg"));
+    let plain: Vec<_> = branches.iter().map(|b| b.branch.clone()).collect();
     plot::branches_svg(
         &svg_path,
         title,
-        &branches,
+        &plain,
         free,
         &labels,
         params.static_boundary(),

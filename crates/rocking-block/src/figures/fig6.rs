@@ -74,6 +74,29 @@ pub fn test_points(sn: &Curve) -> Result<(Vec<TestPoint>, Vec<hycont_core::Traje
     Ok((points, trajectories))
 }
 
+/// A curve's JSON: its points and its user points (UZ) where it crosses alpha = 0.66 or
+/// omega = 1.3, where it meets the special points of Figs. 3 and 4.
+fn curve_json(c: &Curve) -> serde_json::Value {
+    use crate::continuation::AMP;
+    use crate::model::{ALPHA, OMEGA};
+    let point = |p: &hycont_continuation::BranchPoint| {
+        json!({"omega": p[OMEGA], "alpha": p[ALPHA], "amp": p[AMP],
+               "period": p[hycont_continuation::MeasureId::PERIOD]})
+    };
+    let b = &c.branch.branch;
+    json!({
+        "kind": c.kind.label(),
+        "end": format!("{:?}", b.end),
+        "points": b.points.iter().map(point).collect::<Vec<_>>(),
+        "special_points": b.special_points.iter().map(|s| {
+            let mut v = point(&s.point);
+            v["kind"] = json!(s.kind.label());
+            v["located"] = json!(s.located);
+            v
+        }).collect::<Vec<_>>(),
+    })
+}
+
 /// Writes `fig6.json` (`"curves": [{"kind", "points": [{"omega", "alpha", "amp"}]}]`, test
 /// points), `fig6.svg` (the plane) and `fig6_tests.svg` (the test points' time series).
 ///
@@ -90,16 +113,7 @@ pub fn figure6(out: &Path, observer: &mut dyn Observer) -> Result<FigureFiles> {
     let json = json!({
         "figure": 6,
         "parameters": {"omega": params.omega, "alpha": params.alpha, "xi": params.xi, "theta_b": params.theta_b},
-        "curves": curves.iter().map(|c| json!({
-            "kind": c.kind.label(),
-            "end": format!("{:?}", c.branch.end),
-            "points": c.branch.points.iter().map(|p| json!({
-                "omega": p.params[0],
-                "alpha": p.params[1],
-                "amp": p.monitors[crate::continuation::AMP],
-                "period": p.monitors[0],
-            })).collect::<Vec<_>>(),
-        })).collect::<Vec<_>>(),
+        "curves": curves.iter().map(curve_json).collect::<Vec<_>>(),
         "test_points": tests,
         "test_state": TEST_STATE,
         "note": "The study says the test points overturn. Simulated from the given state they do what \

@@ -1,0 +1,224 @@
+//! Two-parameter curves in one call (BifurcationKit's `continuation(br, ind, lens2, opts)`,
+//! COCO's `ode_hspo2SN`, `ode_PD2hspo`, `coco_add_event` curves): from a labelled fold,
+//! period doubling, branch point or event point of a branch, on the branch's discretisation.
+
+use super::run::{OrbitRun, RunDirection};
+use super::saved::OrbitBranch;
+use crate::MonitorEvent;
+use crate::branch::SpecialKind;
+use crate::codim2::{Codim2, CurveCondition};
+use crate::error::{Error, Result};
+use crate::quantity::{MeasureId, Quantity};
+use hycont_core::orbit::Discretisation;
+use hycont_core::{HybridJacobians, ParamId};
+use serde::{Deserialize, Serialize};
+
+/// What a two-parameter curve is continued in besides the branch's parameter: the second
+/// parameter, its bounds, user points, and the direction.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct CurveSpec {
+    /// The second parameter, released along the curve.
+    pub second: ParamId,
+    /// Bounds of the second parameter (the branch parameter's bounds are the run's).
+    pub bounds: Option<(f64, f64)>,
+    /// User points (UZ) where a parameter or measure takes a value.
+    pub user_points: Vec<(Quantity, f64)>,
+    /// Which way(s) from the special point (default both).
+    pub direction: RunDirection,
+}
+
+impl CurveSpec {
+    /// A curve releasing `second`, both ways, unbounded in `second`, no user points.
+    #[must_use]
+    pub fn new(second: ParamId) -> Self {
+        Self {
+            second,
+            bounds: None,
+            user_points: Vec::new(),
+            direction: RunDirection::Both,
+        }
+    }
+
+    /// Bounds the second parameter to `[min, max]`.
+    #[must_use]
+    pub fn bounds(mut self, min: f64, max: f64) -> Self {
+        self.bounds = Some((min, max));
+        self
+    }
+
+    /// User points (UZ) where `on` (e.g. either parameter) takes each of `values`.
+    #[must_use]
+    pub fn user_points(
+        mut self,
+        on: impl Into<Quantity>,
+        values: impl IntoIterator<Item = f64>,
+    ) -> Self {
+        let on = on.into();
+        self.user_points.extend(values.into_iter().map(|v| (on, v)));
+        self
+    }
+
+    /// Which way(s) to continue.
+    #[must_use]
+    pub fn direction(mut self, direction: RunDirection) -> Self {
+        self.direction = direction;
+        self
+    }
+}
+
+impl<'a, S: HybridJacobians + ?Sized> OrbitRun<'a, S> {
+    /// The two-parameter curve through the special point labelled `label` of `branch`, named
+    /// `name`, in the branch's parameter and `spec.second`, on the branch's discretisation:
+    /// - a fold (SN): of a symmetric orbit on its half orbit (a half-map multiplier $+1$),
+    ///   else of the full orbit;
+    /// - a branch point (BP) of a symmetric orbit: the symmetry-breaking curve on its half orbit
+    ///   (a half-map multiplier $-1$);
+    /// - a period doubling (PD): on the full orbit;
+    /// - an event on a measure (SB, GR, a user label): the measure held at its level (a grazing
+    ///   by a collapsing segment: that segment's duration held at zero); symmetric orbits on
+    ///   their half orbit.
+    ///
+    /// Along the curve: folds, `spec`'s user points, and the run's terminal events (other than
+    /// the one defining the curve) are detected; the run's bounds and `spec`'s bound on the
+    /// second parameter apply; steps follow [`OrbitRun::curve_settings`].
+    ///
+    /// # Errors
+    /// A branch that does not fit the system, an unknown label or parameter, a special point
+    /// that has no curve (e.g. an end point, a branch point of an orbit that is not symmetric:
+    /// [`Error::WrongSpecialPoint`]); no solution near the start.
+    pub fn curve_at(
+        &mut self,
+        name: &str,
+        branch: &OrbitBranch,
+        label: usize,
+        spec: &CurveSpec,
+    ) -> Result<OrbitBranch> {
+        branch.validate(self.system)?;
+        let special = branch.special_at(label)?;
+        let wrong = |reason| Error::WrongSpecialPoint {
+            operation: "continue a curve",
+            label,
+            branch: branch.branch.name.clone(),
+            kind: special.kind.label().to_string(),
+            reason,
+        };
+        if branch.second.is_some() {
+            return Err(wrong("the branch is already a two-parameter curve"));
+        }
+        let mut orbit = branch.orbit_of(&special.point)?;
+        let symmetric = self.half_orbits && orbit.is_symmetric(self.system, self.symmetry_tol);
+        let measure = match special.on {
+            Some(Quantity::Measure(m)) => Some(m),
+            _ => None,
+        };
+        let condition = match (special.kind, measure) {
+            (SpecialKind::Fold, _) => CurveCondition::Fold,
+            (SpecialKind::BranchPoint, _) if symmetric => CurveCondition::SymmetryBreaking,
+            (SpecialKind::BranchPoint, _) => {
+                return Err(wrong(
+                    "only symmetry-breaking branch points (of symmetric orbits) have curves",
+                ));
+            }
+            (SpecialKind::PeriodDoubling, _) => CurveCondition::PeriodDoubling,
+            (
+                SpecialKind::BoundaryTouch | SpecialKind::Grazing | SpecialKind::Custom(_),
+                Some(m),
+            ) if m == MeasureId::SHORTEST_SEGMENT => {
+                // A collapsed segment: its (located) duration is zero up to rounding.
+                for d in &mut orbit.durations {
+                    if d.abs() < 1e-8 {
+                        *d = 0.0;
+                    }
+                }
+                CurveCondition::Collapse { segment: 0 }
+            }
+            (
+                SpecialKind::BoundaryTouch | SpecialKind::Grazing | SpecialKind::Custom(_),
+                Some(m),
+            ) if m.index() >= 2 => CurveCondition::Measure {
+                measure: m,
+                level: special.level.unwrap_or(0.0),
+            },
+            _ => return Err(wrong("curves start at SN, BP, PD and events on measures")),
+        };
+        let half = symmetric && condition != CurveCondition::PeriodDoubling;
+        let (start, disc) = if half {
+            let h = orbit.half_of_symmetric(self.system, self.symmetry_tol)?;
+            let disc = match &branch.discretisation {
+                Discretisation::Collocation { meshes, ncol } => Discretisation::Collocation {
+                    meshes: meshes[..h.segment_count()].to_vec(),
+                    ncol: *ncol,
+                },
+                d => d.clone(),
+            };
+            (h, disc)
+        } else {
+            (orbit, branch.discretisation.clone())
+        };
+        let condition = match condition {
+            CurveCondition::Collapse { .. } => CurveCondition::Collapse {
+                segment: start
+                    .durations
+                    .iter()
+                    .enumerate()
+                    .min_by(|a, b| a.1.abs().total_cmp(&b.1.abs()))
+                    .map_or(0, |(k, _)| k),
+            },
+            c => c,
+        };
+        let (mut cp, u0) = Codim2::new(
+            self.system,
+            &start,
+            &disc,
+            branch.free,
+            spec.second,
+            condition,
+            self.measures.clone(),
+            self.curve_events(condition, spec)?,
+        )?;
+        let mut settings = self.curve_settings.clone();
+        settings.bounds.extend(self.settings.bounds.iter().copied());
+        if let Some((lo, hi)) = spec.bounds {
+            settings = settings.bounds(spec.second, lo, hi);
+        }
+        let b = self.continue_in(&mut cp, name, &u0, None, spec.direction, &settings)?;
+        let inner = cp.orbit_problem();
+        self.saved(inner, inner.full_branch(&b), Some(spec.second))
+    }
+
+    /// The events along a curve: `spec`'s user points and the run's terminal events except
+    /// the one on the measure that defines the curve.
+    fn curve_events(
+        &self,
+        condition: CurveCondition,
+        spec: &CurveSpec,
+    ) -> Result<Vec<MonitorEvent>> {
+        let defining = match condition {
+            CurveCondition::Measure { measure, .. } => Some(Quantity::Measure(measure)),
+            _ => None,
+        };
+        let mut events: Vec<MonitorEvent> = self
+            .events
+            .iter()
+            .filter(|e| e.terminal && Some(e.on) != defining)
+            .copied()
+            .collect();
+        for &(on, level) in &spec.user_points {
+            self.check_quantity(on)?;
+            if !level.is_finite() {
+                return Err(Error::InvalidSetting {
+                    name: "user point",
+                    value: level,
+                    reason: "must be finite",
+                });
+            }
+            events.push(MonitorEvent {
+                kind: SpecialKind::UserPoint,
+                on,
+                level,
+                terminal: false,
+            });
+        }
+        Ok(events)
+    }
+}

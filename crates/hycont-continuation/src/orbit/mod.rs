@@ -1,0 +1,15 @@
+//! Continuation of hybrid periodic orbits: the typed run API ([`OrbitRun`]: run, restart,
+//! switch, curves) producing saved branches ([`OrbitBranch`]), and the continuation problem it
+//! builds ([`OrbitContinuation`]).
+
+mod curves;
+mod problem;
+mod run;
+mod saved;
+mod switching;
+
+pub use curves::CurveSpec;
+pub(crate) use problem::check_parameter;
+pub use problem::{OrbitContinuation, SharedMeasures, can_switch};
+pub use run::{OrbitRun, RunDirection};
+pub use saved::OrbitBranch;

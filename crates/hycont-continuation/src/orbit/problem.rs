@@ -1,0 +1,432 @@
+//! The continuation problem of a hybrid periodic orbit: its discretised boundary-value problem
+//! with one parameter released, analysed at every point (Floquet multipliers, period, measures).
+//!
+//! A $\mathbb{Z}_2$-symmetric orbit can be continued on its half orbit
+//! ([`PeriodicOrbit::half_of_symmetric`], closure $x_K = S x_0$): half the segments, so about
+//! half the work per point, for the same orbits. The analysis then reports the full orbit's
+//! multipliers ($\lambda = \mu^2$ from the half map's $\mu$) and period, and adds the
+//! symmetry-breaking factor $\prod (1 + \mu)$ to the branch-point test (see
+//! [`crate::PointInfo::branch_point_factor`]), so that a branch of half orbits has the special
+//! points of the same branch continued on the full orbit. Its points convert to the full
+//! problem's unknowns with [`OrbitContinuation::full_branch`]; branches are switched on the
+//! full problem ([`OrbitContinuation::full_orbit_problem`]).
+
+use crate::branch::{Branch, BranchPoint, SpecialKind};
+use crate::error::{Error, Result};
+use crate::quantity::{MeasureId, Quantity};
+use crate::switch::branch_switch_direction;
+use crate::{ContinuationProblem, MonitorEvent, PointInfo};
+use hycont_core::orbit::{
+    Closure, Discretisation, LinearizationCache, MeasureSet, OrbitEquations, OrbitMethod,
+    PeriodicOrbit, orbit_problem, symmetric_floquet,
+};
+use hycont_core::problem::{Activity, Problem, ZeroFunction};
+use hycont_core::{HybridJacobians, ParamId, Z2Symmetry};
+use std::rc::Rc;
+
+/// Measures shared by the problems of a run (one branch's problem, its full-orbit problem, its
+/// curves).
+pub type SharedMeasures<'a, S> = Rc<MeasureSet<'a, S>>;
+
+/// Turns the orbit equations into the problem's part (e.g. adds a defining equation).
+pub(crate) type WrapPart<'a> =
+    Box<dyn FnOnce(Box<dyn OrbitEquations + 'a>) -> Result<Box<dyn ZeroFunction + 'a>> + 'a>;
+
+/// A hybrid periodic orbit to be continued in one parameter.
+///
+/// Monitors reported at each point: [`MeasureId::PERIOD`], [`MeasureId::SHORTEST_SEGMENT`],
+/// then the [`MeasureSet`]'s measures. Admissibility is built in: when a segment's duration
+/// reaches zero the orbit's signature no longer describes it (for impacting systems: a flight
+/// that touches the impact surface, a grazing), so a terminal [`SpecialKind::Grazing`] event on
+/// the shortest segment ends the branch there, located.
+///
+/// Started from a half orbit ([`Closure::Symmetric`]) it continues symmetric orbits on the
+/// half-orbit problem (see the [module documentation](self)); the period is the full period.
+pub struct OrbitContinuation<'a, S: ?Sized> {
+    system: &'a S,
+    like: PeriodicOrbit,
+    disc: Discretisation,
+    cache: Option<LinearizationCache>,
+    problem: Problem<'a>,
+    param: usize,
+    /// Position from the end of the unknowns of the continuation parameter's slot (0: last).
+    slot_from_end: usize,
+    /// A segment left out of the shortest-segment monitor (held at zero on a grazing curve).
+    collapsed: Option<usize>,
+    measures: SharedMeasures<'a, S>,
+    events: Vec<MonitorEvent>,
+    /// The symmetry, on a half-orbit problem.
+    half_of: Option<Z2Symmetry>,
+}
+
+impl<S: ?Sized> std::fmt::Debug for OrbitContinuation<'_, S> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("OrbitContinuation")
+            .field("problem", &self.problem)
+            .field("param", &self.param)
+            .field("half_orbit", &self.half_of.is_some())
+            .finish_non_exhaustive()
+    }
+}
+
+/// Checks a parameter handle against the system.
+pub(crate) fn check_parameter<S: hycont_core::HybridSystem + ?Sized>(
+    system: &S,
+    p: ParamId,
+) -> Result<()> {
+    let count = system.parameter_count();
+    if p.index() < count {
+        Ok(())
+    } else {
+        Err(Error::NoSuchQuantity {
+            quantity: Quantity::Parameter(p),
+            count,
+        })
+    }
+}
+
+impl<'a, S: HybridJacobians + ?Sized> OrbitContinuation<'a, S> {
+    /// The continuation problem of `orbit` (a solution, or a good guess: shooting solves it in
+    /// the first step, collocation solves it first and adapts its mesh) in `parameter`, and the
+    /// starting unknowns. A half orbit ([`PeriodicOrbit::half_of_symmetric`]) gives the
+    /// half-orbit problem of its symmetric orbits.
+    ///
+    /// # Errors
+    /// A parameter the system does not have; an orbit that is not finite or does not match the
+    /// system; a collocation solve that fails; a half orbit of a system without a symmetry.
+    pub fn new(
+        system: &'a S,
+        orbit: &PeriodicOrbit,
+        method: &OrbitMethod,
+        parameter: ParamId,
+        measures: SharedMeasures<'a, S>,
+        events: Vec<MonitorEvent>,
+    ) -> Result<(Self, Vec<f64>)> {
+        check_parameter(system, parameter)?;
+        let (disc, like, base) = Discretisation::prepare(method, system, orbit)?;
+        let cp = Self::on_discretisation(system, like, disc, parameter, measures, events)?;
+        let u0 = cp.problem.initial_unknowns(&base);
+        Ok((cp, u0))
+    }
+
+    /// The problem on an existing discretisation (no solve): orbits like `like` (its
+    /// signature; a half orbit gives the half-orbit problem), e.g. to restart from or switch at
+    /// a point of a saved branch.
+    ///
+    /// # Errors
+    /// As [`OrbitContinuation::new`].
+    pub fn on_discretisation(
+        system: &'a S,
+        like: PeriodicOrbit,
+        disc: Discretisation,
+        parameter: ParamId,
+        measures: SharedMeasures<'a, S>,
+        events: Vec<MonitorEvent>,
+    ) -> Result<Self> {
+        Self::build(
+            system,
+            like,
+            disc,
+            parameter,
+            measures,
+            events,
+            Box::new(|eq| Ok(eq)),
+        )
+    }
+
+    /// [`OrbitContinuation::on_discretisation`] with the orbit equations wrapped by `wrap`.
+    pub(crate) fn build(
+        system: &'a S,
+        like: PeriodicOrbit,
+        disc: Discretisation,
+        parameter: ParamId,
+        measures: SharedMeasures<'a, S>,
+        events: Vec<MonitorEvent>,
+        wrap: WrapPart<'a>,
+    ) -> Result<Self> {
+        check_parameter(system, parameter)?;
+        like.validate(system)?;
+        let half_of = match like.signature.closure() {
+            Closure::Periodic => None,
+            Closure::Symmetric => {
+                Some(
+                    system
+                        .symmetry()
+                        .ok_or_else(|| hycont_core::Error::InvalidSignature {
+                            segment: 0,
+                            reason:
+                                "a half orbit (symmetric closure) needs a system with a symmetry"
+                                    .into(),
+                        })?,
+                )
+            }
+        };
+        let cache = matches!(disc, Discretisation::Shooting(_)).then(LinearizationCache::default);
+        let eq = disc.equations(system, &like, cache.clone())?;
+        let first = eq.first_parameter();
+        let mut problem = orbit_problem(system, wrap(eq)?, first, &like.params)?;
+        let q = parameter.index();
+        let id = problem
+            .monitor_id(system.parameter_names()[q])
+            .ok_or_else(|| Error::SwitchFailed {
+                reason: format!("no monitor for parameter #{q}"),
+            })?;
+        problem.set_activity(id, Activity::Active(like.params[q]));
+        Ok(Self {
+            system,
+            like,
+            disc,
+            cache,
+            problem,
+            param: q,
+            slot_from_end: 0,
+            collapsed: None,
+            measures,
+            events,
+            half_of,
+        })
+    }
+
+    /// The zero problem (e.g. to add parts for two-parameter curves).
+    pub fn problem_mut(&mut self) -> &mut Problem<'a> {
+        &mut self.problem
+    }
+
+    /// Records that a second parameter's monitor was made active; `continued_is_last` is true
+    /// when the continued parameter's slot comes last (its index is the higher one).
+    pub(crate) fn set_second_parameter(&mut self, continued_is_last: bool) {
+        self.slot_from_end = usize::from(!continued_is_last);
+    }
+
+    /// Leaves segment `k` out of the shortest-segment monitor (its duration is held at zero).
+    pub(crate) fn set_collapsed(&mut self, k: usize) {
+        self.collapsed = Some(k);
+    }
+
+    /// The orbit at unknowns `u` (on a half-orbit problem, the half orbit).
+    #[must_use]
+    pub fn orbit(&self, u: &[f64]) -> PeriodicOrbit {
+        self.disc.unpack(&self.like, u)
+    }
+
+    /// Whether this is a half-orbit problem (started from a [`Closure::Symmetric`] orbit).
+    #[must_use]
+    pub fn is_half_orbit(&self) -> bool {
+        self.half_of.is_some()
+    }
+
+    /// The continued parameter.
+    #[must_use]
+    pub fn parameter(&self) -> ParamId {
+        ParamId(self.param)
+    }
+
+    /// The discretisation (of the half orbit, on a half-orbit problem).
+    #[must_use]
+    pub fn discretisation(&self) -> &Discretisation {
+        &self.disc
+    }
+
+    /// The orbit whose signature the problem's orbits have (its values are the start's).
+    #[must_use]
+    pub fn template(&self) -> &PeriodicOrbit {
+        &self.like
+    }
+
+    /// The measures.
+    #[must_use]
+    pub fn measures(&self) -> &SharedMeasures<'a, S> {
+        &self.measures
+    }
+
+    /// The template and discretisation of the full orbits of this problem's orbits (this
+    /// problem's own when it is not a half-orbit problem).
+    ///
+    /// # Errors
+    /// If the half orbit cannot be unfolded.
+    pub fn full_layout(&self) -> Result<(PeriodicOrbit, Discretisation)> {
+        if self.half_of.is_some() {
+            Ok((
+                self.like.unfold_symmetric(self.system)?,
+                self.disc.repeated(2),
+            ))
+        } else {
+            Ok((self.like.clone(), self.disc.clone()))
+        }
+    }
+
+    /// The problem of the full orbits of this half-orbit problem, with the same parameter,
+    /// measures, events and discretisation (each segment's mesh twice); its points are those
+    /// of [`OrbitContinuation::full_branch`]. Branches are switched on it (at a branch point
+    /// where the symmetry breaks, [`crate::branch_switch_direction`]). For a problem that is
+    /// not a half-orbit problem: a fresh one-parameter copy.
+    ///
+    /// # Errors
+    /// If the problem cannot be built.
+    pub fn full_orbit_problem(&self) -> Result<Self> {
+        let (like, disc) = self.full_layout()?;
+        Self::on_discretisation(
+            self.system,
+            like,
+            disc,
+            ParamId(self.param),
+            self.measures.clone(),
+            self.events.clone(),
+        )
+    }
+
+    /// A point of a branch of this problem with the unknowns and tangent of the full orbit's
+    /// problem ([`OrbitContinuation::full_orbit_problem`]): on a half-orbit problem the
+    /// segments followed by their images (the tangent renormalised); otherwise a copy.
+    #[must_use]
+    pub fn full_point(&self, point: &BranchPoint) -> BranchPoint {
+        let Some(sym) = &self.half_of else {
+            return point.clone();
+        };
+        let mut t = self
+            .disc
+            .repeat_unknowns(&self.like, &point.tangent, Some(sym));
+        normalize(&mut t);
+        BranchPoint {
+            u: self.disc.repeat_unknowns(&self.like, &point.u, Some(sym)),
+            tangent: t,
+            ..point.clone()
+        }
+    }
+
+    /// A branch of this problem with every point (special points included) in the unknowns of
+    /// the full orbit's problem (see [`OrbitContinuation::full_point`]).
+    #[must_use]
+    pub fn full_branch(&self, branch: &Branch) -> Branch {
+        let mut out = branch.clone();
+        if self.half_of.is_some() {
+            for p in &mut out.points {
+                *p = self.full_point(p);
+            }
+            for s in &mut out.special_points {
+                s.point = self.full_point(&s.point);
+            }
+        }
+        out
+    }
+
+    /// The continuation problem of the period-doubled orbit at a located period-doubling point
+    /// of a branch of this problem: the starting unknowns (the orbit traversed twice) and the
+    /// direction of the period-2 branch (the doubled problem has a branch point there).
+    ///
+    /// # Errors
+    /// [`Error::SwitchFailed`] if `point` is not a period doubling of this problem, or this is a
+    /// half-orbit problem (switch on [`OrbitContinuation::full_orbit_problem`]).
+    pub fn from_period_doubling(&self, point: &BranchPoint) -> Result<(Self, Vec<f64>, Vec<f64>)> {
+        if self.half_of.is_some() {
+            return Err(Error::SwitchFailed {
+                reason: "period doubling on a half-orbit problem: switch on its full_orbit_problem"
+                    .into(),
+            });
+        }
+        let mut doubled = Self::on_discretisation(
+            self.system,
+            self.orbit(&point.u).doubled(),
+            self.disc.repeated(2),
+            ParamId(self.param),
+            self.measures.clone(),
+            self.events.clone(),
+        )?;
+        let u0 = self.disc.repeat_unknowns(&self.like, &point.u, None);
+        let mut t = self.disc.repeat_unknowns(&self.like, &point.tangent, None);
+        normalize(&mut t);
+        let phi = branch_switch_direction(&mut doubled, &u0, &t)?;
+        Ok((doubled, u0, phi))
+    }
+}
+
+fn normalize(t: &mut [f64]) {
+    let norm = t.iter().map(|x| x * x).sum::<f64>().sqrt();
+    if norm > 0.0 {
+        t.iter_mut().for_each(|x| *x /= norm);
+    }
+}
+
+impl<'a, S: HybridJacobians + ?Sized> ContinuationProblem<'a> for OrbitContinuation<'a, S> {
+    fn problem(&mut self) -> &mut Problem<'a> {
+        &mut self.problem
+    }
+    fn parameter_index(&self) -> usize {
+        // Active monitors' values are the last unknowns, in monitor (parameter) order.
+        self.problem.unknowns() - 1 - self.slot_from_end
+    }
+    fn parameter_position(&self) -> usize {
+        self.param
+    }
+    fn parameter_name(&self) -> String {
+        self.system.parameter_names()[self.param].to_string()
+    }
+    fn parameter_names(&self) -> Vec<String> {
+        self.system
+            .parameter_names()
+            .iter()
+            .map(ToString::to_string)
+            .collect()
+    }
+    fn monitor_names(&self) -> Vec<String> {
+        let mut names = vec!["period".to_string(), "shortest_segment".to_string()];
+        names.extend(self.measures.names().iter().cloned());
+        names
+    }
+    fn analyse(&mut self, u: &[f64]) -> hycont_core::Result<PointInfo> {
+        let (orbit, floquet) =
+            self.disc
+                .floquet(self.system, &self.like, u, self.cache.as_ref())?;
+        let shortest = orbit
+            .durations
+            .iter()
+            .enumerate()
+            .filter(|(k, _)| Some(*k) != self.collapsed)
+            .map(|(_, d)| *d)
+            .fold(f64::INFINITY, f64::min);
+        // On a half orbit: the full orbit's multipliers and period, and the half map's
+        // symmetry-breaking factor.
+        let (floquet, period, branch_point_factor) = if self.half_of.is_some() {
+            let (half, full) = symmetric_floquet(self.system, &orbit, &floquet.monodromy)?;
+            let factor = crate::shifted_product(&half.multipliers, &half.trivial, 1.0);
+            (full, 2.0 * orbit.period(), Some(factor))
+        } else {
+            (floquet, orbit.period(), None)
+        };
+        let mut monitors = vec![period, shortest];
+        monitors.extend(self.measures.evaluate(self.system, &orbit)?);
+        Ok(PointInfo {
+            params: orbit.params.clone(),
+            monitors,
+            multipliers: floquet.multipliers,
+            trivial: floquet.trivial,
+            branch_point_factor,
+        })
+    }
+    /// Collocation: each segment's node values weigh `1 / nodes` (the segment's mean square,
+    /// as AUTO's $L_2$ norm, independent of the mesh); shooting's few segment starts, the
+    /// durations and the parameters weigh 1. On a half-orbit problem the segments' values and
+    /// durations weigh twice that (they stand for the full orbit's, which has them twice), so
+    /// that arclength, and with it the steps, are those of the full orbit's problem.
+    fn unknown_weights(&self) -> Option<Vec<f64>> {
+        let copies = if self.half_of.is_some() { 2.0 } else { 1.0 };
+        self.disc
+            .unknown_weights(&self.like, copies, self.problem.unknowns())
+    }
+    fn monitor_events(&self) -> Vec<MonitorEvent> {
+        let mut events = vec![MonitorEvent {
+            kind: SpecialKind::Grazing,
+            on: Quantity::Measure(MeasureId::SHORTEST_SEGMENT),
+            level: 0.0,
+            terminal: true,
+        }];
+        events.extend(self.events.iter().copied());
+        events
+    }
+}
+
+/// Whether a special-point kind is one at which branches can be switched.
+#[must_use]
+pub fn can_switch(kind: SpecialKind) -> bool {
+    matches!(kind, SpecialKind::BranchPoint | SpecialKind::PeriodDoubling)
+}

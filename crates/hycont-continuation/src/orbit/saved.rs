@@ -1,0 +1,162 @@
+//! A branch of hybrid periodic orbits with everything needed to read its points as orbits, to
+//! restart from them, switch branches at them and continue curves from them: serialisable (a
+//! saved run).
+
+use super::run::RunDirection;
+use crate::branch::{Branch, BranchPoint, SpecialKind, SpecialPoint};
+use crate::error::{Error, Result};
+use hycont_core::orbit::{Discretisation, PeriodicOrbit};
+use hycont_core::{HybridSystem, ParamId};
+use serde::{Deserialize, Serialize};
+
+/// A branch of orbits (or a two-parameter curve) with its layout: points' unknowns are those
+/// of `discretisation` for orbits like `template` (always the full orbits, also for branches
+/// continued on half orbits), followed by the active parameters.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct OrbitBranch {
+    /// The branch.
+    pub branch: Branch,
+    /// The continued parameter.
+    pub free: ParamId,
+    /// The second parameter of a two-parameter curve.
+    #[serde(default)]
+    pub second: Option<ParamId>,
+    /// An orbit with the branch's signature (the first point's, as started).
+    pub template: PeriodicOrbit,
+    /// The discretisation of every point.
+    pub discretisation: Discretisation,
+}
+
+impl OrbitBranch {
+    /// The number of unknowns of every point.
+    fn unknowns(&self) -> usize {
+        let base = self.discretisation.segment_values(&self.template)
+            + self.template.segment_count()
+            + self.template.params.len();
+        base + 1 + usize::from(self.second.is_some())
+    }
+
+    /// Checks the branch against `system` (e.g. after reading it from a file): the template
+    /// fits the system, the discretisation fits the template, and every point has the right
+    /// number of unknowns.
+    ///
+    /// # Errors
+    /// [`Error::Core`] or [`Error::InvalidSetting`] naming what does not fit.
+    pub fn validate<S: HybridSystem + ?Sized>(&self, system: &S) -> Result<()> {
+        self.template.validate(system)?;
+        crate::orbit::check_parameter(system, self.free)?;
+        if let Some(p) = self.second {
+            crate::orbit::check_parameter(system, p)?;
+        }
+        if let Discretisation::Collocation { meshes, ncol } = &self.discretisation {
+            let bad_mesh = |m: &Vec<f64>| {
+                m.len() < 2
+                    || m[0] != 0.0
+                    || m.last() != Some(&1.0)
+                    || m.windows(2).any(|w| !(w[1] > w[0]))
+            };
+            if meshes.len() != self.template.segment_count()
+                || meshes.iter().any(bad_mesh)
+                || !(1..=7).contains(ncol)
+            {
+                return Err(Error::InvalidSetting {
+                    name: "collocation mesh",
+                    value: meshes.len() as f64,
+                    reason: "one increasing mesh from 0 to 1 per segment, ncol in 1..=7",
+                });
+            }
+        }
+        let n = self.unknowns();
+        let points = self
+            .branch
+            .points
+            .iter()
+            .chain(self.branch.special_points.iter().map(|s| &s.point));
+        for p in points {
+            if p.u.len() != n || p.tangent.len() != n || p.u.iter().any(|v| !v.is_finite()) {
+                return Err(Error::InvalidSetting {
+                    name: "point unknowns",
+                    value: p.label as f64,
+                    reason: "a point's unknowns or tangent do not fit the branch's layout",
+                });
+            }
+        }
+        Ok(())
+    }
+
+    /// The point (regular or special) with the given label.
+    ///
+    /// # Errors
+    /// [`Error::NoSuchLabel`].
+    pub fn point(&self, label: usize) -> Result<&BranchPoint> {
+        self.branch.point(label)
+    }
+
+    /// The special point with the given label.
+    ///
+    /// # Errors
+    /// [`Error::NoSuchLabel`].
+    pub fn special_at(&self, label: usize) -> Result<&SpecialPoint> {
+        self.branch.special_at(label)
+    }
+
+    /// The special points of one kind.
+    pub fn special(&self, kind: SpecialKind) -> impl Iterator<Item = &SpecialPoint> {
+        self.branch.special(kind)
+    }
+
+    /// The orbit at a point of this branch.
+    ///
+    /// # Errors
+    /// [`Error::InvalidSetting`] if the point's unknowns do not fit the layout.
+    pub fn orbit_of(&self, point: &BranchPoint) -> Result<PeriodicOrbit> {
+        if point.u.len() != self.unknowns() {
+            return Err(Error::InvalidSetting {
+                name: "point unknowns",
+                value: point.u.len() as f64,
+                reason: "do not fit the branch's layout",
+            });
+        }
+        Ok(self.discretisation.unpack(&self.template, &point.u))
+    }
+
+    /// The orbit at the point with the given label.
+    ///
+    /// # Errors
+    /// [`Error::NoSuchLabel`]; as [`OrbitBranch::orbit_of`].
+    pub fn orbit_at(&self, label: usize) -> Result<PeriodicOrbit> {
+        self.orbit_of(self.point(label)?)
+    }
+
+    /// The way the run went at a point: up or down in the continued parameter (the sign of the
+    /// tangent's component).
+    ///
+    /// # Errors
+    /// [`Error::NoSuchLabel`].
+    pub fn direction_at(&self, label: usize) -> Result<RunDirection> {
+        let p = self.point(label)?;
+        let i = self.discretisation.segment_values(&self.template)
+            + self.template.segment_count()
+            + self.free.index();
+        Ok(match p.tangent.get(i) {
+            Some(t) if *t < 0.0 => RunDirection::Down,
+            _ => RunDirection::Up,
+        })
+    }
+
+    /// JSON text.
+    ///
+    /// # Errors
+    /// Never for finite data (serde_json refuses NaN).
+    pub fn to_json(&self) -> std::result::Result<String, serde_json::Error> {
+        serde_json::to_string(self)
+    }
+
+    /// A branch from JSON text (check it with [`OrbitBranch::validate`] before use).
+    ///
+    /// # Errors
+    /// If the text is not a serialised orbit branch.
+    pub fn from_json(text: &str) -> std::result::Result<Self, serde_json::Error> {
+        serde_json::from_str(text)
+    }
+}

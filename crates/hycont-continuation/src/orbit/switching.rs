@@ -1,0 +1,137 @@
+//! Branch switching in one call (BifurcationKit's `continuation(br, ind_bif, opts)`, COCO's
+//! `ode_BP2hspo` and `ode_PD2hspo`): at a labelled branch point, along the second null
+//! direction of the full orbit's problem; at a labelled period doubling, on the orbit traversed
+//! twice.
+
+use super::problem::OrbitContinuation;
+use super::run::{OrbitRun, RunDirection};
+use super::saved::OrbitBranch;
+use crate::ContinuationProblem;
+use crate::branch::{Branch, BranchPoint, EndReason, SpecialKind};
+use crate::error::{Error, Result};
+use crate::switch::branch_switch_direction;
+use hycont_core::HybridJacobians;
+
+impl<'a, S: HybridJacobians + ?Sized> OrbitRun<'a, S> {
+    /// The branch through the special point labelled `label` of `branch` other than `branch`
+    /// itself, named `name`, in `direction` (`Up` along the switching direction, `Down`
+    /// against it, `Both` joined through the point), with this run's settings, measures and
+    /// events:
+    /// - at a branch point (BP) the direction is the null vector of the full orbit's
+    ///   augmented Jacobian orthogonal to the branch ([`branch_switch_direction`]); the new
+    ///   branch starts at the branch point. A branch that ends at a branch point of its parent
+    ///   (with [`OrbitRun::stop_at`] `BranchPoint`, e.g. where an asymmetric branch rejoins the
+    ///   symmetric one) ends at the parent's located point there, the same orbit: located from
+    ///   the new branch's side, the corrector can slip onto the parent branch, which crosses the
+    ///   chart's hyperplanes there too;
+    /// - at a period doubling (PD) the new branch is that of the orbit traversed twice, along
+    ///   the null direction of its problem there, starting at the doubled orbit.
+    ///
+    /// # Errors
+    /// A branch that does not fit the system, an unknown label, a special point other than BP
+    /// or PD ([`Error::WrongSpecialPoint`]), no second direction there
+    /// ([`Error::SwitchFailed`]).
+    pub fn switch_at(
+        &mut self,
+        name: &str,
+        branch: &OrbitBranch,
+        label: usize,
+        direction: RunDirection,
+    ) -> Result<OrbitBranch> {
+        branch.validate(self.system)?;
+        let special = branch.special_at(label)?;
+        let wrong = |reason| Error::WrongSpecialPoint {
+            operation: "switch branches",
+            label,
+            branch: branch.branch.name.clone(),
+            kind: special.kind.label().to_string(),
+            reason,
+        };
+        if branch.second.is_some() {
+            return Err(wrong("the branch is a two-parameter curve"));
+        }
+        let full = OrbitContinuation::on_discretisation(
+            self.system,
+            branch.template.clone(),
+            branch.discretisation.clone(),
+            branch.free,
+            self.measures.clone(),
+            self.events.clone(),
+        )?;
+        let settings = self.settings.clone();
+        match special.kind {
+            SpecialKind::BranchPoint => {
+                let mut full = full;
+                let p = &special.point;
+                let phi = branch_switch_direction(&mut full, &p.u, &p.tangent)?;
+                let start = BranchPoint {
+                    tangent: phi.clone(),
+                    ..p.clone()
+                };
+                let mut b = self.continue_in(
+                    &mut full,
+                    name,
+                    &p.u,
+                    Some((&start, &phi)),
+                    direction,
+                    &settings,
+                )?;
+                snap_to_parent(&mut b, &branch.branch);
+                self.saved(&full, b, None)
+            }
+            SpecialKind::PeriodDoubling => {
+                let (mut doubled, u0, phi) = full.from_period_doubling(&special.point)?;
+                let info = doubled.analyse(&u0)?;
+                let start = BranchPoint::from_info(&info, u0.clone(), phi.clone(), 0, 0.0);
+                let b = self.continue_in(
+                    &mut doubled,
+                    name,
+                    &u0,
+                    Some((&start, &phi)),
+                    direction,
+                    &settings,
+                )?;
+                self.saved(&doubled, b, None)
+            }
+            _ => Err(wrong("branches are switched at BP and PD points")),
+        }
+    }
+}
+
+/// A switched branch that ended on reaching a branch point of its parent ends at the parent's
+/// located point there (see [`OrbitRun::switch_at`]): the located branch point of `parent`
+/// whose continued parameter lies in the bracket of the end's step (widened by its width).
+fn snap_to_parent(b: &mut Branch, parent: &Branch) {
+    if b.end != EndReason::Reached(SpecialKind::BranchPoint) {
+        return;
+    }
+    let Some(end) = b.special_points.last() else {
+        return;
+    };
+    let (lo, hi) = (
+        end.bracket.0.min(end.bracket.1),
+        end.bracket.0.max(end.bracket.1),
+    );
+    let width = (hi - lo).max(1e-12);
+    let found = parent
+        .special(SpecialKind::BranchPoint)
+        .filter(|s| s.located)
+        .map(|s| (parent.parameter_of(&s.point), s))
+        .filter(|(q, _)| *q >= lo - width && *q <= hi + width)
+        .min_by(|a, b| {
+            let mid = 0.5 * (lo + hi);
+            (a.0 - mid).abs().total_cmp(&(b.0 - mid).abs())
+        })
+        .map(|(_, s)| s.clone());
+    if let Some(s) = found {
+        // The run's points end with its own end point when it was located: replace it.
+        let last = b.special_points.len() - 1;
+        let was_located = b.special_points[last].located;
+        b.special_points[last] = s.clone();
+        match b.points.last_mut() {
+            Some(p) if was_located => *p = s.point,
+            _ => b.points.push(s.point),
+        }
+        b.relabel();
+    }
+}

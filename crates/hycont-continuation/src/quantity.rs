@@ -1,0 +1,151 @@
+//! What a branch point reports, by typed handle: parameters ([`ParamId`]) and measures
+//! ([`MeasureId`]) in one index space ([`Quantity`]), and free labels for user events
+//! ([`Label`]).
+
+use crate::error::{Error, Result};
+use hycont_core::ParamId;
+use serde::{Deserialize, Deserializer, Serialize, Serializer};
+
+/// Handle of a measure (monitor) recorded at every point of a branch: an index into
+/// [`crate::BranchPoint::monitors`] and [`crate::Branch::monitor_names`].
+///
+/// Orbit branches record [`MeasureId::PERIOD`] and [`MeasureId::SHORTEST_SEGMENT`] first, then
+/// the measures added to the run ([`crate::OrbitRun::add_measure`] returns their handles).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
+#[serde(transparent)]
+pub struct MeasureId(usize);
+
+impl MeasureId {
+    /// The orbit's period (of the full orbit, also on half-orbit problems).
+    pub const PERIOD: MeasureId = MeasureId(0);
+    /// The shortest segment's duration (zero where a segment collapses: a grazing).
+    pub const SHORTEST_SEGMENT: MeasureId = MeasureId(1);
+
+    /// The handle of monitor `index` of a problem (for problems built by hand).
+    #[must_use]
+    pub const fn new(index: usize) -> Self {
+        Self(index)
+    }
+
+    /// Index in the monitors.
+    #[must_use]
+    pub fn index(self) -> usize {
+        self.0
+    }
+}
+
+/// A quantity reported at every point: a parameter or a measure.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
+pub enum Quantity {
+    /// A parameter of the system.
+    Parameter(ParamId),
+    /// A measure recorded by the problem.
+    Measure(MeasureId),
+}
+
+impl From<ParamId> for Quantity {
+    fn from(p: ParamId) -> Self {
+        Quantity::Parameter(p)
+    }
+}
+
+impl From<MeasureId> for Quantity {
+    fn from(m: MeasureId) -> Self {
+        Quantity::Measure(m)
+    }
+}
+
+impl std::fmt::Display for Quantity {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Quantity::Parameter(p) => write!(f, "parameter #{}", p.index()),
+            Quantity::Measure(m) => write!(f, "measure #{}", m.index()),
+        }
+    }
+}
+
+/// Labels of the built-in special points, which user labels may not take.
+pub(crate) const BUILT_IN: [&str; 8] = ["SN", "BP", "PD", "TR", "SB", "GR", "EP", "UZ"];
+
+/// A free label for user events (COCO's event labels, e.g. `"VZ"` for a vanishing impact
+/// velocity): 1 to 8 ASCII letters, digits, `_` or `-`, not one of the built-in labels
+/// (SN, BP, PD, TR, SB, GR, EP, UZ). Copyable and stored inline.
+///
+/// ```
+/// use hycont_continuation::Label;
+/// let vz = Label::new("VZ").unwrap();
+/// assert_eq!(vz.as_str(), "VZ");
+/// assert!(Label::new("SN").is_err());          // built in
+/// assert!(Label::new("too_long_1").is_err());  // more than 8 characters
+/// ```
+#[derive(Clone, Copy, PartialEq, Eq, Hash)]
+pub struct Label {
+    bytes: [u8; 8],
+    len: u8,
+}
+
+impl Label {
+    /// A label from its text.
+    ///
+    /// # Errors
+    /// [`Error::InvalidLabel`] naming the text if it is empty, too long, has other characters
+    /// or is a built-in label.
+    pub fn new(text: &str) -> Result<Self> {
+        let bad = |reason: &'static str| {
+            Err(Error::InvalidLabel {
+                label: text.to_string(),
+                reason,
+            })
+        };
+        if text.is_empty() || text.len() > 8 {
+            return bad("must have 1 to 8 characters");
+        }
+        if !text
+            .bytes()
+            .all(|b| b.is_ascii_alphanumeric() || b == b'_' || b == b'-')
+        {
+            return bad("may only hold ASCII letters, digits, '_' and '-'");
+        }
+        if BUILT_IN.contains(&text) {
+            return bad("is a built-in label");
+        }
+        let mut bytes = [0u8; 8];
+        bytes[..text.len()].copy_from_slice(text.as_bytes());
+        Ok(Self {
+            bytes,
+            len: text.len() as u8,
+        })
+    }
+
+    /// The text.
+    #[must_use]
+    pub fn as_str(&self) -> &str {
+        // Validated ASCII on construction.
+        std::str::from_utf8(&self.bytes[..usize::from(self.len)]).unwrap_or("?")
+    }
+}
+
+impl std::fmt::Debug for Label {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "Label({:?})", self.as_str())
+    }
+}
+
+impl std::fmt::Display for Label {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.as_str())
+    }
+}
+
+impl Serialize for Label {
+    fn serialize<Z: Serializer>(&self, s: Z) -> std::result::Result<Z::Ok, Z::Error> {
+        s.serialize_str(self.as_str())
+    }
+}
+
+impl<'de> Deserialize<'de> for Label {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> std::result::Result<Self, D::Error> {
+        let text = String::deserialize(d)?;
+        Label::new(&text).map_err(serde::de::Error::custom)
+    }
+}

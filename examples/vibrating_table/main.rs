@@ -1,0 +1,78 @@
+//! A ball bouncing on a vibrating table (Holmes 1982) through hycont's public API: simulate to
+//! a period-1 orbit, continue it in the table's amplitude `a`, locate the existence fold (SN)
+//! and the period doubling (PD), switch to the period-2 branch at PD, and continue the PD curve
+//! in `(a, omega)`; located points are printed next to their closed forms (derived in
+//! `tests/vibrating_table.rs`): `a_SN omega^2 = pi g (1 - e) / (1 + e)` and
+//! `a_PD omega^2 = g sqrt(4 (1 + e^2)^2 / (1 + e)^4 + pi^2 (1 - e)^2 / (1 + e)^2)`.
+//!
+//! User code: 115 lines (model.rs 54, this file 61; without comments and blank lines).
+//!
+//! Run with `cargo run --release --example vibrating_table`.
+
+mod model;
+
+use hycont::hycont_continuation::{CurveSpec, OrbitRun, RunDirection, SpecialKind};
+use hycont::orbit::{PeriodicOrbit, SegmentValue};
+use hycont::{FiniteDifferences, SimulationSettings, Simulator};
+use model::{A, FLIGHT, IMPACT, OMEGA, Table};
+use std::f64::consts::PI;
+
+fn main() -> Result<(), Box<dyn std::error::Error>> {
+    let (e, g) = (0.5_f64, 1.0);
+    let q = 4.0 * (1.0 + e * e).powi(2) / (1.0 + e).powi(4) + (PI * (1.0 - e) / (1.0 + e)).powi(2);
+    let (a_sn, a_pd) = (PI * g * (1.0 - e) / (1.0 + e), g * q.sqrt()); // times 1 / omega^2
+    let table = FiniteDifferences::new(Table);
+    // Simulate at a = 1.3, omega = 1 and read the period-1 orbit off the tail, starting after
+    // the impact: its segment 1 ends at the impact.
+    let p = [1.3, 1.0, e, g];
+    let traj = Simulator::new(SimulationSettings::default())?.run(
+        &table,
+        FLIGHT,
+        0.0,
+        &[0.0, 2.0, 0.0],
+        &p,
+        300.0,
+    )?;
+    let orbit =
+        PeriodicOrbit::from_simulation(&table, &traj, &p, 1e-8)?.starting_after(&table, IMPACT)?;
+    // The branch in a, both ways from 1.3, recording the velocity just before the impact.
+    let mut run = OrbitRun::new(&table, A)?;
+    run.bounds(0.9, 1.8);
+    let v = run.add_measure("impact_velocity", SegmentValue::end(1, 1))?;
+    let branch = run.run("period-1", &orbit, RunDirection::Both)?;
+    println!(
+        "impact velocity {:.12} (closed form {:.12})",
+        branch.branch.points[0][v],
+        -2.0 * PI * g / (1.0 + e)
+    );
+    let sn = branch.special(SpecialKind::Fold).next().ok_or("no SN")?;
+    let pd = branch
+        .special(SpecialKind::PeriodDoubling)
+        .next()
+        .ok_or("no PD")?;
+    println!("SN at a = {:.12} (closed form {a_sn:.12})", sn.point[A]);
+    println!("PD at a = {:.12} (closed form {a_pd:.12})", pd.point[A]);
+    // Period 2 from PD, and the PD curve with user points at omega = 0.95 and 1.05.
+    let p2 = run.switch_at("period-2", &branch, pd.point.label, RunDirection::Up)?;
+    let end = p2.branch.points.last().ok_or("no points")?;
+    println!(
+        "period 2: to a = {:.3} with period {:.10} (4 pi)",
+        end[A],
+        p2.orbit_of(end)?.period()
+    );
+    let spec = CurveSpec::new(OMEGA)
+        .bounds(0.8, 1.25)
+        .user_points(OMEGA, [0.95, 1.05]);
+    for s in run
+        .curve_at("PD", &branch, pd.point.label, &spec)?
+        .special(SpecialKind::UserPoint)
+    {
+        let w = s.point[OMEGA];
+        println!(
+            "PD curve at omega = {w:.2}: a = {:.12} (closed form {:.12})",
+            s.point[A],
+            a_pd / (w * w)
+        );
+    }
+    Ok(())
+}
