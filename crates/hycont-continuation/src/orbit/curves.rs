@@ -156,14 +156,22 @@ impl<'a, S: HybridJacobians + ?Sized> OrbitRun<'a, S> {
             (orbit, branch.discretisation.clone())
         };
         let condition = match condition {
-            CurveCondition::Collapse { .. } => CurveCondition::Collapse {
-                segment: start
+            CurveCondition::Collapse { .. } => {
+                let segment = start
                     .durations
                     .iter()
                     .enumerate()
                     .min_by(|a, b| a.1.abs().total_cmp(&b.1.abs()))
-                    .map_or(0, |(k, _)| k),
-            },
+                    .map_or(0, |(k, _)| k);
+                if collapses_tangentially(self.system, &start, segment) {
+                    return Err(wrong(
+                        "its segment collapses onto an event surface the flow touches \
+                         tangentially, where a zero duration is not a regular condition; \
+                         continue the grazing curve from an event on a GrazingMargin measure",
+                    ));
+                }
+                CurveCondition::Collapse { segment }
+            }
             c => c,
         };
         let (mut cp, u0) = Codim2::new(
@@ -221,4 +229,27 @@ impl<'a, S: HybridJacobians + ?Sized> OrbitRun<'a, S> {
         }
         Ok(events)
     }
+}
+
+/// Whether the collapsed segment `k` of `orbit` ends at an event whose surface the flow of its
+/// mode touches tangentially at the segment's start ($|\nabla h \cdot f| \le 10^{-6}
+/// |\nabla h| |f|$): a grazing, where the segment's duration behaves like a square root of the
+/// parameter distance and holding it at zero is singular.
+fn collapses_tangentially<S: HybridJacobians + ?Sized>(
+    system: &S,
+    orbit: &hycont_core::orbit::PeriodicOrbit,
+    k: usize,
+) -> bool {
+    let seg = orbit.signature.segments()[k];
+    let hycont_core::orbit::SegmentEnd::Event(e) = seg.end else {
+        return false;
+    };
+    let n = system.state_dim();
+    let (mut f, mut g) = (vec![0.0; n], vec![0.0; n]);
+    let x = &orbit.starts[k];
+    system.vector_field(seg.mode, x, &orbit.params, &mut f);
+    system.event_gradient(e, x, &orbit.params, &mut g, None);
+    let rate: f64 = f.iter().zip(&g).map(|(a, b)| a * b).sum();
+    let norm = |v: &[f64]| v.iter().map(|a| a * a).sum::<f64>().sqrt();
+    rate.abs() <= 1e-6 * norm(&f) * norm(&g)
 }

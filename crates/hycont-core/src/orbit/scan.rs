@@ -247,13 +247,13 @@ impl<S: HybridJacobians + ?Sized> HybridSystem for ScanFlow<'_, S> {
 pub const BOUNDARY_BAND: f64 = 1e-6;
 
 /// Scans `orbit` (each segment integrated once from its start for its duration): end states,
-/// critical points of `needs.watches` and integrals of `needs.integrals`. Critical points within
-/// [`BOUNDARY_BAND`]` * max(1, T_k)` of a segment's ends belong to the boundary and are not
-/// reported from the integration: boundaries that are interior points of the signature are
-/// checked directly (with their exact states), and a segment's end before a jump is a state of
-/// its own. The band is wider than any difference step a gradient takes, so that a critical
-/// point at a boundary is not reported twice with values that differ by the integration error
-/// (which would make a measure jump).
+/// critical points of `needs.watches` and integrals of `needs.integrals`. Boundaries that are
+/// interior points of the signature are checked directly and, when critical, reported with
+/// their exact states; a critical point found by integration within
+/// [`BOUNDARY_BAND`]` * max(1, T_k)` of such a boundary is that point and is not reported again.
+/// The band is wider than any difference step a gradient takes, so that a critical point at a
+/// split is not reported twice with values that differ by the integration error (which would
+/// make a measure jump).
 /// A segment with a negative duration (a continuation step past its collapse) is integrated
 /// backward and contributes its end state and integrals only.
 ///
@@ -277,6 +277,9 @@ pub fn scan<S: HybridJacobians + ?Sized>(
         ..OrbitScan::default()
     };
     let segs = orbit.signature.segments();
+    let mut boundary = OrbitScan::default();
+    boundary_points(system, orbit, &needs.watches, &mut boundary);
+    let boundary = boundary.critical;
     for (k, seg) in segs.iter().enumerate() {
         let duration = orbit.durations[k];
         let watches: Vec<Watch> = if duration >= 0.0 {
@@ -311,15 +314,25 @@ pub fn scan<S: HybridJacobians + ?Sized>(
         }
         let margin = BOUNDARY_BAND * duration.abs().max(1.0);
         for e in &traj.events {
-            if e.t <= margin || e.t >= duration - margin {
-                continue;
-            }
             let turn = if e.event.0.is_multiple_of(2) {
                 Turn::Min
             } else {
                 Turn::Max
             };
             let first = flow.watches[e.event.0 / 2];
+            // Inside the band at an end, the point is the boundary's when the boundary was
+            // registered as this critical point (its exact state); otherwise it is kept (a
+            // start slightly off its split, e.g. during Newton's iterations).
+            let registered = |segment: usize| {
+                boundary
+                    .iter()
+                    .any(|c| c.segment == segment && c.watch == first && c.turn == turn)
+            };
+            if (e.t <= margin && registered(k))
+                || (e.t >= duration - margin && registered((k + 1) % segs.len()))
+            {
+                continue;
+            }
             let state = &e.state_before[..n];
             push_unique(
                 &mut out.critical,
@@ -347,7 +360,15 @@ pub fn scan<S: HybridJacobians + ?Sized>(
         out.integrals
             .push(traj.state_final[n..].iter().map(|v| sign * v).collect());
     }
-    boundary_points(system, orbit, &needs.watches, &mut out);
+    for c in boundary {
+        if !out
+            .critical
+            .iter()
+            .any(|o| o.segment == c.segment && o.watch == c.watch && o.t == 0.0)
+        {
+            out.critical.push(c);
+        }
+    }
     out.critical.sort_by(|a, b| {
         (a.segment, a.t)
             .partial_cmp(&(b.segment, b.t))
@@ -358,8 +379,9 @@ pub fn scan<S: HybridJacobians + ?Sized>(
 
 /// Adds the critical points that are segment boundaries of the signature: the start of a
 /// segment that follows an interior point (the state is continuous there) where a watched
-/// function's rate vanishes to $10^{-8}$ relative to $|\nabla q| |f|$, classified by the sign of
-/// the rate a short way ($10^{-6}$ relative) along the flow on either side.
+/// function's rate vanishes to $10^{-6}$ relative to $|\nabla q| |f|$ (a start that is
+/// critical only to that tolerance changes the value at second order), classified by the sign
+/// of the rate a short way ($10^{-6}$ relative) along the flow on either side.
 fn boundary_points<S: HybridJacobians + ?Sized>(
     system: &S,
     orbit: &PeriodicOrbit,
@@ -385,7 +407,7 @@ fn boundary_points<S: HybridJacobians + ?Sized>(
                 Watch::Event(_) => grad.iter().map(|g| g * g).sum::<f64>().sqrt(),
             };
             let fnorm = f.iter().map(|v| v * v).sum::<f64>().sqrt();
-            if !(rate.abs() <= 1e-8 * (gnorm * fnorm).max(f64::MIN_POSITIVE)) {
+            if !(rate.abs() <= 1e-6 * (gnorm * fnorm).max(f64::MIN_POSITIVE)) {
                 continue;
             }
             let turn = classify(system, w, mode, x, p);
