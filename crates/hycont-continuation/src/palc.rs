@@ -109,6 +109,27 @@ fn tr_test(info: &PointInfo) -> f64 {
     acc
 }
 
+/// A fixed, generic unit vector of length `n`.
+fn generic(n: usize) -> Vec<f64> {
+    let mut v: Vec<f64> = (0..n)
+        .map(|i| ((i as f64 + 1.0) * 0.618_033_988_7).fract() - 0.5)
+        .collect();
+    let norm = dot(&v, &v).sqrt();
+    v.iter_mut().for_each(|x| *x /= norm);
+    v
+}
+
+/// The sign that says which way a tangent `t` goes: its parameter component, or, where that
+/// vanishes (to `1e-9`), its component along a fixed generic vector, so that the two ways from
+/// a start are always opposite.
+fn orientation(t: &[f64], pi: usize) -> f64 {
+    if t[pi].abs() > 1e-9 {
+        t[pi]
+    } else {
+        dot(t, &generic(t.len()))
+    }
+}
+
 /// The cubic Hermite interpolant at $x$ of values `u0`, `u1` at $x = 0, 1$ with derivatives
 /// `c0 * d0`, `c1 * d1` (in $x$), e.g. charts `width` apart in arclength with tangents scaled to
 /// arclength derivatives. $x$ outside $[0, 1]$ extrapolates.
@@ -697,11 +718,21 @@ impl<'p, 'a, P: ContinuationProblem<'a> + ?Sized> Palc<'p, 'a, P> {
                 c
             }
             None => {
+                // With the parameter fixed; where that fails (a branch that does not move in
+                // the parameter there, e.g. a curve perpendicular to it), on a generic
+                // hyperplane through the start.
                 let mut row = vec![0.0; n];
                 row[pi] = 1.0;
-                let (u, it) = self.correct(u0, &row, u0, 0.0, false)?;
+                let (row, (u, it)) = match self.correct(u0, &row, u0, 0.0, false) {
+                    Ok(x) => (row, x),
+                    Err(_) => {
+                        let g = generic(n);
+                        let x = self.correct(u0, &g, u0, 0.0, false)?;
+                        (g, x)
+                    }
+                };
                 let mut c = self.chart(u, &row, it)?;
-                if c.t[pi] * direction < 0.0 {
+                if orientation(&c.t, pi) * direction < 0.0 {
                     c.t.iter_mut().for_each(|x| *x = -*x);
                 }
                 c

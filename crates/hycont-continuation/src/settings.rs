@@ -139,6 +139,18 @@ impl ContinuationSettings {
         self
     }
 
+    /// The bounds of the continuation parameter (the tightest if there are several;
+    /// infinite without one).
+    #[must_use]
+    pub fn continuation_bounds(&self) -> (f64, f64) {
+        self.bounds
+            .iter()
+            .filter(|b| b.on == BoundOn::ContinuationParameter)
+            .fold((f64::NEG_INFINITY, f64::INFINITY), |(lo, hi), b| {
+                (lo.max(b.min), hi.min(b.max))
+            })
+    }
+
     /// Sets the largest number of points.
     #[must_use]
     pub fn max_points(mut self, n: usize) -> Self {

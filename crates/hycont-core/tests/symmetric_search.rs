@@ -114,6 +114,53 @@ fn the_circle_is_found_from_a_grid_of_seeds() {
     assert_abs_diff_eq!(lambda[0].0, (-4.0 * PI * a).exp(), epsilon = 1e-12);
 }
 
+/// `solve_orbit` solves a symmetric orbit on its half orbit (either method) and an orbit that
+/// is not symmetric on the full problem.
+#[test]
+fn symmetric_orbits_are_solved_on_their_half_orbit() {
+    use hycont_core::orbit::{CollocationSettings, OrbitMethod, PeriodicOrbit, solve_orbit};
+    use hycont_core::problem::NewtonSettings;
+    let a: f64 = 1.44;
+    let seg = half_signature().segments()[0];
+    let full = Signature::new(&Hopf, vec![seg, seg]).unwrap();
+    let r = 1.1; // off the circle: Newton finds it
+    let guess = PeriodicOrbit::new(
+        &Hopf,
+        full,
+        vec![vec![r, 0.0], vec![-r, 0.0]],
+        vec![PI, PI],
+        vec![a],
+    )
+    .unwrap();
+    for method in [
+        OrbitMethod::Shooting(Default::default()),
+        OrbitMethod::Collocation(CollocationSettings::default()),
+    ] {
+        let s = solve_orbit(&Hopf, &guess, &method, &NewtonSettings::default(), 1e-6).unwrap();
+        let mu: Vec<_> = s
+            .half_floquet
+            .expect("solved on the half orbit")
+            .nontrivial()
+            .collect();
+        assert_abs_diff_eq!(mu[0].0, (-2.0 * PI * a).exp(), epsilon = 1e-8);
+        assert_abs_diff_eq!(s.solution.orbit.starts[0][0], a.sqrt(), epsilon = 1e-8);
+        assert_eq!(s.solution.orbit.segment_count(), 2);
+    }
+    // Not symmetric (the second start is not the first's image): the full problem.
+    let mut lopsided = guess.clone();
+    lopsided.starts[1][0] = -0.9;
+    let s = solve_orbit(
+        &Hopf,
+        &lopsided,
+        &OrbitMethod::default(),
+        &NewtonSettings::default(),
+        1e-6,
+    )
+    .unwrap();
+    assert!(s.half_floquet.is_none());
+    assert_abs_diff_eq!(s.solution.orbit.starts[0][0], a.sqrt(), epsilon = 1e-8);
+}
+
 #[test]
 fn bad_searches_are_errors() {
     let search = SymmetricSearch::new(vec![vec![1.0]]);

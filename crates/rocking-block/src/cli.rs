@@ -401,7 +401,8 @@ fn run_merge(args: &MergeArgs, out: &mut dyn Write) -> Result<()> {
 }
 
 fn run_continue(args: &ContinueArgs, out: &mut dyn Write) -> Result<()> {
-    use crate::continuation::{AMP, Free, continue_orbit, default_method, study_labels, study_run};
+    use crate::continuation::{AMP, Free, default_method, study_run};
+    use crate::figures::branches::study_labels;
     use crate::orbits::{OrbitKind, orbit};
     use crate::report::branch_json;
     use hycont_continuation::{OrbitBranch, OrbitMethod, RunDirection};
@@ -455,17 +456,8 @@ fn run_continue(args: &ContinueArgs, out: &mut dyn Write) -> Result<()> {
             KindArg::Simulate => OrbitKind::Simulate,
         };
         let start = orbit(&params, kind, Some((args.phi0, args.psi0, args.beta)))?;
-        let mut silent = hycont_continuation::observe::Silent;
-        let start = &start.solution.orbit;
-        continue_orbit(
-            "branch",
-            start,
-            free,
-            (min, max),
-            direction,
-            method,
-            &mut silent,
-        )?
+        let mut run = study_run(free, &params, (min, max), method)?;
+        run.run("branch", &start.solution.orbit, direction)?
     };
     let stdout_err = |source| Error::Io {
         path: PathBuf::from("<stdout>"),

@@ -535,3 +535,50 @@ impl HybridJacobians for RockingBlock {
         }
     }
 }
+
+/// The parameter continued.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Free {
+    /// The forcing frequency.
+    Omega,
+    /// The forcing amplitude.
+    Alpha,
+}
+
+impl Free {
+    /// The parameter handle.
+    #[must_use]
+    pub fn id(self) -> ParamId {
+        match self {
+            Free::Omega => OMEGA,
+            Free::Alpha => ALPHA,
+        }
+    }
+
+    /// The parameter of a handle, if it is one that is continued.
+    #[must_use]
+    pub fn of(id: ParamId) -> Option<Free> {
+        [Free::Omega, Free::Alpha]
+            .into_iter()
+            .find(|f| f.id() == id)
+    }
+
+    /// The name in JSON output.
+    #[must_use]
+    pub fn name(self) -> &'static str {
+        match self {
+            Free::Omega => "omega",
+            Free::Alpha => "alpha",
+        }
+    }
+
+    /// The study's range: omega in `[0.5, 4]`, alpha in `[0.01, 1.06]`.
+    #[must_use]
+    pub fn range(self) -> (f64, f64) {
+        match self {
+            Free::Omega => (0.5, 4.0),
+            Free::Alpha => (0.01, 1.06),
+        }
+    }
+}

@@ -2,15 +2,17 @@
 //! from the block's seeds), the asymmetric pair, and orbits read off simulations; each with
 //! $\psi = 0$ interior points, so that its amplitude is an unknown of the orbit (exact).
 
+use crate::continuation::{Free, default_method, study_run};
 use crate::error::{Error, Result};
-use crate::model::{IMPACT_PLUS, PLUS, Parameters, RockingBlock, initial_mode, initial_state};
+use crate::model::{IMPACT_PLUS, PLUS, Parameters, RockingBlock};
+use crate::simulation::{Outcome, SimulationRequest, simulate};
+use hycont_core::SimulationSettings;
 use hycont_core::orbit::{
-    Closure, CollocationSettings, Measure, OrbitSolution, PeriodicOrbit, SegmentEnd, SegmentSpec,
-    ShootingSettings, Signature, SymmetricSearch, TimeAverage, find_symmetric_orbit,
-    solve_collocation, solve_shooting, solve_symmetric_collocation,
+    Closure, CollocationSettings, Measure, OrbitMethod, OrbitSolution, PeriodicOrbit, SegmentEnd,
+    SegmentSpec, ShootingSettings, Signature, SymmetricSearch, TimeAverage, find_symmetric_orbit,
+    solve_orbit, solve_shooting,
 };
 use hycont_core::problem::NewtonSettings;
-use hycont_core::{HybridSystem, SimulationSettings, Simulator, StopReason};
 use serde::{Deserialize, Serialize};
 use std::f64::consts::{FRAC_PI_2, PI};
 
@@ -99,41 +101,33 @@ pub fn orbit_from_simulation(
     beta: f64,
     periods: f64,
 ) -> Result<RockingOrbit> {
-    params.validate()?;
-    let p = params.to_vec();
-    let x0 = initial_state(phi0, psi0, beta);
-    let mut sim = Simulator::new(SimulationSettings::default())?;
-    let t_end = periods * params.forcing_period();
-    let traj = sim.run(
-        &RockingBlock,
-        initial_mode(&x0, params),
-        0.0,
-        &x0,
-        &p,
-        t_end,
-    )?;
-    let from = format!("from phi0 = {phi0}, psi0 = {psi0}, beta = {beta}");
-    let reason = match traj.stop {
-        StopReason::TerminalEvent { t, .. } => {
-            Some(format!("the block overturns at t = {t:.4} {from}"))
-        }
-        StopReason::EndReached if traj.mode_final == crate::REST && !traj.zeno.is_empty() => Some(
-            format!("the block comes to rest {from} (no rocking orbit to settle on)"),
-        ),
-        StopReason::EndReached => None,
-        other => Some(format!(
-            "the simulation {from} ended with {other:?} in mode {}",
-            RockingBlock.mode_name(traj.mode_final)
-        )),
+    let req = SimulationRequest {
+        params: *params,
+        phi0,
+        psi0,
+        beta,
+        periods,
+        ..SimulationRequest::default()
     };
-    if let Some(reason) = reason {
-        return Err(hycont_core::Error::NotPeriodic { reason }.into());
-    }
-    let guess = PeriodicOrbit::from_simulation(&RockingBlock, &traj, &p, 1e-6)?;
-    Ok(RockingOrbit {
-        solution: solve_with_extrema(&guess)?,
-        half_multipliers: None,
-    })
+    let (report, traj) = simulate(&req)?;
+    let from = format!("from phi0 = {phi0}, psi0 = {psi0}, beta = {beta}");
+    let reason = match report.outcome {
+        Outcome::OverturnPos | Outcome::OverturnNeg => {
+            format!("the block overturns at t = {:.4} {from}", report.t_end)
+        }
+        _ if traj.mode_final == crate::REST => {
+            format!("the block comes to rest {from} (no rocking orbit to settle on)")
+        }
+        _ => {
+            let guess =
+                PeriodicOrbit::from_simulation(&RockingBlock, &traj, &params.to_vec(), 1e-6)?;
+            return Ok(RockingOrbit {
+                solution: solve_with_extrema(&guess)?,
+                half_multipliers: None,
+            });
+        }
+    };
+    Err(hycont_core::Error::NotPeriodic { reason }.into())
 }
 
 /// Time-average of $\varphi$ over an orbit (its sign tells an asymmetric orbit's leaning side).
@@ -146,8 +140,8 @@ pub fn mean_phi(orbit: &PeriodicOrbit) -> Result<f64> {
 
 /// The asymmetric period-1 orbit leaning to the side `positive`: by simulation from a few
 /// forcing phases, mirrored by the symmetry if it leans the other way; where no simulation
-/// settles on one (it is unstable), by continuation from a symmetry-breaking branch point of the
-/// symmetric orbits ([`crate::continuation::asymmetric_by_continuation`]).
+/// settles on one (it is unstable), by continuation in alpha from a symmetry-breaking branch
+/// point of the symmetric orbits ([`hycont_continuation::OrbitRun::symmetry_broken_at`]).
 ///
 /// # Errors
 /// Invalid parameters; [`Error::NoOrbit`] (with the simulations' failure) if neither finds one.
@@ -170,9 +164,16 @@ pub fn asymmetric_orbit(params: &Parameters, positive: bool) -> Result<RockingOr
         Some(e) => format!("none of {tried} simulations settled on one (the last: {e})"),
         None => format!("none of {tried} simulations settled on one"),
     };
-    let found = crate::continuation::asymmetric_by_continuation(params, positive)
-        .map_err(|e| Error::NoOrbit(format!("no asymmetric orbit: {by_simulation}; {e}")))?;
-    leaning(&found, positive)
+    let sym = symmetric_orbit(params)?.solution.orbit;
+    let mut run = study_run(Free::Alpha, params, (0.01, 10.0), default_method())?;
+    match run.symmetry_broken_at(&sym, params.alpha)? {
+        Some((found, _)) => leaning(&found, positive),
+        None => Err(Error::NoOrbit(format!(
+            "no asymmetric orbit: {by_simulation}; no asymmetric branch from a \
+             symmetry-breaking branch point of the symmetric orbits reaches alpha = {}",
+            params.alpha
+        ))),
+    }
 }
 
 /// The asymmetric orbit `found`, or its mirror image, leaning to the side `positive`, solved
@@ -211,26 +212,18 @@ pub fn orbit(
 }
 
 impl RockingOrbit {
-    /// The same orbit re-solved by collocation (multipliers from the collocation Jacobian; for a
-    /// symmetric orbit the half-orbit problem is solved by collocation too).
+    /// The same orbit re-solved by collocation (multipliers from the collocation Jacobian; a
+    /// symmetric orbit on its half orbit, [`solve_orbit`]).
     ///
     /// # Errors
     /// If the collocation Newton solve fails.
     pub fn by_collocation(&self, settings: CollocationSettings) -> Result<Self> {
-        let orbit = &self.solution.orbit;
+        let method = OrbitMethod::Collocation(settings);
         let newton = NewtonSettings::default();
-        if self.half_multipliers.is_some() {
-            let half = orbit.half_of_symmetric(&RockingBlock, 1e-8)?;
-            let sol = solve_symmetric_collocation(&RockingBlock, &half, settings, &newton)?;
-            return Ok(Self {
-                solution: sol.full,
-                half_multipliers: Some(sol.half_floquet.multipliers),
-            });
-        }
-        let sol = solve_collocation(&RockingBlock, orbit, settings, &newton)?;
+        let s = solve_orbit(&RockingBlock, &self.solution.orbit, &method, &newton, 1e-8)?;
         Ok(Self {
-            solution: sol.solution,
-            half_multipliers: None,
+            half_multipliers: s.half_floquet.map(|f| f.multipliers),
+            solution: s.solution,
         })
     }
 }

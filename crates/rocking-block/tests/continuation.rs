@@ -10,9 +10,8 @@ use hycont_continuation::{
     SpecialKind, continue_branch,
 };
 use hycont_core::orbit::{CollocationSettings, PeriodicOrbit};
-use rocking_block::continuation::{
-    AMP, Free, continue_orbit, default_method, study_branches, study_labels, study_run,
-};
+use rocking_block::continuation::{AMP, Free, default_method, study_branches, study_run};
+use rocking_block::figures::branches::study_labels;
 use rocking_block::orbits::{OrbitKind, orbit};
 use rocking_block::{ALPHA, OMEGA, Parameters, RockingBlock};
 
@@ -208,16 +207,9 @@ fn reversing_the_direction_finds_the_same_special_points() {
     // of the lower sheet upwards through SN1 and back to BP1: the same points to 1e-8.
     let start = fig2_symmetric();
     let way = |name, start: &PeriodicOrbit, range| {
-        let b = continue_orbit(
-            name,
-            start,
-            Free::Omega,
-            range,
-            RunDirection::Down,
-            default_method(),
-            &mut Silent,
-        )
-        .unwrap();
+        let params = Parameters::from_vec(&start.params);
+        let mut run = study_run(Free::Omega, &params, range, default_method()).unwrap();
+        let b = run.run(name, start, RunDirection::Down).unwrap();
         let at = |k| b.special(k).next().unwrap().point[OMEGA];
         (at(SpecialKind::Fold), at(SpecialKind::BranchPoint), b)
     };
@@ -321,16 +313,10 @@ fn unstable_asymmetric_orbits_are_found_by_continuation() {
     }
     let amp = |o: &rocking_block::orbits::RockingOrbit| amplitude(&o.solution.orbit);
     assert!((amp(&pos) - amp(&neg)).abs() < 1e-9);
-    let b = continue_orbit(
-        "asymmetric",
-        &pos.solution.orbit,
-        Free::Alpha,
-        (0.7, 1.06),
-        RunDirection::Down,
-        default_method(),
-        &mut Silent,
-    )
-    .unwrap();
+    let mut run = study_run(Free::Alpha, &params, (0.7, 1.06), default_method()).unwrap();
+    let b = run
+        .run("asymmetric", &pos.solution.orbit, RunDirection::Down)
+        .unwrap();
     let pd = b.special(SpecialKind::PeriodDoubling).next().unwrap();
     assert!(
         (pd.point[ALPHA] - 0.7365).abs() < 5e-5,

@@ -6,9 +6,7 @@ use approx::assert_abs_diff_eq;
 use hycont_continuation::observe::Silent;
 use hycont_continuation::{CurveSpec, MeasureId, OrbitMethod, RunDirection, SpecialKind};
 use hycont_core::orbit::CollocationSettings;
-use rocking_block::continuation::{
-    Free, continue_orbit, default_method, study_branches, study_curves, study_run,
-};
+use rocking_block::continuation::{Free, default_method, study_branches, study_curves, study_run};
 use rocking_block::orbits::{OrbitKind, orbit};
 use rocking_block::{ALPHA, OMEGA, Parameters};
 use std::f64::consts::PI;
@@ -93,16 +91,8 @@ fn the_period_doubling_curve_meets_a_separate_alpha_continuation() {
         .unwrap()
         .solution
         .orbit;
-    let b = continue_orbit(
-        "asym",
-        &asym,
-        Free::Alpha,
-        (0.5, 1.06),
-        RunDirection::Up,
-        default_method(),
-        &mut Silent,
-    )
-    .unwrap();
+    let mut run = study_run(Free::Alpha, &params, (0.5, 1.06), default_method()).unwrap();
+    let b = run.run("asym", &asym, RunDirection::Up).unwrap();
     let pd = b.special(SpecialKind::PeriodDoubling).next().unwrap().point[ALPHA];
     assert_abs_diff_eq!(pd, alpha_curve, epsilon = 1e-9);
 }

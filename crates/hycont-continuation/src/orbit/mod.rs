@@ -7,6 +7,7 @@ mod problem;
 mod run;
 mod saved;
 mod switching;
+mod symmetric;
 
 pub use curves::CurveSpec;
 pub(crate) use problem::check_parameter;

@@ -312,7 +312,11 @@ impl<'a, S: HybridJacobians + ?Sized> OrbitRun<'a, S> {
     }
 
     /// The continuation problem of `start` and its starting unknowns: on the half orbit when the
-    /// start is symmetric (to `1e-6`), the system has a symmetry and half orbits are on.
+    /// start is symmetric (to `1e-6`), the system has a symmetry and half orbits are on. A
+    /// symmetric orbit is recognised by its signature: $2K$ segments, the last $K$ the images of
+    /// the first $K$ ([`PeriodicOrbit::is_symmetric`]); give a symmetric start with a segment
+    /// boundary half a period after another (e.g. at both impacts of a symmetric impacting
+    /// orbit).
     ///
     /// # Errors
     /// As [`OrbitContinuation::new`].

@@ -34,8 +34,8 @@ pub use scan::{CriticalPoint, OrbitScan, ScanNeeds, Turn, Watch, scan};
 pub use shooting::{CachedSegment, LinearizationCache, Shooting, ShootingSettings};
 pub use signature::{Closure, SegmentEnd, SegmentSpec, Signature};
 pub use symmetry::{
-    SymmetricSearch, SymmetricSolution, find_symmetric_orbit, solve_symmetric_collocation,
-    solve_symmetric_shooting, symmetric_floquet,
+    SolvedOrbit, SymmetricSearch, SymmetricSolution, find_symmetric_orbit, solve_orbit,
+    solve_symmetric_collocation, solve_symmetric_shooting, symmetric_floquet,
 };
 
 use crate::error::Result;

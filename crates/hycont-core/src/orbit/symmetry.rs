@@ -391,3 +391,48 @@ pub fn find_symmetric_orbit<S: HybridJacobians + ?Sized>(
         reason: "no guess converged to an orbit with the expected half period".into(),
     }))
 }
+
+/// An orbit solved by [`solve_orbit`]: the solution (the full orbit, its multipliers) and, for
+/// a symmetric orbit solved on its half orbit, the half map's multipliers.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct SolvedOrbit {
+    /// The full orbit with its multipliers.
+    pub solution: OrbitSolution,
+    /// The half map's multipliers $\mu$ ($\mu^2 = \lambda$) of a symmetric orbit.
+    pub half_floquet: Option<Floquet>,
+}
+
+/// Solves the orbit near `guess` by `method`; a guess that is symmetric to `symmetric_tol`
+/// ([`PeriodicOrbit::is_symmetric`]) is solved on its half orbit, with half the unknowns, and
+/// reports the half map's multipliers too.
+///
+/// # Errors
+/// As [`super::solve_shooting`] and [`super::solve_collocation`].
+pub fn solve_orbit<S: HybridJacobians + ?Sized>(
+    system: &S,
+    guess: &PeriodicOrbit,
+    method: &super::OrbitMethod,
+    newton: &NewtonSettings,
+    symmetric_tol: f64,
+) -> Result<SolvedOrbit> {
+    use super::OrbitMethod;
+    if guess.is_symmetric(system, symmetric_tol) {
+        let half = guess.half_of_symmetric(system, symmetric_tol)?;
+        let sol = match *method {
+            OrbitMethod::Shooting(s) => solve_symmetric_shooting(system, &half, s, newton)?,
+            OrbitMethod::Collocation(c) => solve_symmetric_collocation(system, &half, c, newton)?,
+        };
+        return Ok(SolvedOrbit {
+            solution: sol.full,
+            half_floquet: Some(sol.half_floquet),
+        });
+    }
+    let solution = match *method {
+        OrbitMethod::Shooting(s) => super::solve_shooting(system, guess, s, newton)?,
+        OrbitMethod::Collocation(c) => super::solve_collocation(system, guess, c, newton)?.solution,
+    };
+    Ok(SolvedOrbit {
+        solution,
+        half_floquet: None,
+    })
+}

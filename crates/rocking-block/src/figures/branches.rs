@@ -2,11 +2,12 @@
 //! from the first period doubling), with special points.
 
 use super::{FigureFiles, write_json};
-use crate::continuation::{Free, study_branches, study_labels};
+use crate::continuation::{AMP, Free, study_branches};
 use crate::error::Result;
 use crate::model::Parameters;
 use crate::plot;
 use crate::report::branch_json;
+use hycont_continuation::OrbitBranch;
 use hycont_continuation::SpecialKind;
 use hycont_continuation::observe::Observer;
 use serde_json::json;
@@ -59,4 +60,45 @@ pub fn branches_figure(free: Free, out: &Path, observer: &mut dyn Observer) -> R
         figure: n,
         files: vec![json_path, svg_path],
     })
+}
+
+/// Study labels (SN1, BP1, ...) for the special points of a figure's branches: numbered per kind
+/// in increasing parameter order, starting after `offsets` (Fig. 4 continues Fig. 3's
+/// numbering), with points that appear on two branches (e.g. a branch point) counted once.
+#[must_use]
+pub fn study_labels(
+    branches: &[OrbitBranch],
+    free: Free,
+    offsets: &[(SpecialKind, usize)],
+) -> Vec<(SpecialKind, f64, f64, String)> {
+    let mut all: Vec<(SpecialKind, f64, f64)> = Vec::new();
+    for s in branches.iter().flat_map(|b| &b.branch.special_points) {
+        if matches!(s.kind, SpecialKind::EndPoint | SpecialKind::UserPoint) {
+            continue;
+        }
+        let (p, amp) = (s.point[free.id()], s.point[AMP]);
+        if !all
+            .iter()
+            .any(|(k, x, a)| *k == s.kind && (x - p).abs() < 1e-6 && (a - amp).abs() < 1e-4)
+        {
+            all.push((s.kind, p, amp));
+        }
+    }
+    all.sort_by(|a, b| a.1.total_cmp(&b.1));
+    let mut counts: Vec<(SpecialKind, usize)> = offsets.to_vec();
+    all.into_iter()
+        .map(|(k, p, a)| {
+            let n = match counts.iter_mut().find(|(kk, _)| *kk == k) {
+                Some((_, c)) => {
+                    *c += 1;
+                    *c
+                }
+                None => {
+                    counts.push((k, 1));
+                    1
+                }
+            };
+            (k, p, a, format!("{}{n}", k.label()))
+        })
+        .collect()
 }

@@ -131,3 +131,27 @@ pub fn figure6(out: &Path, observer: &mut dyn Observer) -> Result<FigureFiles> {
         files: vec![json_path, svg_path, tests_path],
     })
 }
+
+/// Points of a curve in the (omega, alpha) plane, for the figures.
+impl Curve {
+    /// `(omega, alpha)` of every point.
+    #[must_use]
+    pub fn points(&self) -> Vec<(f64, f64)> {
+        let pts = &self.branch.branch.points;
+        pts.iter()
+            .map(|p| (p[crate::OMEGA], p[crate::ALPHA]))
+            .collect()
+    }
+
+    /// alpha at `omega` by linear interpolation along the curve (the first crossing), if the
+    /// curve reaches that omega.
+    #[must_use]
+    pub fn alpha_at(&self, omega: f64) -> Option<f64> {
+        self.points().windows(2).find_map(|w| {
+            let ((w0, a0), (w1, a1)) = (w[0], w[1]);
+            let (lo, hi) = (w0.min(w1), w0.max(w1));
+            (omega >= lo && omega <= hi && hi > lo)
+                .then(|| a0 + (a1 - a0) * (omega - w0) / (w1 - w0))
+        })
+    }
+}

@@ -1,6 +1,6 @@
 //! The study's figures: each writes `figN.json` and `figN.svg` into an output directory.
 
-mod branches;
+pub mod branches;
 mod fig2;
 pub mod fig6;
 pub mod sampling;
