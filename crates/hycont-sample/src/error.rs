@@ -10,6 +10,9 @@ pub enum Error {
         /// What is wrong.
         reason: String,
     },
+    /// An error of the numerical core (invalid input to a simulation, integration failure).
+    #[error(transparent)]
+    Core(#[from] hycont_core::Error),
     /// Count tables cannot be merged.
     #[error("cannot merge counts: {reason}")]
     IncompatibleCounts {

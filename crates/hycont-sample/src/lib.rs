@@ -1,7 +1,9 @@
 //! # hycont-sample
 //!
 //! Sample-based analysis of hybrid systems, generic over the system and the classifier:
-//! brute-force stroboscopic bifurcation diagrams ([`sweep::brute_force`]) and basin stability
+//! brute-force stroboscopic bifurcation diagrams ([`sweep::brute_force`]), attractor
+//! classification of periodically forced systems by their stroboscopic map
+//! ([`classify::classify`]), and basin stability
 //! ([`basin::run`]: Monte-Carlo trials, class counts per grid cell with 95 % Wilson intervals,
 //! parallel with rayon, reproducible from a seed whatever the number of threads, shardable and
 //! interruptible).
@@ -31,6 +33,7 @@
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
 pub mod basin;
+pub mod classify;
 pub mod error;
 pub mod rng;
 pub mod sweep;

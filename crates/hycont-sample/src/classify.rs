@@ -1,0 +1,529 @@
+//! Attractor classification for periodically forced hybrid systems, by their stroboscopic map.
+//!
+//! A trial (parameters and initial state) is simulated in chunks of forcing periods and stops
+//! as soon as it is decided:
+//! - **terminal**: a terminal event (e.g. overturning);
+//! - **absorbed**: the system says the state can never leave where it is
+//!   ([`PeriodicallyForced::absorbed`], e.g. at rest for good);
+//! - **periodic with period 1 or 2**: the strobe samples (the [strobe
+//!   components](PeriodicallyForced::strobe_components) at $t = kT$) repeat with period 1 or 2 to
+//!   `tol` (max-norm, relative to $1 + |x|$) after at least `min_periods`. Slow convergence (a
+//!   multiplier near 1) is accelerated: when the period-1 differences $d_k$ contract
+//!   geometrically with ratio $\rho < 1$ and the predicted distance to the limit,
+//!   $d_k \rho/(1-\rho)$, is below `extrapolation_tol`, the trial is classified from its current
+//!   state; and every `newton_every` periods Newton's method on the stroboscopic map (or its
+//!   square), restricted to the strobe components (the forcing's own state is periodic), with
+//!   the Jacobian from the variational equations with saltation matrices, looks for the fixed
+//!   point; when it converges, is stable and the state is within `newton_radius` of it, the
+//!   trial is classified from it;
+//! - a period-1 orbit is **symmetric** when the system has a symmetry $S$ and the sample half
+//!   a period later is the $S$-image of the strobe sample (to `symmetry_tol`);
+//! - **undecided** after `max_periods` (chaos, higher periods).
+//!
+//! The classification also reports the time average of the strobe components over the last
+//! period (e.g. the side an asymmetric orbit leans to) and the modes visited then.
+
+use crate::error::{Error, Result};
+use hycont_core::{
+    EventId, FiniteDifferences, HybridJacobians, HybridSystem, Mode, SampleTimes, Sensitivities,
+    SimulationSettings, Simulator, StopReason,
+};
+use serde::{Deserialize, Serialize};
+
+/// A hybrid system forced with a period, classified by its stroboscopic map ([`classify`]
+/// also needs its derivatives: implement [`HybridJacobians`] or wrap the system in
+/// [`FiniteDifferences`], which forwards this trait).
+pub trait PeriodicallyForced: HybridSystem {
+    /// The forcing period at parameters `p`.
+    fn forcing_period(&self, p: &[f64]) -> f64;
+    /// The state components compared at the strobes (not the forcing's own state).
+    fn strobe_components(&self) -> &[usize];
+    /// The mode the state `x` starts in (for the states Newton's method proposes).
+    fn mode_at(&self, x: &[f64], p: &[f64]) -> Mode;
+    /// Whether the motion can never leave where it is in `mode` at `x` (default: never).
+    fn absorbed(&self, mode: Mode, x: &[f64], p: &[f64]) -> bool {
+        let _ = (mode, x, p);
+        false
+    }
+}
+
+impl<S: PeriodicallyForced> PeriodicallyForced for FiniteDifferences<S> {
+    fn forcing_period(&self, p: &[f64]) -> f64 {
+        self.inner().forcing_period(p)
+    }
+    fn strobe_components(&self) -> &[usize] {
+        self.inner().strobe_components()
+    }
+    fn mode_at(&self, x: &[f64], p: &[f64]) -> Mode {
+        self.inner().mode_at(x, p)
+    }
+    fn absorbed(&self, mode: Mode, x: &[f64], p: &[f64]) -> bool {
+        self.inner().absorbed(mode, x, p)
+    }
+}
+
+/// Settings of [`classify`] (validated; defaults as documented per field).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct StrobeSettings {
+    /// Periods simulated at most (default 600).
+    pub max_periods: usize,
+    /// Periods before periodicity is tested (default 10).
+    pub min_periods: usize,
+    /// Periods per simulation chunk (default 10).
+    pub chunk: usize,
+    /// Strobe repetition tolerance (default `1e-6`).
+    pub tol: f64,
+    /// Predicted distance to the limit accepted by the extrapolation (default `1e-4`).
+    pub extrapolation_tol: f64,
+    /// Half-period symmetry tolerance (default `1e-3`).
+    pub symmetry_tol: f64,
+    /// Periods between Newton refinements (default 30; 0 disables them).
+    pub newton_every: usize,
+    /// Largest distance (max-norm in the strobe components) of the state from a stable fixed
+    /// point found by Newton for the trial to be classified by it (default 0.05).
+    pub newton_radius: f64,
+    /// Integration tolerances (default `1e-9`, `1e-11`).
+    pub rtol: f64,
+    /// See `rtol`.
+    pub atol: f64,
+}
+
+impl Default for StrobeSettings {
+    fn default() -> Self {
+        Self {
+            max_periods: 600,
+            min_periods: 10,
+            chunk: 10,
+            tol: 1e-6,
+            extrapolation_tol: 1e-4,
+            symmetry_tol: 1e-3,
+            newton_every: 30,
+            newton_radius: 0.05,
+            rtol: 1e-9,
+            atol: 1e-11,
+        }
+    }
+}
+
+impl StrobeSettings {
+    /// Checks the settings.
+    ///
+    /// # Errors
+    /// [`Error::InvalidStudy`] naming the bad setting.
+    pub fn validate(&self) -> Result<()> {
+        let bad = |what: &str| {
+            Err(Error::InvalidStudy {
+                reason: format!("invalid classifier setting: {what}"),
+            })
+        };
+        if self.chunk == 0 || self.max_periods == 0 {
+            return bad("chunk and max_periods must be >= 1");
+        }
+        for (name, v) in [
+            ("tol", self.tol),
+            ("extrapolation_tol", self.extrapolation_tol),
+            ("symmetry_tol", self.symmetry_tol),
+            ("newton_radius", self.newton_radius),
+        ] {
+            if !(v > 0.0 && v.is_finite()) {
+                return bad(&format!("{name} = {v} must be > 0 and finite"));
+            }
+        }
+        Ok(())
+    }
+}
+
+/// What a trial settled on.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub enum Attractor {
+    /// A terminal event ended the motion.
+    Terminal {
+        /// The event.
+        event: EventId,
+    },
+    /// The motion was absorbed ([`PeriodicallyForced::absorbed`]).
+    Absorbed,
+    /// A periodic orbit of the stroboscopic map.
+    Periodic {
+        /// Its period in forcing periods (1 or 2).
+        period: usize,
+        /// Whether a period-1 orbit is symmetric (its half-period sample is the image of its
+        /// strobe sample under the system's symmetry).
+        symmetric: bool,
+    },
+    /// Not decided within `max_periods` (chaos, higher periods).
+    Undecided,
+}
+
+/// How a trial was decided.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Decision {
+    /// A terminal event.
+    Event,
+    /// Absorbed.
+    Absorbed,
+    /// Strobe samples repeated to the tolerance.
+    Converged,
+    /// Geometric convergence extrapolated.
+    Extrapolated,
+    /// A Newton refinement of the stroboscopic map found the (stable) orbit.
+    Newton,
+    /// `max_periods` reached.
+    Undecided,
+}
+
+/// The result of classifying one trial.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Classification {
+    /// What the trial settled on.
+    pub attractor: Attractor,
+    /// How it was decided.
+    pub decision: Decision,
+    /// Forcing periods simulated.
+    pub periods: usize,
+    /// Time average (trapezoidal, over the samples of the last period) of each strobe component.
+    pub mean: Vec<f64>,
+    /// The modes of the samples of the last period (and the sample that begins it).
+    pub modes: Vec<Mode>,
+    /// Whether jumps accumulated (Zeno) in the last chunk.
+    pub zeno: bool,
+}
+
+/// Samples per forcing period: the strobe is every 8th, the half period the 4th.
+const PER: usize = 8;
+
+fn dist(comps: &[usize], a: &[f64], b: &[f64]) -> f64 {
+    comps
+        .iter()
+        .map(|&c| (a[c] - b[c]).abs())
+        .fold(0.0, f64::max)
+}
+
+/// The largest deviation of `half` from the symmetry's image of `strobe` in the strobe
+/// components (`INFINITY` without a symmetry).
+fn asymmetry<S: PeriodicallyForced + HybridJacobians + ?Sized>(
+    system: &S,
+    strobe: &[f64],
+    half: &[f64],
+) -> f64 {
+    let Some(sym) = system.symmetry() else {
+        return f64::INFINITY;
+    };
+    let mut image = vec![0.0; strobe.len()];
+    sym.apply(strobe, &mut image);
+    dist(system.strobe_components(), &image, half)
+}
+
+/// The running record of a trial: strobe and half-period samples (full states).
+struct Record {
+    strobe: Vec<Vec<f64>>,
+    half: Vec<Vec<f64>>,
+    /// The last period's samples (for the averages).
+    last_period: Vec<Vec<f64>>,
+    /// The modes of the last period's samples and the one before them.
+    recent_modes: Vec<Mode>,
+    zeno: bool,
+}
+
+impl Record {
+    fn mean(&self, comps: &[usize]) -> Vec<f64> {
+        comps
+            .iter()
+            .map(|&c| {
+                let v: Vec<f64> = self.last_period.iter().map(|x| x[c]).collect();
+                v.iter().sum::<f64>() / v.len().max(1) as f64
+            })
+            .collect()
+    }
+    fn modes(&self) -> Vec<Mode> {
+        let mut m = self.recent_modes.clone();
+        m.sort();
+        m.dedup();
+        m
+    }
+    fn finish(
+        &self,
+        comps: &[usize],
+        attractor: Attractor,
+        decision: Decision,
+        periods: usize,
+    ) -> Classification {
+        Classification {
+            attractor,
+            decision,
+            periods,
+            mean: self.mean(comps),
+            modes: self.modes(),
+            zeno: self.zeno,
+        }
+    }
+}
+
+/// Classifies the motion of `system` at parameters `p` from state `x0` in `mode` at $t = 0$.
+///
+/// # Errors
+/// Invalid settings, inputs, or an integration failure.
+pub fn classify<S: PeriodicallyForced + HybridJacobians + ?Sized>(
+    system: &S,
+    p: &[f64],
+    mode: Mode,
+    x0: &[f64],
+    settings: &StrobeSettings,
+) -> Result<Classification> {
+    settings.validate()?;
+    let period = system.forcing_period(p);
+    if !(period > 0.0 && period.is_finite()) {
+        return Err(Error::InvalidStudy {
+            reason: format!("forcing period {period} must be > 0 and finite"),
+        });
+    }
+    let comps = system.strobe_components();
+    let mut sim = Simulator::new(
+        SimulationSettings::default()
+            .rtol(settings.rtol)
+            .atol(settings.atol)
+            .record_events(false)
+            .samples(SampleTimes::new(0.0, period / PER as f64)),
+    )?;
+    let (mut mode, mut x) = (mode, x0.to_vec());
+    let mut rec = Record {
+        strobe: Vec::new(),
+        half: Vec::new(),
+        last_period: Vec::new(),
+        recent_modes: Vec::new(),
+        zeno: false,
+    };
+    let mut periods = 0;
+    while periods < settings.max_periods {
+        let n = settings.chunk.min(settings.max_periods - periods);
+        let t0 = periods as f64 * period;
+        let traj = sim.run(system, mode, t0, &x, p, t0 + n as f64 * period)?;
+        if let StopReason::TerminalEvent { event, .. } = traj.stop {
+            let attractor = Attractor::Terminal { event };
+            return Ok(rec.finish(comps, attractor, Decision::Event, periods + n));
+        }
+        let samples: Vec<(Mode, Vec<f64>)> = traj
+            .samples
+            .iter()
+            .map(|(_, m, s)| (m, s.to_vec()))
+            .collect();
+        rec.zeno = !traj.zeno.is_empty();
+        rec.recent_modes = samples
+            .iter()
+            .rev()
+            .take(PER + 1)
+            .map(|(m, _)| *m)
+            .collect();
+        rec.last_period = samples
+            .iter()
+            .rev()
+            .take(PER)
+            .map(|(_, x)| x.clone())
+            .collect();
+        if system.absorbed(traj.mode_final, &traj.state_final, p) {
+            return Ok(rec.finish(comps, Attractor::Absorbed, Decision::Absorbed, periods + n));
+        }
+        // Samples: t0 + j T / 8 for j = 0 ..= 8 n (the first repeats the previous chunk's last).
+        for (j, (_, s)) in samples.iter().enumerate() {
+            if j == 0 && !rec.strobe.is_empty() {
+                continue;
+            }
+            if j % PER == 0 {
+                rec.strobe.push(s.clone());
+            } else if j % PER == PER / 2 {
+                rec.half.push(s.clone());
+            }
+        }
+        mode = traj.mode_final;
+        x.clone_from(&traj.state_final);
+        periods += n;
+        if periods < settings.min_periods || rec.strobe.len() < 4 {
+            continue;
+        }
+        if let Some(c) = decide(system, p, &x, mode, periods, &rec, settings)? {
+            return Ok(c);
+        }
+    }
+    Ok(rec.finish(comps, Attractor::Undecided, Decision::Undecided, periods))
+}
+
+/// The tests after a chunk: period-1 convergence or extrapolation, Newton refinement, period 2.
+fn decide<S: PeriodicallyForced + HybridJacobians + ?Sized>(
+    system: &S,
+    p: &[f64],
+    x: &[f64],
+    mode: Mode,
+    periods: usize,
+    rec: &Record,
+    settings: &StrobeSettings,
+) -> Result<Option<Classification>> {
+    let comps = system.strobe_components();
+    let st = &rec.strobe;
+    let k = st.len() - 1;
+    let d1 = dist(comps, &st[k], &st[k - 1]);
+    let d2 = dist(comps, &st[k], &st[k - 2]);
+    let diffs: Vec<f64> = (k.saturating_sub(8)..k)
+        .map(|i| dist(comps, &st[i + 1], &st[i]))
+        .collect();
+    let scale = 1.0 + comps.iter().map(|&c| st[k][c].abs()).fold(0.0, f64::max);
+    let converged = d1 <= settings.tol * scale;
+    // Geometric convergence: ratios of successive differences consistently below 1.
+    let extrapolated = !converged && diffs.len() >= 6 && {
+        let ratios: Vec<f64> = diffs.windows(2).map(|w| w[1] / w[0]).collect();
+        let rho = ratios.iter().copied().fold(0.0, f64::max);
+        rho < 0.999
+            && ratios.iter().all(|r| *r > 0.0)
+            && d1 * rho / (1.0 - rho) <= settings.extrapolation_tol
+    };
+    if converged || extrapolated {
+        let symmetric = rec
+            .half
+            .last()
+            .is_some_and(|h| asymmetry(system, &st[k], h) <= settings.symmetry_tol + 10.0 * d1);
+        let decision = if converged {
+            Decision::Converged
+        } else {
+            Decision::Extrapolated
+        };
+        let attractor = Attractor::Periodic {
+            period: 1,
+            symmetric,
+        };
+        return Ok(Some(rec.finish(comps, attractor, decision, periods)));
+    }
+    // Newton refinement for slowly converging trials.
+    if settings.newton_every > 0
+        && periods % settings.newton_every < settings.chunk
+        && periods >= 2 * settings.min_periods
+    {
+        for kk in [1usize, 2] {
+            let Some(f) = refine(system, p, x, mode, kk, settings)? else {
+                continue;
+            };
+            // A fixed point of the squared map that returns after one period is period 1.
+            if kk == 2 && dist(comps, &f.one, &f.z) <= 1e-6 {
+                continue;
+            }
+            if f.stable && dist(comps, x, &f.z) <= settings.newton_radius {
+                let symmetric =
+                    kk == 1 && asymmetry(system, &f.z, &f.half) <= settings.symmetry_tol;
+                let attractor = Attractor::Periodic {
+                    period: kk,
+                    symmetric,
+                };
+                return Ok(Some(rec.finish(
+                    comps,
+                    attractor,
+                    Decision::Newton,
+                    periods,
+                )));
+            }
+        }
+    }
+    if d2 <= settings.tol * scale
+        && k >= 3
+        && dist(comps, &st[k - 1], &st[k - 3]) <= settings.tol * scale
+    {
+        let attractor = Attractor::Periodic {
+            period: 2,
+            symmetric: false,
+        };
+        return Ok(Some(rec.finish(
+            comps,
+            attractor,
+            Decision::Converged,
+            periods,
+        )));
+    }
+    Ok(None)
+}
+
+/// A fixed point of the `k`-fold stroboscopic map: its state, its images half a period and one
+/// period later, and whether it is stable.
+struct Fixed {
+    z: Vec<f64>,
+    half: Vec<f64>,
+    one: Vec<f64>,
+    stable: bool,
+}
+
+/// Newton's method on the `k`-fold stroboscopic map restricted to the strobe components from
+/// `x` (the forcing's state is kept: it is periodic); `None` if it does not converge.
+fn refine<S: PeriodicallyForced + HybridJacobians + ?Sized>(
+    system: &S,
+    p: &[f64],
+    x: &[f64],
+    mode: Mode,
+    k: usize,
+    settings: &StrobeSettings,
+) -> Result<Option<Fixed>> {
+    let comps = system.strobe_components();
+    let m = comps.len();
+    let period = system.forcing_period(p);
+    let mut sim = Simulator::new(
+        SimulationSettings::default()
+            .rtol(settings.rtol.min(1e-10))
+            .atol(settings.atol.min(1e-12))
+            .record_events(false)
+            .samples(SampleTimes::new(0.0, 0.5 * period)),
+    )?;
+    let mut z = x.to_vec();
+    let mut mode = mode;
+    for _ in 0..8 {
+        let Ok(traj) = sim.run_with_sensitivities(
+            system,
+            mode,
+            0.0,
+            &z,
+            p,
+            k as f64 * period,
+            Sensitivities::State,
+        ) else {
+            return Ok(None);
+        };
+        if !matches!(traj.stop, StopReason::EndReached) || !traj.zeno.is_empty() {
+            return Ok(None);
+        }
+        let Some(sens) = traj.sensitivities.as_ref() else {
+            return Ok(None);
+        };
+        let f: Vec<f64> = comps.iter().map(|&c| traj.state_final[c] - z[c]).collect();
+        // The restricted Jacobian of the map minus I.
+        let a = nalgebra::DMatrix::from_fn(m, m, |i, j| {
+            sens.state_entry(comps[i], comps[j]) - if i == j { 1.0 } else { 0.0 }
+        });
+        if f.iter().fold(0.0f64, |r, v| r.max(v.abs())) < 1e-10 {
+            let jac = a + nalgebra::DMatrix::identity(m, m);
+            let rho = jac
+                .complex_eigenvalues()
+                .iter()
+                .map(|l| l.norm())
+                .fold(0.0, f64::max);
+            let at = |j: usize| traj.samples.iter().nth(j).map(|(_, _, s)| s.to_vec());
+            let (Some(half), Some(one)) = (at(1), at(2)) else {
+                return Ok(None);
+            };
+            return Ok(Some(Fixed {
+                z,
+                half,
+                one,
+                stable: rho < 1.0 - 1e-9,
+            }));
+        }
+        let Some(dz) = a.lu().solve(&nalgebra::DVector::from_vec(f)) else {
+            return Ok(None);
+        };
+        if comps.iter().zip(dz.iter()).any(|(_, d)| !d.is_finite()) {
+            return Ok(None);
+        }
+        for (i, &c) in comps.iter().enumerate() {
+            z[c] -= dz[i];
+        }
+        if dz.iter().any(|d| d.abs() > 5.0) {
+            return Ok(None);
+        }
+        mode = system.mode_at(&z, p);
+    }
+    Ok(None)
+}

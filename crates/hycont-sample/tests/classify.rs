@@ -1,0 +1,179 @@
+//! The stroboscopic classifier against closed forms, on a system that is not the rocking block.
+//!
+//! Model: the forced damped oscillator $x'' + 2\zeta x' + x = f r$ driven by the oscillator
+//! $r' = r + \omega s - r(r^2+s^2)$, $s' = s - \omega r - s(r^2+s^2)$ (on its cycle
+//! $r = \sin(\omega t + \beta)$), with a terminal event where $x$ reaches a limit $L$. Every
+//! motion tends to the steady state $x = (f/D)\sin(\omega t + \beta - \phi)$,
+//! $D = \sqrt{(1-\omega^2)^2 + (2\zeta\omega)^2}$: a period-1 orbit of the stroboscopic map,
+//! symmetric under $S = -I$ (half a period later the state is the negative), with mean 0. Where
+//! $f/D > L$ (and the start is below $L$) the motion reaches the limit first: terminal.
+
+use hycont_core::{
+    Direction, EventAction, EventId, EventSpec, FiniteDifferences, HybridSystem, Mode, Z2Symmetry,
+};
+use hycont_sample::classify::{Attractor, Decision, PeriodicallyForced, StrobeSettings, classify};
+use std::f64::consts::PI;
+
+/// Parameters (f, omega, zeta, limit).
+struct Forced;
+
+impl HybridSystem for Forced {
+    fn state_dim(&self) -> usize {
+        4
+    }
+    fn parameter_names(&self) -> &[&'static str] {
+        &["f", "omega", "zeta", "limit"]
+    }
+    fn mode_count(&self) -> usize {
+        1
+    }
+    fn mode_name(&self, _: Mode) -> &'static str {
+        "free"
+    }
+    fn events(&self, _: Mode) -> &[EventId] {
+        &[EventId(0)]
+    }
+    fn event_spec(&self, _: EventId) -> EventSpec {
+        EventSpec {
+            name: "limit",
+            direction: Direction::Rising,
+            action: EventAction::Terminal,
+        }
+    }
+    fn vector_field(&self, _: Mode, x: &[f64], p: &[f64], out: &mut [f64]) {
+        let rho = x[2] * x[2] + x[3] * x[3];
+        out[0] = x[1];
+        out[1] = -x[0] - 2.0 * p[2] * x[1] + p[0] * x[2];
+        out[2] = x[2] + p[1] * x[3] - x[2] * rho;
+        out[3] = x[3] - p[1] * x[2] - x[3] * rho;
+    }
+    fn event(&self, _: EventId, x: &[f64], p: &[f64]) -> f64 {
+        x[0] - p[3]
+    }
+    fn symmetry(&self) -> Option<Z2Symmetry> {
+        let mut matrix = vec![0.0; 16];
+        for i in 0..4 {
+            matrix[i + 4 * i] = -1.0;
+        }
+        Some(Z2Symmetry {
+            matrix,
+            modes: vec![Mode(0)],
+            events: vec![EventId(0)],
+        })
+    }
+}
+
+/// The forcing period 2 pi / omega; the strobes compare (x, v).
+impl PeriodicallyForced for Forced {
+    fn forcing_period(&self, p: &[f64]) -> f64 {
+        2.0 * PI / p[1]
+    }
+    fn strobe_components(&self) -> &[usize] {
+        &[0, 1]
+    }
+    fn mode_at(&self, _: &[f64], _: &[f64]) -> Mode {
+        Mode(0)
+    }
+}
+
+fn gain(omega: f64, zeta: f64) -> f64 {
+    ((1.0 - omega * omega).powi(2) + (2.0 * zeta * omega).powi(2)).sqrt()
+}
+
+#[test]
+fn the_steady_state_is_a_symmetric_period_one_orbit() {
+    let system = FiniteDifferences::new(Forced);
+    let (omega, zeta) = (0.8, 0.1);
+    let p = [0.3, omega, zeta, 10.0];
+    for x0 in [[0.0, 0.0, 0.0, 1.0], [2.0, -1.0, 1.0, 0.0]] {
+        let c = classify(&system, &p, Mode(0), &x0, &StrobeSettings::default()).unwrap();
+        assert_eq!(
+            c.attractor,
+            Attractor::Periodic {
+                period: 1,
+                symmetric: true
+            }
+        );
+        assert!(matches!(
+            c.decision,
+            Decision::Converged | Decision::Extrapolated | Decision::Newton
+        ));
+        // The mean of x and v over a period: 0 (to the sampling's trapezoid error, and the
+        // distance to the limit, well below the amplitude).
+        assert!(
+            c.mean
+                .iter()
+                .all(|m| m.abs() < 1e-2 * 0.3 / gain(omega, zeta)),
+            "{:?}",
+            c.mean
+        );
+        assert_eq!(c.modes, [Mode(0)]);
+    }
+}
+
+#[test]
+fn amplitudes_beyond_the_limit_are_terminal() {
+    let system = FiniteDifferences::new(Forced);
+    let (omega, zeta) = (0.8, 0.1);
+    // The steady amplitude f / D at f = 0.3 is 0.3 / 0.394 = 0.76: a limit at 0.6 is reached,
+    // one at 1.0 is not.
+    let amplitude = 0.3 / gain(omega, zeta);
+    assert!(amplitude > 0.6 && amplitude < 1.0);
+    let x0 = [0.0, 0.0, 0.0, 1.0];
+    let terminal = classify(
+        &system,
+        &[0.3, omega, zeta, 0.6],
+        Mode(0),
+        &x0,
+        &StrobeSettings::default(),
+    )
+    .unwrap();
+    assert_eq!(
+        terminal.attractor,
+        Attractor::Terminal { event: EventId(0) }
+    );
+    assert_eq!(terminal.decision, Decision::Event);
+    let periodic = classify(
+        &system,
+        &[0.3, omega, zeta, 1.0],
+        Mode(0),
+        &x0,
+        &StrobeSettings::default(),
+    )
+    .unwrap();
+    assert!(matches!(
+        periodic.attractor,
+        Attractor::Periodic { period: 1, .. }
+    ));
+}
+
+#[test]
+fn bad_settings_and_inputs_are_errors() {
+    let system = FiniteDifferences::new(Forced);
+    let bad = StrobeSettings {
+        tol: -1.0,
+        ..StrobeSettings::default()
+    };
+    let x0 = [0.0, 0.0, 0.0, 1.0];
+    assert!(classify(&system, &[0.3, 0.8, 0.1, 1.0], Mode(0), &x0, &bad).is_err());
+    assert!(
+        classify(
+            &system,
+            &[0.3, 0.0, 0.1, 1.0],
+            Mode(0),
+            &x0,
+            &StrobeSettings::default()
+        )
+        .is_err()
+    );
+    assert!(
+        classify(
+            &system,
+            &[0.3, 0.8, 0.1, 1.0],
+            Mode(0),
+            &[f64::NAN, 0.0, 0.0, 1.0],
+            &StrobeSettings::default()
+        )
+        .is_err()
+    );
+}
