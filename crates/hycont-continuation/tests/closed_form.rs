@@ -1,5 +1,6 @@
 //! Detectors and driver against problems with exactly known answers.
 
+use approx::assert_abs_diff_eq;
 use hycont_continuation::observe::{Counter, Silent};
 use hycont_continuation::{
     Branch, ContinuationProblem, ContinuationSettings, Detect, EndReason, MeasureId, MonitorEvent,
@@ -230,7 +231,7 @@ fn arclength_weights_change_the_steps_not_the_branch() {
         let sn = b.special(SpecialKind::Fold).next().unwrap();
         assert!(sn.located && sn.point.params[0].abs() < 1e-9);
         for p in &b.points {
-            assert!((p.u[0] * p.u[0] - p.u[1]).abs() < 1e-9);
+            assert_abs_diff_eq!(p.u[0] * p.u[0], p.u[1], epsilon = 1e-9);
         }
         points.push(b.points.len());
     }
@@ -293,11 +294,7 @@ fn pitchfork_branch_point_is_located_and_switched() {
         .unwrap();
         assert!(other.points.len() > 5);
         for p in &other.points[1..] {
-            assert!(
-                (p.u[0] * p.u[0] - p.u[1]).abs() < 1e-8,
-                "off the x^2 = l branch: {:?}",
-                p.u
-            );
+            assert_abs_diff_eq!(p.u[0] * p.u[0], p.u[1], epsilon = 1e-8);
         }
         assert!(other.points.last().unwrap().u[0] * dir > 0.0);
     }
@@ -413,11 +410,7 @@ fn period_doubling_of_the_logistic_map_at_r_3() {
     .unwrap();
     let pd: Vec<_> = b.special(SpecialKind::PeriodDoubling).collect();
     assert_eq!(pd.len(), 1);
-    assert!(
-        (pd[0].point.params[0] - 3.0).abs() < 1e-9,
-        "PD at {}",
-        pd[0].point.params[0]
-    );
+    assert_abs_diff_eq!(pd[0].point.params[0], 3.0, epsilon = 1e-9);
     assert!((pd[0].point.multipliers[0].0 + 1.0).abs() < 1e-8);
     // Stability: stable before r = 3, unstable after.
     assert!(b.points.iter().all(|p| (p.params[0] < 3.0) == p.stable()));
@@ -448,11 +441,7 @@ fn torus_point_of_the_delayed_logistic_map_at_r_2() {
             .map(|s| (s.kind, s.point.params[0]))
             .collect::<Vec<_>>()
     );
-    assert!(
-        (tr[0].point.params[0] - 2.0).abs() < 1e-9,
-        "TR at {}",
-        tr[0].point.params[0]
-    );
+    assert_abs_diff_eq!(tr[0].point.params[0], 2.0, epsilon = 1e-9);
     assert_eq!(b.special(SpecialKind::PeriodDoubling).count(), 0);
 }
 
@@ -468,8 +457,8 @@ fn monitor_events_are_located() {
     let b = parabola_down(&mut t, &settings().parameter_bounds(-1.0, 2.0));
     let sb: Vec<_> = b.special(SpecialKind::BoundaryTouch).collect();
     assert_eq!(sb.len(), 1);
-    assert!((sb[0].point.monitors[0] - 0.7).abs() < 1e-9);
-    assert!((sb[0].point.params[0] - 0.49).abs() < 1e-9);
+    assert_abs_diff_eq!(sb[0].point.monitors[0], 0.7, epsilon = 1e-9);
+    assert_abs_diff_eq!(sb[0].point.params[0], 0.49, epsilon = 1e-9);
     assert_eq!(sb[0].on, Some(Quantity::Measure(MeasureId::new(0))));
     assert_eq!(sb[0].level, Some(0.7));
 }
@@ -493,7 +482,7 @@ fn a_monitor_bound_ends_the_branch_at_a_located_end_point() {
     );
     assert!(ep.located);
     assert!((ep.point.monitors[0] + 0.5).abs() < 1e-9);
-    assert!((ep.point.params[0] - 0.25).abs() < 1e-9);
+    assert_abs_diff_eq!(ep.point.params[0], 0.25, epsilon = 1e-9);
     // The fold came first.
     assert_eq!(b.special_points[0].kind, SpecialKind::Fold);
 }
@@ -524,7 +513,7 @@ fn reversing_the_direction_finds_the_same_special_points() {
         .unwrap()
         .point
         .params[0];
-    assert!((pf - pb).abs() < 1e-8, "{pf} vs {pb}");
+    assert_abs_diff_eq!(pf, pb, epsilon = 1e-8);
 }
 
 #[test]

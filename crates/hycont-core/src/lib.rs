@@ -44,6 +44,9 @@ pub mod simulate;
 pub mod system;
 
 pub use error::{Error, Result};
+/// The linear-algebra crate of results users compute with (monodromy, saltation matrices,
+/// Floquet vectors, orbit states).
+pub use nalgebra;
 pub use simulate::{
     Dop853, EventRecord, NonFiniteEvaluation, ParamSet, SampleTimes, Sensitivities,
     SensitivityMatrices, SimulationSettings, SimulationStats, Simulator, StepperStats, StopReason,

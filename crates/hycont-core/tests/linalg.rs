@@ -1,6 +1,7 @@
 //! Sparse LU: residuals of solves and the determinant's sign against a dense reference, on
 //! seeded random matrices of several sizes, with the factorisation reused across value changes.
 
+use approx::assert_abs_diff_eq;
 use hycont_core::linalg::{SparsePattern, eigenvalues};
 
 /// A small deterministic generator (xorshift64*), so that the tests are reproducible.
@@ -96,7 +97,7 @@ fn several_right_hand_sides_at_once() {
     for c in 0..k {
         for i in 0..n {
             let ax: f64 = (0..n).map(|j| a[(i, j)] * x[j + c * n]).sum();
-            assert!((ax - b[i + c * n]).abs() < 1e-12);
+            assert_abs_diff_eq!(ax, b[i + c * n], epsilon = 1e-12);
         }
     }
 }
@@ -115,7 +116,7 @@ fn transposed_solves_use_the_same_factorisation() {
         // A^T x = b, column i of A dotted with x.
         for i in 0..n {
             let atx: f64 = (0..n).map(|j| a[(j, i)] * x[j]).sum();
-            assert!((atx - b[i]).abs() < 1e-12, "n = {n}");
+            assert_abs_diff_eq!(atx, b[i], epsilon = 1e-12);
         }
     }
 }

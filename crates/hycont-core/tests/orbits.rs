@@ -3,6 +3,7 @@
 
 mod common;
 
+use approx::assert_abs_diff_eq;
 use common::{ImpactOscillator, Relaxation};
 use hycont_core::orbit::{
     Collocation, CollocationSettings, LinearizationCache, PeriodicOrbit, SegmentEnd, SegmentSpec,
@@ -49,9 +50,9 @@ fn shooting_finds_the_closed_form_orbit_and_multipliers() {
         )
         .unwrap();
         let t = Relaxation::period(a);
-        assert!((sol.orbit.durations[0] - t).abs() < 1e-10, "a = {a}");
-        assert!((sol.orbit.starts[0][0] - 0.5).abs() < 1e-10);
-        assert!((sol.orbit.starts[0][1] - Relaxation::y0(a)).abs() < 1e-10);
+        assert_abs_diff_eq!(sol.orbit.durations[0], t, epsilon = 1e-10);
+        assert_abs_diff_eq!(sol.orbit.starts[0][0], 0.5, epsilon = 1e-10);
+        assert_abs_diff_eq!(sol.orbit.starts[0][1], Relaxation::y0(a), epsilon = 1e-10);
         let m: Vec<f64> = sol.floquet.multipliers.iter().map(|z| z.0).collect();
         assert!(
             (m[0] - 1.0).abs() < 1e-9 && (m[1] - (-2.0 * t).exp()).abs() < 1e-9,
@@ -74,8 +75,8 @@ fn collocation_finds_the_closed_form_orbit_and_multipliers() {
     .unwrap();
     let t = Relaxation::period(a);
     let orbit = &sol.solution.orbit;
-    assert!((orbit.durations[0] - t).abs() < 1e-10);
-    assert!((orbit.starts[0][1] - Relaxation::y0(a)).abs() < 1e-10);
+    assert_abs_diff_eq!(orbit.durations[0], t, epsilon = 1e-10);
+    assert_abs_diff_eq!(orbit.starts[0][1], Relaxation::y0(a), epsilon = 1e-10);
     let m: Vec<f64> = sol
         .solution
         .floquet
@@ -83,7 +84,7 @@ fn collocation_finds_the_closed_form_orbit_and_multipliers() {
         .iter()
         .map(|z| z.0)
         .collect();
-    assert!((m[1] - (-2.0 * t).exp()).abs() < 1e-9, "{m:?}");
+    assert_abs_diff_eq!(m[1], (-2.0 * t).exp(), epsilon = 1e-9);
 }
 
 #[test]
@@ -117,10 +118,7 @@ fn collocation_converges_at_order_two_ncol() {
         for w in errors.windows(2) {
             let order = (w[0] / w[1]).log2();
             let expected = 2.0 * ncol as f64;
-            assert!(
-                (order - expected).abs() < 0.6,
-                "ncol {ncol}: order {order:.2}, expected {expected} (errors {errors:?})"
-            );
+            assert_abs_diff_eq!(order, expected, epsilon = 0.6);
         }
     }
 }
@@ -131,7 +129,7 @@ fn gauss_legendre_points_are_the_roots_of_legendre_polynomials() {
     let z = gauss_legendre_points(3);
     let r = 0.5 * (0.6f64).sqrt();
     for (a, b) in z.iter().zip([0.5 - r, 0.5, 0.5 + r]) {
-        assert!((a - b).abs() < 1e-15);
+        assert_abs_diff_eq!(*a, b, epsilon = 1e-15);
     }
 }
 
@@ -326,7 +324,7 @@ fn fold_of_x_squared_minus_l_by_newton_and_monitors() {
         )
         .unwrap();
     let sol = newton(&mut problem, &[1.0, 1.0], &NewtonSettings::default()).unwrap();
-    assert!((sol.u[0] - 2f64.sqrt()).abs() < 1e-9);
+    assert_abs_diff_eq!(sol.u[0], 2f64.sqrt(), epsilon = 1e-9);
     // Free l (its value becomes an unknown) and hold x = 3 instead.
     problem.set_activity(l, Activity::Active(1.0));
     problem
@@ -353,14 +351,14 @@ fn orbit_from_simulation_and_back() {
         .unwrap();
     let orbit = PeriodicOrbit::from_simulation(&Relaxation, &traj, &[a], 1e-6).unwrap();
     assert_eq!(orbit.segment_count(), 1);
-    assert!((orbit.durations[0] - Relaxation::period(a)).abs() < 1e-8);
+    assert_abs_diff_eq!(orbit.durations[0], Relaxation::period(a), epsilon = 1e-8);
     // Interior points at y = 1.2 (y decays through it once per period) split the segment.
     let split = orbit
         .with_interior_points(&Relaxation, 1, 1.05, &SimulationSettings::default())
         .unwrap();
     assert_eq!(split.segment_count(), 2);
     let back = split.without_interior_points(&Relaxation).unwrap();
-    assert!((back.period() - orbit.period()).abs() < 1e-12);
+    assert_abs_diff_eq!(back.period(), orbit.period(), epsilon = 1e-12);
     // Both discretisations solve the split problem to the same orbit.
     let sh = solve_shooting(
         &Relaxation,
@@ -377,7 +375,7 @@ fn orbit_from_simulation_and_back() {
     )
     .unwrap();
     for (a, b) in sh.orbit.durations.iter().zip(&co.solution.orbit.durations) {
-        assert!((a - b).abs() < 1e-9);
+        assert_abs_diff_eq!(a, b, epsilon = 1e-9);
     }
     let mut problem = shooting_problem(&Relaxation, &split, ShootingSettings::default()).unwrap();
     assert_eq!(problem.equations(), problem.unknowns());
@@ -503,10 +501,7 @@ fn held_parameters_are_not_differentiated_and_newton_steps_do_not_change() {
     for r in 0..m {
         for c in (0..nu).filter(|&c| c != param) {
             let (h, f) = (held[r][c], full[r][c]);
-            assert!(
-                (h - f).abs() <= 1e-9 * (1.0 + f.abs()),
-                "entry ({r}, {c}): {h} vs {f}"
-            );
+            assert_abs_diff_eq!(h, f, epsilon = 1e-9 * (1.0 + f.abs()));
         }
     }
     // The parameter's sensitivities were left out: its column differs from the full one.
@@ -516,7 +511,7 @@ fn held_parameters_are_not_differentiated_and_newton_steps_do_not_change() {
     b[m - 1] = 0.0;
     let (xh, xf) = (dense_solve(held, b.clone()), dense_solve(full, b));
     for (h, f) in xh.iter().zip(&xf) {
-        assert!((h - f).abs() <= 1e-9 * (1.0 + f.abs()), "{xh:?} vs {xf:?}");
+        assert_abs_diff_eq!(h, f, epsilon = 1e-9 * (1.0 + f.abs()));
     }
     assert_eq!(xh[param], 0.0);
 }
@@ -549,4 +544,50 @@ fn newton_direction_jacobians_are_approximate_and_residuals_exact() {
         .map(|(a, b)| (a - b).abs() / (1.0 + a.abs()))
         .fold(0.0, f64::max);
     assert!(worst > 0.0 && worst < 1e-4, "difference {worst:e}");
+}
+
+/// Results as nalgebra types: the monodromy of the relaxation orbit is $S\Phi$ with the flow's
+/// closed-form Jacobian $\Phi = \mathrm{diag}(e^{-T}, e^{-2T})$ and the saltation matrix at the
+/// event, which maps the vector field before the jump onto the one after it
+/// ($S f^-(y) = f^+(g(y))$); the Floquet vectors are the monodromy's eigenvectors.
+#[test]
+fn monodromy_saltation_and_floquet_vectors_as_matrices() {
+    use hycont_core::nalgebra::{Complex, DMatrix, DVector};
+    let a = 3.0;
+    let sol = solve_shooting(
+        &Relaxation,
+        &relaxation_guess(a),
+        ShootingSettings::default(),
+        &NewtonSettings::default(),
+    )
+    .unwrap();
+    let t = Relaxation::period(a);
+    let start = sol.orbit.start(0).unwrap();
+    assert_abs_diff_eq!(
+        start,
+        DVector::from_vec(vec![0.5, Relaxation::y0(a)]),
+        epsilon = 1e-10
+    );
+    assert!(sol.orbit.start(1).is_none());
+    let m = sol.floquet.monodromy_matrix();
+    let s = &sol
+        .orbit
+        .saltation_matrices(&Relaxation, &SimulationSettings::default())
+        .unwrap()[0];
+    let phi = DMatrix::from_diagonal(&DVector::from_vec(vec![(-t).exp(), (-2.0 * t).exp()]));
+    assert_abs_diff_eq!(s * phi, m, epsilon = 1e-9);
+    // S f- = f+ at the event: y- = (1.5, y0 e^{-2T}), y+ = g(y-) = (0.5, y0).
+    let y_minus = DVector::from_vec(vec![1.5, Relaxation::y0(a) * (-2.0 * t).exp()]);
+    let f_minus = DVector::from_vec(vec![a - 1.5, -2.0 * y_minus[1]]);
+    let f_plus = DVector::from_vec(vec![a - 0.5, -2.0 * Relaxation::y0(a)]);
+    assert_abs_diff_eq!(s * f_minus, f_plus, epsilon = 1e-9);
+    // M v = lambda v for each Floquet vector, in the order of the multipliers.
+    let v = sol.floquet.vectors().unwrap();
+    let mc = m.map(|x| Complex::new(x, 0.0));
+    for (i, &(re, im)) in sol.floquet.multipliers.iter().enumerate() {
+        let col = v.column(i);
+        let residual = &mc * col - col * Complex::new(re, im);
+        assert!(residual.norm() < 1e-10, "{i}: {residual}");
+        assert_abs_diff_eq!(col.norm(), 1.0, epsilon = 1e-12);
+    }
 }

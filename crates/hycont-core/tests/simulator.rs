@@ -1,5 +1,6 @@
 //! The event-driven simulator against closed-form hybrid problems.
 
+use approx::assert_abs_diff_eq;
 mod common;
 
 use common::{Ball, ImpactOscillator};
@@ -33,18 +34,9 @@ fn impact_oscillator_impact_times_are_exact() {
     assert_eq!(n, (60.0 * w / PI).floor() as usize, "number of impacts");
     for (j, ev) in traj.events.iter().enumerate() {
         let t_exact = (j + 1) as f64 * PI / w;
-        assert!(
-            (ev.t - t_exact).abs() <= 1e-10 * t_exact.max(1.0),
-            "impact {j}: t = {} vs {t_exact} (error {:e})",
-            ev.t,
-            ev.t - t_exact
-        );
+        assert_abs_diff_eq!(ev.t, t_exact, epsilon = 1e-10 * t_exact.max(1.0));
         let v_exact = -v0 * e.powi(j as i32);
-        assert!(
-            (ev.state_before[1] - v_exact).abs() <= 1e-9 * v0,
-            "impact {j}: v = {} vs {v_exact}",
-            ev.state_before[1]
-        );
+        assert_abs_diff_eq!(ev.state_before[1], v_exact, epsilon = 1e-9 * v0);
         assert!((ev.state_after[1] + e * ev.state_before[1]).abs() < 1e-15);
     }
 }
@@ -109,11 +101,7 @@ fn bouncing_ball_impacts_and_zeno_rest_time() {
         let t_exact = 2.0 * v0 / g * (1.0 - e.powi(k as i32 + 1)) / (1.0 - e);
         // The ball is polynomial, so DOP853 is exact and only the location errors (1e-13 each,
         // carried from impact to impact) remain.
-        assert!(
-            (ev.t - t_exact).abs() < 1e-11,
-            "impact {k}: {} vs {t_exact}",
-            ev.t
-        );
+        assert_abs_diff_eq!(ev.t, t_exact, epsilon = 1e-11);
     }
     let t_rest = 2.0 * v0 / (g * (1.0 - e));
     let z = &traj.zeno[0];
@@ -123,11 +111,7 @@ fn bouncing_ball_impacts_and_zeno_rest_time() {
         "switch at {} vs {t_rest}",
         z.t
     );
-    assert!(
-        (z.t_accumulation - t_rest).abs() < 1e-10,
-        "predicted accumulation {} vs {t_rest}",
-        z.t_accumulation
-    );
+    assert_abs_diff_eq!(z.t_accumulation, t_rest, epsilon = 1e-10);
     assert_eq!(traj.state_final, vec![0.0, 0.0]);
 }
 
@@ -171,11 +155,11 @@ fn terminal_event_stops_at_the_right_time() {
     match traj.stop {
         StopReason::TerminalEvent { event, t } => {
             assert_eq!(event, EventId(1));
-            assert!((t - t_exact).abs() < 1e-12, "t = {t} vs {t_exact}");
+            assert_abs_diff_eq!(t, t_exact, epsilon = 1e-12);
         }
         other => panic!("expected a terminal event, got {other:?}"),
     }
-    assert!((traj.state_final[0] - cap).abs() < 1e-12);
+    assert_abs_diff_eq!(traj.state_final[0], cap, epsilon = 1e-12);
 }
 
 #[test]
@@ -194,10 +178,8 @@ fn stroboscopic_samples_use_dense_output() {
         .unwrap();
     assert_eq!(traj.samples.len(), 3); // t = 0, 0.7, 1.4
     for (t, _, x) in traj.samples.iter() {
-        assert!(
-            (x[0] - t.cos()).abs() < 1e-12 && (x[1] + t.sin()).abs() < 1e-12,
-            "t = {t}: {x:?}"
-        );
+        assert_abs_diff_eq!(x[0], t.cos(), epsilon = 1e-12);
+        assert_abs_diff_eq!(x[1], -t.sin(), epsilon = 1e-12);
     }
     let mut plain_sim =
         Simulator::new(SimulationSettings::default().rtol(1e-13).atol(1e-14)).unwrap();
@@ -283,10 +265,10 @@ fn sensitivities_match_finite_differences_across_impacts() {
         let (fp, fm) = (flow(&xp, &p), flow(&xm, &p));
         for i in 0..2 {
             let fd = (fp[i] - fm[i]) / (2.0 * h);
-            assert!(
-                (sens.state_entry(i, j) - fd).abs() < 1e-6 * (1.0 + fd.abs()),
-                "dx{i}/dx0_{j}: {} vs {fd}",
-                sens.state_entry(i, j)
+            assert_abs_diff_eq!(
+                sens.state_entry(i, j),
+                fd,
+                epsilon = 1e-6 * (1.0 + fd.abs())
             );
         }
     }
@@ -299,10 +281,7 @@ fn sensitivities_match_finite_differences_across_impacts() {
         for i in 0..2 {
             let fd = (fp[i] - fm[i]) / (2.0 * h);
             let an = params[i + 2 * q];
-            assert!(
-                (an - fd).abs() < 1e-6 * (1.0 + fd.abs()),
-                "dx{i}/dp{q}: {an} vs {fd}"
-            );
+            assert_abs_diff_eq!(an, fd, epsilon = 1e-6 * (1.0 + fd.abs()));
         }
     }
 }
@@ -330,7 +309,7 @@ fn finite_difference_wrapper_gives_the_same_sensitivities() {
         .sensitivities
         .unwrap();
     for (a, b) in exact.state.iter().zip(&fd.state) {
-        assert!((a - b).abs() < 1e-7 * (1.0 + a.abs()), "{a} vs {b}");
+        assert_abs_diff_eq!(a, b, epsilon = 1e-7 * (1.0 + a.abs()));
     }
 }
 

@@ -1,5 +1,6 @@
 //! Basin-stability machinery and brute-force sweeps against exact answers.
 
+use approx::assert_abs_diff_eq;
 use hycont_core::{
     Direction, EventAction, EventId, EventSpec, HybridSystem, Mode, SimulationSettings,
 };
@@ -191,12 +192,7 @@ fn brute_force_sweep_reaches_the_closed_form_steady_state() {
         // At t = 2 pi k / omega the forcing phase is 0: x = amp cos(-phase).
         assert_eq!(p.samples.len(), 5);
         for s in &p.samples {
-            assert!(
-                (s[0] - amp * phase.cos()).abs() < 1e-7,
-                "c = {c}: {} vs {}",
-                s[0],
-                amp * phase.cos()
-            );
+            assert_abs_diff_eq!(s[0], amp * phase.cos(), epsilon = 1e-7);
         }
     }
 }

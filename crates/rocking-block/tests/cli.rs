@@ -1,5 +1,6 @@
 //! The `rocking-block` command line: output contract and error behaviour.
 
+use approx::assert_abs_diff_eq;
 mod common;
 
 use common::{RunOk, bin};
@@ -80,16 +81,17 @@ fn orbit_json_reports_the_symmetric_orbit() {
             .args(["--method", method, "--json"])
             .run_ok();
         let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
-        assert!(
-            (v["amp"].as_f64().unwrap() - 0.43843).abs() < 5e-6,
-            "{method}"
-        );
+        assert_abs_diff_eq!(v["amp"].as_f64().unwrap(), 0.43843, epsilon = 5e-6);
         assert_eq!(v["stable"], false);
         assert_eq!(v["multipliers"].as_array().unwrap().len(), 4);
         let segs = v["segments"].as_array().unwrap();
         assert_eq!(segs.len(), 2);
         for s in segs {
-            assert!((s["duration"].as_f64().unwrap() - std::f64::consts::PI / 1.3).abs() < 1e-8);
+            assert_abs_diff_eq!(
+                s["duration"].as_f64().unwrap(),
+                std::f64::consts::PI / 1.3,
+                epsilon = 1e-8
+            );
             assert_eq!(s["start"].as_array().unwrap().len(), 4);
         }
         assert!(v["period"].as_f64().is_some());

@@ -1,5 +1,6 @@
 //! Continuation of the rocking block against the study's published special points (Figs. 3, 4).
 
+use approx::assert_abs_diff_eq;
 mod common;
 
 use common::{RunOk, bin};
@@ -43,8 +44,8 @@ fn figure_3_special_points_match_the_study() {
         "{labels:?}"
     );
     // Printed in the study: SN1 ~ 0.9096; SB2 ~ 2.6635 (to ~3e-3: the study's Amp was a mesh max).
-    assert!((label_value(&labels, "SN1") - 0.9096).abs() < 5e-5);
-    assert!((label_value(&labels, "SB2") - 2.6635).abs() < 3e-3);
+    assert_abs_diff_eq!(label_value(&labels, "SN1"), 0.9096, epsilon = 5e-5);
+    assert_abs_diff_eq!(label_value(&labels, "SB2"), 2.6635, epsilon = 3e-3);
     // Not printed in the study; found here (regression values of this implementation).
     for (name, value) in [
         ("BP1", 1.142_793_27),
@@ -52,7 +53,7 @@ fn figure_3_special_points_match_the_study() {
         ("SB1", 1.530_342_22),
         ("BP2", 3.746_735_33),
     ] {
-        assert!((label_value(&labels, name) - value).abs() < 1e-6, "{name}");
+        assert_abs_diff_eq!(label_value(&labels, name), value, epsilon = 1e-6);
     }
     // Every special point (but the end points and the asymmetric branch's end) is located to 1e-9.
     for b in &branches {
@@ -152,11 +153,7 @@ fn figure_4_special_points_match_the_study() {
     let gr2 = branches[0].special(SpecialKind::Grazing).next().unwrap();
     assert_eq!(branches[0].points[0].u, gr2.point.u);
     for b in &branches {
-        assert!(
-            (alpha(b.points.last().unwrap()) - 1.06).abs() < 1e-9,
-            "{}",
-            b.name
-        );
+        assert_abs_diff_eq!(alpha(b.points.last().unwrap()), 1.06, epsilon = 1e-9);
     }
     let names: Vec<&str> = labels.iter().map(|l| l.3.as_str()).collect();
     assert_eq!(
@@ -170,11 +167,7 @@ fn figure_4_special_points_match_the_study() {
         ("PD1", 0.7365),
         ("PD2", 0.7542),
     ] {
-        assert!(
-            (label_value(&labels, name) - value).abs() < 5e-5,
-            "{name}: {}",
-            label_value(&labels, name)
-        );
+        assert_abs_diff_eq!(label_value(&labels, name), value, epsilon = 5e-5);
     }
     // PD2 is on the period-2 branch, born at PD1 with twice the period.
     let p2 = branches.iter().find(|b| b.name == "period-2").unwrap();
@@ -183,7 +176,7 @@ fn figure_4_special_points_match_the_study() {
             .any(|s| (s.point.params[1] - 0.7542).abs() < 5e-5)
     );
     let period1 = branches[1].points[1].monitors[0];
-    assert!((p2.points[1].monitors[0] - 2.0 * period1).abs() < 1e-6);
+    assert_abs_diff_eq!(p2.points[1].monitors[0], 2.0 * period1, epsilon = 1e-6);
     // At PD1 a non-trivial multiplier is -1; at PD2 too (of the period-2 orbit).
     for s in branches
         .iter()
@@ -217,8 +210,8 @@ fn reversing_the_direction_finds_the_same_special_points() {
     // A point on the lower sheet, past the fold.
     let lower = down.branch.points.iter().find(|p| p[AMP] < 0.2).unwrap();
     let (sn2, bp2, _) = way("back", &down.orbit_of(lower).unwrap(), (0.5, 1.3));
-    assert!((sn - sn2).abs() < 1e-8, "{sn} vs {sn2}");
-    assert!((bp - bp2).abs() < 1e-8, "{bp} vs {bp2}");
+    assert_abs_diff_eq!(sn, sn2, epsilon = 1e-8);
+    assert_abs_diff_eq!(bp, bp2, epsilon = 1e-8);
 }
 
 /// Symmetric orbits are continued on their half orbit (half the segments; the symmetry-breaking
@@ -309,20 +302,16 @@ fn unstable_asymmetric_orbits_are_found_by_continuation() {
         assert!(o.solution.floquet.unstable > 0);
         assert!(!o.solution.orbit.is_symmetric(&RockingBlock, 1e-6));
         assert!(sign * mean_phi(&o.solution.orbit).unwrap() > 1e-3);
-        assert!((o.solution.orbit.params[1] - 1.0).abs() < 1e-12);
+        assert_abs_diff_eq!(o.solution.orbit.params[1], 1.0, epsilon = 1e-12);
     }
     let amp = |o: &rocking_block::orbits::RockingOrbit| amplitude(&o.solution.orbit);
-    assert!((amp(&pos) - amp(&neg)).abs() < 1e-9);
+    assert_abs_diff_eq!(amp(&pos), amp(&neg), epsilon = 1e-9);
     let mut run = study_run(Free::Alpha, &params, (0.7, 1.06), default_method()).unwrap();
     let b = run
         .run("asymmetric", &pos.solution.orbit, RunDirection::Down)
         .unwrap();
     let pd = b.special(SpecialKind::PeriodDoubling).next().unwrap();
-    assert!(
-        (pd.point[ALPHA] - 0.7365).abs() < 5e-5,
-        "{:?}",
-        pd.point.params
-    );
+    assert_abs_diff_eq!(pd.point[ALPHA], 0.7365, epsilon = 5e-5);
     let none = orbit(&Parameters::new(1.3, 0.5), OrbitKind::AsymmetricPos, None);
     assert!(matches!(
         none,
@@ -407,7 +396,7 @@ fn collocation_and_shooting_continuations_agree_on_the_fold() {
         let b = down_to_the_fold(&start, &method);
         folds.push(b.special(SpecialKind::Fold).next().unwrap().point[OMEGA]);
     }
-    assert!((folds[0] - folds[1]).abs() < 1e-7, "{folds:?}");
+    assert_abs_diff_eq!(folds[0], folds[1], epsilon = 1e-7);
 }
 
 /// The arclength of collocation weighs each segment's nodes by 1 / nodes (an L2 norm of the
@@ -453,7 +442,7 @@ fn a_branch_ends_where_the_amplitude_reaches_pi_over_2() {
         (SpecialKind::EndPoint, Some(Quantity::Measure(AMP)))
     );
     assert!(ep.located);
-    assert!((ep.point[AMP] - std::f64::consts::FRAC_PI_2).abs() < 1e-9);
+    assert_abs_diff_eq!(ep.point[AMP], std::f64::consts::FRAC_PI_2, epsilon = 1e-9);
     let alpha = ep.point.params[1];
     assert!(alpha > 3.0 && alpha < 5.0, "alpha {alpha}");
     // The branch reaches its end point; every orbit before it stands.
@@ -530,7 +519,7 @@ fn continue_cli_saves_and_restarts() {
         .iter()
         .find(|s| s["kind"] == "SN")
         .unwrap();
-    assert!((sn["omega"].as_f64().unwrap() - 0.909_619_23).abs() < 1e-7);
+    assert_abs_diff_eq!(sn["omega"].as_f64().unwrap(), 0.909_619_23, epsilon = 1e-7);
     let bad = bin()
         .args(["continue", "--free", "omega", "--restart"])
         .arg(&run)

@@ -1,6 +1,7 @@
 //! Periodic orbits of the rocking block against the study's reference values (issue: orbits),
 //! both discretisations, and Floquet multipliers against finite differences of the period map.
 
+use approx::assert_abs_diff_eq;
 use hycont_core::orbit::{
     CollocationSettings, ShootingSettings, monodromy_by_shooting, solve_collocation,
 };
@@ -44,21 +45,13 @@ fn symmetric_orbit_reference_values() {
     assert!(r.symmetric);
     assert_eq!(r.segments.len(), 2);
     for s in &r.segments {
-        assert!(
-            (s.duration - PI / 1.3).abs() < 1e-9,
-            "flight {}",
-            s.duration
-        );
-        assert!(
-            (s.start[1].abs() - 0.37347).abs() < 5e-6,
-            "post-impact psi {}",
-            s.start[1]
-        );
+        assert_abs_diff_eq!(s.duration, PI / 1.3, epsilon = 1e-9);
+        assert_abs_diff_eq!(s.start[1].abs(), 0.37347, epsilon = 5e-6);
     }
     // Pre-impact |psi| = post-impact / e.
     let pre = r.segments[0].start[1].abs() / params.restitution();
-    assert!((pre - 0.95683).abs() < 5e-6, "pre-impact psi {pre}");
-    assert!((r.amp - 0.43843).abs() < 5e-6, "amp {}", r.amp);
+    assert_abs_diff_eq!(pre, 0.95683, epsilon = 5e-6);
+    assert_abs_diff_eq!(r.amp, 0.43843, epsilon = 5e-6);
     let m = nontrivial(&r);
     assert!(
         (m[0] - 1.2292).abs() < 5e-5 && (m[1] - 0.018868).abs() < 5e-7,
@@ -101,7 +94,7 @@ fn asymmetric_orbits_reference_values() {
         .unwrap();
     for r in [&pos, &neg] {
         assert!(!r.symmetric && r.stable);
-        assert!((r.amp - 0.62605).abs() < 5e-6, "amp {}", r.amp);
+        assert_abs_diff_eq!(r.amp, 0.62605, epsilon = 5e-6);
         let m = nontrivial(r);
         assert!(
             (m[0] - 0.48968).abs() < 5e-6 && (m[1] - 0.047362).abs() < 5e-7,
@@ -130,7 +123,7 @@ fn asymmetric_orbits_reference_values() {
         .find(|s| s.mode == "+")
         .unwrap()
         .duration;
-    assert!((plus_neg - 1.68753).abs() < 5e-6);
+    assert_abs_diff_eq!(plus_neg, 1.68753, epsilon = 5e-6);
 }
 
 #[test]
@@ -147,7 +140,7 @@ fn collocation_and_shooting_agree_to_1e_8() {
         .unwrap()
         .solution;
         for (a, b) in sh.orbit.durations.iter().zip(&co.orbit.durations) {
-            assert!((a - b).abs() < 1e-8, "{kind:?} durations {a} vs {b}");
+            assert_abs_diff_eq!(a, b, epsilon = 1e-8);
         }
         for (x, y) in sh
             .orbit
@@ -156,7 +149,7 @@ fn collocation_and_shooting_agree_to_1e_8() {
             .flatten()
             .zip(co.orbit.starts.iter().flatten())
         {
-            assert!((x - y).abs() < 1e-8, "{kind:?} states {x} vs {y}");
+            assert_abs_diff_eq!(x, y, epsilon = 1e-8);
         }
         for (a, b) in sh.floquet.multipliers.iter().zip(&co.floquet.multipliers) {
             assert!(
@@ -164,7 +157,7 @@ fn collocation_and_shooting_agree_to_1e_8() {
                 "{kind:?} multipliers {a:?} vs {b:?}"
             );
         }
-        assert!((amplitude(&sh.orbit) - amplitude(&co.orbit)).abs() < 1e-8);
+        assert_abs_diff_eq!(amplitude(&sh.orbit), amplitude(&co.orbit), epsilon = 1e-8);
     }
 }
 
@@ -228,10 +221,7 @@ fn multipliers_match_finite_differences_of_the_period_map() {
         let m =
             monodromy_by_shooting(&RockingBlock, &rotated, ShootingSettings::default()).unwrap();
         for (a, b) in m.monodromy.iter().zip(&fd) {
-            assert!(
-                (a - b).abs() < 1e-6 * (1.0 + b.abs()),
-                "{kind:?}: monodromy {a} vs {b}"
-            );
+            assert_abs_diff_eq!(a, b, epsilon = 1e-6 * (1.0 + b.abs()));
         }
     }
     let _ = RockingBlock.state_dim();
@@ -245,7 +235,7 @@ fn orbit_kinds_report_their_symmetry_and_simulation_finds_the_attractor() {
         .report("simulate")
         .unwrap();
     assert!(!sim.symmetric && sim.stable);
-    assert!((sim.amp - 0.62605).abs() < 5e-6);
+    assert_abs_diff_eq!(sim.amp, 0.62605, epsilon = 5e-6);
 }
 
 #[test]
@@ -322,12 +312,8 @@ fn orbit_from_an_explicit_initial_state_and_signature() {
         &NewtonSettings::default(),
     )
     .unwrap();
-    assert!(
-        (sol.orbit.durations[0] - 3.14569).abs() < 5e-6,
-        "{:?}",
-        sol.orbit.durations
-    );
-    assert!((sol.orbit.durations[1] - 1.68753).abs() < 5e-6);
+    assert_abs_diff_eq!(sol.orbit.durations[0], 3.14569, epsilon = 5e-6);
+    assert_abs_diff_eq!(sol.orbit.durations[1], 1.68753, epsilon = 5e-6);
 }
 
 #[test]
@@ -394,7 +380,7 @@ fn grazing_margin_finds_turning_points_at_segment_boundaries() {
     )
     .unwrap();
     assert_eq!(grazing_margin(&orbit), 0.05);
-    assert!((amplitude(&orbit) - 0.3).abs() < 1e-15);
+    assert_abs_diff_eq!(amplitude(&orbit), 0.3, epsilon = 1e-15);
 }
 
 #[test]

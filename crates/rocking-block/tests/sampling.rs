@@ -1,5 +1,6 @@
 //! The classifier and the sampling figures against the study's reference behaviour.
 
+use approx::assert_abs_diff_eq;
 mod common;
 
 use common::{RunOk, bin};
@@ -111,7 +112,7 @@ fn classified_asymmetric_orbits_are_the_orbit_solvers() {
         .find(|s| s.mode == flight_mode)
         .unwrap()
         .duration;
-    assert!((last - expected).abs() < 1e-6, "{last} vs {expected}");
+    assert_abs_diff_eq!(last, expected, epsilon = 1e-6);
 }
 
 #[test]
@@ -361,10 +362,7 @@ fn figure_8_grid_matches_the_studys_description() {
         count(&grids[0], "equilibrium"),
         count(&grids[1], "equilibrium"),
     );
-    assert!(
-        (e0 as f64 - e1 as f64).abs() < 0.05 * e0 as f64,
-        "{e0} vs {e1}"
-    );
+    assert_abs_diff_eq!(e0 as f64, e1 as f64, epsilon = 0.05 * e0 as f64);
     // beta = pi/2 has far more asymmetric orbits than beta = 0 (between the BP and PD lines).
     let asym = |g| count(g, "asymmetric_p1_pos") + count(g, "asymmetric_p1_neg");
     assert!(asym(&grids[1]) > 3 * asym(&grids[0]));

@@ -1,5 +1,6 @@
 //! The rocking block against the study's and independently computed reference behaviour.
 
+use approx::assert_abs_diff_eq;
 use hycont_core::{
     HybridSystem, SampleTimes, Sensitivities, SimulationSettings, Simulator, StopReason,
 };
@@ -41,7 +42,7 @@ fn settles_on_the_asymmetric_period_one_orbit() {
     ];
     flights.sort_by(|a, b| b.total_cmp(a));
     for (f, r) in flights.iter().zip(ASYM_FLIGHTS) {
-        assert!((f - r).abs() < 1e-5, "flight {f} vs {r}");
+        assert_abs_diff_eq!(*f, r, epsilon = 1e-5);
     }
     // Asymmetric: the mean of phi over the last period is far from 0.
     let per = req.points_per_period;
@@ -57,7 +58,7 @@ fn settles_on_the_asymmetric_period_one_orbit() {
     assert!(mean.abs() > 0.1, "mean phi over a period = {mean}");
     // Amp = max |phi| over a period (sampled, so a slight underestimate of 0.62605).
     let amp = last.iter().fold(0.0f64, |m, v| m.max(v.abs()));
-    assert!((amp - 0.62605).abs() < 1e-4, "amp {amp}");
+    assert_abs_diff_eq!(amp, 0.62605, epsilon = 1e-4);
 }
 
 #[test]
@@ -77,7 +78,7 @@ fn from_phi_001_with_beta_zero_the_block_chatters_lifts_off_and_overturns() {
     match traj.stop {
         StopReason::TerminalEvent { event, t } => {
             assert_eq!(event, OVERTURN_NEG);
-            assert!((t - 8.570_187_4).abs() < 1e-6, "overturn at {t}");
+            assert_abs_diff_eq!(t, 8.570_187_4, epsilon = 1e-6);
         }
         other => panic!("{other:?}"),
     }
@@ -88,17 +89,13 @@ fn from_phi_001_with_beta_zero_the_block_chatters_lifts_off_and_overturns() {
         .find(|e| e.event == LIFT_OFF_PLUS)
         .unwrap();
     let r_lift = 1.0 / (params.alpha * params.omega.powi(2) * params.theta_b.tan());
-    assert!((lift.state_before[2] - r_lift).abs() < 1e-10);
+    assert_abs_diff_eq!(lift.state_before[2], r_lift, epsilon = 1e-10);
     let impact = traj
         .events
         .iter()
         .rfind(|e| e.event == IMPACT_PLUS)
         .unwrap();
-    assert!(
-        (impact.t - 3.254_712_508_6).abs() < 1e-8,
-        "impact at {}",
-        impact.t
-    );
+    assert_abs_diff_eq!(impact.t, 3.254_712_508_6, epsilon = 1e-8);
 }
 
 #[test]
@@ -147,13 +144,9 @@ fn figure_3d_initial_condition_comes_to_rest_instead_of_overturning() {
     let (report, _) = simulate(&req).unwrap();
     assert_eq!(report.outcome, Outcome::Rest);
     assert_eq!(report.rest_times.len(), 1);
-    assert!(
-        (report.rest_times[0] - 16.66).abs() < 0.01,
-        "rest at {:?}",
-        report.rest_times
-    );
+    assert_abs_diff_eq!(report.rest_times[0], 16.66, epsilon = 0.01);
     let amp = report.max_abs_phi.unwrap();
-    assert!((amp - 0.333).abs() < 1e-3, "max |phi| = {amp}");
+    assert_abs_diff_eq!(amp, 0.333, epsilon = 1e-3);
 }
 
 #[test]
@@ -264,10 +257,7 @@ fn monodromy_with_saltation_matches_finite_differences() {
         for i in 0..4 {
             let fd = (fp[i] - fm[i]) / (2.0 * h);
             let an = sens.state_entry(i, j);
-            assert!(
-                (an - fd).abs() < 1e-6 * (1.0 + fd.abs()),
-                "Phi[{i},{j}] = {an} vs {fd}"
-            );
+            assert_abs_diff_eq!(an, fd, epsilon = 1e-6 * (1.0 + fd.abs()));
         }
     }
     let dp = sens.params.unwrap();
@@ -280,10 +270,7 @@ fn monodromy_with_saltation_matches_finite_differences() {
         for i in 0..4 {
             let fd = (fp[i] - fm[i]) / (2.0 * hq);
             let an = dp[i + 4 * q];
-            assert!(
-                (an - fd).abs() < 1e-5 * (1.0 + fd.abs()),
-                "dx{i}/dp{q} = {an} vs {fd}"
-            );
+            assert_abs_diff_eq!(an, fd, epsilon = 1e-5 * (1.0 + fd.abs()));
         }
     }
 }

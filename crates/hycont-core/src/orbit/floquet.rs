@@ -35,6 +35,22 @@ impl Floquet {
         self.unstable == 0
     }
 
+    /// The monodromy matrix ($n \times n$).
+    #[must_use]
+    pub fn monodromy_matrix(&self) -> nalgebra::DMatrix<f64> {
+        let n = self.multipliers.len();
+        nalgebra::DMatrix::from_column_slice(n, n, &self.monodromy)
+    }
+
+    /// The Floquet vectors: unit eigenvectors of the monodromy matrix, as columns in the order
+    /// of [`Floquet::multipliers`] (complex for complex multipliers).
+    ///
+    /// # Errors
+    /// If the eigendecomposition fails.
+    pub fn vectors(&self) -> Result<nalgebra::DMatrix<nalgebra::Complex<f64>>> {
+        crate::linalg::eigenvectors(self.multipliers.len(), &self.monodromy).map(|(_, v)| v)
+    }
+
     /// The non-trivial multipliers.
     pub fn nontrivial(&self) -> impl Iterator<Item = (f64, f64)> + '_ {
         self.multipliers
@@ -87,20 +103,27 @@ impl Floquet {
     }
 }
 
-/// $C = A B$ for column-major $n \times n$ matrices.
+/// $C = A B$ for column-major $n \times n$ matrices, by nalgebra (three times faster than a
+/// plain loop at $n = 4$: `cargo bench -p hycont-core --bench dense`).
 pub(crate) fn matmul(n: usize, a: &[f64], b: &[f64]) -> Vec<f64> {
-    let mut c = vec![0.0; n * n];
-    for j in 0..n {
-        for l in 0..n {
-            let blj = b[l + j * n];
-            if blj != 0.0 {
-                for i in 0..n {
-                    c[i + j * n] += a[i + l * n] * blj;
-                }
-            }
-        }
-    }
-    c
+    let a = nalgebra::DMatrixView::from_slice(a, n, n);
+    let b = nalgebra::DMatrixView::from_slice(b, n, n);
+    (a * b).data.into()
+}
+
+/// The saltation matrix $S_k$ at the end of segment `k` of `orbit`, whose state before the jump
+/// is `end_state`: $S = g_x + (f^+ - g_x f^-) h_x / (h_x f^-)$ with $h$ the event function, $g$
+/// its reset and $f^\mp$ the vector fields before and after (the identity at interior points).
+/// The monodromy is $M = S_{K-1}\Phi_{K-1} \cdots S_0 \Phi_0$.
+#[must_use]
+pub fn saltation_matrix<S: HybridJacobians + ?Sized>(
+    system: &S,
+    orbit: &PeriodicOrbit,
+    k: usize,
+    end_state: &[f64],
+) -> nalgebra::DMatrix<f64> {
+    let n = system.state_dim();
+    nalgebra::DMatrix::from_vec(n, n, saltation(system, orbit, k, end_state))
 }
 
 /// The saltation matrix $S_k$ at the end of segment `k` (identity for interior points).

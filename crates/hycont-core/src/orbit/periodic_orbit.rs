@@ -82,6 +82,36 @@ impl PeriodicOrbit {
         self.durations.len()
     }
 
+    /// The start state of segment `k` as a vector (`None` if there is no such segment).
+    #[must_use]
+    pub fn start(&self, k: usize) -> Option<nalgebra::DVector<f64>> {
+        self.starts
+            .get(k)
+            .map(|x| nalgebra::DVector::from_column_slice(x))
+    }
+
+    /// The saltation matrices at the ends of the segments (identities at interior points), from
+    /// the segments' end states (integrated with `settings`): the factors $S_k$ of the monodromy
+    /// $M = S_{K-1}\Phi_{K-1} \cdots S_0\Phi_0$.
+    ///
+    /// # Errors
+    /// If the orbit does not fit the system or cannot be integrated.
+    pub fn saltation_matrices<S: crate::system::HybridJacobians + ?Sized>(
+        &self,
+        system: &S,
+        settings: &SimulationSettings,
+    ) -> Result<Vec<nalgebra::DMatrix<f64>>> {
+        self.validate(system)?;
+        let needs = super::ScanNeeds {
+            ends: true,
+            ..super::ScanNeeds::default()
+        };
+        let scanned = super::scan(system, self, &needs, settings)?;
+        Ok((0..self.segment_count())
+            .map(|k| super::floquet::saltation_matrix(system, self, k, &scanned.ends[k]))
+            .collect())
+    }
+
     /// Builds an orbit from the tail of a simulation that has converged to a periodic orbit:
     /// the last jump is matched with the latest earlier jump of the same event whose post-jump
     /// state agrees to `tol` (relative, max-norm); the jumps in between define the signature,
