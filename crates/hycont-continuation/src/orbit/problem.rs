@@ -41,7 +41,10 @@ pub(crate) type WrapPart<'a> =
 /// the shortest segment ends the branch there, located.
 ///
 /// Started from a half orbit ([`Closure::Symmetric`]) it continues symmetric orbits on the
-/// half-orbit problem (see the [module documentation](self)); the period is the full period.
+/// half-orbit problem: half the segments, the full orbit's multipliers ($\lambda = \mu^2$ from
+/// the half map's $\mu$) and period, and the symmetry-breaking factor $\prod (1 + \mu)$ in the
+/// branch-point test ([`crate::PointInfo::branch_point_factor`]), so that its branch has the
+/// special points of the same branch on the full orbit.
 pub struct OrbitContinuation<'a, S: ?Sized> {
     system: &'a S,
     like: PeriodicOrbit,

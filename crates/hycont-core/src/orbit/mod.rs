@@ -30,7 +30,7 @@ pub use measure::{
     SegmentValue, TimeAverage,
 };
 pub use periodic_orbit::PeriodicOrbit;
-pub use scan::{CriticalPoint, OrbitScan, ScanNeeds, Turn, Watch, scan};
+pub use scan::{BOUNDARY_BAND, CriticalPoint, OrbitScan, ScanNeeds, Turn, Watch, scan};
 pub use shooting::{CachedSegment, LinearizationCache, Shooting, ShootingSettings};
 pub use signature::{Closure, SegmentEnd, SegmentSpec, Signature};
 pub use symmetry::{
