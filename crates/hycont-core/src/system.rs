@@ -229,6 +229,24 @@ pub trait HybridSystem {
         vec![(1.0, 0.0)]
     }
 
+    /// A structural hint: `Some(j)` when, in `mode`, the time derivative of state component `c`
+    /// is exactly state component `j` ($f_c(x, p) = x_j$, e.g. a position whose velocity is in
+    /// the state). Scans of orbits then find the extrema of $x_c$ from $x_j$ without evaluating
+    /// the vector field. Default: `None`. [`check_derivatives`] verifies hints.
+    fn rate_component(&self, mode: Mode, c: usize) -> Option<usize> {
+        let _ = (mode, c);
+        None
+    }
+
+    /// A structural hint: `Some(c)` when the event function is $h_e(x, p) = x_c - v(p)$ (an
+    /// event on a coordinate surface), so that with [`HybridSystem::rate_component`] a scan
+    /// watches its turning points through a state component. Default: `None`.
+    /// [`check_derivatives`] verifies hints.
+    fn event_component(&self, event: EventId) -> Option<usize> {
+        let _ = event;
+        None
+    }
+
     /// Where to go when the jumps of `event` accumulate (Zeno behaviour) in `mode`.
     ///
     /// The simulator calls this when it detects an accumulation of `event` (see
@@ -435,6 +453,12 @@ impl<S: HybridSystem> HybridSystem for FiniteDifferences<S> {
     fn symmetry(&self) -> Option<Z2Symmetry> {
         self.inner.symmetry()
     }
+    fn rate_component(&self, mode: Mode, c: usize) -> Option<usize> {
+        self.inner.rate_component(mode, c)
+    }
+    fn event_component(&self, event: EventId) -> Option<usize> {
+        self.inner.event_component(event)
+    }
     fn trivial_multipliers(&self, p: &[f64], period: f64) -> Vec<(f64, f64)> {
         self.inner.trivial_multipliers(p, period)
     }
@@ -505,6 +529,12 @@ pub enum DerivativeKind {
     ResetState(EventId),
     /// $\partial g_e / \partial p$ of the given event.
     ResetParams(EventId),
+    /// The hint [`HybridSystem::rate_component`]: $f_c$ (supplied) against $x_j$ (numeric), one
+    /// entry per hinted component.
+    RateComponent,
+    /// The hint [`HybridSystem::event_component`] of the given event: the unit vector $e_c$
+    /// (supplied) against the event function's central-difference gradient.
+    EventComponent(EventId),
     /// [`HybridJacobians::vector_field_with_jacobian`] against the separate methods: $f$, then
     /// $\partial f / \partial x$, then $\partial f / \partial p$, one column of `n` rows each
     /// (`numeric` holds the separate methods' values; they must agree to round-off).
@@ -623,7 +653,39 @@ pub fn check_derivatives<S: HybridJacobians + ?Sized>(
         &separate,
     ));
 
+    // Structural hints: f_c = x_j exactly.
+    let hinted: Vec<(usize, usize)> = (0..n)
+        .filter_map(|c| system.rate_component(mode, c).map(|j| (c, j)))
+        .collect();
+    if !hinted.is_empty() {
+        let mut f = vec![0.0; n];
+        system.vector_field(mode, x, p, &mut f);
+        let supplied: Vec<f64> = hinted.iter().map(|&(c, _)| f[c]).collect();
+        let numeric: Vec<f64> = hinted
+            .iter()
+            .map(|&(_, j)| x.get(j).copied().unwrap_or(f64::NAN))
+            .collect();
+        worst.push(compare(
+            DerivativeKind::RateComponent,
+            1,
+            &supplied,
+            &numeric,
+        ));
+    }
+
     for &e in system.events(mode) {
+        if let Some(c) = system.event_component(e) {
+            let mut unit = vec![0.0; n];
+            if let Some(u) = unit.get_mut(c) {
+                *u = 1.0;
+            }
+            let mut ngx = vec![0.0; n];
+            central_difference(x, 1, &mut ngx, |w, out| out[0] = system.event(e, w, p));
+            if c >= n {
+                unit[0] = f64::NAN;
+            }
+            worst.push(compare(DerivativeKind::EventComponent(e), 1, &unit, &ngx));
+        }
         let mut gx = vec![0.0; n];
         let mut gp = vec![0.0; np];
         let mut ngx = vec![0.0; n];

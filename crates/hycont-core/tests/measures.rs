@@ -15,8 +15,8 @@ use hycont_core::orbit::{
     SegmentSpec, SegmentValue, Signature, TimeAverage, Turn, Watch, scan,
 };
 use hycont_core::{
-    Direction, Error, EventAction, EventId, EventSpec, HybridJacobians, HybridSystem, Mode,
-    SimulationSettings, Z2Symmetry,
+    DerivativeKind, Direction, Error, EventAction, EventId, EventSpec, HybridJacobians,
+    HybridSystem, Mode, SimulationSettings, Z2Symmetry, check_derivatives,
 };
 use std::f64::consts::PI;
 
@@ -85,7 +85,7 @@ impl HybridJacobians for Walls {
     }
     fn event_gradient(
         &self,
-        _: EventId,
+        e: EventId,
         _: &[f64],
         _: &[f64],
         dx: &mut [f64],
@@ -93,7 +93,7 @@ impl HybridJacobians for Walls {
     ) {
         dx.copy_from_slice(&[1.0, 0.0]);
         if let Some(dp) = dp {
-            dp.fill(0.0);
+            dp.copy_from_slice(&[0.0, if e == LOW { 1.0 } else { -1.0 }]);
         }
     }
 }
@@ -336,4 +336,158 @@ fn closures_are_measures() {
     set.add("period", |_: &Walls, o: &PeriodicOrbit| o.period())
         .unwrap();
     assert_abs_diff_eq!(set.evaluate(&Walls, &orbit).unwrap()[0], 2.0 * PI);
+}
+
+/// [`Walls`] with its structural hints declared: $\dot x = v$ (the rate of component 0 is
+/// component 1) and both walls are surfaces of $x$. `wrong` declares false hints instead,
+/// which [`check_derivatives`] must catch.
+struct Hinted {
+    wrong: bool,
+}
+
+impl HybridSystem for Hinted {
+    fn state_dim(&self) -> usize {
+        Walls.state_dim()
+    }
+    fn parameter_names(&self) -> &[&'static str] {
+        Walls.parameter_names()
+    }
+    fn mode_count(&self) -> usize {
+        1
+    }
+    fn mode_name(&self, m: Mode) -> &'static str {
+        Walls.mode_name(m)
+    }
+    fn events(&self, m: Mode) -> &[EventId] {
+        Walls.events(m)
+    }
+    fn event_spec(&self, e: EventId) -> EventSpec {
+        Walls.event_spec(e)
+    }
+    fn vector_field(&self, m: Mode, x: &[f64], p: &[f64], out: &mut [f64]) {
+        Walls.vector_field(m, x, p, out);
+    }
+    fn event(&self, e: EventId, x: &[f64], p: &[f64]) -> f64 {
+        Walls.event(e, x, p)
+    }
+    fn rate_component(&self, _: Mode, c: usize) -> Option<usize> {
+        (c == 0).then_some(if self.wrong { 0 } else { 1 })
+    }
+    fn event_component(&self, _: EventId) -> Option<usize> {
+        Some(usize::from(self.wrong))
+    }
+}
+
+impl HybridJacobians for Hinted {
+    fn vector_field_jacobian(
+        &self,
+        m: Mode,
+        x: &[f64],
+        p: &[f64],
+        dx: &mut [f64],
+        dp: Option<&mut [f64]>,
+    ) {
+        Walls.vector_field_jacobian(m, x, p, dx, dp);
+    }
+    fn event_gradient(
+        &self,
+        e: EventId,
+        x: &[f64],
+        p: &[f64],
+        dx: &mut [f64],
+        dp: Option<&mut [f64]>,
+    ) {
+        Walls.event_gradient(e, x, p, dx, dp);
+    }
+}
+
+fn walls_orbit<S: HybridSystem>(system: &S, split: bool, c: f64, r: f64) -> PeriodicOrbit {
+    let seg = SegmentSpec {
+        mode: Mode(0),
+        end: V_ZERO,
+    };
+    let (specs, starts, durations) = if split {
+        (
+            vec![seg, seg],
+            vec![vec![c + r, 0.0], vec![c - r, 0.0]],
+            vec![PI, PI],
+        )
+    } else {
+        (vec![seg], vec![vec![c + r, 0.0]], vec![2.0 * PI])
+    };
+    let sig = Signature::new(system, specs).unwrap();
+    PeriodicOrbit::new(system, sig, starts, durations, vec![c, 1.5]).unwrap()
+}
+
+#[test]
+fn hinted_scans_find_the_same_critical_points() {
+    // The hints group x, x + d and x - d into one watched rate v: the scan must still report
+    // each function's own extrema, exactly as without hints. The orbit starts a quarter turn
+    // off its maximum so that both extrema lie inside the segment.
+    let settings = SimulationSettings::default();
+    let needs = ScanNeeds {
+        watches: vec![
+            Watch::Component(0),
+            Watch::Event(LOW),
+            Watch::Component(1),
+            Watch::Event(HIGH),
+        ],
+        integrals: vec![0],
+        ..ScanNeeds::default()
+    };
+    let (c, r) = (0.2, 0.9);
+    let quarter = |s: &dyn Fn(bool) -> PeriodicOrbit| {
+        let mut o = s(false);
+        o.starts[0] = vec![c, -r];
+        o
+    };
+    let plain_orbits = [
+        walls_orbit(&Walls, false, c, r),
+        walls_orbit(&Walls, true, c, r),
+        quarter(&|s| walls_orbit(&Walls, s, c, r)),
+    ];
+    let hinted = Hinted { wrong: false };
+    for plain_orbit in &plain_orbits {
+        let mut hinted_orbit = walls_orbit(&hinted, plain_orbit.starts.len() == 2, c, r);
+        hinted_orbit.starts.clone_from(&plain_orbit.starts);
+        let a = scan(&Walls, plain_orbit, &needs, &settings).unwrap();
+        let b = scan(&hinted, &hinted_orbit, &needs, &settings).unwrap();
+        assert_eq!(a.critical.len(), b.critical.len(), "{a:?}\n{b:?}");
+        // Each function has one maximum and one minimum per turn (v: at x = c, -r and +r).
+        for w in &needs.watches {
+            assert_eq!(b.critical_of(*w).count(), 2, "{w:?}: {b:?}");
+        }
+        for (p, q) in a.critical.iter().zip(&b.critical) {
+            assert_eq!((p.watch, p.turn, p.segment), (q.watch, q.turn, q.segment));
+            assert_abs_diff_eq!(p.t, q.t, epsilon = 1e-12);
+            assert_abs_diff_eq!(p.value, q.value, epsilon = 1e-12);
+        }
+        assert_abs_diff_eq!(a.integrals[0][0], b.integrals[0][0], epsilon = 1e-12);
+    }
+}
+
+#[test]
+fn derivative_checks_verify_the_hints() {
+    let (x, p) = ([0.4, -0.7], [0.1, 1.0]);
+    let good = check_derivatives(&Hinted { wrong: false }, Mode(0), &x, &p);
+    assert!(good.max_error() < 1e-8, "{good:?}");
+    for kind in [
+        DerivativeKind::RateComponent,
+        DerivativeKind::EventComponent(LOW),
+        DerivativeKind::EventComponent(HIGH),
+    ] {
+        assert!(
+            good.worst.iter().any(|m| m.kind == kind),
+            "{kind:?} not checked"
+        );
+    }
+    // x' = v, not x; the walls are surfaces of x, not of v: errors of order one.
+    let bad = check_derivatives(&Hinted { wrong: true }, Mode(0), &x, &p);
+    for kind in [
+        DerivativeKind::RateComponent,
+        DerivativeKind::EventComponent(LOW),
+    ] {
+        let m = bad.worst.iter().find(|m| m.kind == kind).unwrap();
+        assert!(m.error > 0.3, "{m:?}");
+    }
 }

@@ -414,6 +414,20 @@ impl HybridSystem for RockingBlock {
         }
     }
 
+    /// $\dot\varphi = \psi$ in both flights.
+    fn rate_component(&self, mode: Mode, c: usize) -> Option<usize> {
+        (c == 0 && (mode == PLUS || mode == MINUS)).then_some(1)
+    }
+
+    /// Impacts and overturning are surfaces $\varphi = \mathrm{const}$.
+    fn event_component(&self, event: EventId) -> Option<usize> {
+        matches!(
+            event,
+            IMPACT_PLUS | IMPACT_MINUS | OVERTURN_POS | OVERTURN_NEG
+        )
+        .then_some(0)
+    }
+
     /// $S(\varphi, \psi, r, s) = -(\varphi, \psi, r, s)$, swapping the modes `+`/`-` and the
     /// events accordingly.
     fn symmetry(&self) -> Option<Z2Symmetry> {

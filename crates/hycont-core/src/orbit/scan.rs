@@ -180,19 +180,33 @@ pub fn check_needs<S: HybridSystem + ?Sized>(system: &S, needs: &ScanNeeds) -> R
     Ok(())
 }
 
-/// One segment's mode as a system for the scan: the state extended by the integrals, and two
-/// recorded identity events per watched function ($\dot q$ rising: minimum; falling: maximum).
+/// One segment's mode as a system for the scan: the state extended by the integrals, and one
+/// recorded identity event per watched function (its rate $\dot q$ crossing zero either way;
+/// whether it is a minimum or a maximum is classified at the few points found).
 struct ScanFlow<'a, S: ?Sized> {
     system: &'a S,
     mode: Mode,
     n: usize,
     watches: Vec<Watch>,
+    /// Per watch: the state component its rate is, where the system's hints say so
+    /// ([`HybridSystem::rate_component`], [`HybridSystem::event_component`]).
+    rate_of: Vec<Option<usize>>,
     integrals: &'a [usize],
     ids: Vec<EventId>,
     /// `-1.0` integrates backward (a negative duration).
     time_sign: f64,
-    f: RefCell<Vec<f64>>,
-    grad: RefCell<Vec<f64>>,
+    /// The rates of all watched functions at the last state asked for: the simulator evaluates
+    /// every event at the same state in turn, and one vector field serves them all.
+    rates: RefCell<Rates>,
+}
+
+/// See [`ScanFlow::rates`].
+struct Rates {
+    x: Vec<f64>,
+    values: Vec<f64>,
+    f: Vec<f64>,
+    grad: Vec<f64>,
+    valid: bool,
 }
 
 impl<S: HybridJacobians + ?Sized> HybridSystem for ScanFlow<'_, S> {
@@ -211,14 +225,10 @@ impl<S: HybridJacobians + ?Sized> HybridSystem for ScanFlow<'_, S> {
     fn events(&self, _: Mode) -> &[EventId] {
         &self.ids
     }
-    fn event_spec(&self, event: EventId) -> EventSpec {
+    fn event_spec(&self, _: EventId) -> EventSpec {
         EventSpec {
             name: "critical point",
-            direction: if event.0.is_multiple_of(2) {
-                Direction::Rising
-            } else {
-                Direction::Falling
-            },
+            direction: Direction::Either,
             action: EventAction::Jump { to: Mode(0) },
         }
     }
@@ -236,9 +246,31 @@ impl<S: HybridJacobians + ?Sized> HybridSystem for ScanFlow<'_, S> {
         }
     }
     fn event(&self, event: EventId, x: &[f64], p: &[f64]) -> f64 {
-        let (mut f, mut g) = (self.f.borrow_mut(), self.grad.borrow_mut());
-        let w = self.watches[event.0 / 2];
-        watched(self.system, w, self.mode, &x[..self.n], p, &mut f, &mut g).1
+        if let Some(j) = self.rate_of[event.0] {
+            return x[j];
+        }
+        let mut r = self.rates.borrow_mut();
+        let x = &x[..self.n];
+        if !(r.valid && r.x == x) {
+            let Rates {
+                f, grad, values, ..
+            } = &mut *r;
+            self.system.vector_field(self.mode, x, p, f);
+            values.clear();
+            for &w in &self.watches {
+                values.push(match w {
+                    Watch::Component(c) => f[c],
+                    Watch::Event(e) => {
+                        self.system.event_gradient(e, x, p, grad, None);
+                        grad.iter().zip(f.iter()).map(|(a, b)| a * b).sum()
+                    }
+                });
+            }
+            r.x.clear();
+            r.x.extend_from_slice(x);
+            r.valid = true;
+        }
+        r.values[event.0]
     }
 }
 
@@ -292,16 +324,40 @@ pub fn scan<S: HybridJacobians + ?Sized>(
         } else {
             Vec::new()
         };
+        // Watches whose rates are the same state component (by the system's hints) are one
+        // function up to a constant: one event finds the critical points of all of them (the
+        // others are added where their rate vanishes too, below).
+        let hinted = |w: &Watch| {
+            let c = match *w {
+                Watch::Component(c) => Some(c),
+                Watch::Event(e) => system.event_component(e),
+            };
+            c.and_then(|c| system.rate_component(seg.mode, c))
+                .filter(|&j| j < n)
+        };
+        let mut detected: Vec<Watch> = Vec::new();
+        for w in &watches {
+            if hinted(w).is_none() || !detected.iter().any(|d| hinted(d) == hinted(w)) {
+                detected.push(*w);
+            }
+        }
+        let rate_of = detected.iter().map(hinted).collect();
         let flow = ScanFlow {
             system,
             mode: seg.mode,
             n,
-            ids: (0..2 * watches.len()).map(EventId).collect(),
-            watches,
+            ids: (0..detected.len()).map(EventId).collect(),
+            rate_of,
+            watches: detected,
             integrals: &needs.integrals,
             time_sign: duration.signum(),
-            f: RefCell::new(vec![0.0; n]),
-            grad: RefCell::new(vec![0.0; n]),
+            rates: RefCell::new(Rates {
+                x: Vec::with_capacity(n),
+                values: Vec::new(),
+                f: vec![0.0; n],
+                grad: vec![0.0; n],
+                valid: false,
+            }),
         };
         let mut x0 = orbit.starts[k].clone();
         x0.resize(n + needs.integrals.len(), 0.0);
@@ -314,19 +370,14 @@ pub fn scan<S: HybridJacobians + ?Sized>(
         }
         let margin = BOUNDARY_BAND * duration.abs().max(1.0);
         for e in &traj.events {
-            let turn = if e.event.0.is_multiple_of(2) {
-                Turn::Min
-            } else {
-                Turn::Max
-            };
-            let first = flow.watches[e.event.0 / 2];
+            let first = flow.watches[e.event.0];
             // Inside the band at an end, the point is the boundary's when the boundary was
-            // registered as this critical point (its exact state); otherwise it is kept (a
-            // start slightly off its split, e.g. during Newton's iterations).
+            // registered as this function's critical point (its exact state); otherwise it is
+            // kept (a start slightly off its split, e.g. during Newton's iterations).
             let registered = |segment: usize| {
                 boundary
                     .iter()
-                    .any(|c| c.segment == segment && c.watch == first && c.turn == turn)
+                    .any(|c| c.segment == segment && c.watch == first)
             };
             if (e.t <= margin && registered(k))
                 || (e.t >= duration - margin && registered((k + 1) % segs.len()))
@@ -334,6 +385,7 @@ pub fn scan<S: HybridJacobians + ?Sized>(
                 continue;
             }
             let state = &e.state_before[..n];
+            let turn = classify(system, first, seg.mode, state, &orbit.params);
             push_unique(
                 &mut out.critical,
                 system,
@@ -346,7 +398,7 @@ pub fn scan<S: HybridJacobians + ?Sized>(
             // Other watched functions critical at the same point: the simulator restarts on
             // their zero and does not report them.
             let scale = 1.0 + state.iter().fold(0.0f64, |m, v| m.max(v.abs()));
-            for &w in flow.watches.iter().filter(|&&w| w != first) {
+            for &w in watches.iter().filter(|&&w| w != first) {
                 let (mut f, mut g) = (vec![0.0; n], vec![0.0; n]);
                 let rate = watched(system, w, seg.mode, state, &orbit.params, &mut f, &mut g).1;
                 if rate.abs() <= 1e-9 * scale {
