@@ -1,0 +1,193 @@
+//! Locating special points in a step: charts at a given arclength on a chart's hyperplanes, the
+//! ITP root bracket on a test function, and folds beside a branch point.
+
+use super::predict::hermite;
+use super::slots::{Slot, Source};
+use super::{Chart, Palc};
+use crate::ContinuationProblem;
+use crate::error::Result;
+
+impl<'a, P: ContinuationProblem<'a> + ?Sized> Palc<'_, 'a, P> {
+    /// The chart at arclength `s` on chart `a`'s hyperplanes, with `a`'s tangent as reference row
+    /// (so that the determinant is continuous in `s`). With `analyse == false` the point's
+    /// analysis (multipliers, monitors) is copied from `a` (enough for the fold and branch-point
+    /// tests, which use the tangent and the determinant only).
+    ///
+    /// The predictor interpolates the bracket's charts `lo` (at `s_lo`) and `hi` (at `s_hi`):
+    /// cubic Hermite in $s$ with slopes $t / \langle t_a, t \rangle_W$, which keeps it on the hyperplane
+    /// and makes it accurate to $O(w^4)$ in the bracket width $w$, so that late in a location
+    /// the predictor is already a solution; linear where a slope is unreliable (the tangent
+    /// turns away from $t_a$, e.g. next to a branch point).
+    pub(super) fn chart_at(
+        &mut self,
+        a: &Chart,
+        (lo, s_lo): (&Chart, f64),
+        (hi, s_hi): (&Chart, f64),
+        s: f64,
+        analyse: bool,
+    ) -> Result<Chart> {
+        let w = s_hi - s_lo;
+        let x = (s - s_lo) / w;
+        let (d_lo, d_hi) = (self.wdot(&a.t, &lo.t), self.wdot(&a.t, &hi.t));
+        let pred: Vec<f64> = if d_lo > 0.5 && d_hi > 0.5 {
+            hermite(&lo.u, (w / d_lo, &lo.t), &hi.u, (w / d_hi, &hi.t), x)
+        } else {
+            lo.u.iter()
+                .zip(&hi.u)
+                .map(|(p, q)| p + x * (q - p))
+                .collect()
+        };
+        let row = self.row_of(&a.t);
+        let (u, it) = self.correct(&pred, &row, &a.u.clone(), s, true)?;
+        if analyse {
+            return self.chart(u, &row, it);
+        }
+        let (t, det) = self.tangent_from_factorization()?;
+        Ok(Chart {
+            u,
+            t,
+            info: a.info.clone(),
+            iterations: it,
+            det,
+        })
+    }
+
+    /// Locates the zero of test slot `slot` between the charts `lo` and `hi` at arclengths
+    /// `s_lo < s_hi` on chart `a`'s hyperplanes, by the ITP method (Oliveira and Takahashi,
+    /// 2020: regula falsi, truncated towards the midpoint and projected into a shrinking
+    /// interval around it). It converges superlinearly for smooth test functions, from both
+    /// sides (the truncation steps over the root, so the bracket, not just one end, shrinks),
+    /// and never needs more than one evaluation beyond bisection's
+    /// $\lceil \log_2 (w_0 / \mathrm{tol}) \rceil$. A trial whose corrector fails (next to a
+    /// branch point the augmented Jacobian is singular) is retried at the midpoint. Returns the
+    /// chart, whether the bracket in `s` reached the tolerance, and the final bracket width; on
+    /// failure, the better bracket end.
+    pub(super) fn locate(
+        &mut self,
+        a: &Chart,
+        (lo_chart, s_lo): (&Chart, f64),
+        (hi_chart, s_hi): (&Chart, f64),
+        slot: usize,
+    ) -> (Chart, bool, f64) {
+        let det_ref = a.det.1;
+        let tol = self.settings.locate_tol;
+        let (mut lo, mut hi) = (s_lo, s_hi);
+        let mut glo = self.tests(lo_chart, det_ref).values[slot];
+        let mut ghi = self.tests(hi_chart, det_ref).values[slot];
+        let (mut c_lo, mut c_hi) = (lo_chart.clone(), hi_chart.clone());
+        // ITP constants: eps = tol / 2 (stop when the bracket is at most tol), kappa1 = 0.2 / w0,
+        // kappa2 = 2, n0 = 1.
+        let eps = 0.5 * tol;
+        let w0 = hi - lo;
+        let kappa1 = 0.2 / w0;
+        let n_max = (w0 / (2.0 * eps)).log2().ceil().max(0.0) + 1.0;
+        let mut j = 0.0;
+        let mut bisect_next = false;
+        // Fold and branch-point tests need no analysis of the trial points, unless the
+        // branch-point test has a factor from the analysis.
+        let needs_analysis = match self.slots[slot] {
+            Slot::Fold => false,
+            Slot::BranchPoint => a.info.branch_point_factor.is_some(),
+            Slot::Event { source, .. } | Slot::Bound { source, .. } => source != Source::Continued,
+            _ => true,
+        };
+        for _ in 0..200 {
+            let width = hi - lo;
+            if width <= tol {
+                break;
+            }
+            let mid = 0.5 * (lo + hi);
+            let s = if bisect_next || glo == ghi {
+                mid
+            } else {
+                let r = (eps * 2f64.powf(n_max - j) - 0.5 * width).max(0.0);
+                let delta = kappa1 * width * width;
+                let x_f = (ghi * lo - glo * hi) / (ghi - glo);
+                let sigma = (mid - x_f).signum();
+                let x_t = if delta <= (mid - x_f).abs() {
+                    x_f + sigma * delta
+                } else {
+                    mid
+                };
+                if (x_t - mid).abs() <= r {
+                    x_t
+                } else {
+                    mid - sigma * r
+                }
+            };
+            // Strictly inside the bracket (the projection allows its ends in exact arithmetic).
+            let margin = (0.25 * eps).min(0.25 * width);
+            let s = s.clamp(lo + margin, hi - margin);
+            j += 1.0;
+            let Ok(c) = self.chart_at(a, (&c_lo, lo), (&c_hi, hi), s, needs_analysis) else {
+                if bisect_next {
+                    break; // even the midpoint fails: give up with the bracket so far
+                }
+                bisect_next = true;
+                continue;
+            };
+            bisect_next = false;
+            let gs = self.tests(&c, det_ref).values[slot];
+            if gs == 0.0 {
+                let mut c = c;
+                if !needs_analysis && let Ok(info) = self.analyse(&c.u) {
+                    c.info = info;
+                }
+                return (c, true, 0.0);
+            }
+            if gs.signum() == glo.signum() {
+                lo = s;
+                glo = gs;
+                c_lo = c;
+            } else {
+                hi = s;
+                ghi = gs;
+                c_hi = c;
+            }
+        }
+        let width = hi - lo;
+        let located = width <= tol;
+        // The bracket end nearer the zero by the test function's magnitude.
+        let mut best = if glo.abs() <= ghi.abs() { c_lo } else { c_hi };
+        if !needs_analysis && let Ok(info) = self.analyse(&best.u) {
+            best.info = info;
+        }
+        (best, located, width)
+    }
+
+    /// Locates a fold in a step that has a located branch point at `s_bp`, outside a window
+    /// of half-width $\Delta = 0.05 h$ around it, or returns `None` when the fold test changes
+    /// sign only across the window. Next to a branch point the augmented Jacobian is nearly
+    /// singular and the tangent (whose parameter component is the fold test) is dominated by
+    /// error; and on a branch through a pitchfork (the asymmetric branch at a symmetry-breaking
+    /// point) the parameter does turn at the branch point itself. Neither is a saddle-node.
+    /// The window's ends are predicted from the step's ends (the tangent at the branch point
+    /// is unreliable).
+    pub(super) fn locate_fold_beside(
+        &mut self,
+        a: &Chart,
+        b: &Chart,
+        h: f64,
+        slot: usize,
+        s_bp: f64,
+    ) -> Option<(Chart, bool, f64)> {
+        let det_ref = a.det.1;
+        let delta = 0.05 * h;
+        let g = |me: &Self, c: &Chart| me.tests(c, det_ref).values[slot];
+        let ga = g(self, a);
+        if s_bp - delta > 0.0
+            && let Ok(before) = self.chart_at(a, (a, 0.0), (b, h), s_bp - delta, false)
+            && ga * g(self, &before) <= 0.0
+        {
+            return Some(self.locate(a, (a, 0.0), (&before, s_bp - delta), slot));
+        }
+        let gb = g(self, b);
+        if s_bp + delta < h
+            && let Ok(after) = self.chart_at(a, (a, 0.0), (b, h), s_bp + delta, false)
+            && gb * g(self, &after) <= 0.0
+        {
+            return Some(self.locate(a, (&after, s_bp + delta), (b, h), slot));
+        }
+        None
+    }
+}

@@ -1,0 +1,628 @@
+//! Pseudo-arclength continuation (PALC) over a one-dimensional atlas of charts.
+//!
+//! A chart is a solution $u$ of $F(u) = 0$ ($F: \mathbb{R}^N \to \mathbb{R}^{N-1}$) with its unit
+//! tangent $t$ ($J t = 0$, oriented along the run). From chart $(u_a, t_a)$ a step $h$ predicts
+//! by extrapolating the cubic Hermite interpolant of the previous chart and $(u_a, t_a)$ (the
+//! tangent predictor $u_a + h t_a$ at the start and after a rejected step) and corrects on the
+//! hyperplane $\langle t_a, u - u_a \rangle_W = h$ with chord Newton on the augmented system
+//! $[F; \langle t_a, u - u_a \rangle_W - h]$, Jacobian $A = [J; (W t_a)^\top]$, where
+//! $\langle \cdot, \cdot \rangle_W$ is the arclength inner product with the problem's unknown
+//! weights (see [`crate::ContinuationProblem::unknown_weights`]; tangents have unit $W$-norm).
+//! The new tangent solves $A x = e_N$. Test functions are evaluated at every chart; a sign change between two charts is
+//! located on the first chart's hyperplanes, $s \mapsto$ the solution at arclength
+//! $s \in (0, h)$, by the ITP method until the bracket in $s$ is below the location tolerance.
+//! A fold test change beside a located branch point in the same step is the branch point's.
+
+use crate::branch::{Branch, BranchPoint, EndReason, RunStatistics, SpecialKind, SpecialPoint};
+use crate::error::{Error, Result};
+use crate::observe::Observer;
+use crate::quantity::Quantity;
+use crate::settings::{BoundOn, ContinuationSettings};
+use crate::{ContinuationProblem, PointInfo};
+use hycont_core::ParamId;
+use hycont_core::linalg::SparsePattern;
+use hycont_core::problem::JacobianUse;
+
+mod locate;
+mod predict;
+mod slots;
+
+use predict::{dot, extrapolate, generic, max_abs, orientation};
+use slots::{Slot, Source};
+
+/// A solved chart with everything the test functions need.
+#[derive(Debug, Clone)]
+struct Chart {
+    u: Vec<f64>,
+    t: Vec<f64>,
+    info: PointInfo,
+    iterations: usize,
+    /// Sign and log|det| of the augmented Jacobian at `u` (with the chart's reference row).
+    det: (f64, f64),
+}
+
+/// The continuation driver for one problem.
+pub(crate) struct Palc<'p, 'a, P: ContinuationProblem<'a> + ?Sized> {
+    p: &'p mut P,
+    settings: ContinuationSettings,
+    n: usize,
+    k: usize,
+    pattern: SparsePattern,
+    values: Vec<f64>,
+    res: Vec<f64>,
+    /// Arclength weights of the unknowns (see [`ContinuationProblem::unknown_weights`]).
+    w: Vec<f64>,
+    slots: Vec<Slot>,
+    stats: RunStatistics,
+    /// Whether evaluations count as location work.
+    locating: bool,
+    _marker: std::marker::PhantomData<&'a ()>,
+}
+
+impl<'p, 'a, P: ContinuationProblem<'a> + ?Sized> Palc<'p, 'a, P> {
+    pub(crate) fn new(p: &'p mut P, settings: ContinuationSettings) -> Result<Self> {
+        settings.validate()?;
+        let problem = p.problem();
+        let (pattern, k) = crate::switch::augmented_pattern(problem)?;
+        let n = problem.unknowns();
+        let mut slots = Vec::new();
+        let d = settings.detect;
+        if d.fold {
+            slots.push(Slot::Fold);
+        }
+        if d.branch_point {
+            slots.push(Slot::BranchPoint);
+        }
+        if d.period_doubling {
+            slots.push(Slot::PeriodDoubling);
+        }
+        if d.torus {
+            slots.push(Slot::Torus);
+        }
+        if d.monitor_events {
+            for ev in p.monitor_events() {
+                slots.push(Slot::Event {
+                    kind: ev.kind,
+                    level: ev.level,
+                    source: Self::source(p, ev.on)?,
+                    on: ev.on,
+                    terminal: ev.terminal,
+                });
+            }
+        }
+        for b in &settings.bounds {
+            let (source, on) = match b.on {
+                BoundOn::ContinuationParameter => (
+                    Source::Continued,
+                    Quantity::Parameter(ParamId(p.parameter_position())),
+                ),
+                BoundOn::Quantity(q) => (Self::source(p, q)?, q),
+            };
+            for level in [b.min, b.max] {
+                slots.push(Slot::Bound { source, on, level });
+            }
+        }
+        let w = match p.unknown_weights() {
+            Some(w) if w.len() == n && w.iter().all(|&x| x > 0.0 && x.is_finite()) => w,
+            Some(w) => {
+                return Err(Error::InvalidSetting {
+                    name: "unknown_weights",
+                    value: w.len() as f64,
+                    reason: "need one finite positive weight per unknown",
+                });
+            }
+            None => vec![1.0; n],
+        };
+        Ok(Self {
+            p,
+            settings,
+            n,
+            k,
+            pattern,
+            values: Vec::new(),
+            res: vec![0.0; n],
+            w,
+            slots,
+            stats: RunStatistics::default(),
+            locating: false,
+            _marker: std::marker::PhantomData,
+        })
+    }
+
+    /// Where the value of `q` is read, checked against the problem's parameters and monitors.
+    fn source(p: &P, q: Quantity) -> Result<Source> {
+        match q {
+            Quantity::Parameter(id) if id.index() == p.parameter_position() => {
+                Ok(Source::Continued)
+            }
+            Quantity::Parameter(id) => {
+                let count = p.parameter_names().len();
+                if id.index() < count {
+                    Ok(Source::Param(id.index()))
+                } else {
+                    Err(Error::NoSuchQuantity { quantity: q, count })
+                }
+            }
+            Quantity::Measure(m) => {
+                let count = p.monitor_names().len();
+                if m.index() < count {
+                    Ok(Source::Monitor(m.index()))
+                } else {
+                    Err(Error::NoSuchQuantity { quantity: q, count })
+                }
+            }
+        }
+    }
+
+    /// The weighted inner product $\langle a, b \rangle_W = \sum_i w_i a_i b_i$ of arclength.
+    fn wdot(&self, a: &[f64], b: &[f64]) -> f64 {
+        a.iter()
+            .zip(b)
+            .zip(&self.w)
+            .map(|((x, y), w)| w * x * y)
+            .sum()
+    }
+
+    fn wnormalize(&self, v: &mut [f64]) {
+        let norm = self.wdot(v, v).sqrt();
+        if norm > 0.0 {
+            v.iter_mut().for_each(|x| *x /= norm);
+        }
+    }
+
+    /// The augmented Jacobian's last row for the hyperplanes of tangent `t`: $W t$, so that the
+    /// row applied to $u - u_a$ is $\langle t, u - u_a \rangle_W$.
+    fn row_of(&self, t: &[f64]) -> Vec<f64> {
+        t.iter().zip(&self.w).map(|(x, w)| w * x).collect()
+    }
+
+    fn parameter(&self, u: &[f64]) -> f64 {
+        u[self.p.parameter_index()]
+    }
+
+    /// Assembles and factorises $[J(u); r^\top]$ and writes $[F(u); r \cdot (u - u_0) - s]$.
+    ///
+    /// `purpose` tells the problem whether the Jacobian must be exact (at a solution: tangent,
+    /// determinant, multipliers) or only gives chord directions (it may then be computed more
+    /// cheaply; the residual is exact either way).
+    fn factor(
+        &mut self,
+        u: &[f64],
+        row: &[f64],
+        u0: &[f64],
+        s: f64,
+        purpose: JacobianUse,
+    ) -> Result<()> {
+        let n = self.n;
+        if self.locating {
+            self.stats.location_jacobians += 1;
+        } else {
+            self.stats.jacobians += 1;
+        }
+        let mut values = std::mem::take(&mut self.values);
+        self.p
+            .problem()
+            .evaluate_for(u, &mut self.res[..n - 1], &mut values, purpose)?;
+        values.truncate(self.k);
+        values.extend_from_slice(row);
+        self.res[n - 1] = dot(row, u) - dot(row, u0) - s;
+        let out = self.pattern.factorize(&values);
+        self.values = values;
+        Ok(out?)
+    }
+
+    /// Newton on the augmented system from `u_pred`; returns the solution and the iterations,
+    /// and leaves the augmented Jacobian at the solution factorised (with `row` as last row).
+    ///
+    /// Converged when the residual is below the tolerance after at least one step, or the step
+    /// is below the tolerance with a residual of the same order. The residual criterion matters
+    /// near branch points, where the augmented Jacobian is nearly singular and evaluation noise
+    /// is amplified along the (parameter-free) null direction.
+    ///
+    /// With `accurate_predictor` (location, where the predictor interpolates two nearby
+    /// solutions to high order) the residual is checked before anything is factorised: a
+    /// predictor that already solves the equations is accepted after one factorisation there.
+    fn correct(
+        &mut self,
+        u_pred: &[f64],
+        row: &[f64],
+        u0: &[f64],
+        s: f64,
+        accurate_predictor: bool,
+    ) -> Result<(Vec<f64>, usize)> {
+        let ns = self.settings.newton;
+        let max_it = 2 * self.settings.target_iterations;
+        let n = self.n;
+        let mut u = u_pred.to_vec();
+        if accurate_predictor {
+            self.count_residual();
+            self.p
+                .problem()
+                .evaluate(&u, &mut self.res[..n - 1], None)?;
+            self.res[n - 1] = dot(row, &u) - dot(row, u0) - s;
+            if max_abs(&self.res) <= ns.residual_tol {
+                self.factor(&u, row, u0, s, JacobianUse::Exact)?;
+                return Ok((u, 0));
+            }
+        }
+        let mut du = vec![0.0; n];
+        let mut last_step = f64::INFINITY;
+        let mut last_res = f64::INFINITY;
+        // Chord iterations: the Jacobian is factorised at the predictor (and again only if the
+        // residual stops contracting fast); the other iterations evaluate the residual only.
+        let mut fresh = true;
+        self.factor(&u, row, u0, s, JacobianUse::NewtonDirection)?;
+        for it in 0..=max_it {
+            if !fresh {
+                self.count_residual();
+                self.p
+                    .problem()
+                    .evaluate(&u, &mut self.res[..n - 1], None)?;
+                self.res[n - 1] = dot(row, &u) - dot(row, u0) - s;
+            }
+            let res = max_abs(&self.res);
+            let scale = 1.0 + max_abs(&u);
+            if it > 0
+                && (res <= ns.residual_tol
+                    || (last_step <= ns.tol * scale && res <= 1e3 * last_step.max(ns.residual_tol)))
+            {
+                // Converged: factorise at the solution for the tangent and the determinant.
+                self.factor(&u, row, u0, s, JacobianUse::Exact)?;
+                return Ok((u, it));
+            }
+            if it == max_it || !res.is_finite() {
+                break;
+            }
+            if !fresh && res > 0.2 * last_res {
+                // Slow contraction: refresh the Jacobian.
+                self.factor(&u, row, u0, s, JacobianUse::NewtonDirection)?;
+            }
+            for (d, r) in du.iter_mut().zip(&self.res) {
+                *d = -r;
+            }
+            self.pattern.solve_in_place(&mut du)?;
+            last_step = max_abs(&du);
+            last_res = res;
+            if last_step > 1e3 * scale {
+                break;
+            }
+            for (x, d) in u.iter_mut().zip(&du) {
+                *x += d;
+            }
+            fresh = false;
+        }
+        Err(Error::Core(hycont_core::Error::NewtonFailed {
+            reason: "corrector did not converge".into(),
+            history: Vec::new(),
+        }))
+    }
+
+    fn count_residual(&mut self) {
+        if self.locating {
+            self.stats.location_residuals += 1;
+        } else {
+            self.stats.residuals += 1;
+        }
+    }
+
+    fn analyse(&mut self, u: &[f64]) -> Result<PointInfo> {
+        self.stats.analyses += 1;
+        Ok(self.p.analyse(u)?)
+    }
+
+    /// Tangent at `u` with the current factorisation of $[J(u); row]$ (left by
+    /// [`Palc::correct`]), and the determinant of that matrix.
+    fn tangent_from_factorization(&mut self) -> Result<(Vec<f64>, (f64, f64))> {
+        let det = self.pattern.determinant()?;
+        let mut x = vec![0.0; self.n];
+        x[self.n - 1] = 1.0;
+        self.pattern.solve_in_place(&mut x)?;
+        self.wnormalize(&mut x);
+        Ok((x, det))
+    }
+
+    /// Tangent at a corrected `u` (reference row `row`, orientation `t·row > 0`), with the
+    /// determinant of $[J(u); row]$ (factorises afresh).
+    fn tangent(&mut self, u: &[f64], row: &[f64]) -> Result<(Vec<f64>, (f64, f64))> {
+        let zero = vec![0.0; self.n];
+        self.factor(u, row, &zero, dot(row, u), JacobianUse::Exact)?;
+        self.tangent_from_factorization()
+    }
+
+    /// The chart at a corrected `u`, using the factorisation the corrector left.
+    fn chart(&mut self, u: Vec<f64>, _row: &[f64], iterations: usize) -> Result<Chart> {
+        let (t, det) = self.tangent_from_factorization()?;
+        let info = self.analyse(&u)?;
+        Ok(Chart {
+            u,
+            t,
+            info,
+            iterations,
+            det,
+        })
+    }
+
+    fn point(&self, c: &Chart, label: usize, step: f64) -> BranchPoint {
+        BranchPoint {
+            label,
+            ..BranchPoint::from_info(&c.info, c.u.clone(), c.t.clone(), c.iterations, step)
+        }
+    }
+
+    /// The first chart. Without a given direction: `u0` corrected with the parameter fixed
+    /// (where that fails, on a generic hyperplane through it: a branch that does not move in the
+    /// parameter there), its tangent oriented by `direction`. With one (branch switching,
+    /// restarts): a predictor step `h0` along it first, so that a start at a branch point leaves
+    /// it along the requested branch.
+    fn first_chart(
+        &mut self,
+        u0: &[f64],
+        initial_tangent: Option<&[f64]>,
+        direction: f64,
+    ) -> Result<Chart> {
+        let pi = self.p.parameter_index();
+        let mut a = if let Some(t) = initial_tangent {
+            let mut dir = t.to_vec();
+            self.wnormalize(&mut dir);
+            if direction < 0.0 {
+                dir.iter_mut().for_each(|x| *x = -*x);
+            }
+            let h0 = self.settings.h0;
+            let pred: Vec<f64> = u0.iter().zip(&dir).map(|(x, t)| x + h0 * t).collect();
+            let row = self.row_of(&dir);
+            let (u, it) = self.correct(&pred, &row, u0, h0, false)?;
+            let mut c = self.chart(u, &row, it)?;
+            if self.wdot(&c.t, &dir) < 0.0 {
+                c.t.iter_mut().for_each(|x| *x = -*x);
+            }
+            c
+        } else {
+            let mut row = vec![0.0; self.n];
+            row[pi] = 1.0;
+            let (row, (u, it)) = match self.correct(u0, &row, u0, 0.0, false) {
+                Ok(x) => (row, x),
+                Err(_) => {
+                    let g = generic(self.n);
+                    let x = self.correct(u0, &g, u0, 0.0, false)?;
+                    (g, x)
+                }
+            };
+            let mut c = self.chart(u, &row, it)?;
+            if orientation(&c.t, pi) * direction < 0.0 {
+                c.t.iter_mut().for_each(|x| *x = -*x);
+            }
+            c
+        };
+        // The determinant with the chart's own oriented tangent as the last row, consistent with
+        // the following charts (each uses its predecessor's tangent).
+        let own = self.row_of(&a.t);
+        a.det = self.tangent(&a.u, &own)?.1;
+        Ok(a)
+    }
+
+    /// The next chart from `a` by a step `h` from the predictor `pred`: `Ok(None)` when the
+    /// step is rejected (the corrector fails or the tangent turns by more than the largest
+    /// angle) and may be retried shorter; an error when it fails at the smallest step.
+    fn step(&mut self, a: &Chart, pred: &[f64], h: f64) -> Result<Option<Chart>> {
+        let at = self.row_of(&a.t);
+        let corrected = self.correct(pred, &at, &a.u, h, false);
+        match corrected.and_then(|(u, it)| self.chart(u, &at, it)) {
+            Ok(mut b)
+                if self.wdot(&b.t, &a.t).clamp(-1.0, 1.0).acos() <= self.settings.max_angle
+                    || h <= self.settings.h_min =>
+            {
+                // Orient the new tangent along the run.
+                if self.wdot(&b.t, &a.t) < 0.0 {
+                    b.t.iter_mut().for_each(|x| *x = -*x);
+                }
+                Ok(Some(b))
+            }
+            Ok(_) | Err(_) if h > self.settings.h_min => Ok(None),
+            Ok(_) => unreachable!("accepted above at h_min"),
+            Err(e) => Err(e),
+        }
+    }
+
+    /// The test functions that change sign between `a` and `b` (a step `h`), each located:
+    /// (arclength along the step, slot, chart, located, accuracy), in the order of the step.
+    /// Branch points first: a fold test change next to a located one is the branch point's.
+    fn located_in_step(&mut self, a: &Chart, b: &Chart, h: f64) -> Vec<Located> {
+        let det_ref = a.det.1;
+        let ta = self.tests(a, det_ref);
+        let tb = self.tests(b, det_ref);
+        let changed = |slot: usize| {
+            let (ga, gb) = (ta.values[slot], tb.values[slot]);
+            ga != 0.0 && ga * gb <= 0.0
+        };
+        let mut order: Vec<usize> = (0..self.slots.len()).filter(|&k| changed(k)).collect();
+        order.sort_by_key(|&k| self.slots[k] != Slot::BranchPoint);
+        let mut found: Vec<Located> = Vec::new();
+        self.locating = true;
+        for slot in order {
+            let bp = found
+                .iter()
+                .find(|f| self.slots[f.slot] == Slot::BranchPoint && f.located)
+                .map(|f| f.s);
+            let result = match (self.slots[slot], bp) {
+                (Slot::Fold, Some(s_bp)) => self.locate_fold_beside(a, b, h, slot, s_bp),
+                _ => Some(self.locate(a, (a, 0.0), (b, h), slot)),
+            };
+            if let Some((chart, located, accuracy)) = result {
+                let s = self.wdot(&a.t, &chart.u) - self.wdot(&a.t, &a.u);
+                found.push(Located {
+                    s,
+                    slot,
+                    chart,
+                    located,
+                    accuracy,
+                });
+            }
+        }
+        self.locating = false;
+        found.sort_by(|x, y| x.s.total_cmp(&y.s));
+        found
+    }
+
+    /// The special point of a located sign change in the step from `a` to `b` (`None` for a
+    /// torus test change that is not a complex pair on the unit circle: a neutral saddle).
+    fn special_point(
+        &self,
+        f: Located,
+        (a, b): (&Chart, &Chart),
+        h: f64,
+        label: usize,
+    ) -> Option<SpecialPoint> {
+        let kind = Self::kind_of(self.slots[f.slot]);
+        let mut c = f.chart;
+        if kind == SpecialKind::Torus {
+            let complex = c
+                .info
+                .multipliers
+                .iter()
+                .zip(&c.info.trivial)
+                .any(|(m, t)| !*t && m.1.abs() > 1e-8 && (m.0.hypot(m.1) - 1.0).abs() < 1e-4);
+            if !complex {
+                return None;
+            }
+        }
+        // At a branch point the augmented Jacobian is singular and the tangent solved there
+        // tends to the other branch's direction: keep this branch's tangent, from the
+        // bracketing chart (branch switching needs it). Not where only the problem's
+        // branch-point factor changed sign: the Jacobian is regular there.
+        if kind == SpecialKind::BranchPoint && a.det.0 != b.det.0 {
+            c.t.clone_from(&a.t);
+        }
+        let (on, level) = match self.slots[f.slot] {
+            Slot::Event { on, level, .. } | Slot::Bound { on, level, .. } => {
+                (Some(on), Some(level))
+            }
+            _ => (None, None),
+        };
+        Some(SpecialPoint {
+            kind,
+            point: self.point(&c, label, h),
+            bracket: (self.parameter(&a.u), self.parameter(&b.u)),
+            located: f.located,
+            accuracy: f.accuracy,
+            on,
+            level,
+        })
+    }
+
+    /// Whether a special point at `slot` of `kind` ends the run, and why.
+    fn ends_run(&self, slot: usize, kind: SpecialKind) -> Option<EndReason> {
+        if self.settings.stop_at.contains(&kind) {
+            return Some(EndReason::Reached(kind));
+        }
+        match self.slots[slot] {
+            Slot::Bound { .. } => Some(EndReason::Bound),
+            Slot::Event {
+                terminal: true,
+                kind,
+                ..
+            } => Some(EndReason::Inadmissible(kind)),
+            _ => None,
+        }
+    }
+
+    pub(crate) fn run(
+        &mut self,
+        name: &str,
+        u0: &[f64],
+        initial_tangent: Option<&[f64]>,
+        direction: f64,
+        observer: &mut dyn Observer,
+    ) -> Result<Branch> {
+        let mut a = self.first_chart(u0, initial_tangent, direction)?;
+        let mut label = 1;
+        let mut branch = Branch {
+            name: name.to_string(),
+            parameter: self.p.parameter_name(),
+            parameter_index: self.p.parameter_position(),
+            parameter_names: self.p.parameter_names(),
+            monitor_names: self.p.monitor_names(),
+            points: vec![self.point(&a, label, 0.0)],
+            special_points: Vec::new(),
+            end: EndReason::MaxPoints,
+            statistics: RunStatistics::default(),
+        };
+        observer.point(&branch.points[0], self.parameter(&a.u));
+        let start = a.u.clone();
+        let mut h = self.settings.h0;
+        let mut travelled = 0.0;
+        // The chart before `a` and the step from it, for the predictor; `None` after a
+        // rejected step (the tangent predictor is then used).
+        let mut previous: Option<(Vec<f64>, Vec<f64>, f64)> = None;
+        'outer: while branch.points.len() < self.settings.max_points {
+            let pred = match &previous {
+                Some((u_p, t_p, h_p)) => extrapolate(u_p, t_p, *h_p, &a.u, &a.t, h),
+                None => a.u.iter().zip(&a.t).map(|(x, t)| x + h * t).collect(),
+            };
+            let b = match self.step(&a, &pred, h) {
+                Ok(Some(b)) => b,
+                Ok(None) => {
+                    self.stats.rejected_steps += 1;
+                    previous = None;
+                    h = (0.5 * h).max(self.settings.h_min);
+                    continue;
+                }
+                Err(e) => {
+                    branch.end = EndReason::CorrectorFailed(e.to_string());
+                    break;
+                }
+            };
+            for f in self.located_in_step(&a, &b, h) {
+                let slot = f.slot;
+                let Some(special) = self.special_point(f, (&a, &b), h, label + 1) else {
+                    continue;
+                };
+                label += 1;
+                observer.special(&special);
+                let end = self.ends_run(slot, special.kind);
+                branch.special_points.push(special);
+                if let Some(end) = end {
+                    branch.end = end;
+                    break 'outer;
+                }
+            }
+            label += 1;
+            let point = self.point(&b, label, h);
+            observer.point(&point, self.parameter(&b.u));
+            branch.points.push(point);
+            travelled += h;
+            let step = h;
+            // Closed branch: back near the start after a long way.
+            let dist = max_abs(
+                &b.u.iter()
+                    .zip(&start)
+                    .map(|(x, y)| x - y)
+                    .collect::<Vec<_>>(),
+            );
+            if travelled > 10.0 * self.settings.h_max && dist < 0.5 * h && branch.points.len() > 10
+            {
+                branch.end = EndReason::Closed;
+                break;
+            }
+            // Step control from the corrector's effort.
+            if b.iterations <= 2 {
+                h = (h * self.settings.growth).min(self.settings.h_max);
+            } else if b.iterations > self.settings.target_iterations {
+                h = (0.5 * h).max(self.settings.h_min);
+            }
+            previous = Some((std::mem::take(&mut a.u), std::mem::take(&mut a.t), step));
+            a = b;
+        }
+        branch.statistics = self.stats;
+        Ok(branch)
+    }
+}
+
+/// A test function's sign change located in a step.
+struct Located {
+    /// Arclength from the step's start.
+    s: f64,
+    slot: usize,
+    chart: Chart,
+    located: bool,
+    accuracy: f64,
+}

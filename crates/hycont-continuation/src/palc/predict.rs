@@ -1,0 +1,65 @@
+//! Small vector helpers and the predictors of PALC: the generic direction, orientation, and the
+//! cubic Hermite interpolant of two charts.
+
+pub(super) fn max_abs(v: &[f64]) -> f64 {
+    v.iter().fold(0.0f64, |m, x| m.max(x.abs()))
+}
+
+pub(super) fn dot(a: &[f64], b: &[f64]) -> f64 {
+    a.iter().zip(b).map(|(x, y)| x * y).sum()
+}
+
+/// A fixed, generic unit vector of length `n`.
+pub(super) fn generic(n: usize) -> Vec<f64> {
+    let mut v: Vec<f64> = (0..n)
+        .map(|i| ((i as f64 + 1.0) * 0.618_033_988_7).fract() - 0.5)
+        .collect();
+    let norm = dot(&v, &v).sqrt();
+    v.iter_mut().for_each(|x| *x /= norm);
+    v
+}
+
+/// The sign that says which way a tangent `t` goes: its parameter component, or, where that
+/// vanishes (to `1e-9`), its component along a fixed generic vector, so that the two ways from
+/// a start are always opposite.
+pub(super) fn orientation(t: &[f64], pi: usize) -> f64 {
+    if t[pi].abs() > 1e-9 {
+        t[pi]
+    } else {
+        dot(t, &generic(t.len()))
+    }
+}
+
+/// The cubic Hermite interpolant at $x$ of values `u0`, `u1` at $x = 0, 1$ with derivatives
+/// `c0 * d0`, `c1 * d1` (in $x$), e.g. charts `width` apart in arclength with tangents scaled to
+/// arclength derivatives. $x$ outside $[0, 1]$ extrapolates.
+pub(super) fn hermite(
+    u0: &[f64],
+    (c0, d0): (f64, &[f64]),
+    u1: &[f64],
+    (c1, d1): (f64, &[f64]),
+    x: f64,
+) -> Vec<f64> {
+    let h00 = (1.0 + 2.0 * x) * (1.0 - x) * (1.0 - x);
+    let h10 = x * (1.0 - x) * (1.0 - x);
+    let h01 = x * x * (3.0 - 2.0 * x);
+    let h11 = x * x * (x - 1.0);
+    (0..u0.len())
+        .map(|i| h00 * u0[i] + h10 * c0 * d0[i] + h01 * u1[i] + h11 * c1 * d1[i])
+        .collect()
+}
+
+/// The predictor of a step `h` from chart $(u_a, t_a)$ reached by a step `h_p` from
+/// $(u_p, t_p)$: the cubic Hermite interpolant of the two charts (unit tangents as derivatives in
+/// arclength) extrapolated to `h` beyond $u_a$. Its error is $O(h^3)$ against the tangent
+/// predictor's $O(h^2)$, so the corrector starts closer (fewer chord iterations).
+pub(super) fn extrapolate(
+    u_p: &[f64],
+    t_p: &[f64],
+    h_p: f64,
+    u_a: &[f64],
+    t_a: &[f64],
+    h: f64,
+) -> Vec<f64> {
+    hermite(u_p, (h_p, t_p), u_a, (h_p, t_a), 1.0 + h / h_p)
+}

@@ -1,0 +1,115 @@
+//! The test functions PALC watches along a run: what each slot means, where an event's value is
+//! read, and the slots' values at a chart.
+
+use super::{Chart, Palc};
+use crate::branch::SpecialKind;
+use crate::quantity::Quantity;
+use crate::{ContinuationProblem, PointInfo};
+
+/// Test-function values at a chart, one per slot of [`Palc::slots`], in that order.
+#[derive(Debug, Clone)]
+pub(super) struct Tests {
+    pub(super) values: Vec<f64>,
+}
+
+/// Where an event's or bound's value is read.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(super) enum Source {
+    /// The continuation parameter's unknown (no analysis needed).
+    Continued,
+    /// `info.params[i]`.
+    Param(usize),
+    /// `info.monitors[i]`.
+    Monitor(usize),
+}
+
+/// What each test-function slot means.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(super) enum Slot {
+    Fold,
+    BranchPoint,
+    PeriodDoubling,
+    Torus,
+    Event {
+        kind: SpecialKind,
+        level: f64,
+        source: Source,
+        on: Quantity,
+        terminal: bool,
+    },
+    Bound {
+        source: Source,
+        on: Quantity,
+        level: f64,
+    },
+}
+
+/// Product over non-trivial multipliers of $(1 + \lambda)$: changes sign when a real
+/// multiplier crosses $-1$.
+fn pd_test(info: &PointInfo) -> f64 {
+    crate::shifted_product(&info.multipliers, &info.trivial, 1.0)
+}
+
+/// Product over pairs of non-trivial multipliers of $(\lambda_i \lambda_j - 1)$, real part: changes
+/// sign when a complex pair crosses the unit circle (also at neutral saddles, which are filtered
+/// out after location).
+fn tr_test(info: &PointInfo) -> f64 {
+    let nt: Vec<(f64, f64)> = info
+        .multipliers
+        .iter()
+        .zip(&info.trivial)
+        .filter(|(_, t)| !**t)
+        .map(|(m, _)| *m)
+        .collect();
+    let mut acc = 1.0;
+    for i in 0..nt.len() {
+        for j in i + 1..nt.len() {
+            let (a, b) = (nt[i], nt[j]);
+            // Complex conjugate pair: |lambda|^2 - 1; real pairs: lambda_i lambda_j - 1.
+            let re = a.0 * b.0 - a.1 * b.1;
+            acc *= re - 1.0;
+        }
+    }
+    acc
+}
+
+impl<'a, P: ContinuationProblem<'a> + ?Sized> Palc<'_, 'a, P> {
+    pub(super) fn tests(&self, c: &Chart, det_ref: f64) -> Tests {
+        let pi = self.p.parameter_index();
+        let values = self
+            .slots
+            .iter()
+            .map(|slot| match *slot {
+                Slot::Fold => c.t[pi],
+                Slot::BranchPoint => {
+                    c.det.0
+                        * (c.det.1 - det_ref).clamp(-700.0, 700.0).exp()
+                        * c.info.branch_point_factor.unwrap_or(1.0)
+                }
+                Slot::PeriodDoubling => pd_test(&c.info),
+                Slot::Torus => tr_test(&c.info),
+                Slot::Event { level, source, .. } | Slot::Bound { source, level, .. } => {
+                    let value = match source {
+                        Source::Continued => c.u[pi],
+                        Source::Param(i) => c.info.params[i],
+                        Source::Monitor(i) => c.info.monitors[i],
+                    };
+                    value - level
+                }
+            })
+            .collect();
+        Tests { values }
+    }
+
+    /// The kind of special point a sign change of `slot` is.
+    pub(super) fn kind_of(slot: Slot) -> SpecialKind {
+        match slot {
+            Slot::Fold => SpecialKind::Fold,
+            Slot::BranchPoint => SpecialKind::BranchPoint,
+            Slot::PeriodDoubling => SpecialKind::PeriodDoubling,
+            Slot::Torus => SpecialKind::Torus,
+            Slot::Event { kind, .. } => kind,
+            Slot::Bound { .. } => SpecialKind::EndPoint,
+        }
+    }
+}

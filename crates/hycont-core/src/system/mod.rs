@@ -1,0 +1,338 @@
+//! Hybrid dynamical systems: modes, vector fields, events, resets and their Jacobians.
+//!
+//! A hybrid system has a continuous state $x \in \mathbb{R}^n$, parameters $p \in \mathbb{R}^{n_p}$
+//! and a finite set of modes. In mode $m$ the state obeys $\dot x = f_m(x, p)$. Each mode has a set
+//! of events $h_e(x, p) = 0$, each with a crossing direction; when one is crossed the system either
+//! stops ([`EventAction::Terminal`]) or applies the reset (jump) $x^+ = g_e(x^-, p)$ and continues
+//! in the event's target mode ([`EventAction::Jump`]).
+//!
+//! Capabilities are split into traits: [`HybridSystem`] (evaluation) and [`HybridJacobians`]
+//! (first derivatives, needed for variational equations, saltation matrices and Newton's method).
+//! A system without analytic derivatives gets them by central differences through
+//! [`FiniteDifferences`]; [`check_derivatives`] compares supplied derivatives against central
+//! differences (COCO's `chkderiv`).
+//!
+//! Jacobians are dense, column-major: entry $(i, j)$ of an $r \times c$ matrix is `out[i + j * r]`.
+
+use serde::{Deserialize, Serialize};
+use std::fmt;
+
+/// A typed handle to a mode of a hybrid system (an index into the system's modes).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
+pub struct Mode(pub usize);
+
+impl fmt::Display for Mode {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "#{}", self.0)
+    }
+}
+
+/// A typed handle to an event (an index into the system's events).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
+pub struct EventId(pub usize);
+
+impl fmt::Display for EventId {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "event #{}", self.0)
+    }
+}
+
+/// A typed handle to a parameter: its index in the parameter vector.
+///
+/// Resolve names once with [`HybridSystem::parameter_id`] and keep the handle.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
+pub struct ParamId(pub usize);
+
+impl ParamId {
+    /// Index of the parameter in the parameter vector.
+    #[must_use]
+    pub fn index(self) -> usize {
+        self.0
+    }
+}
+
+/// Which sign changes of an event function count as a crossing.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
+pub enum Direction {
+    /// From negative to positive.
+    Rising,
+    /// From positive to negative.
+    Falling,
+    /// Either way.
+    Either,
+}
+
+impl Direction {
+    /// Whether going from value `before` to value `after` is a crossing in this direction.
+    ///
+    /// A crossing starts strictly on one side and ends on the other side or on zero.
+    ///
+    /// ```
+    /// use hycont_core::Direction;
+    /// assert!(Direction::Falling.is_crossing(0.5, -1e-3));
+    /// assert!(!Direction::Rising.is_crossing(0.5, -1e-3));
+    /// assert!(!Direction::Either.is_crossing(0.0, 1.0));
+    /// ```
+    #[must_use]
+    pub fn is_crossing(self, before: f64, after: f64) -> bool {
+        let rising = before < 0.0 && after >= 0.0;
+        let falling = before > 0.0 && after <= 0.0;
+        match self {
+            Direction::Rising => rising,
+            Direction::Falling => falling,
+            Direction::Either => rising || falling,
+        }
+    }
+
+    /// The sign an event function has before a crossing in this direction (`None` for `Either`).
+    #[must_use]
+    pub fn sign_before(self) -> Option<f64> {
+        match self {
+            Direction::Rising => Some(-1.0),
+            Direction::Falling => Some(1.0),
+            Direction::Either => None,
+        }
+    }
+}
+
+/// What happens when an event is crossed.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
+pub enum EventAction {
+    /// Apply the event's reset map and continue in mode `to`.
+    Jump {
+        /// The mode that follows the event.
+        to: Mode,
+    },
+    /// Stop the simulation (for example: the block has overturned).
+    Terminal,
+}
+
+/// Static description of an event.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct EventSpec {
+    /// A short name for messages and output (e.g. `"impact+"`).
+    pub name: &'static str,
+    /// Which crossings count.
+    pub direction: Direction,
+    /// What a crossing does.
+    pub action: EventAction,
+}
+
+/// A linear $\mathbb{Z}_2$ symmetry $S$ of a hybrid system ($S^2 = I$): $S f_m(x) = f_{\sigma(m)}(Sx)$,
+/// events and resets map accordingly.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Z2Symmetry {
+    /// $S$, column-major $n \times n$.
+    pub matrix: Vec<f64>,
+    /// $\sigma$: the image of each mode.
+    pub modes: Vec<Mode>,
+    /// The image of each event.
+    pub events: Vec<EventId>,
+}
+
+impl Z2Symmetry {
+    /// Writes $S x$ into `out`.
+    pub fn apply(&self, x: &[f64], out: &mut [f64]) {
+        let n = x.len();
+        for (i, o) in out.iter_mut().enumerate() {
+            *o = (0..n).map(|j| self.matrix[i + j * n] * x[j]).sum();
+        }
+    }
+}
+
+/// A hybrid dynamical system: modes, vector fields, events and resets.
+///
+/// Hot-path methods write into caller-provided buffers and must not allocate.
+///
+/// # Example: a bouncing ball
+/// ```
+/// use hycont_core::{Direction, EventAction, EventId, EventSpec, HybridSystem, Mode};
+///
+/// /// Height y, velocity v; y'' = -g; impact at y = 0 with v -> -e v. Parameters: g, e.
+/// struct Ball;
+/// impl HybridSystem for Ball {
+///     fn state_dim(&self) -> usize { 2 }
+///     fn parameter_names(&self) -> &[&'static str] { &["g", "e"] }
+///     fn mode_count(&self) -> usize { 1 }
+///     fn mode_name(&self, _: Mode) -> &'static str { "flight" }
+///     fn events(&self, _: Mode) -> &[EventId] { &[EventId(0)] }
+///     fn event_spec(&self, _: EventId) -> EventSpec {
+///         EventSpec { name: "impact", direction: Direction::Falling,
+///                     action: EventAction::Jump { to: Mode(0) } }
+///     }
+///     fn vector_field(&self, _: Mode, x: &[f64], p: &[f64], out: &mut [f64]) {
+///         out[0] = x[1];
+///         out[1] = -p[0];
+///     }
+///     fn event(&self, _: EventId, x: &[f64], _: &[f64]) -> f64 { x[0] }
+///     fn reset(&self, _: EventId, x: &[f64], p: &[f64], out: &mut [f64]) {
+///         out[0] = x[0];
+///         out[1] = -p[1] * x[1];
+///     }
+/// }
+/// assert_eq!(Ball.parameter_id("e").map(|p| p.index()), Some(1));
+/// ```
+pub trait HybridSystem {
+    /// Dimension $n$ of the continuous state.
+    fn state_dim(&self) -> usize;
+
+    /// Names of the parameters, in the order of the parameter vector.
+    fn parameter_names(&self) -> &[&'static str];
+
+    /// Number of parameters $n_p$.
+    fn parameter_count(&self) -> usize {
+        self.parameter_names().len()
+    }
+
+    /// Resolves a parameter name to a typed handle (do this once, not in loops).
+    fn parameter_id(&self, name: &str) -> Option<ParamId> {
+        self.parameter_names()
+            .iter()
+            .position(|n| *n == name)
+            .map(ParamId)
+    }
+
+    /// Number of modes; valid modes are `Mode(0)..Mode(mode_count() - 1)`.
+    fn mode_count(&self) -> usize;
+
+    /// A short name of a mode (e.g. `"+"`).
+    fn mode_name(&self, mode: Mode) -> &'static str;
+
+    /// The events monitored while in `mode`.
+    fn events(&self, mode: Mode) -> &[EventId];
+
+    /// Direction, action and name of an event.
+    fn event_spec(&self, event: EventId) -> EventSpec;
+
+    /// Writes $f_m(x, p)$ into `out` (length $n$).
+    fn vector_field(&self, mode: Mode, x: &[f64], p: &[f64], out: &mut [f64]);
+
+    /// The event function $h_e(x, p)$.
+    fn event(&self, event: EventId, x: &[f64], p: &[f64]) -> f64;
+
+    /// Writes the reset $g_e(x, p)$ into `out`. The default is the identity.
+    fn reset(&self, event: EventId, x: &[f64], p: &[f64], out: &mut [f64]) {
+        let _ = (event, p);
+        out.copy_from_slice(x);
+    }
+
+    /// The system's $\mathbb{Z}_2$ symmetry, if it has one (default: none).
+    fn symmetry(&self) -> Option<Z2Symmetry> {
+        None
+    }
+
+    /// Floquet multipliers every periodic orbit of period `period` has for structural reasons, as
+    /// `(re, im)`; the default is the flow direction's multiplier 1 of an autonomous system.
+    /// Stability is judged on the others.
+    fn trivial_multipliers(&self, p: &[f64], period: f64) -> Vec<(f64, f64)> {
+        let _ = (p, period);
+        vec![(1.0, 0.0)]
+    }
+
+    /// A structural hint: `Some(j)` when, in `mode`, the time derivative of state component `c`
+    /// is exactly state component `j` ($f_c(x, p) = x_j$, e.g. a position whose velocity is in
+    /// the state). Scans of orbits then find the extrema of $x_c$ from $x_j$ without evaluating
+    /// the vector field. Default: `None`. [`check_derivatives`] verifies hints.
+    fn rate_component(&self, mode: Mode, c: usize) -> Option<usize> {
+        let _ = (mode, c);
+        None
+    }
+
+    /// A structural hint: `Some(c)` when the event function is $h_e(x, p) = x_c - v(p)$ (an
+    /// event on a coordinate surface), so that with [`HybridSystem::rate_component`] a scan
+    /// watches its turning points through a state component. Default: `None`.
+    /// [`check_derivatives`] verifies hints.
+    fn event_component(&self, event: EventId) -> Option<usize> {
+        let _ = event;
+        None
+    }
+
+    /// Where to go when the jumps of `event` accumulate (Zeno behaviour) in `mode`.
+    ///
+    /// The simulator calls this when it detects an accumulation of `event` (see
+    /// [`crate::ZenoSettings`]); `x` is the state right after the last jump. Return the mode to
+    /// continue in and write its initial state into `out`, or return `None` (the default) to end
+    /// the simulation with [`crate::StopReason::ZenoAccumulation`].
+    fn zeno_transition(
+        &self,
+        mode: Mode,
+        event: EventId,
+        x: &[f64],
+        p: &[f64],
+        out: &mut [f64],
+    ) -> Option<Mode> {
+        let _ = (mode, event, x, p, out);
+        None
+    }
+}
+
+/// First derivatives of a [`HybridSystem`].
+///
+/// All matrices are column-major; `dp` arguments are `None` when parameter derivatives are not
+/// needed, so implementations can skip that work.
+pub trait HybridJacobians: HybridSystem {
+    /// $\partial f_m / \partial x$ into `dx` ($n \times n$) and $\partial f_m / \partial p$ into
+    /// `dp` ($n \times n_p$).
+    fn vector_field_jacobian(
+        &self,
+        mode: Mode,
+        x: &[f64],
+        p: &[f64],
+        dx: &mut [f64],
+        dp: Option<&mut [f64]>,
+    );
+
+    /// The vector field $f_m$ into `f` and its Jacobians as
+    /// [`HybridJacobians::vector_field_jacobian`], together (the variational equations need
+    /// both at every stage). Override to share work between them, e.g. trigonometric functions
+    /// of the state; the default calls the two methods.
+    fn vector_field_with_jacobian(
+        &self,
+        mode: Mode,
+        x: &[f64],
+        p: &[f64],
+        f: &mut [f64],
+        dx: &mut [f64],
+        dp: Option<&mut [f64]>,
+    ) {
+        self.vector_field(mode, x, p, f);
+        self.vector_field_jacobian(mode, x, p, dx, dp);
+    }
+
+    /// $\partial h_e / \partial x$ into `dx` (length $n$) and $\partial h_e / \partial p$ into `dp`
+    /// (length $n_p$).
+    fn event_gradient(
+        &self,
+        event: EventId,
+        x: &[f64],
+        p: &[f64],
+        dx: &mut [f64],
+        dp: Option<&mut [f64]>,
+    );
+
+    /// $\partial g_e / \partial x$ into `dx` ($n \times n$) and $\partial g_e / \partial p$ into
+    /// `dp` ($n \times n_p$). The default is the identity's: $I$ and $0$.
+    fn reset_jacobian(
+        &self,
+        event: EventId,
+        x: &[f64],
+        p: &[f64],
+        dx: &mut [f64],
+        dp: Option<&mut [f64]>,
+    ) {
+        let _ = (event, p);
+        let n = x.len();
+        dx.fill(0.0);
+        for i in 0..n {
+            dx[i + i * n] = 1.0;
+        }
+        if let Some(dp) = dp {
+            dp.fill(0.0);
+        }
+    }
+}
+
+mod derivatives;
+pub use derivatives::{
+    DerivativeCheck, DerivativeKind, DerivativeMismatch, FiniteDifferences, check_derivatives,
+};
