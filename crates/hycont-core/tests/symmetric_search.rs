@@ -7,15 +7,27 @@
 //! Radial perturbations decay as $e^{-2at}$, and the half map $S \circ \phi_\pi$ maps a radial
 //! perturbation to a radial one of the same sign: its non-trivial multiplier is
 //! $\mu = e^{-2\pi a}$, the full period's $\lambda = \mu^2 = e^{-4\pi a}$.
+//!
+//! With `wall = Some(w)` the mode also has two switching surfaces $x = \mp w$ (crossed rising
+//! and falling respectively, identity jumps; $S$ swaps them). For $w > \sqrt a$ the circle
+//! never meets them.
 
 use approx::assert_abs_diff_eq;
 use hycont_core::orbit::{
     Closure, SegmentEnd, SegmentSpec, Signature, SymmetricSearch, find_symmetric_orbit,
 };
-use hycont_core::{Error, EventId, EventSpec, HybridJacobians, HybridSystem, Mode, Z2Symmetry};
+use hycont_core::{
+    Direction, Error, EventAction, EventId, EventSpec, HybridJacobians, HybridSystem, Mode,
+    Z2Symmetry,
+};
 use std::f64::consts::PI;
 
-struct Hopf;
+struct Hopf {
+    wall: Option<f64>,
+}
+
+const HOPF: Hopf = Hopf { wall: None };
+const SWITCHES: [EventId; 2] = [EventId(0), EventId(1)];
 
 impl HybridSystem for Hopf {
     fn state_dim(&self) -> usize {
@@ -31,24 +43,37 @@ impl HybridSystem for Hopf {
         "smooth"
     }
     fn events(&self, _: Mode) -> &[EventId] {
-        &[]
+        if self.wall.is_some() { &SWITCHES } else { &[] }
     }
-    fn event_spec(&self, _: EventId) -> EventSpec {
-        unreachable!("no events")
+    fn event_spec(&self, e: EventId) -> EventSpec {
+        EventSpec {
+            name: "switch",
+            direction: if e == SWITCHES[0] {
+                Direction::Rising
+            } else {
+                Direction::Falling
+            },
+            action: EventAction::Jump { to: Mode(0) },
+        }
     }
     fn vector_field(&self, _: Mode, x: &[f64], p: &[f64], f: &mut [f64]) {
         let r = p[0] - x[0] * x[0] - x[1] * x[1];
         f[0] = x[1] + x[0] * r;
         f[1] = -x[0] + x[1] * r;
     }
-    fn event(&self, _: EventId, _: &[f64], _: &[f64]) -> f64 {
-        unreachable!("no events")
+    fn event(&self, e: EventId, x: &[f64], _: &[f64]) -> f64 {
+        let w = self.wall.unwrap_or(f64::INFINITY);
+        if e == SWITCHES[0] { x[0] + w } else { x[0] - w }
     }
     fn symmetry(&self) -> Option<Z2Symmetry> {
         Some(Z2Symmetry {
             matrix: vec![-1.0, 0.0, 0.0, -1.0],
             modes: vec![Mode(0)],
-            events: vec![],
+            events: if self.wall.is_some() {
+                vec![SWITCHES[1], SWITCHES[0]]
+            } else {
+                vec![]
+            },
         })
     }
 }
@@ -77,15 +102,19 @@ impl HybridJacobians for Hopf {
         _: EventId,
         _: &[f64],
         _: &[f64],
-        _: &mut [f64],
-        _: Option<&mut [f64]>,
+        dx: &mut [f64],
+        dp: Option<&mut [f64]>,
     ) {
+        dx.copy_from_slice(&[1.0, 0.0]);
+        if let Some(dp) = dp {
+            dp.fill(0.0);
+        }
     }
 }
 
-fn half_signature() -> Signature {
+fn half_signature(system: &Hopf) -> Signature {
     Signature::with_closure(
-        &Hopf,
+        system,
         vec![SegmentSpec {
             mode: Mode(0),
             end: SegmentEnd::Interior {
@@ -103,10 +132,10 @@ fn the_circle_is_found_from_a_grid_of_seeds() {
     let a = 1.44;
     let seeds: Vec<Vec<f64>> = [0.3, 0.8, 2.5].iter().map(|&x| vec![x, 0.0]).collect();
     let search = SymmetricSearch::new(seeds).half_period(PI);
-    let sol = find_symmetric_orbit(&Hopf, &half_signature(), &[a], &search).unwrap();
+    let sol = find_symmetric_orbit(&HOPF, &half_signature(&HOPF), &[a], &search).unwrap();
     assert_abs_diff_eq!(sol.half.starts[0][0].abs(), a.sqrt(), epsilon = 1e-10);
     assert_abs_diff_eq!(sol.half.period(), PI, epsilon = 1e-10);
-    assert!(sol.full.orbit.is_symmetric(&Hopf, 1e-9));
+    assert!(sol.full.orbit.is_symmetric(&HOPF, 1e-9));
     let mu: Vec<_> = sol.half_floquet.nontrivial().collect();
     assert_eq!(mu.len(), 1);
     assert_abs_diff_eq!(mu[0].0, (-2.0 * PI * a).exp(), epsilon = 1e-10);
@@ -121,11 +150,11 @@ fn symmetric_orbits_are_solved_on_their_half_orbit() {
     use hycont_core::orbit::{CollocationSettings, OrbitMethod, PeriodicOrbit, solve_orbit};
     use hycont_core::problem::NewtonSettings;
     let a: f64 = 1.44;
-    let seg = half_signature().segments()[0];
-    let full = Signature::new(&Hopf, vec![seg, seg]).unwrap();
+    let seg = half_signature(&HOPF).segments()[0];
+    let full = Signature::new(&HOPF, vec![seg, seg]).unwrap();
     let r = 1.1; // off the circle: Newton finds it
     let guess = PeriodicOrbit::new(
-        &Hopf,
+        &HOPF,
         full,
         vec![vec![r, 0.0], vec![-r, 0.0]],
         vec![PI, PI],
@@ -136,7 +165,7 @@ fn symmetric_orbits_are_solved_on_their_half_orbit() {
         OrbitMethod::Shooting(Default::default()),
         OrbitMethod::Collocation(CollocationSettings::default()),
     ] {
-        let s = solve_orbit(&Hopf, &guess, &method, &NewtonSettings::default(), 1e-6).unwrap();
+        let s = solve_orbit(&HOPF, &guess, &method, &NewtonSettings::default(), 1e-6).unwrap();
         let mu: Vec<_> = s
             .half_floquet
             .expect("solved on the half orbit")
@@ -150,7 +179,7 @@ fn symmetric_orbits_are_solved_on_their_half_orbit() {
     let mut lopsided = guess.clone();
     lopsided.starts[1][0] = -0.9;
     let s = solve_orbit(
-        &Hopf,
+        &HOPF,
         &lopsided,
         &OrbitMethod::default(),
         &NewtonSettings::default(),
@@ -165,18 +194,40 @@ fn symmetric_orbits_are_solved_on_their_half_orbit() {
 fn bad_searches_are_errors() {
     let search = SymmetricSearch::new(vec![vec![1.0]]);
     assert!(matches!(
-        find_symmetric_orbit(&Hopf, &half_signature(), &[1.0], &search),
+        find_symmetric_orbit(&HOPF, &half_signature(&HOPF), &[1.0], &search),
         Err(Error::DimensionMismatch { what: "seed", .. })
     ));
     let search = SymmetricSearch::new(vec![vec![f64::NAN, 0.0]]);
     assert!(matches!(
-        find_symmetric_orbit(&Hopf, &half_signature(), &[1.0], &search),
+        find_symmetric_orbit(&HOPF, &half_signature(&HOPF), &[1.0], &search),
         Err(Error::NonFinite { .. })
     ));
-    let periodic = Signature::new(&Hopf, half_signature().segments().to_vec()).unwrap();
+    let periodic = Signature::new(&HOPF, half_signature(&HOPF).segments().to_vec()).unwrap();
     let search = SymmetricSearch::new(vec![vec![1.0, 0.0]]);
-    assert!(find_symmetric_orbit(&Hopf, &periodic, &[1.0], &search).is_err());
+    assert!(find_symmetric_orbit(&HOPF, &periodic, &[1.0], &search).is_err());
     // The expected half period is wrong: no guess qualifies.
     let search = SymmetricSearch::new(vec![vec![1.0, 0.0]]).half_period(1.0);
-    assert!(find_symmetric_orbit(&Hopf, &half_signature(), &[1.0], &search).is_err());
+    assert!(find_symmetric_orbit(&HOPF, &half_signature(&HOPF), &[1.0], &search).is_err());
+}
+
+/// A seed whose flow meets another event of its mode before the segment's end leaves the half
+/// orbit's signature and is dropped: with switching surfaces at $x = \mp 1.4$ ($a = 1$: the
+/// circle $r = 1$ stays between them), the seed $(-1.5, 0)$ crosses $x = -1.4$ at once (there
+/// $\dot x = x (a - r^2) = 1.875 > 0$), while $(-1.2, 0)$ turns half round to $x \approx 1$
+/// without meeting either.
+#[test]
+fn seeds_that_leave_the_signature_are_dropped() {
+    let walled = Hopf { wall: Some(1.4) };
+    let half = half_signature(&walled);
+    let outside = SymmetricSearch::new(vec![vec![-1.5, 0.0]]).half_period(PI);
+    assert!(matches!(
+        find_symmetric_orbit(&walled, &half, &[1.0], &outside),
+        Err(Error::NotPeriodic { .. })
+    ));
+    // Without the surfaces the same seed leads to the circle.
+    let sol = find_symmetric_orbit(&HOPF, &half_signature(&HOPF), &[1.0], &outside).unwrap();
+    assert_abs_diff_eq!(sol.half.starts[0][0].abs(), 1.0, epsilon = 1e-10);
+    let both = SymmetricSearch::new(vec![vec![-1.5, 0.0], vec![-1.2, 0.0]]).half_period(PI);
+    let sol = find_symmetric_orbit(&walled, &half, &[1.0], &both).unwrap();
+    assert_abs_diff_eq!(sol.half.starts[0][0].abs(), 1.0, epsilon = 1e-10);
 }

@@ -45,14 +45,21 @@ pub struct RockingOrbit {
 /// # Errors
 /// If Newton's method fails.
 pub fn solve_with_extrema(guess: &PeriodicOrbit) -> Result<OrbitSolution> {
-    let shooting = ShootingSettings::default();
-    let newton = NewtonSettings::default();
     let flights = guess.without_interior_points(&RockingBlock)?;
-    let sol = solve_shooting(&RockingBlock, &flights, shooting, &newton)?;
+    let sol = solve_shooting(
+        &RockingBlock,
+        &flights,
+        ShootingSettings::default(),
+        &NewtonSettings::default(),
+    )?;
+    with_extrema(&sol.orbit)
+}
+
+/// A solved orbit with its $\psi = 0$ interior points added, solved again.
+fn with_extrema(solved: &PeriodicOrbit) -> Result<OrbitSolution> {
     let settings = SimulationSettings::default().rtol(1e-12).atol(1e-14);
-    let with = sol
-        .orbit
-        .with_interior_points(&RockingBlock, 1, 0.0, &settings)?;
+    let with = solved.with_interior_points(&RockingBlock, 1, 0.0, &settings)?;
+    let (shooting, newton) = (ShootingSettings::default(), NewtonSettings::default());
     Ok(solve_shooting(&RockingBlock, &with, shooting, &newton)?)
 }
 
@@ -83,7 +90,7 @@ pub fn symmetric_orbit(params: &Parameters) -> Result<RockingOrbit> {
     search.max_duration = 2.0 * PI / params.omega;
     let sol = find_symmetric_orbit(&RockingBlock, &half, &params.to_vec(), &search)?;
     Ok(RockingOrbit {
-        solution: solve_with_extrema(&sol.full.orbit)?,
+        solution: with_extrema(&sol.full.orbit)?,
         half_multipliers: Some(sol.half_floquet.multipliers),
     })
 }

@@ -188,3 +188,77 @@ impl<S: HybridJacobians + ?Sized> HybridJacobians for SegmentFlow<'_, S> {
         }
     }
 }
+
+/// Mode `mode` of `system` stopped at the segment's end condition (`EventId(0)`) or at any other
+/// event of the mode (`EventId(1 + i)` for the `i`-th of `guards`), all terminal: a trajectory
+/// that meets another event surface first does not follow the signature.
+pub(crate) struct GuardedFlow<'a, S: ?Sized> {
+    pub system: &'a S,
+    pub mode: Mode,
+    pub end: SegmentEnd,
+    guards: Vec<EventId>,
+    ids: Vec<EventId>,
+}
+
+impl<'a, S: HybridSystem + ?Sized> GuardedFlow<'a, S> {
+    pub(crate) fn new(system: &'a S, mode: Mode, end: SegmentEnd) -> Self {
+        let guards: Vec<EventId> = system
+            .events(mode)
+            .iter()
+            .copied()
+            .filter(|&e| end != SegmentEnd::Event(e))
+            .collect();
+        let ids = (0..=guards.len()).map(EventId).collect();
+        Self {
+            system,
+            mode,
+            end,
+            guards,
+            ids,
+        }
+    }
+
+    /// The system's event that stopped the flow at `id`, `None` for the end condition.
+    pub(crate) fn guard(&self, id: EventId) -> Option<EventId> {
+        id.0.checked_sub(1)
+            .and_then(|i| self.guards.get(i).copied())
+    }
+}
+
+impl<S: HybridSystem + ?Sized> HybridSystem for GuardedFlow<'_, S> {
+    fn state_dim(&self) -> usize {
+        self.system.state_dim()
+    }
+    fn parameter_names(&self) -> &[&'static str] {
+        self.system.parameter_names()
+    }
+    fn mode_count(&self) -> usize {
+        1
+    }
+    fn mode_name(&self, _: Mode) -> &'static str {
+        self.system.mode_name(self.mode)
+    }
+    fn events(&self, _: Mode) -> &[EventId] {
+        &self.ids
+    }
+    fn event_spec(&self, event: EventId) -> EventSpec {
+        let direction = match (self.guard(event), self.end) {
+            (Some(g), _) | (None, SegmentEnd::Event(g)) => self.system.event_spec(g).direction,
+            (None, SegmentEnd::Interior { .. }) => Direction::Either,
+        };
+        EventSpec {
+            name: "segment end",
+            direction,
+            action: EventAction::Terminal,
+        }
+    }
+    fn vector_field(&self, _: Mode, x: &[f64], p: &[f64], out: &mut [f64]) {
+        self.system.vector_field(self.mode, x, p, out);
+    }
+    fn event(&self, event: EventId, x: &[f64], p: &[f64]) -> f64 {
+        match (self.guard(event), self.end) {
+            (Some(g), _) | (None, SegmentEnd::Event(g)) => self.system.event(g, x, p),
+            (None, SegmentEnd::Interior { component, value }) => x[component] - value,
+        }
+    }
+}

@@ -1,6 +1,6 @@
 //! A hybrid periodic orbit: signature, segment start states, durations and parameters.
 
-use super::flow::SegmentFlow;
+use super::flow::{GuardedFlow, SegmentFlow};
 use super::signature::{SegmentEnd, SegmentSpec, Signature};
 use crate::error::{Error, Result, check_finite, check_len};
 use crate::simulate::{SimulationSettings, Simulator, StopReason, TimeSeries, Trajectory};
@@ -214,7 +214,8 @@ impl PeriodicOrbit {
         max_duration: f64,
         settings: &SimulationSettings,
     ) -> Result<Self> {
-        follow(system, signature, x0, params, max_duration, settings).map(|(orbit, _)| orbit)
+        let mut sim = simulator(settings)?;
+        follow(&mut sim, system, signature, x0, params, max_duration, false).map(|(orbit, _)| orbit)
     }
 
     /// Splits every segment at the interior points where state component `component` crosses
@@ -392,40 +393,62 @@ impl PeriodicOrbit {
 }
 
 /// Follows `x0` along `signature` (each segment until its end condition, at most
-/// `max_duration`): the orbit of [`PeriodicOrbit::from_initial_state`] and the state after the
-/// last segment's end (after its jump).
+/// `max_duration`) with `sim`: the orbit of [`PeriodicOrbit::from_initial_state`] and the state
+/// after the last segment's end (after its jump). `guarded`: a segment whose flow meets another
+/// event of its mode first is an error (the trajectory leaves the signature there); otherwise
+/// the other events are ignored.
 pub(crate) fn follow<S: HybridSystem + ?Sized>(
+    sim: &mut Simulator,
     system: &S,
     signature: Signature,
     x0: &[f64],
     params: &[f64],
     max_duration: f64,
-    settings: &SimulationSettings,
+    guarded: bool,
 ) -> Result<(PeriodicOrbit, Vec<f64>)> {
     check_len("initial state", x0, system.state_dim())?;
-    let mut sim = simulator(settings)?;
     let mut x = x0.to_vec();
     let mut starts = Vec::new();
     let mut durations = Vec::new();
     for (k, seg) in signature.segments().iter().enumerate() {
         starts.push(x.clone());
-        let flow = SegmentFlow {
-            system,
-            mode: seg.mode,
-            stop: Some(seg.end),
-            split: None,
-            time_sign: 1.0,
+        let (traj, guard) = if guarded {
+            let flow = GuardedFlow::new(system, seg.mode, seg.end);
+            let traj = sim.run(&flow, Mode(0), 0.0, &x, params, max_duration)?;
+            let guard = match traj.stop {
+                StopReason::TerminalEvent { event, .. } => flow.guard(event),
+                _ => None,
+            };
+            (traj, guard)
+        } else {
+            let flow = SegmentFlow {
+                system,
+                mode: seg.mode,
+                stop: Some(seg.end),
+                split: None,
+                time_sign: 1.0,
+            };
+            (
+                sim.run(&flow, Mode(0), 0.0, &x, params, max_duration)?,
+                None,
+            )
         };
-        let traj = sim.run(&flow, Mode(0), 0.0, &x, params, max_duration)?;
-        let StopReason::TerminalEvent { t, .. } = traj.stop else {
-            return Err(Error::InvalidSignature {
-                segment: k,
-                reason: format!(
-                    "the end condition is not reached within {max_duration} from {x:?}"
-                ),
-            });
+        let reason = match (traj.stop, guard) {
+            (StopReason::TerminalEvent { t, .. }, None) => {
+                durations.push(t);
+                None
+            }
+            (StopReason::TerminalEvent { t, .. }, Some(e)) => Some(format!(
+                "the flow from {x:?} meets event {:?} at t = {t} before the end condition",
+                system.event_spec(e).name
+            )),
+            _ => Some(format!(
+                "the end condition is not reached within {max_duration} from {x:?}"
+            )),
         };
-        durations.push(t);
+        if let Some(reason) = reason {
+            return Err(Error::InvalidSignature { segment: k, reason });
+        }
         x.clone_from(&traj.state_final);
         if let SegmentEnd::Event(e) = seg.end {
             let mut y = vec![0.0; x.len()];

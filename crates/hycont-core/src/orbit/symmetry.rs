@@ -11,7 +11,7 @@ use super::{
 };
 use crate::error::{Error, Result, check_finite, check_len};
 use crate::problem::NewtonSettings;
-use crate::simulate::SimulationSettings;
+use crate::simulate::{SimulationSettings, Simulator};
 use crate::system::{HybridJacobians, HybridSystem, Z2Symmetry};
 use serde::{Deserialize, Serialize};
 
@@ -317,7 +317,8 @@ impl SymmetricSearch {
 
 /// A $\mathbb{Z}_2$-symmetric periodic orbit whose half orbit has the signature `half`
 /// ([`Closure::Symmetric`]): every seed is followed along the signature (each segment to its
-/// end condition) and ranked by how nearly it closes, $\|x_K - S x_0\|_1$ (plus the relative
+/// end condition; a seed whose flow meets another event of the segment's mode first leaves
+/// the signature and is dropped) and ranked by how nearly it closes, $\|x_K - S x_0\|_1$ (plus the relative
 /// miss of the half period, when given); Newton's method on the half-orbit problem
 /// ([`solve_symmetric_shooting`]) is tried from the best-ranked guesses.
 ///
@@ -344,16 +345,18 @@ pub fn find_symmetric_orbit<S: HybridJacobians + ?Sized>(
     let n = system.state_dim();
     let mut candidates = Vec::new();
     let mut image = vec![0.0; n];
+    let mut sim = Simulator::new(search.scan.clone())?;
     for x0 in &search.seeds {
         check_len("seed", x0, n)?;
         check_finite("seed", x0)?;
         let Ok((guess, end)) = super::periodic_orbit::follow(
+            &mut sim,
             system,
             half.clone(),
             x0,
             params,
             search.max_duration,
-            &search.scan,
+            true,
         ) else {
             continue;
         };
