@@ -253,7 +253,7 @@ pub struct RockingBlock;
 
 /// $(\sin, \cos)$ of the pivot angle $\theta_b \pm \varphi$ and the sign $\pm 1$ of mode
 /// `mode` (zeros at rest).
-#[inline]
+#[inline(always)]
 fn pivot(mode: Mode, phi: f64, theta_b: f64) -> (f64, f64, f64) {
     match mode {
         PLUS => {
@@ -269,7 +269,7 @@ fn pivot(mode: Mode, phi: f64, theta_b: f64) -> (f64, f64, f64) {
 }
 
 /// The vector field with the pivot's `(sin, cos, sign)` given (see [`pivot`]).
-#[inline]
+#[inline(always)]
 fn field(mode: Mode, x: &[f64], p: &[f64], (sn, cs, sign): (f64, f64, f64), out: &mut [f64]) {
     let (psi, r, s) = (x[1], x[2], x[3]);
     let (omega, alpha, xi) = (p[0], p[1], p[2]);
@@ -288,7 +288,7 @@ fn field(mode: Mode, x: &[f64], p: &[f64], (sn, cs, sign): (f64, f64, f64), out:
 }
 
 /// The vector field's Jacobians with the pivot's `(sin, cos, sign)` given (see [`pivot`]).
-#[inline]
+#[inline(always)]
 fn jacobian(
     mode: Mode,
     x: &[f64],
