@@ -406,10 +406,11 @@ impl<'p, 'a, P: ContinuationProblem<'a> + ?Sized> Palc<'p, 'a, P> {
     fn step(&mut self, a: &Chart, pred: &[f64], h: f64) -> Result<Option<Chart>> {
         let at = self.row_of(&a.t);
         let corrected = self.correct(pred, &at, &a.u, h, false);
+        let h_min = self.settings.h_min;
         match corrected.and_then(|(u, it)| self.chart(u, &at, it)) {
             Ok(mut b)
-                if self.wdot(&b.t, &a.t).clamp(-1.0, 1.0).acos() <= self.settings.max_angle
-                    || h <= self.settings.h_min =>
+                if h <= h_min
+                    || self.wdot(&b.t, &a.t).clamp(-1.0, 1.0).acos() <= self.settings.max_angle =>
             {
                 // Orient the new tangent along the run.
                 if self.wdot(&b.t, &a.t) < 0.0 {
@@ -417,9 +418,8 @@ impl<'p, 'a, P: ContinuationProblem<'a> + ?Sized> Palc<'p, 'a, P> {
                 }
                 Ok(Some(b))
             }
-            Ok(_) | Err(_) if h > self.settings.h_min => Ok(None),
-            Ok(_) => unreachable!("accepted above at h_min"),
-            Err(e) => Err(e),
+            Err(e) if h <= h_min => Err(e),
+            _ => Ok(None),
         }
     }
 

@@ -421,11 +421,8 @@ pub fn scan<S: HybridJacobians + ?Sized>(
             out.critical.push(c);
         }
     }
-    out.critical.sort_by(|a, b| {
-        (a.segment, a.t)
-            .partial_cmp(&(b.segment, b.t))
-            .expect("finite")
-    });
+    out.critical
+        .sort_by(|a, b| a.segment.cmp(&b.segment).then(a.t.total_cmp(&b.t)));
     Ok(out)
 }
 
