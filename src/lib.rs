@@ -68,12 +68,12 @@
 //!     run.add_event(phase, 0.5, SpecialKind::Custom(Label::new("PH")?))?
 //!         .add_user_points(A, [1.2])?;
 //!     let branch = run.run("period-1", &solved.solution.orbit, RunDirection::Both)?;
-//!     let sn = branch.special(SpecialKind::Fold).next().ok_or("no SN")?;
+//!     let sn = branch.first(SpecialKind::Fold)?;
 //!     assert!((sn.point[A] - std::f64::consts::PI / 3.0).abs() < 1e-8);
-//!     let ph = branch.special(SpecialKind::Custom(Label::new("PH")?)).next().ok_or("no PH")?;
+//!     let ph = branch.first(SpecialKind::Custom(Label::new("PH")?))?;
 //!     assert!((ph.point[phase] - 0.5).abs() < 1e-9);
 //!     // 4. Switch to period 2 at the period doubling.
-//!     let pd = branch.special(SpecialKind::PeriodDoubling).next().ok_or("no PD")?;
+//!     let pd = branch.first(SpecialKind::PeriodDoubling)?;
 //!     let period2 = run.switch_at("period-2", &branch, pd.point.label, RunDirection::Up)?;
 //!     let last = period2.branch.points.last().ok_or("empty")?;
 //!     assert!((period2.orbit_of(last)?.period() - 4.0 * std::f64::consts::PI).abs() < 1e-8);
@@ -84,7 +84,7 @@
 //!     let uz = saved.special(SpecialKind::UserPoint).find(|s| s.point[phase] > 0.0);
 //!     let uz = uz.ok_or("no UZ")?.point.label;
 //!     let again = run.restart("again", &saved, uz, Some(RunDirection::Up))?;
-//!     assert!(again.special(SpecialKind::PeriodDoubling).next().is_some());
+//!     assert!(again.first(SpecialKind::PeriodDoubling).is_ok());
 //!     Ok(())
 //! }
 //! ```

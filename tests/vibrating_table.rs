@@ -380,7 +380,11 @@ fn bad_input_is_a_typed_error() {
         run.switch_at("x", &b, 100_000, RunDirection::Up),
         Err(ContError::NoSuchLabel { label: 100_000, .. })
     ));
-    let sn = b.special(SpecialKind::Fold).next().unwrap().point.label;
+    let sn = b.first(SpecialKind::Fold).unwrap().point.label;
+    assert!(matches!(
+        b.first(SpecialKind::Torus),
+        Err(ContError::NoSuchSpecialPoint { ref kind, .. }) if kind == "TR"
+    ));
     assert!(matches!(
         run.switch_at("x", &b, sn, RunDirection::Up),
         Err(ContError::WrongSpecialPoint { .. })

@@ -5,7 +5,7 @@
 //! `tests/vibrating_table.rs`): `a_SN omega^2 = pi g (1 - e) / (1 + e)` and
 //! `a_PD omega^2 = g sqrt(4 (1 + e^2)^2 / (1 + e)^4 + pi^2 (1 - e)^2 / (1 + e)^2)`.
 //!
-//! User code: 115 lines (model.rs 54, this file 61; without comments and blank lines).
+//! User code: 98 lines (model.rs 54, this file 44; without comments and blank lines).
 //!
 //! Run with `cargo run --release --example vibrating_table`.
 
@@ -25,54 +25,37 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     // Simulate at a = 1.3, omega = 1 and read the period-1 orbit off the tail, starting after
     // the impact: its segment 1 ends at the impact.
     let p = [1.3, 1.0, e, g];
-    let traj = Simulator::new(SimulationSettings::default())?.run(
-        &table,
-        FLIGHT,
-        0.0,
-        &[0.0, 2.0, 0.0],
-        &p,
-        300.0,
-    )?;
-    let orbit =
-        PeriodicOrbit::from_simulation(&table, &traj, &p, 1e-8)?.starting_after(&table, IMPACT)?;
+    let mut sim = Simulator::new(SimulationSettings::default())?;
+    let traj = sim.run(&table, FLIGHT, 0.0, &[0.0, 2.0, 0.0], &p, 300.0)?;
+    let orbit = PeriodicOrbit::from_simulation(&table, &traj, &p, 1e-8)?;
+    let orbit = orbit.starting_after(&table, IMPACT)?;
     // The branch in a, both ways from 1.3, recording the velocity just before the impact.
     let mut run = OrbitRun::new(&table, A)?;
     run.bounds(0.9, 1.8);
     let v = run.add_measure("impact_velocity", SegmentValue::end(1, 1))?;
     let branch = run.run("period-1", &orbit, RunDirection::Both)?;
-    println!(
-        "impact velocity {:.12} (closed form {:.12})",
-        branch.branch.points[0][v],
-        -2.0 * PI * g / (1.0 + e)
-    );
-    let sn = branch.special(SpecialKind::Fold).next().ok_or("no SN")?;
-    let pd = branch
-        .special(SpecialKind::PeriodDoubling)
-        .next()
-        .ok_or("no PD")?;
-    println!("SN at a = {:.12} (closed form {a_sn:.12})", sn.point[A]);
-    println!("PD at a = {:.12} (closed form {a_pd:.12})", pd.point[A]);
+    let show = |what: &str, value: f64, closed: f64| {
+        println!("{what} {value:.12} (closed form {closed:.12})");
+    };
+    let v_impact = -2.0 * PI * g / (1.0 + e);
+    show("impact velocity", branch.branch.points[0][v], v_impact);
+    let sn = branch.first(SpecialKind::Fold)?;
+    let pd = branch.first(SpecialKind::PeriodDoubling)?;
+    show("SN at a =", sn.point[A], a_sn);
+    show("PD at a =", pd.point[A], a_pd);
     // Period 2 from PD, and the PD curve with user points at omega = 0.95 and 1.05.
     let p2 = run.switch_at("period-2", &branch, pd.point.label, RunDirection::Up)?;
     let end = p2.branch.points.last().ok_or("no points")?;
-    println!(
-        "period 2: to a = {:.3} with period {:.10} (4 pi)",
-        end[A],
-        p2.orbit_of(end)?.period()
-    );
+    let (a_end, period) = (end[A], p2.orbit_of(end)?.period());
+    println!("period 2: to a = {a_end:.3} with period {period:.10} (4 pi)");
     let spec = CurveSpec::new(OMEGA)
         .bounds(0.8, 1.25)
         .user_points(OMEGA, [0.95, 1.05]);
-    for s in run
-        .curve_at("PD", &branch, pd.point.label, &spec)?
-        .special(SpecialKind::UserPoint)
-    {
-        let w = s.point[OMEGA];
-        println!(
-            "PD curve at omega = {w:.2}: a = {:.12} (closed form {:.12})",
-            s.point[A],
-            a_pd / (w * w)
-        );
+    let curve = run.curve_at("PD", &branch, pd.point.label, &spec)?;
+    for s in curve.special(SpecialKind::UserPoint) {
+        let (w, a) = (s.point[OMEGA], s.point[A]);
+        let what = format!("PD curve at omega = {w:.2}: a =");
+        show(&what, a, a_pd / (w * w));
     }
     Ok(())
 }

@@ -303,6 +303,19 @@ impl Branch {
         self.special_points.iter().filter(move |s| s.kind == kind)
     }
 
+    /// The first special point of one kind along the branch.
+    ///
+    /// # Errors
+    /// [`Error::NoSuchSpecialPoint`] naming the kind and the branch.
+    pub fn first(&self, kind: SpecialKind) -> Result<&SpecialPoint> {
+        self.special(kind)
+            .next()
+            .ok_or_else(|| Error::NoSuchSpecialPoint {
+                kind: kind.label().to_string(),
+                branch: self.name.clone(),
+            })
+    }
+
     /// The located special point the run ended on (a bound, an inadmissible orbit, a
     /// [`crate::ContinuationSettings::stop_at`] kind), which the regular points stop short of.
     #[must_use]

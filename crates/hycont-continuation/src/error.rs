@@ -36,6 +36,14 @@ pub enum Error {
         /// The branch's name.
         branch: String,
     },
+    /// A branch has no special point of the kind asked for.
+    #[error("branch {branch} has no {kind} point")]
+    NoSuchSpecialPoint {
+        /// The kind's label (e.g. `PD`).
+        kind: String,
+        /// The branch's name.
+        branch: String,
+    },
     /// A label for a user event is not valid.
     #[error("invalid label {label:?}: {reason}")]
     InvalidLabel {

@@ -105,6 +105,14 @@ impl OrbitBranch {
         self.branch.special(kind)
     }
 
+    /// The first special point of one kind along the branch.
+    ///
+    /// # Errors
+    /// [`Error::NoSuchSpecialPoint`] naming the kind and the branch.
+    pub fn first(&self, kind: SpecialKind) -> Result<&SpecialPoint> {
+        self.branch.first(kind)
+    }
+
     /// The orbit at a point of this branch.
     ///
     /// # Errors
