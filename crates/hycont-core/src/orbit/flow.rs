@@ -193,9 +193,9 @@ impl<S: HybridJacobians + ?Sized> HybridJacobians for SegmentFlow<'_, S> {
 /// event of the mode (`EventId(1 + i)` for the `i`-th of `guards`), all terminal: a trajectory
 /// that meets another event surface first does not follow the signature.
 pub(crate) struct GuardedFlow<'a, S: ?Sized> {
-    pub system: &'a S,
-    pub mode: Mode,
-    pub end: SegmentEnd,
+    system: &'a S,
+    mode: Mode,
+    end: SegmentEnd,
     guards: Vec<EventId>,
     ids: Vec<EventId>,
 }

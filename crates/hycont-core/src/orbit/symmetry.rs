@@ -318,9 +318,9 @@ impl SymmetricSearch {
 /// A $\mathbb{Z}_2$-symmetric periodic orbit whose half orbit has the signature `half`
 /// ([`Closure::Symmetric`]): every seed is followed along the signature (each segment to its
 /// end condition; a seed whose flow meets another event of the segment's mode first leaves
-/// the signature and is dropped) and ranked by how nearly it closes, $\|x_K - S x_0\|_1$ (plus the relative
-/// miss of the half period, when given); Newton's method on the half-orbit problem
-/// ([`solve_symmetric_shooting`]) is tried from the best-ranked guesses.
+/// the signature and is dropped) and ranked by how nearly it closes, $\|x_K - S x_0\|_1$
+/// (plus the relative miss of the half period, when given); Newton's method on the half-orbit
+/// problem ([`solve_symmetric_shooting`]) is tried from the best-ranked guesses.
 ///
 /// # Errors
 /// A signature that is not a half orbit's, seeds or parameters of the wrong length or not
