@@ -324,21 +324,42 @@ fn fold_and_period_doubling_curves_follow_a_omega_squared() {
 
 #[test]
 fn a_saved_branch_restarts_at_a_label() {
-    let (mut run, b) = amplitude_run(OrbitMethod::Shooting(ShootingSettings::default()));
-    let text = b.to_json().unwrap();
-    let saved = OrbitBranch::from_json(&text).unwrap();
-    assert_eq!(saved, b);
-    let uz = saved
-        .special(SpecialKind::UserPoint)
-        .find(|s| saved.orbit_of(&s.point).unwrap().starts[0][2] > 0.0)
-        .unwrap()
-        .point
-        .label;
-    let again = run
-        .restart("again", &saved, uz, Some(RunDirection::Up))
-        .unwrap();
-    let pd = again.special(SpecialKind::PeriodDoubling).next().unwrap();
-    assert_abs_diff_eq!(pd.point[A], a_pd(1.0), epsilon = 1e-8);
+    for method in [
+        OrbitMethod::Shooting(ShootingSettings::default()),
+        OrbitMethod::Collocation(CollocationSettings::default()),
+    ] {
+        let (mut run, b) = amplitude_run(method);
+        let text = b.to_json().unwrap();
+        let saved = OrbitBranch::from_json(&text).unwrap();
+        assert_eq!(saved, b);
+        let uz = saved
+            .special(SpecialKind::UserPoint)
+            .find(|s| saved.orbit_of(&s.point).unwrap().starts[0][2] > 0.0)
+            .unwrap()
+            .point
+            .label;
+        // Fresh runs (as in another process): by the same method the saved discretisation (a
+        // collocation mesh) is kept; by the other the point's orbit is discretised afresh.
+        let other = match method {
+            OrbitMethod::Shooting(_) => OrbitMethod::Collocation(CollocationSettings::default()),
+            OrbitMethod::Collocation(_) => OrbitMethod::Shooting(ShootingSettings::default()),
+        };
+        for (by, same) in [(method, true), (other, false)] {
+            let mut fresh = OrbitRun::new(&Table, A).unwrap();
+            fresh.method(by).bounds(0.9, 1.8);
+            let again = fresh
+                .restart("again", &saved, uz, Some(RunDirection::Up))
+                .unwrap();
+            let pd = again.first(SpecialKind::PeriodDoubling).unwrap();
+            assert_abs_diff_eq!(pd.point[A], a_pd(1.0), epsilon = 1e-8);
+            let kept = again.discretisation == saved.discretisation;
+            assert_eq!(kept, same, "{method:?} restarted by {by:?}");
+        }
+        let again = run
+            .restart("again", &saved, uz, Some(RunDirection::Up))
+            .unwrap();
+        assert_eq!(again.discretisation, saved.discretisation);
+    }
 }
 
 /// An orbit read off a simulation, rotated to start after the impact: its last segment ends at
