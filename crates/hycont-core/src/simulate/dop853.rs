@@ -217,6 +217,12 @@ impl Dop853 {
         &self.y_new
     }
 
+    /// Derivative at the end of the accepted, pending step (valid after [`Dop853::accept`]).
+    #[must_use]
+    pub fn new_derivative(&self) -> &[f64] {
+        &self.f_new
+    }
+
     /// Size of the pending (attempted) step.
     #[must_use]
     pub fn step_size(&self) -> f64 {

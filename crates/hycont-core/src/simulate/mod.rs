@@ -6,6 +6,7 @@
 //! at jumps). See [`SimulationSettings`] for the knobs and [`Trajectory`] for the result.
 
 mod dop853;
+mod events;
 mod settings;
 mod tableau;
 mod trajectory;
@@ -19,32 +20,9 @@ pub use trajectory::{
 };
 
 use crate::error::{Error, Result, check_finite, check_len};
-use crate::system::{Direction, EventAction, EventId, HybridJacobians, HybridSystem, Mode};
+use crate::system::{EventAction, HybridJacobians, HybridSystem, Mode};
+use events::{DenseStep, EventState, event_rate};
 use variational::{Extension, Plain, Variational};
-
-/// Fractions of a step probed for an excursion to the pre-crossing side of an event function
-/// that starts a segment on its zero (restart guard): $2^{-40}, \dots, 2^{-1}$ and $j/8$.
-fn probe_fractions() -> [f64; 47] {
-    let mut out = [0.0; 47];
-    for (k, o) in out.iter_mut().take(40).enumerate() {
-        *o = 2f64.powi(k as i32 - 40);
-    }
-    for j in 1..8 {
-        out[39 + j] = j as f64 / 8.0;
-    }
-    out.sort_by(f64::total_cmp);
-    out
-}
-
-/// Per-event bookkeeping of the current segment.
-#[derive(Debug, Clone, Copy)]
-struct EventState {
-    id: EventId,
-    direction: Direction,
-    value: f64,
-    /// The event function started the segment on (or within the guard band of) zero.
-    at_zero: bool,
-}
 
 /// The event-driven simulator. Holds its work space, so that repeated runs do not allocate per
 /// step (and reuse buffers across runs of the same dimension).
@@ -210,25 +188,22 @@ impl Simulator {
         Ok(())
     }
 
-    /// Evaluates the events of `mode` at the start of a segment and flags those starting on zero.
+    /// Evaluates the events of `mode` (value and rate) at the start of a segment at `y` (with
+    /// derivative `f`; both possibly augmented) and flags those starting on zero.
+    #[allow(clippy::too_many_arguments)]
     fn start_segment<S: HybridSystem + ?Sized>(
         events: &mut Vec<EventState>,
         system: &S,
         mode: Mode,
-        x: &[f64],
+        y: &[f64],
+        f: &[f64],
         p: &[f64],
+        work: &mut [f64],
     ) {
+        let n = system.state_dim();
         events.clear();
-        let scale = 1.0 + x.iter().fold(0.0f64, |m, v| m.max(v.abs()));
-        let guard = 1e-9 * scale;
         for &id in system.events(mode) {
-            let value = system.event(id, x, p);
-            events.push(EventState {
-                id,
-                direction: system.event_spec(id).direction,
-                value,
-                at_zero: value.abs() <= guard,
-            });
+            events.push(EventState::start(system, id, &y[..n], &f[..n], p, work));
         }
     }
 
@@ -269,7 +244,6 @@ impl Simulator {
         let mut stats = SimulationStats::default();
         let mut sensitivities_valid = true;
         let mut next_sample = s.samples.map(|st| st.first_index_from(t0));
-        let probes = probe_fractions();
 
         let to_error = |e: NonFiniteEvaluation, mode: Mode| Error::NonFiniteVectorField {
             t: e.t,
@@ -289,7 +263,15 @@ impl Simulator {
                 .start(&mut rhs, t, &self.y0)
                 .map_err(|e| to_error(e, mode))?;
         }
-        Self::start_segment(&mut self.events, system, mode, &self.y0[..n], p);
+        Self::start_segment(
+            &mut self.events,
+            system,
+            mode,
+            &self.y0,
+            self.stepper.derivative(),
+            p,
+            &mut self.x_probe[..n],
+        );
         let span = (t_end - t0).max(f64::MIN_POSITIVE);
         let mut h = match s.h_initial {
             Some(h) => h.min(span),
@@ -350,50 +332,34 @@ impl Simulator {
             // --- Event detection on the pending step.
             let mut earliest: Option<(f64, usize)> = None;
             for idx in 0..self.events.len() {
-                let ev = self.events[idx];
-                let g_new = system.event(ev.id, &self.stepper.new_state()[..n], p);
-                let bracket = if ev.at_zero {
-                    let want = match ev.direction.sign_before() {
-                        Some(sg) => sg,
-                        None if g_new != 0.0 => -g_new.signum(),
-                        None => continue,
-                    };
-                    if g_new * want > 0.0 {
-                        None
-                    } else {
-                        // Look for an excursion to the pre-crossing side inside the step.
-                        self.stepper
-                            .prepare_dense(&mut rhs)
-                            .map_err(|e| to_error(e, mode))?;
-                        let mut found = None;
-                        for &fr in &probes {
-                            let tp = t + fr * (t_new - t);
-                            self.stepper.dense(tp, &mut self.x_probe[..n]);
-                            let gp = system.event(ev.id, &self.x_probe[..n], p);
-                            match found {
-                                None if gp * want > 0.0 => found = Some((tp, gp, t_new, g_new)),
-                                Some((ta, ga, _, _)) if gp * want <= 0.0 => {
-                                    found = Some((ta, ga, tp, gp));
-                                    break;
-                                }
-                                _ => {}
-                            }
-                        }
-                        found
-                    }
-                } else if ev.direction.is_crossing(ev.value, g_new) {
-                    Some((t, ev.value, t_new, g_new))
-                } else {
-                    None
+                let x_new = &self.stepper.new_state()[..n];
+                let f_new = &self.stepper.new_derivative()[..n];
+                let ev = &mut self.events[idx];
+                ev.value_new = system.event(ev.id, x_new, p);
+                ev.rate_new = event_rate(system, ev.id, x_new, f_new, p, &mut self.x_probe[..n]);
+                let ev = *ev;
+                let check = ev.check();
+                if check == events::Check::Quiet {
+                    continue;
+                }
+                self.stepper
+                    .prepare_dense(&mut rhs)
+                    .map_err(|e| to_error(e, mode))?;
+                let tol = s.event_tolerance * t_new.abs().max(1.0);
+                let step = DenseStep {
+                    stepper: &self.stepper,
+                    system,
+                    p,
+                    t,
+                    t_new,
                 };
-                if let Some((ta, ga, tb, gb)) = bracket {
-                    self.stepper
-                        .prepare_dense(&mut rhs)
-                        .map_err(|e| to_error(e, mode))?;
+                if let Some((ta, ga, tb, gb)) =
+                    step.bracket(&ev, check, tol, &mut self.x_probe[..n])
+                {
                     let tol = s.event_tolerance * tb.abs().max(1.0);
                     let stepper = &self.stepper;
                     let probe = &mut self.x_probe;
-                    let te = locate_root(ta, ga, tb, gb, tol, |tau| {
+                    let te = events::locate_root(ta, ga, tb, gb, tol, |tau| {
                         stepper.dense(tau, &mut probe[..n]);
                         system.event(ev.id, &probe[..n], p)
                     });
@@ -434,15 +400,7 @@ impl Simulator {
                     steps.push(t_new, mode, self.stepper.new_state());
                 }
                 for ev in &mut self.events {
-                    let g = system.event(ev.id, &self.stepper.new_state()[..n], p);
-                    ev.value = g;
-                    if ev.at_zero {
-                        let scale = 1.0
-                            + self.stepper.new_state()[..n]
-                                .iter()
-                                .fold(0.0f64, |m, v| m.max(v.abs()));
-                        ev.at_zero = g.abs() <= 1e-9 * scale;
-                    }
+                    ev.commit(&self.stepper.new_state()[..n]);
                 }
                 self.stepper.commit();
                 t = t_new;
@@ -589,7 +547,15 @@ impl Simulator {
                     self.stepper
                         .start(&mut rhs, te, &self.y_plus)
                         .map_err(|e| to_error(e, mode))?;
-                    Self::start_segment(&mut self.events, system, mode, &self.y_plus[..n], p);
+                    Self::start_segment(
+                        &mut self.events,
+                        system,
+                        mode,
+                        &self.y_plus,
+                        self.stepper.derivative(),
+                        p,
+                        &mut self.x_probe[..n],
+                    );
                     h = h_next.min(h);
                 }
             }
@@ -645,66 +611,4 @@ impl Simulator {
 fn stats_steps(stepper: &Dop853) -> u64 {
     let st = stepper.stats();
     st.accepted_steps + st.rejected_steps
-}
-
-/// Locates the crossing of `g` in `[a, b]`, where `g(a)` is strictly on the pre-crossing side and
-/// `g(b)` on the other side or zero, by the Illinois method with a bisection safeguard. Returns a
-/// time on the post-crossing side within `tol` of the crossing.
-pub(crate) fn locate_root(
-    mut a: f64,
-    mut ga: f64,
-    mut b: f64,
-    mut gb: f64,
-    tol: f64,
-    mut g: impl FnMut(f64) -> f64,
-) -> f64 {
-    // The pre-crossing sign (g(a) is strictly non-zero); zero counts as post-crossing.
-    let pre = ga.signum();
-    let post = |v: f64| v == 0.0 || v.signum() != pre;
-    let mut side = 0i8;
-    for _ in 0..200 {
-        if b - a <= tol {
-            break;
-        }
-        let width = b - a;
-        let mut c = if ga == gb {
-            0.5 * (a + b)
-        } else {
-            (a * gb - b * ga) / (gb - ga)
-        };
-        // Keep c strictly inside, at least tol/2 from the ends, so the bracket shrinks below tol.
-        let margin = (0.5 * tol).min(0.25 * width);
-        c = c.clamp(a + margin, b - margin);
-        let gc = g(c);
-        if post(gc) {
-            // c is on the post-crossing side (or on zero): new right end.
-            b = c;
-            gb = gc;
-            if side == -1 {
-                ga *= 0.5;
-            }
-            side = -1;
-        } else {
-            a = c;
-            ga = gc;
-            if side == 1 {
-                gb *= 0.5;
-            }
-            side = 1;
-        }
-        // Bisection safeguard when the bracket shrinks slowly.
-        if b - a > 0.5 * width {
-            let m = 0.5 * (a + b);
-            let gm = g(m);
-            if post(gm) {
-                b = m;
-                gb = gm;
-            } else {
-                a = m;
-                ga = gm;
-            }
-            side = 0;
-        }
-    }
-    b
 }
