@@ -193,6 +193,12 @@ pub struct SpecialPoint {
     /// For events, user points and end points: the level it reached.
     #[serde(default)]
     pub level: Option<f64>,
+    /// For SN, BP, PD and TR points of problems with multipliers: the non-trivial multiplier
+    /// `(re, im)` at the kind's critical value ($+1$, $+1$, $-1$, the unit circle). A located
+    /// point is reported only when this lies within
+    /// [`crate::ContinuationSettings::critical_tolerance`] of that value.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub critical: Option<(f64, f64)>,
 }
 
 /// Why a branch ended.
@@ -252,6 +258,10 @@ pub struct RunStatistics {
     pub analyses: usize,
     /// Steps retried with half the step size (corrector failure or too large an angle).
     pub rejected_steps: usize,
+    /// Located sign changes of SN, BP, PD or TR test functions not reported because no
+    /// multiplier was at the critical value (e.g. a multiplier through infinity at grazing).
+    #[serde(default)]
+    pub discarded_tests: usize,
 }
 
 impl std::ops::Add for RunStatistics {
@@ -264,6 +274,7 @@ impl std::ops::Add for RunStatistics {
             location_residuals: self.location_residuals + o.location_residuals,
             analyses: self.analyses + o.analyses,
             rejected_steps: self.rejected_steps + o.rejected_steps,
+            discarded_tests: self.discarded_tests + o.discarded_tests,
         }
     }
 }

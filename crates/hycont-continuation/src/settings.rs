@@ -83,6 +83,15 @@ pub struct ContinuationSettings {
     /// Special-point kinds that end the branch when located (e.g. the branch point where an
     /// asymmetric branch rejoins the symmetric one).
     pub stop_at: Vec<crate::SpecialKind>,
+    /// A located SN, BP, PD or TR point is reported only if a non-trivial multiplier lies
+    /// within this distance of the kind's critical value (default `1e-4`, in `(0, 1)`); see
+    /// [`crate::SpecialPoint::critical`].
+    #[serde(default = "default_critical_tolerance")]
+    pub critical_tolerance: f64,
+}
+
+fn default_critical_tolerance() -> f64 {
+    1e-4
 }
 
 impl Default for ContinuationSettings {
@@ -103,6 +112,7 @@ impl Default for ContinuationSettings {
             bounds: Vec::new(),
             detect: Detect::default(),
             stop_at: Vec::new(),
+            critical_tolerance: default_critical_tolerance(),
         }
     }
 }
@@ -184,6 +194,13 @@ impl ContinuationSettings {
                 reason,
             })
         };
+        if !(self.critical_tolerance > 0.0 && self.critical_tolerance < 1.0) {
+            return bad(
+                "critical_tolerance",
+                self.critical_tolerance,
+                "must be in (0, 1)",
+            );
+        }
         if !(self.h_min > 0.0) {
             return bad("h_min", self.h_min, "must be > 0");
         }

@@ -511,6 +511,7 @@ fn mark_start(run: &mut Branch, other: Option<&mut Branch>, user_points: &[Monit
             accuracy: 0.0,
             on: Some(e.on),
             level: Some(e.level),
+            critical: None,
         })
         .collect();
     let near = |s: &SpecialPoint| {

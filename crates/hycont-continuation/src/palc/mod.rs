@@ -23,6 +23,7 @@ use hycont_core::ParamId;
 use hycont_core::linalg::SparsePattern;
 use hycont_core::problem::JacobianUse;
 
+mod critical;
 mod locate;
 mod predict;
 mod slots;
@@ -464,7 +465,8 @@ impl<'p, 'a, P: ContinuationProblem<'a> + ?Sized> Palc<'p, 'a, P> {
     }
 
     /// The special point of a located sign change in the step from `a` to `b` (`None` for a
-    /// torus test change that is not a complex pair on the unit circle: a neutral saddle).
+    /// located sign change without a multiplier at the kind's critical value: a multiplier
+    /// through infinity for PD, a neutral saddle for TR; see [`critical`]).
     fn special_point(
         &self,
         f: Located,
@@ -474,16 +476,10 @@ impl<'p, 'a, P: ContinuationProblem<'a> + ?Sized> Palc<'p, 'a, P> {
     ) -> Option<SpecialPoint> {
         let kind = Self::kind_of(self.slots[f.slot]);
         let mut c = f.chart;
-        if kind == SpecialKind::Torus {
-            let complex = c
-                .info
-                .multipliers
-                .iter()
-                .zip(&c.info.trivial)
-                .any(|(m, t)| !*t && m.1.abs() > 1e-8 && (m.0.hypot(m.1) - 1.0).abs() < 1e-4);
-            if !complex {
-                return None;
-            }
+        let (genuine, critical) =
+            critical::genuine(kind, &c.info, self.settings.critical_tolerance);
+        if (f.located || kind == SpecialKind::Torus) && !genuine {
+            return None;
         }
         // At a branch point the augmented Jacobian is singular and the tangent solved there
         // tends to the other branch's direction: keep this branch's tangent, from the
@@ -506,6 +502,7 @@ impl<'p, 'a, P: ContinuationProblem<'a> + ?Sized> Palc<'p, 'a, P> {
             accuracy: f.accuracy,
             on,
             level,
+            critical,
         })
     }
 
@@ -574,6 +571,7 @@ impl<'p, 'a, P: ContinuationProblem<'a> + ?Sized> Palc<'p, 'a, P> {
             for f in self.located_in_step(&a, &b, h) {
                 let slot = f.slot;
                 let Some(special) = self.special_point(f, (&a, &b), h, label + 1) else {
+                    self.stats.discarded_tests += 1;
                     continue;
                 };
                 label += 1;

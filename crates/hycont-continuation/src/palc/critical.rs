@@ -1,0 +1,59 @@
+//! The critical multiplier of a located special point, and whether it is genuine.
+//!
+//! A test function can change sign without the bifurcation it stands for: the period-doubling
+//! product $\prod (1 + \lambda)$ changes sign when a multiplier passes through infinity (at
+//! grazing the saltation matrix has a $1/\dot h$ factor), and the torus product when a real pair
+//! crosses $\lambda_i \lambda_j = 1$ (a neutral saddle). At a located point the multiplier the
+//! kind names must therefore sit at its critical value:
+//! - SN, BP: a non-trivial multiplier at $+1$ (for a symmetric orbit's symmetry-breaking BP the
+//!   full orbit's $\lambda = \mu^2 = 1$);
+//! - PD: a real non-trivial multiplier at $-1$;
+//! - TR: a non-real multiplier on the unit circle.
+//!
+//! Sign changes whose nearest multiplier is further than the tolerance from the critical value
+//! are not reported. Problems without multipliers are not checked.
+
+use crate::PointInfo;
+use crate::branch::SpecialKind;
+
+/// Imaginary parts below this count as real.
+const REAL: f64 = 1e-8;
+
+/// The non-trivial multiplier nearest the critical value of `kind` and its distance from it
+/// (`None` for kinds without one, or without multipliers).
+pub(super) fn critical_multiplier(
+    kind: SpecialKind,
+    info: &PointInfo,
+) -> Option<((f64, f64), f64)> {
+    let distance: fn((f64, f64)) -> Option<f64> = match kind {
+        SpecialKind::Fold | SpecialKind::BranchPoint => |m| Some((m.0 - 1.0).hypot(m.1)),
+        SpecialKind::PeriodDoubling => |m| (m.1.abs() <= REAL).then(|| (m.0 + 1.0).abs()),
+        SpecialKind::Torus => |m| (m.1.abs() > REAL).then(|| (m.0.hypot(m.1) - 1.0).abs()),
+        _ => return None,
+    };
+    info.multipliers
+        .iter()
+        .zip(&info.trivial)
+        .filter(|(_, t)| !**t)
+        .filter_map(|(m, _)| distance(*m).map(|d| (*m, d)))
+        .min_by(|a, b| a.1.total_cmp(&b.1))
+}
+
+/// Whether a sign change of `kind`'s test function is genuine: the problem has no multipliers,
+/// or one sits within `tol` of the critical value. Returns the critical multiplier too.
+pub(super) fn genuine(kind: SpecialKind, info: &PointInfo, tol: f64) -> (bool, Option<(f64, f64)>) {
+    let checked = matches!(
+        kind,
+        SpecialKind::Fold
+            | SpecialKind::BranchPoint
+            | SpecialKind::PeriodDoubling
+            | SpecialKind::Torus
+    );
+    if !checked || info.multipliers.is_empty() {
+        return (true, None);
+    }
+    match critical_multiplier(kind, info) {
+        Some((m, d)) => (d <= tol, Some(m)),
+        None => (false, None),
+    }
+}
