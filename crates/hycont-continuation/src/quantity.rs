@@ -9,8 +9,9 @@ use serde::{Deserialize, Deserializer, Serialize, Serializer};
 /// Handle of a measure (monitor) recorded at every point of a branch: an index into
 /// [`crate::BranchPoint::monitors`] and [`crate::Branch::monitor_names`].
 ///
-/// Orbit branches record [`MeasureId::PERIOD`] and [`MeasureId::SHORTEST_SEGMENT`] first, then
-/// the measures added to the run ([`crate::OrbitRun::add_measure`] returns their handles).
+/// Orbit branches record [`MeasureId::PERIOD`], [`MeasureId::SHORTEST_SEGMENT`],
+/// [`MeasureId::ADMISSIBLE_GRAZING`] and [`MeasureId::ADMISSIBLE_DOMAIN`] first, then the
+/// measures added to the run ([`crate::OrbitRun::add_measure`] returns their handles).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
 #[serde(transparent)]
 pub struct MeasureId(usize);
@@ -20,6 +21,12 @@ impl MeasureId {
     pub const PERIOD: MeasureId = MeasureId(0);
     /// The shortest segment's duration (zero where a segment collapses: a grazing).
     pub const SHORTEST_SEGMENT: MeasureId = MeasureId(1);
+    /// The grazing margin of [`crate::OrbitRun::admissibility`] (zero at an interior touch of
+    /// an event surface or a tangential impact).
+    pub const ADMISSIBLE_GRAZING: MeasureId = MeasureId(2);
+    /// The domain margin of [`crate::OrbitRun::admissibility`] (zero where a segment ends on
+    /// another event's surface).
+    pub const ADMISSIBLE_DOMAIN: MeasureId = MeasureId(3);
 
     /// The handle of monitor `index` of a problem (for problems built by hand).
     #[must_use]

@@ -56,6 +56,23 @@ pub enum Error {
         /// Requested end time.
         t_end: f64,
     },
+    /// A solved orbit leaves its modes' domains (see [`crate::orbit::check_admissible`]).
+    #[error(
+        "inadmissible orbit: segment {segment}{}, {violation:?} at t = {t} (value {value})",
+        event.map(|e| format!(", event {e}")).unwrap_or_default()
+    )]
+    Inadmissible {
+        /// The segment.
+        segment: usize,
+        /// The event whose surface is involved (`None` for a duration).
+        event: Option<crate::system::EventId>,
+        /// What is wrong.
+        violation: crate::orbit::Violation,
+        /// Time from the segment's start.
+        t: f64,
+        /// The violated condition's value (negative).
+        value: f64,
+    },
     /// A mode handle does not belong to the system.
     #[error("mode {mode} does not exist (the system has {count} modes)")]
     InvalidMode {

@@ -5,20 +5,22 @@
 
 use crate::error::{Error, Result};
 pub use crate::model::Free;
-use crate::model::{ALPHA, IMPACT_MINUS, IMPACT_PLUS, OMEGA, Parameters, RockingBlock};
+use crate::model::{ALPHA, OMEGA, Parameters, RockingBlock};
 use crate::orbits::{OrbitKind, orbit};
 use hycont_continuation::observe::Observer;
 use hycont_continuation::{
     CurveSpec, MeasureId, OrbitBranch, OrbitMethod, OrbitRun, RunDirection, SpecialKind,
 };
-use hycont_core::orbit::{Extremum, GrazingMargin, ShootingSettings};
+use hycont_core::orbit::{Extremum, ShootingSettings};
 use serde::{Deserialize, Serialize};
 use std::f64::consts::FRAC_PI_2;
 
 /// Amp, $\max|\varphi|$ over the orbit (the true extremum), among a branch's measures.
-pub const AMP: MeasureId = MeasureId::new(2);
-/// The signed grazing margin of the flights' interior dips to the impact surface.
-pub const GRAZING_MARGIN: MeasureId = MeasureId::new(3);
+pub const AMP: MeasureId = MeasureId::new(4);
+/// The grazing margin of every branch ([`OrbitRun::admissibility`], on by default): the
+/// flights' interior dips to the impact surface, the impacts' approach rates and the margins to
+/// overturning; its zero ends a branch with GR.
+pub const GRAZING_MARGIN: MeasureId = MeasureId::ADMISSIBLE_GRAZING;
 
 /// The discretisation of the study's branches: multiple shooting (ten times cheaper per point
 /// here than collocation, and agreeing with it to the printed digits) with integration
@@ -32,11 +34,10 @@ pub fn default_method() -> OrbitMethod {
     })
 }
 
-/// A run of the block at `params` in `free` over `range` by `method`, recording Amp and the
-/// grazing margin (margin of the flights' interior dips to $\varphi = 0$, capped at
-/// $\pi/2$), with the study's events: SB where Amp reaches the static boundary
-/// $\pi/2 - \theta_b$, and GR where the margin reaches 0 (terminal: past it $\varphi$ changes sign
-/// inside a flight). Orbits stand while Amp is below $\pi/2$: a branch whose Amp reaches it
+/// A run of the block at `params` in `free` over `range` by `method`, recording Amp, with the
+/// study's events: SB where Amp reaches the static boundary $\pi/2 - \theta_b$, and GR where
+/// the run's default admissibility ends the branch ([`GRAZING_MARGIN`] reaches 0: past it
+/// $\varphi$ changes sign inside a flight). Orbits stand while Amp is below $\pi/2$: a branch whose Amp reaches it
 /// (the block overturns) ends there. Steps 0.02 (first), 1e-8 to 0.1.
 ///
 /// # Errors
@@ -53,12 +54,12 @@ pub fn study_run<'a>(
         .bounds(range.0, range.1)
         .steps(0.02, 1e-8, 0.1);
     let amp = run.add_measure("amp", Extremum::max_abs(0))?;
-    let margin = GrazingMargin::new([IMPACT_PLUS, IMPACT_MINUS]).cap(FRAC_PI_2);
-    let margin = run.add_measure("grazing_margin", margin)?;
-    debug_assert_eq!((amp, margin), (AMP, GRAZING_MARGIN));
-    run.bound(amp, -FRAC_PI_2, FRAC_PI_2)?
-        .add_event(amp, params.static_boundary(), SpecialKind::BoundaryTouch)?
-        .add_terminal_event(margin, 0.0, SpecialKind::Grazing)?;
+    debug_assert_eq!(amp, AMP);
+    run.bound(amp, -FRAC_PI_2, FRAC_PI_2)?.add_event(
+        amp,
+        params.static_boundary(),
+        SpecialKind::BoundaryTouch,
+    )?;
     Ok(run)
 }
 

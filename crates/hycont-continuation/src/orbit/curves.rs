@@ -156,6 +156,19 @@ impl<'a, S: HybridJacobians + ?Sized> OrbitRun<'a, S> {
             (orbit, branch.discretisation.clone())
         };
         let condition = match condition {
+            // A grazing found by a margin at an orbit whose segment has collapsed onto the
+            // surface it touches: as singular as the collapse itself.
+            CurveCondition::Measure { .. }
+                if start.durations.iter().enumerate().any(|(k, d)| {
+                    d.abs() < 1e-8 && collapses_tangentially(self.system, &start, k)
+                }) =>
+            {
+                return Err(wrong(
+                    "a segment has collapsed onto an event surface the flow touches \
+                     tangentially, where the curve's condition is singular; continue the \
+                     grazing curve from the other side (the margin's event on longer segments)",
+                ));
+            }
             CurveCondition::Collapse { .. } => {
                 let segment = start
                     .durations
@@ -182,7 +195,7 @@ impl<'a, S: HybridJacobians + ?Sized> OrbitRun<'a, S> {
             spec.second,
             condition,
             self.measures.clone(),
-            self.curve_events(condition, spec)?,
+            self.curve_events(condition, special.kind, spec)?,
         )?;
         let mut settings = self.curve_settings.clone();
         settings.bounds.extend(self.settings.bounds.iter().copied());
@@ -195,20 +208,28 @@ impl<'a, S: HybridJacobians + ?Sized> OrbitRun<'a, S> {
     }
 
     /// The events along a curve: `spec`'s user points and the run's terminal events except
-    /// the one on the measure that defines the curve.
+    /// the one on the measure that defines the curve and, on a curve of a `kind` point, the
+    /// admissibility event of that kind (its margin vanishes along the curve).
     fn curve_events(
         &self,
         condition: CurveCondition,
+        kind: SpecialKind,
         spec: &CurveSpec,
     ) -> Result<Vec<MonitorEvent>> {
         let defining = match condition {
             CurveCondition::Measure { measure, .. } => Some(Quantity::Measure(measure)),
             _ => None,
         };
+        let same_kind_admissibility = |e: &MonitorEvent| {
+            self.admissibility.is_some_and(|(graze, domain)| {
+                e.kind == kind
+                    && (e.on == Quantity::Measure(graze) || e.on == Quantity::Measure(domain))
+            })
+        };
         let mut events: Vec<MonitorEvent> = self
             .events
             .iter()
-            .filter(|e| e.terminal && Some(e.on) != defining)
+            .filter(|e| e.terminal && Some(e.on) != defining && !same_kind_admissibility(e))
             .copied()
             .collect();
         for &(on, level) in &spec.user_points {

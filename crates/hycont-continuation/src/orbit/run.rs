@@ -10,10 +10,12 @@ use super::saved::OrbitBranch;
 use crate::branch::{Branch, BranchPoint, EndReason, SpecialKind, SpecialPoint};
 use crate::error::{Error, Result};
 use crate::observe::{Observer, Silent};
-use crate::quantity::{MeasureId, Quantity};
+use crate::quantity::{Label, MeasureId, Quantity};
 use crate::settings::{BoundOn, ContinuationSettings};
 use crate::{ContinuationProblem, MonitorEvent, continue_along, continue_branch};
-use hycont_core::orbit::{Discretisation, Measure, MeasureSet, OrbitMethod, PeriodicOrbit};
+use hycont_core::orbit::{
+    AdmissibilityMargin, Discretisation, Margin, Measure, MeasureSet, OrbitMethod, PeriodicOrbit,
+};
 use hycont_core::{HybridJacobians, ParamId};
 use serde::{Deserialize, Serialize};
 use std::rc::Rc;
@@ -88,6 +90,8 @@ pub struct OrbitRun<'a, S: ?Sized> {
     pub(super) half_orbits: bool,
     pub(super) symmetry_tol: f64,
     pub(super) observer: Box<dyn Observer + 'a>,
+    /// The admissibility measures, once added.
+    pub(super) admissibility: Option<(MeasureId, MeasureId)>,
 }
 
 impl<S: ?Sized> std::fmt::Debug for OrbitRun<'_, S> {
@@ -110,7 +114,7 @@ impl<'a, S: HybridJacobians + ?Sized> OrbitRun<'a, S> {
     /// [`Error::NoSuchQuantity`] if the system has no parameter `free`.
     pub fn new(system: &'a S, free: ParamId) -> Result<Self> {
         check_parameter(system, free)?;
-        Ok(Self {
+        let mut run = Self {
             system,
             free,
             method: OrbitMethod::default(),
@@ -121,7 +125,49 @@ impl<'a, S: HybridJacobians + ?Sized> OrbitRun<'a, S> {
             half_orbits: true,
             symmetry_tol: 1e-6,
             observer: Box::new(Silent),
-        })
+            admissibility: None,
+        };
+        run.admissibility(true)?;
+        Ok(run)
+    }
+
+    /// Whether branches end where their orbits stop being admissible (default: on). On, the
+    /// run records two measures, `admissible_grazing` and `admissible_domain`
+    /// ([`AdmissibilityMargin`]), and ends the branch where the first reaches zero with a
+    /// located GR point (an interior touch of an event surface or a tangential impact) and
+    /// where the second does with a located `DB` point (a segment collapses or ends on another
+    /// event's surface). Off, the events are dropped (the measures, once added, stay
+    /// recorded).
+    ///
+    /// # Errors
+    /// As [`OrbitRun::add_measure`] when the measures are first added.
+    pub fn admissibility(&mut self, on: bool) -> Result<&mut Self> {
+        let kinds = [SpecialKind::Grazing, SpecialKind::Custom(Label::new("DB")?)];
+        if on {
+            let ids = match self.admissibility {
+                Some(ids) => ids,
+                None => {
+                    let graze = AdmissibilityMargin::new(self.system, Margin::Grazing);
+                    let domain = AdmissibilityMargin::new(self.system, Margin::Domain);
+                    let ids = (
+                        self.add_measure("admissible_grazing", graze)?,
+                        self.add_measure("admissible_domain", domain)?,
+                    );
+                    self.admissibility = Some(ids);
+                    ids
+                }
+            };
+            let ons = [Quantity::from(ids.0), Quantity::from(ids.1)];
+            if !self.events.iter().any(|e| ons.contains(&e.on)) {
+                for (on, kind) in ons.into_iter().zip(kinds) {
+                    self.push_event(on, 0.0, kind, true)?;
+                }
+            }
+        } else if let Some(ids) = self.admissibility {
+            let ons = [Quantity::from(ids.0), Quantity::from(ids.1)];
+            self.events.retain(|e| !ons.contains(&e.on));
+        }
+        Ok(self)
     }
 
     /// The discretisation (default: shooting with its default settings).

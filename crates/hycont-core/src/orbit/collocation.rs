@@ -799,6 +799,7 @@ pub fn solve_collocation<S: HybridJacobians + ?Sized>(
         residual = sol.residual;
         history.extend(sol.history);
     }
+    super::check_admissible(system, &orbit)?;
     let floquet = condensed_floquet(system, &orbit, &meshes, &nodes, settings.ncol)?;
     Ok(CollocationSolution {
         solution: OrbitSolution {

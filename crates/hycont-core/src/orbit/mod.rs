@@ -6,6 +6,7 @@
 //!                                                      durations, params)              Newton history)
 //! ```
 
+mod admissibility;
 mod collocation;
 mod discretisation;
 mod end_condition;
@@ -18,6 +19,9 @@ mod shooting;
 mod signature;
 mod symmetry;
 
+pub use admissibility::{
+    ADMISSIBILITY_TOL, AdmissibilityMargin, Margin, Violation, check_admissible,
+};
 pub use collocation::{
     Collocation, CollocationSettings, CollocationSolution, Mesh, collocation_floquet,
     collocation_pack, collocation_problem, collocation_unpack, gauss_legendre_points,
@@ -192,8 +196,9 @@ fn compose_monodromy<S: HybridJacobians + ?Sized>(
 /// computes its Floquet multipliers.
 ///
 /// # Errors
-/// [`crate::Error::NewtonFailed`] (with the history) if Newton does not converge, or an
-/// integration error.
+/// [`crate::Error::NewtonFailed`] (with the history) if Newton does not converge,
+/// [`crate::Error::Inadmissible`] if the solution leaves its modes' domains
+/// ([`check_admissible`]), or an integration error.
 pub fn solve_shooting<S: HybridJacobians + ?Sized>(
     system: &S,
     guess: &PeriodicOrbit,
@@ -204,6 +209,7 @@ pub fn solve_shooting<S: HybridJacobians + ?Sized>(
     let mut problem = shooting_problem(system, guess, settings)?;
     let sol = newton(&mut problem, &pack(guess), newton_settings)?;
     let orbit = unpack(guess, &sol.u);
+    check_admissible(system, &orbit)?;
     let floquet = monodromy_by_shooting(system, &orbit, settings)?;
     Ok(OrbitSolution {
         orbit,
