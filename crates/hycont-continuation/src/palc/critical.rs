@@ -57,3 +57,50 @@ pub(super) fn genuine(kind: SpecialKind, info: &PointInfo, tol: f64) -> (bool, O
         None => (false, None),
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn info(multipliers: &[(f64, f64)]) -> PointInfo {
+        PointInfo {
+            multipliers: multipliers.to_vec(),
+            trivial: vec![false; multipliers.len()],
+            ..PointInfo::default()
+        }
+    }
+
+    /// A PD test that changed sign through a pole (the multiplier +2.7e9 of a collocation run
+    /// at grazing) is not genuine; one at -1 is, and reports that multiplier.
+    #[test]
+    fn period_doubling_needs_a_real_multiplier_at_minus_one() {
+        let pole = info(&[(2.7e9, 0.0), (0.3, 0.0)]);
+        assert!(!genuine(SpecialKind::PeriodDoubling, &pole, 1e-4).0);
+        let pd = info(&[(-1.0 + 1e-9, 0.0), (0.3, 0.0)]);
+        assert_eq!(
+            genuine(SpecialKind::PeriodDoubling, &pd, 1e-4),
+            (true, Some((-1.0 + 1e-9, 0.0)))
+        );
+        // A complex pair at -1 +- i 0.01 is not a real crossing.
+        let pair = info(&[(-1.0, 0.01), (-1.0, -0.01)]);
+        assert!(!genuine(SpecialKind::PeriodDoubling, &pair, 1e-4).0);
+    }
+
+    /// TR needs a complex pair on the unit circle (not a neutral saddle); SN and BP a
+    /// multiplier at +1; problems without multipliers are not checked.
+    #[test]
+    fn torus_fold_and_branch_points() {
+        let saddle = info(&[(2.0, 0.0), (0.5, 0.0)]);
+        assert!(!genuine(SpecialKind::Torus, &saddle, 1e-4).0);
+        let (c, s) = (0.6f64, 0.8f64);
+        let ns = info(&[(c, s), (c, -s)]);
+        assert!(genuine(SpecialKind::Torus, &ns, 1e-4).0);
+        let fold = info(&[(1.0 + 2e-9, 0.0), (0.2, 0.0)]);
+        assert!(genuine(SpecialKind::Fold, &fold, 1e-4).0);
+        assert!(!genuine(SpecialKind::BranchPoint, &info(&[(0.5, 0.0)]), 1e-4).0);
+        assert_eq!(
+            genuine(SpecialKind::PeriodDoubling, &info(&[]), 1e-4),
+            (true, None)
+        );
+    }
+}
