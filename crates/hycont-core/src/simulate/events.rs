@@ -211,7 +211,9 @@ impl<S: HybridSystem + ?Sized> DenseStep<'_, S> {
                 let mut rate = |tau: f64| {
                     (self.g(ev.id, tau + dt, probe) - self.g(ev.id, tau - dt, probe)) / (2.0 * dt)
                 };
-                let tau = locate_root(t, ev.rate, t_new, ev.rate_new, tol, &mut rate);
+                // The extremum to 1e-9 of the step: its value is then exact to second order.
+                let tol_extremum = tol.max(1e-9 * (t_new - t));
+                let tau = locate_root(t, ev.rate, t_new, ev.rate_new, tol_extremum, &mut rate);
                 let g_min = self.g(ev.id, tau, probe);
                 if g_min * sigma > 0.0 {
                     None
