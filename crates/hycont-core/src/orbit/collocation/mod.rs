@@ -9,14 +9,22 @@
 //! The segment ends satisfy the same event and jump conditions as in [`super::Shooting`].
 //! The error at the mesh points is $O(h^{2\,\mathrm{ncol}})$ (superconvergence).
 
+mod basis;
+mod condense;
+mod mesh;
+
 use super::end_condition::EndConditions;
-use super::floquet::{Floquet, matmul, saltation};
+use super::floquet::Floquet;
 use super::signature::Signature;
 use super::{OrbitSolution, PeriodicOrbit};
 use crate::error::{Error, Result};
 use crate::problem::{NewtonSettings, Problem, ZeroFunction, newton};
 use crate::simulate::{SimulationSettings, Simulator};
 use crate::system::{HybridJacobians, Mode};
+use basis::Basis;
+pub use basis::gauss_legendre_points;
+use condense::condensed_floquet;
+use mesh::{adapted_mesh, eval_piecewise, uniform_mesh};
 use serde::{Deserialize, Serialize};
 
 /// Settings of the collocation discretisation.
@@ -62,109 +70,6 @@ impl CollocationSettings {
             });
         }
         Ok(())
-    }
-}
-
-/// Gauss-Legendre points on $(0, 1)$.
-#[must_use]
-pub fn gauss_legendre_points(m: usize) -> Vec<f64> {
-    let mut out = Vec::with_capacity(m);
-    for i in 1..=m {
-        // Newton's method on P_m from the Chebyshev-like guess.
-        let mut x = (std::f64::consts::PI * (i as f64 - 0.25) / (m as f64 + 0.5)).cos();
-        for _ in 0..100 {
-            let (mut p0, mut p1) = (1.0, x);
-            for k in 2..=m {
-                let p2 = ((2 * k - 1) as f64 * x * p1 - (k - 1) as f64 * p0) / k as f64;
-                p0 = p1;
-                p1 = p2;
-            }
-            let pm = if m == 0 { 1.0 } else { p1 };
-            let pm1 = if m == 1 { 1.0 } else { p0 };
-            let dp = m as f64 * (x * pm - pm1) / (x * x - 1.0);
-            let dx = pm / dp;
-            x -= dx;
-            if dx.abs() < 1e-16 {
-                break;
-            }
-        }
-        out.push(0.5 * (1.0 - x));
-    }
-    out.sort_by(f64::total_cmp);
-    out
-}
-
-/// Lagrange basis on `ncol + 1` equidistant nodes of $[0, 1]$, tabulated at the Gauss points.
-#[derive(Debug, Clone)]
-struct Basis {
-    ncol: usize,
-    /// `l[c][i]` = $L_i(z_c)$.
-    l: Vec<Vec<f64>>,
-    /// `dl[c][i]` = $L_i'(z_c)$.
-    dl: Vec<Vec<f64>>,
-    /// $L_i^{(\mathrm{ncol})}$ (constant).
-    dn: Vec<f64>,
-}
-
-fn lagrange(nodes: &[f64], i: usize, z: f64) -> f64 {
-    nodes
-        .iter()
-        .enumerate()
-        .filter(|(m, _)| *m != i)
-        .map(|(_, &zm)| (z - zm) / (nodes[i] - zm))
-        .product()
-}
-
-fn lagrange_derivative(nodes: &[f64], i: usize, z: f64) -> f64 {
-    let mut sum = 0.0;
-    for k in 0..nodes.len() {
-        if k == i {
-            continue;
-        }
-        let mut prod = 1.0 / (nodes[i] - nodes[k]);
-        for (m, &zm) in nodes.iter().enumerate() {
-            if m != i && m != k {
-                prod *= (z - zm) / (nodes[i] - zm);
-            }
-        }
-        sum += prod;
-    }
-    sum
-}
-
-impl Basis {
-    fn new(ncol: usize) -> Self {
-        let nodes: Vec<f64> = (0..=ncol).map(|i| i as f64 / ncol as f64).collect();
-        let z = gauss_legendre_points(ncol);
-        let l = z
-            .iter()
-            .map(|&zc| (0..=ncol).map(|i| lagrange(&nodes, i, zc)).collect())
-            .collect();
-        let dl = z
-            .iter()
-            .map(|&zc| {
-                (0..=ncol)
-                    .map(|i| lagrange_derivative(&nodes, i, zc))
-                    .collect()
-            })
-            .collect();
-        let fact: f64 = (1..=ncol).map(|k| k as f64).product();
-        let dn = (0..=ncol)
-            .map(|i| {
-                let denom: f64 = (0..=ncol)
-                    .filter(|&m| m != i)
-                    .map(|m| nodes[i] - nodes[m])
-                    .product();
-                fact / denom
-            })
-            .collect();
-        Self { ncol, l, dl, dn }
-    }
-
-    fn nodes(&self) -> Vec<f64> {
-        (0..=self.ncol)
-            .map(|i| i as f64 / self.ncol as f64)
-            .collect()
     }
 }
 
@@ -485,10 +390,6 @@ impl CollocationSolution {
     }
 }
 
-fn uniform_mesh(ntst: usize) -> Mesh {
-    (0..=ntst).map(|j| j as f64 / ntst as f64).collect()
-}
-
 /// Node states of each segment of `orbit` on the given meshes, by simulating the segments.
 pub(crate) fn initial_nodes<S: HybridJacobians + ?Sized>(
     system: &S,
@@ -651,93 +552,6 @@ fn unpack_nodes(
     )
 }
 
-/// Evaluates the piecewise polynomial of one segment at $\tau$.
-fn eval_piecewise(nodes: &[f64], mesh: &[f64], ncol: usize, n: usize, tau: f64, out: &mut [f64]) {
-    let ntst = mesh.len() - 1;
-    let j = match mesh.partition_point(|&m| m <= tau) {
-        0 => 0,
-        idx => (idx - 1).min(ntst - 1),
-    };
-    let h = mesh[j + 1] - mesh[j];
-    let z = (tau - mesh[j]) / h;
-    let basis_nodes: Vec<f64> = (0..=ncol).map(|i| i as f64 / ncol as f64).collect();
-    for comp in 0..n {
-        out[comp] = (0..=ncol)
-            .map(|i| lagrange(&basis_nodes, i, z) * nodes[(j * ncol + i) * n + comp])
-            .sum();
-    }
-}
-
-/// A new mesh equidistributing the error estimate
-/// $\|x^{(\mathrm{ncol}+1)}\|^{1/(\mathrm{ncol}+1)}$, the $(\mathrm{ncol}+1)$-th derivative
-/// estimated from jumps of the piecewise polynomial's `ncol`-th derivative (as in AUTO).
-fn adapted_mesh(nodes: &[f64], mesh: &[f64], basis: &Basis, n: usize) -> Mesh {
-    let ncol = basis.ncol;
-    let ntst = mesh.len() - 1;
-    // ncol-th derivative (in tau) on each interval.
-    let d: Vec<Vec<f64>> = (0..ntst)
-        .map(|j| {
-            let h = mesh[j + 1] - mesh[j];
-            (0..n)
-                .map(|comp| {
-                    (0..=ncol)
-                        .map(|i| basis.dn[i] * nodes[(j * ncol + i) * n + comp])
-                        .sum::<f64>()
-                        / h.powi(ncol as i32)
-                })
-                .collect()
-        })
-        .collect();
-    let jump = |a: usize, b: usize| -> f64 {
-        let dist = 0.5 * (mesh[a + 1] - mesh[a] + mesh[b + 1] - mesh[b]);
-        (0..n)
-            .map(|c| ((d[b][c] - d[a][c]) / dist).abs())
-            .fold(0.0, f64::max)
-    };
-    let density: Vec<f64> = (0..ntst)
-        .map(|j| {
-            let left = if j > 0 { jump(j - 1, j) } else { 0.0 };
-            let right = if j + 1 < ntst { jump(j, j + 1) } else { 0.0 };
-            let both = if j > 0 && j + 1 < ntst {
-                0.5 * (left + right)
-            } else {
-                left.max(right)
-            };
-            both.powf(1.0 / (ncol + 1) as f64)
-        })
-        .collect();
-    let total: f64 = density
-        .iter()
-        .zip(mesh.windows(2))
-        .map(|(w, m)| w * (m[1] - m[0]))
-        .sum();
-    if !(total > 0.0) || ntst < 2 {
-        return mesh.to_vec();
-    }
-    // Mix with a uniform density (10 %) so that no interval grows unboundedly.
-    let floor = 0.1 * total;
-    let dens: Vec<f64> = density.iter().map(|w| w + floor).collect();
-    let total: f64 = dens
-        .iter()
-        .zip(mesh.windows(2))
-        .map(|(w, m)| w * (m[1] - m[0]))
-        .sum();
-    let mut out = vec![0.0];
-    let mut acc = 0.0;
-    let mut j = 0;
-    for k in 1..ntst {
-        let target = total * k as f64 / ntst as f64;
-        while j < ntst && acc + dens[j] * (mesh[j + 1] - mesh[j]) < target {
-            acc += dens[j] * (mesh[j + 1] - mesh[j]);
-            j += 1;
-        }
-        let j_c = j.min(ntst - 1);
-        out.push(mesh[j_c] + (target - acc) / dens[j_c]);
-    }
-    out.push(1.0);
-    out
-}
-
 /// Solves for the periodic orbit near `guess` by collocation (then `settings.adapt` mesh
 /// adaptations), with Floquet multipliers from the condensed collocation Jacobian.
 ///
@@ -812,86 +626,4 @@ pub fn solve_collocation<S: HybridJacobians + ?Sized>(
         nodes,
         settings,
     })
-}
-
-/// Multipliers from the collocation Jacobian by condensation: on each mesh interval the
-/// linearised collocation equations $A_0 \delta x_{j,0} + A_1 (\delta x_{j,1}, \dots,
-/// \delta x_{j,\mathrm{ncol}}) = 0$ (durations and parameters fixed) give the interval's transfer
-/// matrix $Y_j$ from its first node to its last; $\Phi_k = Y_{\mathrm{ntst}-1} \cdots Y_0$ is the
-/// discrete flow Jacobian of segment $k$, combined with the saltation matrices.
-fn condensed_floquet<S: HybridJacobians + ?Sized>(
-    system: &S,
-    orbit: &PeriodicOrbit,
-    meshes: &[Mesh],
-    nodes: &[Vec<f64>],
-    ncol: usize,
-) -> Result<Floquet> {
-    let n = system.state_dim();
-    let basis = Basis::new(ncol);
-    let p = &orbit.params;
-    let mut m = vec![0.0; n * n];
-    for i in 0..n {
-        m[i + i * n] = 1.0;
-    }
-    let rows = ncol * n;
-    let mut xi = vec![0.0; n];
-    let mut a = vec![0.0; n * n];
-    for (k, seg) in orbit.signature.segments().iter().enumerate() {
-        let t_k = orbit.durations[k];
-        let mut phi = vec![0.0; n * n];
-        for i in 0..n {
-            phi[i + i * n] = 1.0;
-        }
-        for (j, w) in meshes[k].windows(2).enumerate() {
-            let h = w[1] - w[0];
-            let base = j * ncol * n;
-            // A0 (rows x n) and A1 (rows x rows).
-            let mut a0 = faer::Mat::<f64>::zeros(rows, n);
-            let mut a1 = faer::Mat::<f64>::zeros(rows, rows);
-            for c in 0..ncol {
-                for comp in 0..n {
-                    xi[comp] = (0..=ncol)
-                        .map(|node| basis.l[c][node] * nodes[k][base + node * n + comp])
-                        .sum();
-                }
-                system.vector_field_jacobian(seg.mode, &xi, p, &mut a, None);
-                for i in 0..n {
-                    let row = c * n + i;
-                    for node in 0..=ncol {
-                        for comp in 0..n {
-                            let mut v = -h * t_k * a[i + comp * n] * basis.l[c][node];
-                            if comp == i {
-                                v += basis.dl[c][node];
-                            }
-                            if node == 0 {
-                                a0[(row, comp)] = -v;
-                            } else {
-                                a1[(row, (node - 1) * n + comp)] = v;
-                            }
-                        }
-                    }
-                }
-            }
-            let x = faer::linalg::solvers::Solve::solve(&a1.partial_piv_lu(), &a0);
-            // Y_j: the last node's rows; Phi <- Y_j Phi.
-            let mut next = vec![0.0; n * n];
-            for col in 0..n {
-                for i in 0..n {
-                    next[i + col * n] = (0..n)
-                        .map(|l| x[(rows - n + i, l)] * phi[l + col * n])
-                        .sum();
-                }
-            }
-            phi = next;
-        }
-        if phi.iter().any(|v: &f64| !v.is_finite()) {
-            return Err(Error::SingularMatrix {
-                reason: format!("a collocation block of segment {k} is singular"),
-            });
-        }
-        let end_state = &nodes[k][nodes[k].len() - n..];
-        let s = saltation(system, orbit, k, end_state);
-        m = matmul(n, &matmul(n, &s, &phi), &m);
-    }
-    Floquet::from_monodromy(system, &orbit.params, orbit.period(), m)
 }
