@@ -174,13 +174,15 @@ pub trait ContinuationProblem<'a> {
 }
 
 /// Continues the branch through `u0` (an approximate solution) in the direction of increasing
-/// (`direction > 0`) or decreasing continuation parameter.
+/// (`direction > 0`) or decreasing (`direction < 0`) continuation parameter; `direction` must
+/// be finite and non-zero.
 ///
 /// A failure in the middle of the branch does not error: the branch so far is returned, with
 /// [`Branch::end`] saying why it stopped.
 ///
 /// # Errors
-/// Invalid settings, a problem that is not one-dimensional, or no solution near `u0`.
+/// Invalid settings (a zero or non-finite `direction` included), `u0` of the wrong length or
+/// not finite, a problem that is not one-dimensional, or no solution near `u0`.
 pub fn continue_branch<'a, P: ContinuationProblem<'a> + ?Sized>(
     problem: &mut P,
     name: &str,
@@ -192,8 +194,8 @@ pub fn continue_branch<'a, P: ContinuationProblem<'a> + ?Sized>(
     palc::Palc::new(problem, settings.clone())?.run(name, u0, None, direction, observer)
 }
 
-/// Continues from `u0` along the direction `tangent` (e.g. a branch-switching direction), or its
-/// opposite for `direction < 0`.
+/// Continues from `u0` along the direction `tangent` (e.g. a branch-switching direction) for
+/// `direction > 0`, or its opposite for `direction < 0` (finite and non-zero).
 ///
 /// # Errors
 /// As [`continue_branch`].

@@ -122,11 +122,11 @@ pub enum Error {
         reason: String,
     },
     /// Newton's method did not converge.
-    #[error("Newton's method failed: {reason} (after {} iterations)", history.len())]
+    #[error("Newton's method failed: {reason}")]
     NewtonFailed {
-        /// Why.
+        /// Why, with the number of iterations done.
         reason: String,
-        /// The iterations done.
+        /// The iterations done (those recorded; may be empty when the solver keeps none).
         history: Vec<crate::problem::NewtonIteration>,
     },
     /// A linear system could not be solved.
@@ -158,7 +158,16 @@ pub enum Error {
 pub type Result<T> = std::result::Result<T, Error>;
 
 /// Returns an error naming the first non-finite entry of `values`.
-pub(crate) fn check_finite(what: &'static str, values: &[f64]) -> Result<()> {
+///
+/// # Errors
+/// [`Error::NonFinite`] with the entry's index and value.
+///
+/// ```
+/// use hycont_core::error::check_finite;
+/// assert!(check_finite("state", &[1.0, 2.0]).is_ok());
+/// assert!(check_finite("state", &[1.0, f64::NAN]).is_err());
+/// ```
+pub fn check_finite(what: &'static str, values: &[f64]) -> Result<()> {
     match values.iter().position(|v| !v.is_finite()) {
         Some(index) => Err(Error::NonFinite {
             what,
@@ -170,7 +179,16 @@ pub(crate) fn check_finite(what: &'static str, values: &[f64]) -> Result<()> {
 }
 
 /// Returns an error if `values` does not have length `expected`.
-pub(crate) fn check_len(what: &'static str, values: &[f64], expected: usize) -> Result<()> {
+///
+/// # Errors
+/// [`Error::DimensionMismatch`] naming both lengths.
+///
+/// ```
+/// use hycont_core::error::check_len;
+/// assert!(check_len("state", &[1.0, 2.0], 2).is_ok());
+/// assert!(check_len("state", &[1.0], 2).is_err());
+/// ```
+pub fn check_len(what: &'static str, values: &[f64], expected: usize) -> Result<()> {
     if values.len() == expected {
         Ok(())
     } else {

@@ -154,6 +154,90 @@ fn a_near_miss_is_not_an_impact() {
     assert!(traj.events.is_empty());
 }
 
+/// Starts within rounding of the wall, at rest, under a pull toward it ($\ddot x = -1$): from
+/// $x_0 = 10^{-30}$ the crossing is at $t^* = \sqrt{2 x_0} \approx 1.4 \cdot 10^{-15}$, from
+/// $x_0 = -10^{-30}$ (just past the wall, moving further) at $t = 0$, and from $x_0 = 0$ at
+/// $t = 0$. A terminal event fires there, not after the run has left the domain; a jump with
+/// restitution then jumps again at the same instant, which is a Zeno accumulation at $t = 0$.
+#[test]
+fn a_start_within_rounding_of_the_surface_is_never_stepped_over() {
+    let p = [-1.0, 0.0, 0.0, 0.5];
+    for x0 in [1e-30, 0.0, -1e-30] {
+        for terminal in [true, false] {
+            let wall = Wall {
+                harmonic: false,
+                hinted: false,
+                terminal,
+            };
+            let mut sim = Simulator::new(SimulationSettings::default()).unwrap();
+            let traj = sim.run(&wall, Mode(0), 0.0, &[x0, 0.0], &p, 3.0).unwrap();
+            let (what, t) = match traj.stop {
+                StopReason::TerminalEvent { t, .. } => ("terminal", t),
+                StopReason::ZenoAccumulation { t, .. } => ("zeno", t),
+                other => panic!("x0 = {x0:e}, terminal {terminal}: missed, {other:?}"),
+            };
+            assert_eq!(what, if terminal { "terminal" } else { "zeno" });
+            // Located within the default event tolerance, 1e-13 (times max(1, t)).
+            assert!(t <= 1e-13, "x0 = {x0:e}: event at t = {t:e}, expected ~0");
+            assert!(traj.state_final[0].abs() <= 1e-29, "{:?}", traj.state_final);
+        }
+    }
+}
+
+/// A start on the wall moving away from it ($\dot x_0 = 1$, $\ddot x = -1$) has its first
+/// impact at $t = 2$, not at the start.
+#[test]
+fn a_start_on_the_surface_moving_into_the_domain_has_no_event_at_the_start() {
+    let wall = Wall {
+        harmonic: false,
+        hinted: false,
+        terminal: true,
+    };
+    let mut sim = Simulator::new(SimulationSettings::default()).unwrap();
+    let traj = sim
+        .run(
+            &wall,
+            Mode(0),
+            0.0,
+            &[0.0, 1.0],
+            &[-1.0, 0.0, 0.0, 0.0],
+            3.0,
+        )
+        .unwrap();
+    let StopReason::TerminalEvent { t, .. } = traj.stop else {
+        panic!("{:?}", traj.stop)
+    };
+    approx::assert_abs_diff_eq!(t, 2.0, epsilon = 1e-12);
+}
+
+/// A marker: the jump at the surface keeps the velocity ($e = -1$, $\dot x^+ = \dot x^-$), so
+/// the flow goes on past the surface. Falling at unit speed from $x_0 = 1$, it crosses once, at
+/// $t = 1$, and the segment after the jump (starting on the surface, moving past it) is not a
+/// new crossing.
+#[test]
+fn a_marker_event_fires_once_and_the_flow_goes_on() {
+    let wall = Wall {
+        harmonic: false,
+        hinted: false,
+        terminal: false,
+    };
+    let mut sim = Simulator::new(SimulationSettings::default()).unwrap();
+    let traj = sim
+        .run(
+            &wall,
+            Mode(0),
+            0.0,
+            &[1.0, -1.0],
+            &[0.0, 0.0, 0.0, -1.0],
+            3.0,
+        )
+        .unwrap();
+    assert_eq!(traj.stop, StopReason::EndReached);
+    assert_eq!(traj.events.len(), 1);
+    approx::assert_abs_diff_eq!(traj.events[0].t, 1.0, epsilon = 1e-12);
+    approx::assert_abs_diff_eq!(traj.state_final[0], -2.0, epsilon = 1e-12);
+}
+
 /// Closed-form impact times of the harmonic oscillator leaving the wall with velocity `u0`:
 /// impact $k$ (approach velocity $e^k u_0$) while that velocity is at least `v_min`.
 fn harmonic_impacts(omega: f64, c: f64, e: f64, u0: f64, v_min: f64) -> Vec<(f64, f64)> {

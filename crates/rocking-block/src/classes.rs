@@ -137,7 +137,8 @@ impl PeriodicallyForced for RockingBlock {
 /// study's classes.
 ///
 /// # Errors
-/// Invalid parameters or an integration failure.
+/// Invalid parameters, an initial condition refused by [`crate::simulation::check_start`], or an
+/// integration failure.
 pub fn classify(
     params: &Parameters,
     beta: f64,
@@ -146,6 +147,7 @@ pub fn classify(
     settings: &ClassifierSettings,
 ) -> Result<Classification> {
     params.validate()?;
+    crate::simulation::check_start(phi0, psi0, beta)?;
     let x0 = initial_state(phi0, psi0, beta);
     let mode = initial_mode(&x0, params);
     let c = hycont_sample::classify::classify(&RockingBlock, &params.to_vec(), mode, &x0, settings)

@@ -449,6 +449,7 @@ fn run_continue(args: &ContinueArgs, out: &mut dyn Write) -> Result<()> {
     } else {
         let params = Parameters::new(args.omega, args.alpha);
         params.validate()?;
+        crate::simulation::check_start(args.phi0, args.psi0, args.beta)?;
         let kind = match args.kind {
             KindArg::Symmetric => OrbitKind::Symmetric,
             KindArg::AsymmetricPos => OrbitKind::AsymmetricPos,
@@ -511,6 +512,7 @@ fn run_orbit(args: &OrbitArgs, out: &mut dyn Write) -> Result<()> {
     use crate::orbits::{OrbitKind, orbit};
     let params = Parameters::new(args.omega, args.alpha);
     params.validate()?;
+    crate::simulation::check_start(args.phi0, args.psi0, args.beta)?;
     let settings = hycont_core::orbit::CollocationSettings {
         ntst: args.ntst,
         ncol: args.ncol,

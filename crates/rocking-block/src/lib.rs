@@ -30,7 +30,7 @@ pub mod simulation;
 pub use error::{Error, Result};
 pub use model::{
     ALPHA, DEFAULT_THETA_B, DEFAULT_XI, IMPACT_MINUS, IMPACT_PLUS, LIFT_OFF_MINUS, LIFT_OFF_PLUS,
-    MINUS, OMEGA, OVERTURN_NEG, OVERTURN_POS, PLUS, Parameters, REST, RockingBlock, THETA_B, XI,
-    initial_mode, initial_state, restitution,
+    MINUS, OMEGA, ON_GROUND, OVERTURN_NEG, OVERTURN_POS, PLUS, Parameters, REST, RockingBlock,
+    THETA_B, XI, initial_mode, initial_state, restitution,
 };
 pub use simulation::{Outcome, SimulationReport, SimulationRequest, simulate};

@@ -210,11 +210,25 @@ pub fn initial_state(phi0: f64, psi0: f64, beta: f64) -> [f64; 4] {
     [phi0, psi0, beta.sin(), beta.cos()]
 }
 
+/// Angles and angular velocities within this of zero are zero up to rounding (the resolution of
+/// an $O(1)$ angle): a start there is on the ground.
+pub const ON_GROUND: f64 = f64::EPSILON;
+
 /// The mode a state starts in: by the sign of $\varphi$, then of $\psi$; at
-/// $\varphi = \psi = 0$ rest, unless the forcing already exceeds the lift-off threshold.
+/// $\varphi = \psi = 0$ rest, unless the forcing already exceeds the lift-off threshold. Values
+/// within [`ON_GROUND`] of zero count as zero, so a start at $\varphi_0 = \pm 10^{-30}$ is the
+/// start at $\varphi_0 = 0$.
+///
+/// ```
+/// use rocking_block::{initial_mode, initial_state, Parameters, REST};
+/// let params = Parameters::new(1.3, 0.66);
+/// assert_eq!(initial_mode(&initial_state(-1e-30, 0.0, 0.0), &params), REST);
+/// ```
 #[must_use]
 pub fn initial_mode(x: &[f64; 4], params: &Parameters) -> Mode {
+    let snap = |v: f64| if v.abs() <= ON_GROUND { 0.0 } else { v };
     let [phi, psi, r, _] = *x;
+    let (phi, psi) = (snap(phi), snap(psi));
     if phi > 0.0 || (phi == 0.0 && psi > 0.0) {
         PLUS
     } else if phi < 0.0 || (phi == 0.0 && psi < 0.0) {

@@ -114,13 +114,8 @@ pub fn simulate(req: &SimulationRequest) -> Result<(SimulationReport, Trajectory
     let [r0, s0] = req
         .forcing_state
         .unwrap_or([req.beta.sin(), req.beta.cos()]);
-    for (name, value) in [
-        ("phi0", req.phi0),
-        ("psi0", req.psi0),
-        ("beta", req.beta),
-        ("r0", r0),
-        ("s0", s0),
-    ] {
+    check_start(req.phi0, req.psi0, req.beta)?;
+    for (name, value) in [("r0", r0), ("s0", s0)] {
         if !value.is_finite() {
             return Err(CoreError::NonFinite {
                 what: name,
@@ -133,7 +128,7 @@ pub fn simulate(req: &SimulationRequest) -> Result<(SimulationReport, Trajectory
     if !(req.periods >= 0.0 && req.periods.is_finite()) {
         return Err(crate::Error::InvalidArgument {
             name: "periods",
-            value: req.periods.to_string(),
+            value: format!("{:?}", req.periods),
             reason: "must be >= 0 and finite",
         });
     }
@@ -191,4 +186,39 @@ pub fn simulate(req: &SimulationRequest) -> Result<(SimulationReport, Trajectory
         stats: traj.stats,
     };
     Ok((report, traj))
+}
+
+/// Checks an initial condition: finite $\varphi_0$, $\psi_0$, $\beta$ and the block standing on
+/// its base, $|\varphi_0| < \pi/2$ (at $|\varphi_0| \ge \pi/2$ it has overturned: the model's
+/// modes do not describe it).
+///
+/// # Errors
+/// [`hycont_core::Error::NonFinite`] naming a non-finite value, or
+/// [`crate::Error::InvalidArgument`] for $|\varphi_0| \ge \pi/2$.
+///
+/// ```
+/// use rocking_block::simulation::check_start;
+/// assert!(check_start(0.1, 0.0, 0.0).is_ok());
+/// assert!(check_start(1.6, 0.0, 0.0).is_err());
+/// assert!(check_start(f64::NAN, 0.0, 0.0).is_err());
+/// ```
+pub fn check_start(phi0: f64, psi0: f64, beta: f64) -> Result<()> {
+    for (name, value) in [("phi0", phi0), ("psi0", psi0), ("beta", beta)] {
+        if !value.is_finite() {
+            return Err(CoreError::NonFinite {
+                what: name,
+                index: 0,
+                value,
+            }
+            .into());
+        }
+    }
+    if phi0.abs() >= std::f64::consts::FRAC_PI_2 {
+        return Err(crate::Error::InvalidArgument {
+            name: "phi0",
+            value: format!("{phi0:?}"),
+            reason: "must satisfy |phi0| < pi/2 (at |phi0| >= pi/2 the block has overturned)",
+        });
+    }
+    Ok(())
 }

@@ -20,13 +20,18 @@ fn settings() -> ClassifierSettings {
 /// A state on the attractor reached from (0.01, 0, beta = pi/2) at (1.3, alpha0), as
 /// (phi, psi, beta) with beta the forcing phase of (r, s).
 fn on_attractor(alpha0: f64) -> (f64, f64, f64) {
+    // From the asymmetric orbit at alpha = 0.73 after its impact (`rocking-block orbit --kind
+    // asymmetric-pos --alpha 0.73`): phi = 0, psi = 0.22926, forcing phase 1.44396.
     let req = SimulationRequest {
         params: Parameters::new(1.3, alpha0),
-        beta: FRAC_PI_2,
+        phi0: 0.0,
+        psi0: 0.229_263_630_265_526,
+        beta: 1.443_957_489_041_63,
         periods: 200.0,
         ..SimulationRequest::default()
     };
     let (report, _) = simulate(&req).unwrap();
+    assert_eq!(report.outcome, rocking_block::Outcome::Running, "alpha {alpha0}");
     let x = report.final_state;
     (x[0], x[1], x[2].atan2(x[3]))
 }

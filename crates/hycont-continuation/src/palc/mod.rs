@@ -293,7 +293,10 @@ impl<'p, 'a, P: ContinuationProblem<'a> + ?Sized> Palc<'p, 'a, P> {
             fresh = false;
         }
         Err(Error::Core(hycont_core::Error::NewtonFailed {
-            reason: "corrector did not converge".into(),
+            reason: format!(
+                "the corrector did not converge in {} iterations (last step {last_step:e}, residual {last_res:e})",
+                max_it + 1
+            ),
             history: Vec::new(),
         }))
     }
@@ -530,6 +533,19 @@ impl<'p, 'a, P: ContinuationProblem<'a> + ?Sized> Palc<'p, 'a, P> {
         direction: f64,
         observer: &mut dyn Observer,
     ) -> Result<Branch> {
+        if !(direction.is_finite() && direction != 0.0) {
+            return Err(Error::InvalidSetting {
+                name: "direction",
+                value: direction,
+                reason: "must be finite and non-zero: > 0 continues with increasing parameter (or along the tangent), < 0 against it",
+            });
+        }
+        hycont_core::error::check_len("initial point", u0, self.n)?;
+        hycont_core::error::check_finite("initial point", u0)?;
+        if let Some(t) = initial_tangent {
+            hycont_core::error::check_len("initial tangent", t, self.n)?;
+            hycont_core::error::check_finite("initial tangent", t)?;
+        }
         let mut a = self.first_chart(u0, initial_tangent, direction)?;
         let mut label = 1;
         let mut branch = Branch {

@@ -204,8 +204,14 @@ impl PeriodicOrbit {
     /// condition, at most `max_duration` long), e.g. from a guess of one point of the orbit.
     /// The last segment's end state need not return to `x0`: Newton closes the orbit.
     ///
+    /// Every other event of a segment's mode is watched: a flow that meets one before the
+    /// segment's end does not follow the signature (a segment is missing there, or the
+    /// signature has one too many), and no orbit with this signature passes near `x0`.
+    ///
     /// # Errors
-    /// If a segment does not reach its end condition within `max_duration`, or integration fails.
+    /// [`Error::InvalidSignature`] naming the segment, the event met first and when, or a
+    /// segment that does not reach its end condition within `max_duration`; integration
+    /// failures.
     pub fn from_initial_state<S: HybridSystem + ?Sized>(
         system: &S,
         signature: Signature,
@@ -215,7 +221,7 @@ impl PeriodicOrbit {
         settings: &SimulationSettings,
     ) -> Result<Self> {
         let mut sim = simulator(settings)?;
-        follow(&mut sim, system, signature, x0, params, max_duration, false).map(|(orbit, _)| orbit)
+        follow(&mut sim, system, signature, x0, params, max_duration).map(|(orbit, _)| orbit)
     }
 
     /// Splits every segment at the interior points where state component `component` crosses
@@ -394,9 +400,8 @@ impl PeriodicOrbit {
 
 /// Follows `x0` along `signature` (each segment until its end condition, at most
 /// `max_duration`) with `sim`: the orbit of [`PeriodicOrbit::from_initial_state`] and the state
-/// after the last segment's end (after its jump). `guarded`: a segment whose flow meets another
-/// event of its mode first is an error (the trajectory leaves the signature there); otherwise
-/// the other events are ignored.
+/// after the last segment's end (after its jump). A segment whose flow meets another event of
+/// its mode first is an error (the trajectory leaves the signature there).
 pub(crate) fn follow<S: HybridSystem + ?Sized>(
     sim: &mut Simulator,
     system: &S,
@@ -404,7 +409,6 @@ pub(crate) fn follow<S: HybridSystem + ?Sized>(
     x0: &[f64],
     params: &[f64],
     max_duration: f64,
-    guarded: bool,
 ) -> Result<(PeriodicOrbit, Vec<f64>)> {
     check_len("initial state", x0, system.state_dim())?;
     let mut x = x0.to_vec();
@@ -412,26 +416,11 @@ pub(crate) fn follow<S: HybridSystem + ?Sized>(
     let mut durations = Vec::new();
     for (k, seg) in signature.segments().iter().enumerate() {
         starts.push(x.clone());
-        let (traj, guard) = if guarded {
-            let flow = GuardedFlow::new(system, seg.mode, seg.end);
-            let traj = sim.run(&flow, Mode(0), 0.0, &x, params, max_duration)?;
-            let guard = match traj.stop {
-                StopReason::TerminalEvent { event, .. } => flow.guard(event),
-                _ => None,
-            };
-            (traj, guard)
-        } else {
-            let flow = SegmentFlow {
-                system,
-                mode: seg.mode,
-                stop: Some(seg.end),
-                split: None,
-                time_sign: 1.0,
-            };
-            (
-                sim.run(&flow, Mode(0), 0.0, &x, params, max_duration)?,
-                None,
-            )
+        let flow = GuardedFlow::new(system, seg.mode, seg.end);
+        let traj = sim.run(&flow, Mode(0), 0.0, &x, params, max_duration)?;
+        let guard = match traj.stop {
+            StopReason::TerminalEvent { event, .. } => flow.guard(event),
+            _ => None,
         };
         let reason = match (traj.stop, guard) {
             (StopReason::TerminalEvent { t, .. }, None) => {
@@ -439,7 +428,8 @@ pub(crate) fn follow<S: HybridSystem + ?Sized>(
                 None
             }
             (StopReason::TerminalEvent { t, .. }, Some(e)) => Some(format!(
-                "the flow from {x:?} meets event {:?} at t = {t} before the end condition",
+                "the flow from {x:?} meets event {:?} at t = {t} before the segment's end \
+                 (the signature misses a segment there, or has one too many)",
                 system.event_spec(e).name
             )),
             _ => Some(format!(

@@ -357,7 +357,6 @@ pub fn find_symmetric_orbit<S: HybridJacobians + ?Sized>(
             x0,
             params,
             search.max_duration,
-            true,
         ) else {
             continue;
         };

@@ -175,7 +175,8 @@ pub fn newton(
                 });
                 return Err(Error::NewtonFailed {
                     reason: format!(
-                        "no damped step reduces the residual {res:e} (smallest damping {damping})"
+                        "no damped step reduces the residual {res:e} (smallest damping {damping}) at iteration {}",
+                        history.len()
                     ),
                     history,
                 });

@@ -10,7 +10,13 @@
 //!   touch) and the first one in the event's direction is located. This sees low-velocity
 //!   (near-grazing) impacts that sign checks at step ends step over;
 //! - a **restart guard**: an event function that starts a segment on its zero (right after a
-//!   jump onto its surface) is probed for an excursion to its pre-crossing side inside the step.
+//!   jump onto its surface, or a start within rounding of it) is probed for an excursion to its
+//!   pre-crossing side inside the step. If there is none and the step ends past the surface, the
+//!   flow leaves the mode's domain at once and a directional event happens at the segment's
+//!   start: a terminal event is never stepped over, and repeated jumps at one instant end in
+//!   the system's Zeno transition. The exception is the event whose own jump started the
+//!   segment while the flow still moves to its post-crossing side (an identity reset, a marker):
+//!   that is the crossing just handled.
 //!
 //! The rate $\dot g = \nabla g \cdot f$ at the step's ends comes from the vector field there
 //! (exactly through [`HybridSystem::event_component`] when the system gives that hint,
@@ -48,6 +54,9 @@ pub(super) struct EventState {
     pub(super) rate: f64,
     /// The event function started the segment on (or within the guard band of) zero.
     pub(super) at_zero: bool,
+    /// The segment starts right after this event's own jump, with the flow still moving to its
+    /// post-crossing side: the crossing just handled, not a new one at the start.
+    pub(super) continuing: bool,
     /// $g$ and $\dot g$ at the end of the pending step.
     pub(super) value_new: f64,
     pub(super) rate_new: f64,
@@ -60,8 +69,15 @@ pub(super) enum Check {
     Quiet,
     /// A sign change in the event's direction between the ends.
     Crossing,
-    /// The restart guard, with the pre-crossing sign wanted.
-    Probe(f64),
+    /// The restart guard, with the pre-crossing sign wanted and whether, without an excursion
+    /// to that side, the event happens at the step's start.
+    Probe {
+        /// The pre-crossing sign.
+        want: f64,
+        /// Without an excursion, the crossing is at the start (a directional event that is not
+        /// the crossing just handled).
+        at_start: bool,
+    },
     /// An interior extremum nearest zero, with the sign $\sigma$ of $g$ at both ends.
     Dip(f64),
 }
@@ -103,9 +119,11 @@ pub(super) fn event_rate<S: HybridSystem + ?Sized>(
 
 impl EventState {
     /// The state of event `id` at the start of a segment at `x` with derivative `f`.
+    /// `fired` is the event whose jump started the segment, if any.
     pub(super) fn start<S: HybridSystem + ?Sized>(
         system: &S,
         id: EventId,
+        fired: Option<EventId>,
         x: &[f64],
         f: &[f64],
         p: &[f64],
@@ -113,11 +131,15 @@ impl EventState {
     ) -> Self {
         let value = system.event(id, x, p);
         let rate = event_rate(system, id, x, f, p, work);
+        let direction = system.event_spec(id).direction;
+        let continuing =
+            fired == Some(id) && direction.sign_before().is_some_and(|pre| rate * pre < 0.0);
         Self {
             id,
-            direction: system.event_spec(id).direction,
+            direction,
             value,
             rate,
+            continuing,
             at_zero: value.abs() <= zero_band(x),
             value_new: value,
             rate_new: rate,
@@ -128,15 +150,17 @@ impl EventState {
     pub(super) fn check(&self) -> Check {
         let g_new = self.value_new;
         if self.at_zero {
-            let want = match self.direction.sign_before() {
-                Some(sg) => sg,
-                None if g_new != 0.0 => -g_new.signum(),
+            // A directional event, unless it is the crossing just handled, fires at the start
+            // when the flow leaves the domain at once (see `DenseStep::bracket`).
+            let (want, at_start) = match self.direction.sign_before() {
+                Some(sg) => (sg, !self.continuing),
+                None if g_new != 0.0 => (-g_new.signum(), false),
                 None => return Check::Quiet,
             };
             return if g_new * want > 0.0 {
                 Check::Quiet
             } else {
-                Check::Probe(want)
+                Check::Probe { want, at_start }
             };
         }
         if self.direction.is_crossing(self.value, g_new) {
@@ -179,7 +203,8 @@ impl<S: HybridSystem + ?Sized> DenseStep<'_, S> {
     }
 
     /// A bracket `(ta, ga, tb, gb)` of the first crossing of `ev` in the step, with `ga`
-    /// strictly on the pre-crossing side, or `None`. `probe` has the state's length.
+    /// strictly on the pre-crossing side (or `ta == tb == t` for an event at the step's start),
+    /// or `None`. `probe` has the state's length.
     pub(super) fn bracket(
         &self,
         ev: &EventState,
@@ -191,7 +216,7 @@ impl<S: HybridSystem + ?Sized> DenseStep<'_, S> {
         match check {
             Check::Quiet => None,
             Check::Crossing => Some((t, ev.value, t_new, ev.value_new)),
-            Check::Probe(want) => {
+            Check::Probe { want, at_start } => {
                 let mut found = None;
                 for fr in probe_fractions() {
                     let tp = t + fr * (t_new - t);
@@ -203,6 +228,13 @@ impl<S: HybridSystem + ?Sized> DenseStep<'_, S> {
                         }
                         _ => {}
                     }
+                }
+                if found.is_none() && at_start && ev.value_new * want < 0.0 {
+                    // No excursion to the pre-crossing side even $2^{-40}$ of a step in, and the
+                    // step ends strictly past the surface: the flow leaves the mode's domain at
+                    // the start (a start within rounding of the surface, or a re-impact at
+                    // vanishing velocity). The event happens at `t`.
+                    return Some((t, ev.value, t, ev.value_new));
                 }
                 found
             }

@@ -20,7 +20,7 @@ pub use trajectory::{
 };
 
 use crate::error::{Error, Result, check_finite, check_len};
-use crate::system::{EventAction, HybridJacobians, HybridSystem, Mode};
+use crate::system::{EventAction, EventId, HybridJacobians, HybridSystem, Mode};
 use events::{DenseStep, EventState, event_rate};
 use variational::{Extension, Plain, Variational};
 
@@ -189,12 +189,14 @@ impl Simulator {
     }
 
     /// Evaluates the events of `mode` (value and rate) at the start of a segment at `y` (with
-    /// derivative `f`; both possibly augmented) and flags those starting on zero.
+    /// derivative `f`; both possibly augmented) and flags those starting on zero. `fired` is the
+    /// event whose jump started the segment.
     #[allow(clippy::too_many_arguments)]
     fn start_segment<S: HybridSystem + ?Sized>(
         events: &mut Vec<EventState>,
         system: &S,
         mode: Mode,
+        fired: Option<EventId>,
         y: &[f64],
         f: &[f64],
         p: &[f64],
@@ -203,7 +205,15 @@ impl Simulator {
         let n = system.state_dim();
         events.clear();
         for &id in system.events(mode) {
-            events.push(EventState::start(system, id, &y[..n], &f[..n], p, work));
+            events.push(EventState::start(
+                system,
+                id,
+                fired,
+                &y[..n],
+                &f[..n],
+                p,
+                work,
+            ));
         }
     }
 
@@ -267,6 +277,7 @@ impl Simulator {
             &mut self.events,
             system,
             mode,
+            None,
             &self.y0,
             self.stepper.derivative(),
             p,
@@ -551,6 +562,7 @@ impl Simulator {
                         &mut self.events,
                         system,
                         mode,
+                        Some(ev.id),
                         &self.y_plus,
                         self.stepper.derivative(),
                         p,

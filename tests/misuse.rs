@@ -1,0 +1,128 @@
+//! Ordinary mistakes through the public API give typed errors naming the bad value, never a
+//! panic and never a wrong answer as success (the bouncing ball on a vibrating table,
+//! `examples/vibrating_table/model.rs`).
+//!
+//! The signature of a period-1 orbit is [flight to the phase wrap, flight to the impact]: the
+//! phase $\theta$ grows by $\omega T = 2\pi$ per period and the wrap takes $2\pi$ off it. A
+//! signature without the wrap cannot close ($\theta$ would have to return to itself after
+//! growing by $2\pi$), and one with an extra impact asks for a second impact within the same
+//! forcing period that the period-1 flow does not have.
+
+#[path = "../examples/vibrating_table/model.rs"]
+mod model;
+
+use hycont::hycont_continuation::{Error as ContError, OrbitRun, RunDirection};
+use hycont::orbit::{PeriodicOrbit, SegmentEnd, SegmentSpec, Signature};
+use hycont::{Error, SimulationSettings};
+use model::{A, FLIGHT, IMPACT, Table, WRAP};
+// The model names both parameters; these tests vary the amplitude only.
+const _: hycont::ParamId = model::OMEGA;
+
+const E: f64 = 0.5;
+const G: f64 = 1.0;
+
+/// The post-impact state of the stable period-1 orbit at amplitude `a`, `omega = 1` (closed
+/// form of `tests/vibrating_table.rs`).
+fn post_impact(a: f64) -> [f64; 3] {
+    let omega: f64 = 1.0;
+    let a_fold = std::f64::consts::PI * G * (1.0 - E) / ((1.0 + E) * omega * omega);
+    let theta0 = (a_fold / a).acos();
+    let w_plus = E * G * 2.0 * std::f64::consts::PI / omega / (1.0 + E);
+    [0.0, w_plus, theta0]
+}
+
+fn signature(ends: &[hycont::EventId]) -> Signature {
+    Signature::new(
+        &Table,
+        ends.iter()
+            .map(|&e| SegmentSpec {
+                mode: FLIGHT,
+                end: SegmentEnd::Event(e),
+            })
+            .collect(),
+    )
+    .unwrap()
+}
+
+fn follow(ends: &[hycont::EventId]) -> hycont::Result<PeriodicOrbit> {
+    PeriodicOrbit::from_initial_state(
+        &Table,
+        signature(ends),
+        &post_impact(1.3),
+        &[1.3, 1.0, E, G],
+        20.0,
+        &SimulationSettings::default(),
+    )
+}
+
+#[test]
+fn the_right_signature_is_followed() {
+    let orbit = follow(&[WRAP, IMPACT]).unwrap();
+    approx::assert_abs_diff_eq!(orbit.period(), 2.0 * std::f64::consts::PI, epsilon = 1e-6);
+}
+
+/// A missing wrap segment: the flow to the impact meets the wrap first.
+#[test]
+fn a_signature_missing_a_segment_is_refused_with_the_reason() {
+    let err = follow(&[IMPACT]).unwrap_err();
+    let Error::InvalidSignature { segment, reason } = &err else {
+        panic!("{err:?}")
+    };
+    assert_eq!(*segment, 0);
+    assert!(reason.contains("wrap") && reason.contains("misses a segment"), "{reason}");
+}
+
+/// An extra impact segment: after the impact the flow meets the wrap before another impact.
+#[test]
+fn a_signature_with_an_extra_segment_is_refused_with_the_reason() {
+    let err = follow(&[WRAP, IMPACT, IMPACT]).unwrap_err();
+    let Error::InvalidSignature { segment, reason } = &err else {
+        panic!("{err:?}")
+    };
+    assert_eq!(*segment, 2);
+    assert!(reason.contains("wrap"), "{reason}");
+}
+
+/// A continuation direction of zero is neither way: refused, naming the setting.
+#[test]
+fn a_zero_direction_is_refused() {
+    use hycont::hycont_continuation::{ContinuationSettings, continue_branch};
+    let fd = hycont::FiniteDifferences::new(Table);
+    let run = OrbitRun::new(&fd, A).unwrap();
+    let guess = follow(&[WRAP, IMPACT]).unwrap();
+    let (mut problem, u0) = run.problem(&guess).unwrap();
+    for direction in [0.0, f64::NAN, f64::INFINITY] {
+        let err = continue_branch(
+            &mut problem,
+            "b",
+            &u0,
+            direction,
+            &ContinuationSettings::default(),
+            &mut hycont::hycont_continuation::observe::Silent,
+        )
+        .unwrap_err();
+        assert!(
+            matches!(err, ContError::InvalidSetting { name: "direction", .. }),
+            "{err:?}"
+        );
+    }
+}
+
+/// A start that Newton cannot correct says how many iterations it tried, not "after 0".
+#[test]
+fn a_failed_start_reports_its_iterations() {
+    let fd = hycont::FiniteDifferences::new(Table);
+    let mut run = OrbitRun::new(&fd, A).unwrap();
+    run.bounds(0.9, 1.8).max_points(5);
+    let mut guess = follow(&[WRAP, IMPACT]).unwrap();
+    guess.durations[0] = 0.05;
+    guess.durations[1] = 0.05;
+    let err = run.run("b", &guess, RunDirection::Up).unwrap_err();
+    let text = err.to_string();
+    assert!(!text.contains("after 0 iterations"), "{text}");
+    assert!(
+        text.contains("did not converge in") && text.contains("iterations"),
+        "{text}"
+    );
+}
+
