@@ -15,8 +15,6 @@ use hycont::hycont_continuation::{Error as ContError, OrbitRun, RunDirection};
 use hycont::orbit::{PeriodicOrbit, SegmentEnd, SegmentSpec, Signature};
 use hycont::{Error, SimulationSettings};
 use model::{A, FLIGHT, IMPACT, Table, WRAP};
-// The model names both parameters; these tests vary the amplitude only.
-const _: hycont::ParamId = model::OMEGA;
 
 const E: f64 = 0.5;
 const G: f64 = 1.0;
@@ -69,7 +67,10 @@ fn a_signature_missing_a_segment_is_refused_with_the_reason() {
         panic!("{err:?}")
     };
     assert_eq!(*segment, 0);
-    assert!(reason.contains("wrap") && reason.contains("misses a segment"), "{reason}");
+    assert!(
+        reason.contains("wrap") && reason.contains("misses a segment"),
+        "{reason}"
+    );
 }
 
 /// An extra impact segment: after the impact the flow meets the wrap before another impact.
@@ -102,7 +103,13 @@ fn a_zero_direction_is_refused() {
         )
         .unwrap_err();
         assert!(
-            matches!(err, ContError::InvalidSetting { name: "direction", .. }),
+            matches!(
+                err,
+                ContError::InvalidSetting {
+                    name: "direction",
+                    ..
+                }
+            ),
             "{err:?}"
         );
     }
@@ -126,3 +133,110 @@ fn a_failed_start_reports_its_iterations() {
     );
 }
 
+/// A user measure whose exact gradient has too few entries is a typed error naming it, not a
+/// panic in the two-parameter curves that use gradients.
+#[test]
+fn a_measure_gradient_of_the_wrong_length_is_refused() {
+    use hycont::orbit::{Measure, MeasureSet, OrbitScan};
+    struct Short;
+    impl<S: ?Sized> Measure<S> for Short {
+        fn value(&self, _: &S, orbit: &PeriodicOrbit, _: &OrbitScan) -> hycont::Result<f64> {
+            Ok(orbit.period())
+        }
+        fn gradient(&self, _: &S, _: &PeriodicOrbit, _: &OrbitScan) -> Option<Vec<f64>> {
+            Some(vec![1.0; 2])
+        }
+    }
+    let fd = hycont::FiniteDifferences::new(Table);
+    let orbit = follow(&[WRAP, IMPACT]).unwrap();
+    let mut set = MeasureSet::new();
+    set.add("short", Short).unwrap();
+    let err = set.evaluate_with_gradient(&fd, &orbit, 0).unwrap_err();
+    assert!(
+        matches!(&err, Error::InvalidMeasure { reason } if reason.contains("\"short\"") && reason.contains("2 entries")),
+        "{err}"
+    );
+}
+
+/// Monitors of a problem by handle: a handle of another problem is a typed error.
+#[test]
+fn a_monitor_handle_out_of_range_is_refused() {
+    use hycont::problem::{Activity, MonitorId, Problem, UnknownMonitor};
+    let mut problem = Problem::new(1);
+    let m = problem
+        .add_monitor(
+            "x",
+            Box::new(UnknownMonitor),
+            vec![0],
+            Activity::Inactive(1.0),
+        )
+        .unwrap();
+    assert!(problem.activity(m).is_ok());
+    let other = MonitorId(3);
+    for err in [
+        problem.activity(other).unwrap_err(),
+        problem
+            .set_activity(other, Activity::Active(1.0))
+            .unwrap_err(),
+        problem.monitor_value(other, &[1.0]).unwrap_err(),
+    ] {
+        assert!(
+            matches!(
+                err,
+                Error::IndexOutOfRange {
+                    what: "monitor",
+                    index: 3,
+                    count: 1
+                }
+            ),
+            "{err}"
+        );
+    }
+    assert!(matches!(
+        problem.set_activity(m, Activity::Inactive(f64::NAN)),
+        Err(Error::NonFinite { .. })
+    ));
+}
+
+/// Two-parameter curve conditions naming a measure or a segment the problem does not have, or
+/// a non-finite level, are typed errors.
+#[test]
+fn curve_conditions_out_of_range_are_refused() {
+    use hycont::hycont_continuation::MeasureId;
+    use hycont::hycont_continuation::codim2::{Codim2, CurveCondition};
+    let fd = hycont::FiniteDifferences::new(Table);
+    let run = OrbitRun::new(&fd, A).unwrap();
+    let orbit = follow(&[WRAP, IMPACT]).unwrap();
+    let (problem, _) = run.problem(&orbit).unwrap();
+    for condition in [
+        CurveCondition::Collapse { segment: 9 },
+        CurveCondition::Measure {
+            measure: MeasureId::new(99),
+            level: 0.0,
+        },
+        CurveCondition::Measure {
+            measure: MeasureId::new(2),
+            level: f64::NAN,
+        },
+    ] {
+        let Err(err) = Codim2::new(
+            &fd,
+            &orbit,
+            problem.discretisation(),
+            A,
+            model::OMEGA,
+            condition,
+            problem.measures().clone(),
+            Vec::new(),
+        ) else {
+            panic!("{condition:?} accepted")
+        };
+        assert!(
+            matches!(
+                err,
+                ContError::InvalidSetting { .. } | ContError::NoSuchQuantity { .. }
+            ),
+            "{condition:?}: {err}"
+        );
+    }
+}

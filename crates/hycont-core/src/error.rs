@@ -73,6 +73,17 @@ pub enum Error {
         /// The violated condition's value (negative).
         value: f64,
     },
+    /// A handle or index does not name anything that exists (a monitor of a problem, a
+    /// segment of an orbit, ...).
+    #[error("{what} {index} does not exist (there are {count})")]
+    IndexOutOfRange {
+        /// What the index names (e.g. "monitor").
+        what: &'static str,
+        /// The index given.
+        index: usize,
+        /// How many there are.
+        count: usize,
+    },
     /// A mode handle does not belong to the system.
     #[error("mode {mode} does not exist (the system has {count} modes)")]
     InvalidMode {

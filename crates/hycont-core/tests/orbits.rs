@@ -326,7 +326,7 @@ fn fold_of_x_squared_minus_l_by_newton_and_monitors() {
     let sol = newton(&mut problem, &[1.0, 1.0], &NewtonSettings::default()).unwrap();
     assert_abs_diff_eq!(sol.u[0], 2f64.sqrt(), epsilon = 1e-9);
     // Free l (its value becomes an unknown) and hold x = 3 instead.
-    problem.set_activity(l, Activity::Active(1.0));
+    problem.set_activity(l, Activity::Active(1.0)).unwrap();
     problem
         .add_monitor(
             "x",

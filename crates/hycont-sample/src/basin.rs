@@ -47,7 +47,7 @@ pub struct Axis {
 impl Axis {
     fn bin(&self, v: f64) -> usize {
         let x = ((v - self.lo) / (self.hi - self.lo) * self.bins as f64).floor();
-        (x.max(0.0) as usize).min(self.bins - 1)
+        (x.max(0.0) as usize).min(self.bins.saturating_sub(1))
     }
 }
 
@@ -99,9 +99,21 @@ impl Study {
             }
         }
         for a in &self.axes {
-            if a.variable >= self.variables.len() || a.bins == 0 || !(a.lo < a.hi) {
+            if a.variable >= self.variables.len()
+                || a.bins == 0
+                || !(a.lo < a.hi && a.lo.is_finite() && a.hi.is_finite())
+            {
                 return bad(format!("invalid axis {a:?}"));
             }
+        }
+        let cells = self
+            .axes
+            .iter()
+            .try_fold(1usize, |c, a| c.checked_mul(a.bins));
+        if cells.is_none_or(|c| c > MAX_CELLS) {
+            return bad(format!(
+                "the axes have more than {MAX_CELLS} cells (count tables would not fit in memory)"
+            ));
         }
         Ok(())
     }
@@ -119,16 +131,21 @@ impl Study {
         self.variables.iter().map(|d| d.draw(&mut rng)).collect()
     }
 
-    /// The cell of a trial.
+    /// The cell of a trial with these variables; `None` if `values` lacks a binned variable
+    /// (values outside an axis's range fall in its first or last bin).
     #[must_use]
-    pub fn cell(&self, values: &[f64]) -> usize {
-        let mut cell = 0;
+    pub fn cell(&self, values: &[f64]) -> Option<usize> {
+        let mut cell = 0usize;
         for a in &self.axes {
-            cell = cell * a.bins + a.bin(values[a.variable]);
+            let bin = a.bin(*values.get(a.variable)?);
+            cell = cell.checked_mul(a.bins)?.checked_add(bin)?;
         }
-        cell
+        Some(cell)
     }
 }
+
+/// The most cells a [`Study`]'s axes may have ($2^{24}$; each cell holds one count per class).
+pub const MAX_CELLS: usize = 1 << 24;
 
 /// Classifies a trial's variables into one of a fixed set of classes.
 pub trait Classifier: Sync {
@@ -175,17 +192,88 @@ impl Counts {
         }
     }
 
+    /// Checks the table's consistency: one count per class in every cell, one failure count
+    /// per cell, trial ranges non-empty, sorted and disjoint, and the trials counted (over all
+    /// cells) equal to the trials the ranges cover, without overflow.
+    ///
+    /// # Errors
+    /// [`Error::IncompatibleCounts`] naming the inconsistency (e.g. a table read from a file
+    /// that was cut or edited).
+    ///
+    /// ```
+    /// use hycont_sample::basin::Counts;
+    /// let mut c = Counts { classes: vec!["a".into()], counts: vec![vec![2]], failures: vec![1],
+    ///                      ranges: vec![(0, 3)] };
+    /// assert!(c.validate().is_ok());
+    /// c.ranges = vec![(0, 300)]; // claims 300 trials, counts 3
+    /// assert!(c.validate().is_err());
+    /// ```
+    pub fn validate(&self) -> Result<()> {
+        let bad = |reason: String| Err(Error::IncompatibleCounts { reason });
+        if self.failures.len() != self.counts.len() {
+            return bad(format!(
+                "{} failure counts for {} cells",
+                self.failures.len(),
+                self.counts.len()
+            ));
+        }
+        if let Some((cell, row)) = self
+            .counts
+            .iter()
+            .enumerate()
+            .find(|(_, r)| r.len() != self.classes.len())
+        {
+            return bad(format!(
+                "cell {cell} has {} counts for {} classes",
+                row.len(),
+                self.classes.len()
+            ));
+        }
+        let mut covered: u64 = 0;
+        let mut end = 0u64;
+        for (k, &(a, b)) in self.ranges.iter().enumerate() {
+            if a >= b || (k > 0 && a < end) {
+                return bad(format!(
+                    "trial range {a}..{b} is empty, out of order or overlaps the one before"
+                ));
+            }
+            end = b;
+            covered = covered
+                .checked_add(b - a)
+                .ok_or_else(|| Error::IncompatibleCounts {
+                    reason: "the trial ranges cover more than 2^64 trials".into(),
+                })?;
+        }
+        let mut counted: u64 = 0;
+        for v in self.counts.iter().flatten().chain(&self.failures) {
+            counted = counted
+                .checked_add(*v)
+                .ok_or_else(|| Error::IncompatibleCounts {
+                    reason: "the counts add up to more than 2^64 trials".into(),
+                })?;
+        }
+        if counted != covered {
+            return bad(format!(
+                "the cells count {counted} trials but the trial ranges cover {covered}"
+            ));
+        }
+        Ok(())
+    }
+
     /// Adds another count table of the same study (e.g. another shard).
     ///
     /// # Errors
-    /// [`Error::IncompatibleCounts`] if the class names or cells differ, or the trial ranges
-    /// overlap.
+    /// [`Error::IncompatibleCounts`] if the class names or cells differ, the trial ranges
+    /// overlap, either table is inconsistent ([`Counts::validate`]) or a count would overflow;
+    /// `self` is then unchanged.
     pub fn merge(&mut self, other: &Counts) -> Result<()> {
         if self.classes != other.classes || self.counts.len() != other.counts.len() {
             return Err(Error::IncompatibleCounts {
                 reason: "different classes or cells".into(),
             });
         }
+        self.validate()?;
+        other.validate()?;
         for &(a, b) in &other.ranges {
             if self.ranges.iter().any(|&(c, d)| a < d && c < b) {
                 return Err(Error::IncompatibleCounts {
@@ -193,34 +281,47 @@ impl Counts {
                 });
             }
         }
-        for (x, y) in self.counts.iter_mut().zip(&other.counts) {
+        let overflow = || Error::IncompatibleCounts {
+            reason: "a merged count exceeds 2^64".into(),
+        };
+        let mut counts = self.counts.clone();
+        for (x, y) in counts.iter_mut().zip(&other.counts) {
             for (u, v) in x.iter_mut().zip(y) {
-                *u += v;
+                *u = u.checked_add(*v).ok_or_else(overflow)?;
             }
         }
-        for (u, v) in self.failures.iter_mut().zip(&other.failures) {
-            *u += v;
+        let mut failures = self.failures.clone();
+        for (u, v) in failures.iter_mut().zip(&other.failures) {
+            *u = u.checked_add(*v).ok_or_else(overflow)?;
         }
+        self.counts = counts;
+        self.failures = failures;
         self.ranges.extend_from_slice(&other.ranges);
         self.ranges.sort_unstable();
         Ok(())
     }
 
-    /// Trials in a cell (classified or not).
+    /// Trials in a cell (classified or not); 0 for a cell the table does not have.
     #[must_use]
     pub fn trials(&self, cell: usize) -> u64 {
-        self.counts[cell].iter().sum::<u64>() + self.failures[cell]
+        let counted = self
+            .counts
+            .get(cell)
+            .map_or(0, |row| row.iter().fold(0u64, |s, v| s.saturating_add(*v)));
+        counted.saturating_add(self.failures.get(cell).copied().unwrap_or(0))
     }
 
     /// Fraction of class `class` in `cell` with its 95 % Wilson score interval
-    /// $\hat p \pm$ (Wilson), as `(p, lo, hi)`; `(0, 0, 1)` for an empty cell.
+    /// $\hat p \pm$ (Wilson), as `(p, lo, hi)`; `(0, 0, 1)` for an empty cell (or one, or a
+    /// class, the table does not have).
     #[must_use]
     pub fn fraction(&self, cell: usize, class: usize) -> (f64, f64, f64) {
         let n = self.trials(cell) as f64;
-        if n == 0.0 {
+        let k = self.counts.get(cell).and_then(|row| row.get(class));
+        let (Some(&k), true) = (k, n > 0.0) else {
             return (0.0, 0.0, 1.0);
-        }
-        let p = self.counts[cell][class] as f64 / n;
+        };
+        let p = k as f64 / n;
         let z: f64 = 1.959_963_984_540_054;
         let denom = 1.0 + z * z / n;
         let centre = (p + z * z / (2.0 * n)) / denom;
@@ -288,10 +389,11 @@ pub fn run_binned<C: Classifier>(
     // Chunks of consecutive trials: each records whether it ran completely, so an interrupted
     // run reports exact ranges.
     const CHUNK: u64 = 256;
-    let chunks: Vec<(u64, u64)> = (range.start..range.end)
-        .step_by(CHUNK as usize)
-        .map(|a| (a, (a + CHUNK).min(range.end)))
-        .collect();
+    let chunk_count = (range.end.saturating_sub(range.start)).div_ceil(CHUNK);
+    let chunk = |c: u64| {
+        let a = range.start + c * CHUNK;
+        (a, a.saturating_add(CHUNK).min(range.end))
+    };
     let empty = || -> Vec<Counts> {
         studies
             .iter()
@@ -301,7 +403,7 @@ pub fn run_binned<C: Classifier>(
     // Streaming aggregation with bounded memory: one accumulator per worker thread, which takes
     // chunks from a shared counter and adds each finished chunk to its tables. Counts are integer
     // sums, so the result does not depend on which thread ran which chunk.
-    let next = std::sync::atomic::AtomicUsize::new(0);
+    let next = AtomicU64::new(0);
     let workers = rayon::current_num_threads().max(1);
     let partials: Vec<Vec<Counts>> = (0..workers)
         .into_par_iter()
@@ -310,10 +412,10 @@ pub fn run_binned<C: Classifier>(
             let mut scratch = empty();
             loop {
                 let c = next.fetch_add(1, Ordering::Relaxed);
-                if c >= chunks.len() || progress.stop.load(Ordering::Relaxed) {
+                if c >= chunk_count || progress.stop.load(Ordering::Relaxed) {
                     break;
                 }
-                let (a, b) = chunks[c];
+                let (a, b) = chunk(c);
                 for t in &mut scratch {
                     t.clear();
                 }
@@ -330,7 +432,8 @@ pub fn run_binned<C: Classifier>(
                         .ok()
                         .filter(|k| *k < classes.len());
                     for (t, s) in scratch.iter_mut().zip(&studies) {
-                        let cell = s.cell(&values);
+                        // Trials have every variable of the validated study.
+                        let cell = s.cell(&values).unwrap_or(0);
                         match class {
                             Some(k) => t.counts[cell][k] += 1,
                             None => t.failures[cell] += 1,
@@ -379,5 +482,6 @@ pub fn shard_range(trials: u64, i: u64, n: u64) -> Result<std::ops::Range<u64>> 
             reason: format!("shard {i}/{n}: need 0 <= i < n"),
         });
     }
-    Ok(trials * i / n..trials * (i + 1) / n)
+    let at = |k: u64| (u128::from(trials) * u128::from(k) / u128::from(n)) as u64;
+    Ok(at(i)..at(i + 1))
 }

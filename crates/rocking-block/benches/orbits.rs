@@ -36,11 +36,15 @@ fn symmetric_orbit_solves(c: &mut Criterion) {
     let mut problem =
         collocation_problem(&RockingBlock, &coll.solution.orbit, coll.meshes.clone(), 4).unwrap();
     let omega = problem.monitor_id("omega").unwrap();
-    problem.set_activity(omega, Activity::Inactive(1.31));
+    problem
+        .set_activity(omega, Activity::Inactive(1.31))
+        .unwrap();
     let near = newton(&mut problem, &coll.unknowns(), &newton_settings)
         .unwrap()
         .u;
-    problem.set_activity(omega, Activity::Inactive(1.30));
+    problem
+        .set_activity(omega, Activity::Inactive(1.30))
+        .unwrap();
     let probe = newton(&mut problem, &near, &newton_settings).unwrap();
     eprintln!(
         "collocation: {} unknowns, {} iterations ({} factorisations)",
@@ -55,11 +59,11 @@ fn symmetric_orbit_solves(c: &mut Criterion) {
     // Shooting on the two flights.
     let mut shoot = shooting_problem(&RockingBlock, &flights, ShootingSettings::default()).unwrap();
     let omega = shoot.monitor_id("omega").unwrap();
-    shoot.set_activity(omega, Activity::Inactive(1.31));
+    shoot.set_activity(omega, Activity::Inactive(1.31)).unwrap();
     let near = newton(&mut shoot, &pack(&flights), &newton_settings)
         .unwrap()
         .u;
-    shoot.set_activity(omega, Activity::Inactive(1.30));
+    shoot.set_activity(omega, Activity::Inactive(1.30)).unwrap();
     let probe = newton(&mut shoot, &near, &newton_settings).unwrap();
     eprintln!(
         "shooting: {} unknowns, {} iterations ({} factorisations)",

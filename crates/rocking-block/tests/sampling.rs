@@ -31,7 +31,11 @@ fn on_attractor(alpha0: f64) -> (f64, f64, f64) {
         ..SimulationRequest::default()
     };
     let (report, _) = simulate(&req).unwrap();
-    assert_eq!(report.outcome, rocking_block::Outcome::Running, "alpha {alpha0}");
+    assert_eq!(
+        report.outcome,
+        rocking_block::Outcome::Running,
+        "alpha {alpha0}"
+    );
     let x = report.final_state;
     (x[0], x[1], x[2].atan2(x[3]))
 }

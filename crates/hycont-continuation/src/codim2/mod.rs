@@ -138,7 +138,14 @@ impl<'a, S: HybridJacobians + ?Sized> Codim2<'a, S> {
                 });
             }
             CurveCondition::PeriodDoubling | CurveCondition::SymmetryBreaking => Some(-1.0),
-            CurveCondition::Measure { measure, .. } => {
+            CurveCondition::Measure { measure, level } => {
+                if !level.is_finite() {
+                    return Err(Error::InvalidSetting {
+                        name: "measure level",
+                        value: level,
+                        reason: "must be finite",
+                    });
+                }
                 let count = 2 + measures.len();
                 if measure.index() < 2 || measure.index() >= count {
                     return Err(Error::NoSuchQuantity {
@@ -178,7 +185,7 @@ impl<'a, S: HybridJacobians + ?Sized> Codim2<'a, S> {
             .ok_or_else(|| Error::SwitchFailed {
                 reason: format!("no monitor for parameter #{}", second.index()),
             })?;
-        problem.set_activity(id, Activity::Active(orbit.params[second.index()]));
+        problem.set_activity(id, Activity::Active(orbit.params[second.index()]))?;
         let nbase = problem.base_unknowns();
         let held = match condition {
             CurveCondition::Measure { measure, level } => Some(Held::Measure {

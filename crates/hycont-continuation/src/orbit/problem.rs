@@ -174,7 +174,7 @@ impl<'a, S: HybridJacobians + ?Sized> OrbitContinuation<'a, S> {
             .ok_or_else(|| Error::SwitchFailed {
                 reason: format!("no monitor for parameter #{q}"),
             })?;
-        problem.set_activity(id, Activity::Active(like.params[q]));
+        problem.set_activity(id, Activity::Active(like.params[q]))?;
         Ok(Self {
             system,
             like,

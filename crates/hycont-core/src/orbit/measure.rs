@@ -54,7 +54,7 @@
 
 use super::scan::{OrbitScan, ScanNeeds, Turn, Watch, scan};
 use super::{Closure, PeriodicOrbit, SegmentEnd};
-use crate::error::{Error, Result};
+use crate::error::{Error, Result, check_finite};
 use crate::simulate::SimulationSettings;
 use crate::system::{EventId, HybridJacobians, HybridSystem, Z2Symmetry};
 
@@ -591,7 +591,8 @@ impl<S: HybridJacobians + ?Sized> MeasureSet<'_, S> {
     /// unfolded.
     ///
     /// # Errors
-    /// As [`MeasureSet::evaluate_one`].
+    /// As [`MeasureSet::evaluate_one`], and [`Error::InvalidMeasure`] for a gradient of the wrong
+    /// length ([`Error::NonFinite`] for one with NaN or infinities).
     pub fn evaluate_with_gradient(
         &self,
         system: &S,
@@ -618,7 +619,23 @@ impl<S: HybridJacobians + ?Sized> MeasureSet<'_, S> {
             scan(system, orbit, &needs, &self.settings)?
         };
         let value = m.value(system, orbit, &scanned)?;
-        Ok((value, m.gradient(system, orbit, &scanned)))
+        let gradient = m.gradient(system, orbit, &scanned);
+        if let Some(g) = &gradient {
+            let expected = orbit.starts.iter().map(Vec::len).sum::<usize>()
+                + orbit.durations.len()
+                + orbit.params.len();
+            if g.len() != expected {
+                return Err(Error::InvalidMeasure {
+                    reason: format!(
+                        "the gradient of measure {:?} has {} entries, the orbit has {expected} coordinates",
+                        self.names[index],
+                        g.len()
+                    ),
+                });
+            }
+            check_finite("measure gradient", g)?;
+        }
+        Ok((value, gradient))
     }
 
     fn evaluate_indices(

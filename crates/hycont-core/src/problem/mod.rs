@@ -15,7 +15,7 @@ mod newton;
 
 pub use newton::{NewtonIteration, NewtonSettings, NewtonSolution, newton};
 
-use crate::error::{Error, Result};
+use crate::error::{Error, Result, check_finite, check_len};
 use crate::linalg::SparsePattern;
 
 /// A block of equations over a list of the problem's unknowns.
@@ -251,7 +251,8 @@ impl<'a> Problem<'a> {
     /// Adds a monitor function $\mu = \psi(u)$ over `unknowns`.
     ///
     /// # Errors
-    /// If the index list has the wrong length or an index is out of range.
+    /// If the index list has the wrong length or an index is out of range, or the value is
+    /// not finite.
     pub fn add_monitor(
         &mut self,
         name: &str,
@@ -260,6 +261,8 @@ impl<'a> Problem<'a> {
         activity: Activity,
     ) -> Result<MonitorId> {
         self.check_indices("monitor unknowns", &unknowns, function.unknowns())?;
+        let (Activity::Active(v) | Activity::Inactive(v)) = activity;
+        check_finite("monitor value", &[v])?;
         self.monitors.push(Monitor {
             name: name.to_string(),
             function,
@@ -279,20 +282,42 @@ impl<'a> Problem<'a> {
             .map(MonitorId)
     }
 
+    fn monitor_index(&self, id: MonitorId) -> Result<usize> {
+        if id.0 < self.monitors.len() {
+            Ok(id.0)
+        } else {
+            Err(Error::IndexOutOfRange {
+                what: "monitor",
+                index: id.0,
+                count: self.monitors.len(),
+            })
+        }
+    }
+
     /// Makes a monitor active or inactive (changes the number of unknowns if its activity changes
     /// kind).
-    pub fn set_activity(&mut self, id: MonitorId, activity: Activity) {
-        let m = &mut self.monitors[id.0];
+    ///
+    /// # Errors
+    /// [`Error::IndexOutOfRange`] for a monitor of another problem; [`Error::NonFinite`] for a
+    /// non-finite value.
+    pub fn set_activity(&mut self, id: MonitorId, activity: Activity) -> Result<()> {
+        let i = self.monitor_index(id)?;
+        let (Activity::Active(v) | Activity::Inactive(v)) = activity;
+        check_finite("monitor value", &[v])?;
+        let m = &mut self.monitors[i];
         if std::mem::discriminant(&m.activity) != std::mem::discriminant(&activity) {
             self.pattern = None;
         }
         m.activity = activity;
+        Ok(())
     }
 
     /// The activity of a monitor.
-    #[must_use]
-    pub fn activity(&self, id: MonitorId) -> Activity {
-        self.monitors[id.0].activity
+    ///
+    /// # Errors
+    /// [`Error::IndexOutOfRange`] for a monitor of another problem.
+    pub fn activity(&self, id: MonitorId) -> Result<Activity> {
+        Ok(self.monitors[self.monitor_index(id)?].activity)
     }
 
     /// Number of base unknowns (without the active monitors' values).
@@ -453,8 +478,8 @@ impl<'a> Problem<'a> {
         use_held: bool,
         purpose: JacobianUse,
     ) -> Result<()> {
-        crate::error::check_len("unknowns", u, self.unknowns())?;
-        crate::error::check_len("residual", residual, self.equations())?;
+        check_len("unknowns", u, self.unknowns())?;
+        check_len("residual", residual, self.equations())?;
         let mut jac = jacobian;
         if let Some(j) = jac.as_deref_mut() {
             j.clear();
@@ -518,9 +543,12 @@ impl<'a> Problem<'a> {
     /// The value of a monitor at `u`.
     ///
     /// # Errors
-    /// If the monitor fails.
+    /// [`Error::IndexOutOfRange`] for a monitor of another problem, `u` of the wrong length, or
+    /// if the monitor fails.
     pub fn monitor_value(&mut self, id: MonitorId, u: &[f64]) -> Result<f64> {
-        let m = &mut self.monitors[id.0];
+        let i = self.monitor_index(id)?;
+        check_len("unknowns", u, self.unknowns())?;
+        let m = &mut self.monitors[i];
         let local: Vec<f64> = m.unknowns.iter().map(|&i| u[i]).collect();
         m.function.evaluate(&local, None)
     }
