@@ -1,0 +1,290 @@
+//! The command line's arguments (clap).
+
+use crate::model::{DEFAULT_THETA_B, DEFAULT_XI};
+use clap::{Args, Parser, Subcommand};
+use std::path::PathBuf;
+
+/// Reproduces the rocking-block study: simulations now; orbits, continuation and figures as
+/// they land.
+#[derive(Debug, Parser)]
+#[command(name = "rocking-block", version, about, long_about = None)]
+pub struct Cli {
+    /// What to do.
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+/// Subcommands.
+#[derive(Debug, Subcommand)]
+pub enum Command {
+    /// Simulate the block from an initial condition (event-driven, DOP853).
+    Simulate(SimulateArgs),
+    /// Compute a periodic orbit (Newton on a multi-segment boundary-value problem) with its
+    /// Floquet multipliers.
+    Orbit(OrbitArgs),
+    /// Reproduce a figure of the study: writes DIR/figN.json and DIR/figN.svg.
+    Figure(FigureArgs),
+    /// Continue a periodic orbit in omega or alpha (pseudo-arclength), detecting and locating
+    /// SN, BP, PD, TR, SB and GR; or restart from a labelled point of a saved run.
+    Continue(ContinueArgs),
+    /// Classify trials (the study's solution classes): one trial with --json, or a CSV batch
+    /// (columns omega, alpha, beta, phi0, psi0) with --input/--output.
+    Classify(ClassifyArgs),
+    /// Merge shard files of a sampling figure (written with `figure N --shard I/N`) and write
+    /// the figure.
+    Merge(MergeArgs),
+}
+
+/// Arguments of `rocking-block classify`.
+#[derive(Debug, Args)]
+pub struct ClassifyArgs {
+    /// Forcing frequency (single trial).
+    #[arg(long, default_value_t = 1.3, allow_negative_numbers = true)]
+    pub omega: f64,
+    /// Forcing amplitude (single trial).
+    #[arg(long, default_value_t = 0.66, allow_negative_numbers = true)]
+    pub alpha: f64,
+    /// Forcing phase (single trial).
+    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
+    pub beta: f64,
+    /// Initial angle (single trial).
+    #[arg(long, default_value_t = 0.01, allow_negative_numbers = true)]
+    pub phi0: f64,
+    /// Initial angular velocity (single trial).
+    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
+    pub psi0: f64,
+    /// CSV file of trials (header omega,alpha,beta,phi0,psi0).
+    #[arg(long, requires = "output")]
+    pub input: Option<PathBuf>,
+    /// CSV file to write (the input columns plus class, decision, periods, with_rest).
+    #[arg(long, requires = "input")]
+    pub output: Option<PathBuf>,
+    /// Print the single trial's classification as JSON.
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// The continuation parameter on the command line.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum FreeArg {
+    /// Forcing frequency.
+    Omega,
+    /// Forcing amplitude.
+    Alpha,
+}
+
+/// Directions on the command line.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum DirectionArg {
+    /// Both ways from the start, joined.
+    Both,
+    /// Increasing parameter.
+    Up,
+    /// Decreasing parameter.
+    Down,
+}
+
+/// Arguments of `rocking-block continue`.
+#[derive(Debug, Args)]
+pub struct ContinueArgs {
+    /// The parameter to continue in.
+    #[arg(long, value_enum)]
+    pub free: FreeArg,
+    /// Start: forcing frequency.
+    #[arg(long, default_value_t = 1.3, allow_negative_numbers = true)]
+    pub omega: f64,
+    /// Start: forcing amplitude.
+    #[arg(long, default_value_t = 0.66, allow_negative_numbers = true)]
+    pub alpha: f64,
+    /// Start: which orbit.
+    #[arg(long, value_enum, default_value_t = KindArg::Symmetric)]
+    pub kind: KindArg,
+    /// Initial angle for --kind simulate.
+    #[arg(long, default_value_t = 0.01, allow_negative_numbers = true)]
+    pub phi0: f64,
+    /// Initial angular velocity for --kind simulate.
+    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
+    pub psi0: f64,
+    /// Forcing phase for --kind simulate.
+    #[arg(long, default_value_t = std::f64::consts::FRAC_PI_2, allow_negative_numbers = true)]
+    pub beta: f64,
+    /// Smallest parameter value (default: 0.5 for omega, 0.01 for alpha).
+    #[arg(long, allow_negative_numbers = true)]
+    pub min: Option<f64>,
+    /// Largest parameter value (default: 4.0 for omega, 1.06 for alpha).
+    #[arg(long, allow_negative_numbers = true)]
+    pub max: Option<f64>,
+    /// Direction.
+    #[arg(long, value_enum, default_value_t = DirectionArg::Both)]
+    pub direction: DirectionArg,
+    /// Discretisation (a collocation run restarted by collocation keeps its mesh).
+    #[arg(long, value_enum, default_value_t = MethodArg::Shooting)]
+    pub method: MethodArg,
+    /// Restart from this saved run (a file written by --out).
+    #[arg(long, requires = "label")]
+    pub restart: Option<PathBuf>,
+    /// Label of the point of the saved run to restart from.
+    #[arg(long, requires = "restart")]
+    pub label: Option<usize>,
+    /// Write the run (branch with unknowns, for restarts) to this JSON file.
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+    /// Draw the branch to this SVG file.
+    #[arg(long)]
+    pub svg: Option<PathBuf>,
+    /// Print the branch (study format) as JSON on stdout.
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// Orbit kinds on the command line.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum KindArg {
+    /// The symmetric period-1 orbit.
+    Symmetric,
+    /// The asymmetric period-1 orbit leaning to phi > 0.
+    AsymmetricPos,
+    /// The asymmetric period-1 orbit leaning to phi < 0.
+    AsymmetricNeg,
+    /// The orbit a simulation settles on (from --phi0, --psi0, --beta).
+    Simulate,
+}
+
+/// Discretisations on the command line.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum MethodArg {
+    /// Orthogonal collocation.
+    Collocation,
+    /// Multiple shooting.
+    Shooting,
+}
+
+/// Arguments of `rocking-block orbit`.
+#[derive(Debug, Args)]
+pub struct OrbitArgs {
+    /// Forcing frequency omega (> 0).
+    #[arg(long, default_value_t = 1.3, allow_negative_numbers = true)]
+    pub omega: f64,
+    /// Forcing amplitude alpha (>= 0).
+    #[arg(long, default_value_t = 0.66, allow_negative_numbers = true)]
+    pub alpha: f64,
+    /// Which orbit.
+    #[arg(long, value_enum, default_value_t = KindArg::Symmetric)]
+    pub kind: KindArg,
+    /// Discretisation of the boundary-value problem.
+    #[arg(long, value_enum, default_value_t = MethodArg::Collocation)]
+    pub method: MethodArg,
+    /// Collocation: mesh intervals per segment.
+    #[arg(long, default_value_t = 20)]
+    pub ntst: usize,
+    /// Collocation: points per interval.
+    #[arg(long, default_value_t = 4)]
+    pub ncol: usize,
+    /// Initial angle for --kind simulate.
+    #[arg(long, default_value_t = 0.01, allow_negative_numbers = true)]
+    pub phi0: f64,
+    /// Initial angular velocity for --kind simulate.
+    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
+    pub psi0: f64,
+    /// Forcing phase for --kind simulate.
+    #[arg(long, default_value_t = std::f64::consts::FRAC_PI_2, allow_negative_numbers = true)]
+    pub beta: f64,
+    /// Print the orbit as JSON on stdout.
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// Arguments of `rocking-block figure`.
+#[derive(Debug, Args)]
+pub struct FigureArgs {
+    /// Figure number (2 to 10) or `all`.
+    pub which: String,
+    /// Output directory.
+    #[arg(long, default_value = "results")]
+    pub out: PathBuf,
+    /// Sampling figures: trials per basin (the study: 20,000 for Fig. 7).
+    #[arg(long, default_value_t = 2000)]
+    pub trials: u64,
+    /// Sampling figures: seed (results are identical for a seed whatever the threads).
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// Worker threads (default: all cores).
+    #[arg(long)]
+    pub threads: Option<usize>,
+    /// Sampling figures 7, 9, 10: run only shard I of N (0-based, `I/N`) of the trials and write
+    /// DIR/figN.shard-I-of-N.json, for `rocking-block merge` (cluster array jobs).
+    #[arg(long)]
+    pub shard: Option<String>,
+    /// Print the files written as JSON (`{"files": [...]}`).
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// Arguments of `rocking-block merge`.
+#[derive(Debug, Args)]
+pub struct MergeArgs {
+    /// Shard files written by `figure N --shard I/N`.
+    #[arg(required = true)]
+    pub shards: Vec<PathBuf>,
+    /// Output directory for figN.json and figN.svg.
+    #[arg(long, default_value = "results")]
+    pub out: PathBuf,
+    /// Print the files written as JSON (`{"files": [...]}`).
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// Arguments of `rocking-block simulate`.
+#[derive(Debug, Args)]
+pub struct SimulateArgs {
+    /// Forcing frequency omega (> 0).
+    #[arg(long, default_value_t = 1.3, allow_negative_numbers = true)]
+    pub omega: f64,
+    /// Forcing amplitude alpha (>= 0; the study's range is (0, 1.06]).
+    #[arg(long, default_value_t = 0.66, allow_negative_numbers = true)]
+    pub alpha: f64,
+    /// Initial angle phi0.
+    #[arg(long, default_value_t = 0.01, allow_negative_numbers = true)]
+    pub phi0: f64,
+    /// Initial angular velocity psi0.
+    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
+    pub psi0: f64,
+    /// Forcing phase beta: (r0, s0) = (sin beta, cos beta).
+    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
+    pub beta: f64,
+    /// Forcing-oscillator state r0 (with --s0; overrides --beta).
+    #[arg(long, requires = "s0", allow_negative_numbers = true)]
+    pub r0: Option<f64>,
+    /// Forcing-oscillator state s0 (with --r0; overrides --beta).
+    #[arg(long, requires = "r0", allow_negative_numbers = true)]
+    pub s0: Option<f64>,
+    /// Duration in forcing periods 2 pi / omega.
+    #[arg(long, default_value_t = 100.0)]
+    pub periods: f64,
+    /// Damping xi (>= 0).
+    #[arg(long, default_value_t = DEFAULT_XI)]
+    pub xi: f64,
+    /// Slenderness angle theta_b (rad).
+    #[arg(long = "theta-b", default_value_t = DEFAULT_THETA_B)]
+    pub theta_b: f64,
+    /// Relative tolerance of the integrator.
+    #[arg(long, default_value_t = 1e-10)]
+    pub rtol: f64,
+    /// Absolute tolerance of the integrator.
+    #[arg(long, default_value_t = 1e-12)]
+    pub atol: f64,
+    /// Dense samples per forcing period for --csv, --svg and max_abs_phi (default 200 when a
+    /// file is asked for, else 0).
+    #[arg(long)]
+    pub points_per_period: Option<usize>,
+    /// Print the result as JSON on stdout.
+    #[arg(long)]
+    pub json: bool,
+    /// Write the dense time series (t, mode, phi, psi, r, s) to this CSV file.
+    #[arg(long)]
+    pub csv: Option<PathBuf>,
+    /// Draw the time series and phase portrait to this SVG file.
+    #[arg(long)]
+    pub svg: Option<PathBuf>,
+}
+

@@ -1,0 +1,262 @@
+//! `simulate`, `orbit` and `classify`.
+
+use super::{ClassifyArgs, KindArg, MethodArg, OrbitArgs, SimulateArgs, ensure_parent, io_err};
+use crate::error::{Error, Result};
+use crate::model::Parameters;
+use crate::plot;
+use crate::simulation::{SimulationRequest, simulate};
+use hycont_core::HybridSystem;
+use std::io::Write;
+use std::path::PathBuf;
+
+pub(super) fn run_orbit(args: &OrbitArgs, out: &mut dyn Write) -> Result<()> {
+    use crate::orbits::{OrbitKind, orbit};
+    let params = Parameters::new(args.omega, args.alpha);
+    params.validate()?;
+    crate::simulation::check_start(args.phi0, args.psi0, args.beta)?;
+    let settings = hycont_core::orbit::CollocationSettings {
+        ntst: args.ntst,
+        ncol: args.ncol,
+        adapt: 1,
+    };
+    settings.validate()?;
+    let (kind, name) = match args.kind {
+        KindArg::Symmetric => (OrbitKind::Symmetric, "symmetric"),
+        KindArg::AsymmetricPos => (OrbitKind::AsymmetricPos, "asymmetric-pos"),
+        KindArg::AsymmetricNeg => (OrbitKind::AsymmetricNeg, "asymmetric-neg"),
+        KindArg::Simulate => (OrbitKind::Simulate, "simulate"),
+    };
+    let mut found = orbit(&params, kind, Some((args.phi0, args.psi0, args.beta)))?;
+    if args.method == MethodArg::Collocation {
+        found = found.by_collocation(settings)?;
+    }
+    let report = found.report(name)?;
+    let stdout_err = |source| Error::Io {
+        path: PathBuf::from("<stdout>"),
+        source,
+    };
+    if args.json {
+        let text = serde_json::to_string_pretty(&report).expect("report serialises");
+        writeln!(out, "{text}").map_err(stdout_err)?;
+    } else {
+        writeln!(
+            out,
+            "{name} orbit at omega = {}, alpha = {} ({:?}): period {:.10}, amp {:.10}, {}",
+            args.omega,
+            args.alpha,
+            args.method,
+            report.period,
+            report.amp,
+            if report.stable { "stable" } else { "unstable" }
+        )
+        .map_err(stdout_err)?;
+        for s in &report.segments {
+            writeln!(
+                out,
+                "  flight {}: {:.10} from {:?}",
+                s.mode, s.duration, s.start
+            )
+            .map_err(stdout_err)?;
+        }
+        for (m, t) in report.multipliers.iter().zip(&report.trivial) {
+            writeln!(
+                out,
+                "  multiplier {:+.10e} {:+.10e}i{}",
+                m[0],
+                m[1],
+                if *t { " (trivial)" } else { "" }
+            )
+            .map_err(stdout_err)?;
+        }
+    }
+    Ok(())
+}
+
+pub(super) fn run_classify(args: &ClassifyArgs, out: &mut dyn Write) -> Result<()> {
+    use crate::classes::{ClassifierSettings, classify};
+    use rayon::prelude::*;
+    let settings = ClassifierSettings::default();
+    let stdout_err = |source| Error::Io {
+        path: PathBuf::from("<stdout>"),
+        source,
+    };
+    if let (Some(input), Some(output)) = (&args.input, &args.output) {
+        let text = std::fs::read_to_string(input).map_err(io_err(input))?;
+        let mut lines = text.lines();
+        let header: Vec<&str> = lines
+            .next()
+            .unwrap_or("")
+            .split(',')
+            .map(str::trim)
+            .collect();
+        let col = |name: &'static str| {
+            header
+                .iter()
+                .position(|h| *h == name)
+                .ok_or(Error::InvalidArgument {
+                    name: "input",
+                    value: input.display().to_string(),
+                    reason: "the header must name the columns omega, alpha, beta, phi0, psi0",
+                })
+        };
+        let cols = [
+            col("omega")?,
+            col("alpha")?,
+            col("beta")?,
+            col("phi0")?,
+            col("psi0")?,
+        ];
+        let mut rows = Vec::new();
+        for (i, line) in lines.enumerate().filter(|(_, l)| !l.trim().is_empty()) {
+            let fields: Vec<&str> = line.split(',').map(str::trim).collect();
+            let mut v = [0.0; 5];
+            for (k, &c) in cols.iter().enumerate() {
+                v[k] = fields.get(c).and_then(|f| f.parse().ok()).ok_or_else(|| {
+                    Error::InvalidArgument {
+                        name: "input",
+                        value: format!("line {}: {line}", i + 2),
+                        reason: "expected five numbers",
+                    }
+                })?;
+            }
+            rows.push(v);
+        }
+        let results: Vec<String> = rows
+            .par_iter()
+            .map(
+                |v| match classify(&Parameters::new(v[0], v[1]), v[2], v[3], v[4], &settings) {
+                    Ok(c) => format!(
+                        "{},{},{},{},{},{},{:?},{},{}",
+                        v[0],
+                        v[1],
+                        v[2],
+                        v[3],
+                        v[4],
+                        c.class.name(),
+                        c.decision,
+                        c.periods,
+                        c.with_rest
+                    ),
+                    Err(e) => format!(
+                        "{},{},{},{},{},error,\"{e}\",0,false",
+                        v[0], v[1], v[2], v[3], v[4]
+                    ),
+                },
+            )
+            .collect();
+        ensure_parent(output)?;
+        let mut text =
+            String::from("omega,alpha,beta,phi0,psi0,class,decision,periods,with_rest\n");
+        for r in results {
+            text.push_str(&r);
+            text.push('\n');
+        }
+        std::fs::write(output, text).map_err(io_err(output))?;
+        writeln!(
+            out,
+            "classified {} trials into {}",
+            rows.len(),
+            output.display()
+        )
+        .map_err(stdout_err)?;
+        return Ok(());
+    }
+    let params = Parameters::new(args.omega, args.alpha);
+    let c = classify(&params, args.beta, args.phi0, args.psi0, &settings)?;
+    if args.json {
+        let v = serde_json::json!({
+            "omega": args.omega, "alpha": args.alpha, "beta": args.beta,
+            "phi0": args.phi0, "psi0": args.psi0,
+            "class": c.class.name(), "decision": c.decision, "periods": c.periods,
+            "with_rest": c.with_rest,
+        });
+        writeln!(
+            out,
+            "{}",
+            serde_json::to_string_pretty(&v).expect("serialises")
+        )
+        .map_err(stdout_err)?;
+    } else {
+        writeln!(
+            out,
+            "{} ({:?} after {} periods{})",
+            c.class.name(),
+            c.decision,
+            c.periods,
+            if c.with_rest {
+                ", with rest phases"
+            } else {
+                ""
+            }
+        )
+        .map_err(stdout_err)?;
+    }
+    Ok(())
+}
+
+pub(super) fn run_simulate(args: &SimulateArgs, out: &mut dyn Write) -> Result<()> {
+    let params = Parameters {
+        omega: args.omega,
+        alpha: args.alpha,
+        xi: args.xi,
+        theta_b: args.theta_b,
+    };
+    let wants_files = args.csv.is_some() || args.svg.is_some();
+    let req = SimulationRequest {
+        params,
+        phi0: args.phi0,
+        psi0: args.psi0,
+        beta: args.beta,
+        forcing_state: args.r0.zip(args.s0).map(|(r, s)| [r, s]),
+        periods: args.periods,
+        rtol: args.rtol,
+        atol: args.atol,
+        points_per_period: args
+            .points_per_period
+            .unwrap_or(if wants_files { 200 } else { 0 }),
+    };
+    let (report, traj) = simulate(&req)?;
+    if let Some(path) = &args.csv {
+        ensure_parent(path)?;
+        let mut text = String::from("t,mode,phi,psi,r,s\n");
+        for (t, mode, x) in traj.samples.iter() {
+            let name = crate::model::RockingBlock.mode_name(mode);
+            text.push_str(&format!("{t},{name},{},{},{},{}\n", x[0], x[1], x[2], x[3]));
+        }
+        std::fs::write(path, text).map_err(io_err(path))?;
+    }
+    if let Some(path) = &args.svg {
+        ensure_parent(path)?;
+        let title = format!(
+            "rocking block: omega = {}, alpha = {}, phi0 = {}, psi0 = {} ({:?})",
+            params.omega, params.alpha, args.phi0, args.psi0, report.outcome
+        );
+        plot::trajectory_svg(path, &title, &traj, &params)?;
+    }
+    let stdout_err = |source| Error::Io {
+        path: PathBuf::from("<stdout>"),
+        source,
+    };
+    if args.json {
+        let text = serde_json::to_string_pretty(&report).expect("report serialises");
+        writeln!(out, "{text}").map_err(stdout_err)?;
+    } else {
+        writeln!(
+            out,
+            "outcome: {:?}\nt_end: {:.6}\nimpacts: {}\nfinal mode: {}\nfinal state: {:?}\n\
+             rest times: {:?}\nsteps: {} (rejected {}), rhs evaluations: {}",
+            report.outcome,
+            report.t_end,
+            report.impacts,
+            report.final_mode,
+            report.final_state,
+            report.rest_times,
+            report.stats.steps,
+            report.stats.rejected_steps,
+            report.stats.rhs_evaluations
+        )
+        .map_err(stdout_err)?;
+    }
+    Ok(())
+}
+

@@ -1,0 +1,116 @@
+//! `continue`: one-parameter continuation from the command line, and restarts.
+
+use super::{ContinueArgs, DirectionArg, FreeArg, KindArg, MethodArg, ensure_parent, io_err};
+use crate::error::{Error, Result};
+use crate::model::Parameters;
+use std::io::Write;
+use std::path::PathBuf;
+
+pub(super) fn run_continue(args: &ContinueArgs, out: &mut dyn Write) -> Result<()> {
+    use crate::continuation::{AMP, Free, default_method, study_run};
+    use crate::figures::branches::study_labels;
+    use crate::orbits::{OrbitKind, orbit};
+    use crate::report::branch_json;
+    use hycont_continuation::{OrbitBranch, OrbitMethod, RunDirection};
+    let free = match args.free {
+        FreeArg::Omega => Free::Omega,
+        FreeArg::Alpha => Free::Alpha,
+    };
+    let (lo, hi) = free.range();
+    let (min, max) = (args.min.unwrap_or(lo), args.max.unwrap_or(hi));
+    if !(min < max) {
+        return Err(Error::InvalidArgument {
+            name: "min/max",
+            value: format!("{min}/{max}"),
+            reason: "min must be below max",
+        });
+    }
+    let method = match args.method {
+        MethodArg::Shooting => default_method(),
+        MethodArg::Collocation => {
+            OrbitMethod::Collocation(hycont_core::orbit::CollocationSettings::default())
+        }
+    };
+    let direction = match args.direction {
+        DirectionArg::Both => RunDirection::Both,
+        DirectionArg::Up => RunDirection::Up,
+        DirectionArg::Down => RunDirection::Down,
+    };
+    let branch = if let (Some(path), Some(label)) = (&args.restart, args.label) {
+        let text = std::fs::read_to_string(path).map_err(io_err(path))?;
+        let saved = OrbitBranch::from_json(&text).map_err(|e| Error::InvalidArgument {
+            name: "restart",
+            value: path.display().to_string(),
+            reason: if e.is_syntax() {
+                "not JSON"
+            } else {
+                "not a run saved by `continue --out`"
+            },
+        })?;
+        let params = Parameters::from_vec(&saved.template.params);
+        let mut run = study_run(free, &params, (min, max), method)?;
+        // Restarting both ways: keep going the way the saved run went.
+        let way = (args.direction != DirectionArg::Both).then_some(direction);
+        run.restart("branch", &saved, label, way)?
+    } else {
+        let params = Parameters::new(args.omega, args.alpha);
+        params.validate()?;
+        crate::simulation::check_start(args.phi0, args.psi0, args.beta)?;
+        let kind = match args.kind {
+            KindArg::Symmetric => OrbitKind::Symmetric,
+            KindArg::AsymmetricPos => OrbitKind::AsymmetricPos,
+            KindArg::AsymmetricNeg => OrbitKind::AsymmetricNeg,
+            KindArg::Simulate => OrbitKind::Simulate,
+        };
+        let start = orbit(&params, kind, Some((args.phi0, args.psi0, args.beta)))?;
+        let mut run = study_run(free, &params, (min, max), method)?;
+        run.run("branch", &start.solution.orbit, direction)?
+    };
+    let stdout_err = |source| Error::Io {
+        path: PathBuf::from("<stdout>"),
+        source,
+    };
+    if let Some(path) = &args.out {
+        ensure_parent(path)?;
+        let text = branch
+            .to_json()
+            .expect("a branch of finite values serialises");
+        std::fs::write(path, text).map_err(io_err(path))?;
+    }
+    if let Some(path) = &args.svg {
+        ensure_parent(path)?;
+        let labels = study_labels(std::slice::from_ref(&branch), free, &[]);
+        let params = Parameters::from_vec(&branch.template.params);
+        crate::plot::branches_svg(
+            path,
+            &format!("continuation in {}", free.name()),
+            std::slice::from_ref(&branch.branch),
+            free,
+            &labels,
+            params.static_boundary(),
+        )?;
+    }
+    if args.json {
+        let text =
+            serde_json::to_string_pretty(&branch_json(&branch, free)).expect("branch serialises");
+        writeln!(out, "{text}").map_err(stdout_err)?;
+    } else {
+        let b = &branch.branch;
+        writeln!(out, "{} points, ended: {:?}", b.points.len(), b.end).map_err(stdout_err)?;
+        for s in &b.special_points {
+            writeln!(
+                out,
+                "  {} label {} {} = {:.10} amp {:.8}{}",
+                s.kind.label(),
+                s.point.label,
+                free.name(),
+                s.point[free.id()],
+                s.point[AMP],
+                if s.located { "" } else { " (not located)" }
+            )
+            .map_err(stdout_err)?;
+        }
+    }
+    Ok(())
+}
+

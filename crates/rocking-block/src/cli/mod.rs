@@ -1,0 +1,69 @@
+//! The `rocking-block` command line: arguments ([`args`]), the commands, and how they write
+//! files ([`crate::output`]).
+
+mod args;
+mod commands;
+mod continue_cmd;
+mod sampling;
+
+pub use args::*;
+
+use crate::error::{Error, Result};
+use std::io::Write;
+use std::path::{Path, PathBuf};
+
+/// Creates the parent directory of an output file, if needed.
+fn ensure_parent(path: &Path) -> Result<()> {
+    match path.parent() {
+        Some(dir) if !dir.as_os_str().is_empty() => {
+            std::fs::create_dir_all(dir).map_err(io_err(dir))
+        }
+        _ => Ok(()),
+    }
+}
+
+fn io_err(path: &Path) -> impl FnOnce(std::io::Error) -> Error + '_ {
+    move |source| Error::Io {
+        path: path.to_path_buf(),
+        source,
+    }
+}
+
+/// Runs a parsed command line, writing results to `out`.
+///
+/// # Errors
+/// Invalid arguments, numerical failures, or files that cannot be written.
+pub fn run(cli: Cli, out: &mut dyn Write) -> Result<()> {
+    match cli.command {
+        Command::Simulate(args) => commands::run_simulate(&args, out),
+        Command::Orbit(args) => commands::run_orbit(&args, out),
+        Command::Figure(args) => sampling::run_figure(&args, out),
+        Command::Continue(args) => continue_cmd::run_continue(&args, out),
+        Command::Classify(args) => commands::run_classify(&args, out),
+        Command::Merge(args) => sampling::run_merge(&args, out),
+    }
+}
+
+
+/// Prints the files written, as lines or as JSON.
+fn print_written(out: &mut dyn Write, files: &[PathBuf], json: bool) -> Result<()> {
+    let stdout_err = |source| Error::Io {
+        path: PathBuf::from("<stdout>"),
+        source,
+    };
+    if json {
+        let v = serde_json::json!({"files": files.iter().map(|f| f.display().to_string()).collect::<Vec<_>>()});
+        writeln!(
+            out,
+            "{}",
+            serde_json::to_string_pretty(&v).expect("serialises")
+        )
+        .map_err(stdout_err)
+    } else {
+        for f in files {
+            writeln!(out, "wrote {}", f.display()).map_err(stdout_err)?;
+        }
+        Ok(())
+    }
+}
+
