@@ -28,6 +28,19 @@ pub enum Error {
         /// Equations.
         equations: usize,
     },
+    /// The start of a run lies outside the bounds of the continued parameter (a run would
+    /// otherwise return points outside the window asked for).
+    #[error("the start {parameter} = {value} lies outside the bounds [{min}, {max}]")]
+    StartOutsideBounds {
+        /// The continued parameter's name.
+        parameter: String,
+        /// Its value at the start.
+        value: f64,
+        /// Lower bound.
+        min: f64,
+        /// Upper bound.
+        max: f64,
+    },
     /// A restart label does not exist in the branch.
     #[error("no point labelled {label} in branch {branch}")]
     NoSuchLabel {

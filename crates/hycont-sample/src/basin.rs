@@ -182,7 +182,10 @@ impl Counts {
         self.ranges.clear();
     }
 
-    fn new(classes: Vec<String>, cells: usize) -> Self {
+    /// An empty table: no trials, `cells` cells of `classes` (e.g. to [`Counts::merge`] runs
+    /// into, or to resume a study from nothing).
+    #[must_use]
+    pub fn new(classes: Vec<String>, cells: usize) -> Self {
         let k = classes.len();
         Self {
             classes,
@@ -298,7 +301,44 @@ impl Counts {
         self.failures = failures;
         self.ranges.extend_from_slice(&other.ranges);
         self.ranges.sort_unstable();
+        // Adjacent ranges coalesce: the table does not remember how its trials were split.
+        let mut merged: Vec<(u64, u64)> = Vec::with_capacity(self.ranges.len());
+        for &(a, b) in &self.ranges {
+            match merged.last_mut() {
+                Some(last) if last.1 == a => last.1 = b,
+                _ => merged.push((a, b)),
+            }
+        }
+        self.ranges = merged;
         Ok(())
+    }
+
+    /// The trials of `range` the table has not counted, as `[start, end)` ranges in order (what
+    /// an interrupted run still has to do).
+    ///
+    /// ```
+    /// use hycont_sample::basin::Counts;
+    /// let mut c = Counts::new(vec!["a".into()], 1);
+    /// c.ranges = vec![(10, 20), (30, 40)];
+    /// assert_eq!(c.missing(0..50), vec![0..10, 20..30, 40..50]);
+    /// ```
+    #[must_use]
+    pub fn missing(&self, range: std::ops::Range<u64>) -> Vec<std::ops::Range<u64>> {
+        let mut out = Vec::new();
+        let mut at = range.start;
+        for &(a, b) in &self.ranges {
+            if b <= at || a >= range.end {
+                continue;
+            }
+            if a > at {
+                out.push(at..a);
+            }
+            at = at.max(b);
+        }
+        if at < range.end {
+            out.push(at..range.end);
+        }
+        out
     }
 
     /// Trials in a cell (classified or not); 0 for a cell the table does not have.
@@ -457,17 +497,6 @@ pub fn run_binned<C: Classifier>(
         for (t, c) in totals.iter_mut().zip(p) {
             t.merge(c)?;
         }
-    }
-    for t in &mut totals {
-        // Coalesce adjacent ranges.
-        let mut merged: Vec<(u64, u64)> = Vec::new();
-        for (a, b) in std::mem::take(&mut t.ranges) {
-            match merged.last_mut() {
-                Some(last) if last.1 == a => last.1 = b,
-                _ => merged.push((a, b)),
-            }
-        }
-        t.ranges = merged;
     }
     Ok(totals)
 }

@@ -239,3 +239,54 @@ impl hycont_sample::basin::Classifier for RockingClassifier {
         })
     }
 }
+
+/// The CSV columns of a batch of trials, in the order [`parse_trials`] returns them.
+pub const TRIAL_COLUMNS: [&str; 5] = ["omega", "alpha", "beta", "phi0", "psi0"];
+
+/// Reads a CSV batch of trials: a header naming (at least) the columns of [`TRIAL_COLUMNS`] in
+/// any order, then one trial per line (blank lines skipped); each row as
+/// `[omega, alpha, beta, phi0, psi0]`.
+///
+/// # Errors
+/// One line naming the problem: a missing column, a line with too few fields, a field that is
+/// not a finite number (with its line number).
+///
+/// ```
+/// use rocking_block::classes::parse_trials;
+/// let rows = parse_trials("phi0,psi0,omega,alpha,beta\n0.01,0,1.3,0.66,0\n").unwrap();
+/// assert_eq!(rows, vec![[1.3, 0.66, 0.0, 0.01, 0.0]]);
+/// assert!(parse_trials("omega,alpha\n1,2\n").is_err());
+/// assert!(parse_trials("omega,alpha,beta,phi0,psi0\n1,2,NaN,0,0\n").is_err());
+/// ```
+pub fn parse_trials(text: &str) -> std::result::Result<Vec<[f64; 5]>, String> {
+    let mut lines = text.lines();
+    let header: Vec<&str> = lines
+        .next()
+        .unwrap_or("")
+        .split(',')
+        .map(str::trim)
+        .collect();
+    let mut cols = [0usize; 5];
+    for (c, name) in cols.iter_mut().zip(TRIAL_COLUMNS) {
+        *c = header.iter().position(|h| *h == name).ok_or_else(|| {
+            format!(
+                "the header must name the columns {}; it has no {name}",
+                TRIAL_COLUMNS.join(", ")
+            )
+        })?;
+    }
+    let mut rows = Vec::new();
+    for (i, line) in lines.enumerate().filter(|(_, l)| !l.trim().is_empty()) {
+        let fields: Vec<&str> = line.split(',').map(str::trim).collect();
+        let mut v = [0.0; 5];
+        for ((x, &c), name) in v.iter_mut().zip(&cols).zip(TRIAL_COLUMNS) {
+            *x = fields
+                .get(c)
+                .and_then(|f| f.parse::<f64>().ok())
+                .filter(|x| x.is_finite())
+                .ok_or_else(|| format!("line {}: {name} is not a finite number", i + 2))?;
+        }
+        rows.push(v);
+    }
+    Ok(rows)
+}

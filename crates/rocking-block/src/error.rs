@@ -26,6 +26,27 @@ pub enum Error {
         /// What is allowed.
         reason: &'static str,
     },
+    /// An input file is not what the command needs (wrong shape, inconsistent counts, ...).
+    #[error("invalid file {path}: {reason}")]
+    InvalidFile {
+        /// The file.
+        path: PathBuf,
+        /// What is wrong with it.
+        reason: String,
+    },
+    /// A run was interrupted (or its inputs were incomplete); what it had was kept.
+    #[error("interrupted: {detail}")]
+    Interrupted {
+        /// What was kept and how to go on.
+        detail: String,
+    },
+    /// Inputs that hold only part of a result (e.g. shards missing from a merge); the part was
+    /// kept.
+    #[error("incomplete: {detail}")]
+    Incomplete {
+        /// What was kept and how to go on.
+        detail: String,
+    },
     /// Writing a file failed.
     #[error("cannot write {path}: {source}")]
     Io {
@@ -63,8 +84,10 @@ impl Error {
         matches!(
             self,
             Error::InvalidArgument { .. }
+                | Error::InvalidFile { .. }
                 | Error::Continuation(
                     C::NoSuchLabel { .. }
+                        | C::StartOutsideBounds { .. }
                         | C::InvalidSetting { .. }
                         | C::InvalidLabel { .. }
                         | C::NoSuchQuantity { .. }

@@ -23,6 +23,7 @@ pub mod error;
 pub mod figures;
 pub mod model;
 pub mod orbits;
+pub mod output;
 pub mod plot;
 pub mod report;
 pub mod simulation;

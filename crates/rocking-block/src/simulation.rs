@@ -132,6 +132,7 @@ pub fn simulate(req: &SimulationRequest) -> Result<(SimulationReport, Trajectory
             reason: "must be >= 0 and finite",
         });
     }
+    check_samples(req.periods, req.points_per_period.max(1))?;
     let period = req.params.forcing_period();
     let per = req.points_per_period.max(1);
     let settings = SimulationSettings::default()
@@ -218,6 +219,37 @@ pub fn check_start(phi0: f64, psi0: f64, beta: f64) -> Result<()> {
             name: "phi0",
             value: format!("{phi0:?}"),
             reason: "must satisfy |phi0| < pi/2 (at |phi0| >= pi/2 the block has overturned)",
+        });
+    }
+    Ok(())
+}
+
+/// Bytes a dense sample takes (the stored state, and its CSV line when written).
+const BYTES_PER_SAMPLE: f64 = 200.0;
+
+/// The memory a run may use for its samples: half of what the system reports available
+/// (`MemAvailable` in `/proc/meminfo`), or 2 GiB where that is unknown.
+fn sample_memory() -> f64 {
+    let available = std::fs::read_to_string("/proc/meminfo")
+        .ok()
+        .and_then(|text| {
+            text.lines()
+                .find_map(|l| l.strip_prefix("MemAvailable:"))
+                .and_then(|v| v.trim().trim_end_matches("kB").trim().parse::<f64>().ok())
+                .map(|kb| kb * 1024.0)
+        });
+    available.map_or(2.0 * 1024f64.powi(3), |b| 0.5 * b)
+}
+
+/// Refuses dense sampling that would not fit in memory.
+fn check_samples(periods: f64, points_per_period: usize) -> Result<()> {
+    let samples = periods.ceil() * points_per_period as f64;
+    let budget = sample_memory();
+    if samples * BYTES_PER_SAMPLE > budget {
+        return Err(crate::Error::InvalidArgument {
+            name: "points-per-period",
+            value: format!("{points_per_period} (x {periods} periods = {samples:e} samples)"),
+            reason: "the samples would not fit in memory: ask for fewer points per period or periods",
         });
     }
     Ok(())

@@ -546,6 +546,16 @@ impl<'p, 'a, P: ContinuationProblem<'a> + ?Sized> Palc<'p, 'a, P> {
             hycont_core::error::check_len("initial tangent", t, self.n)?;
             hycont_core::error::check_finite("initial tangent", t)?;
         }
+        let (min, max) = self.settings.continuation_bounds();
+        let value = u0[self.p.parameter_index()];
+        if !(min <= value && value <= max) {
+            return Err(Error::StartOutsideBounds {
+                parameter: self.p.parameter_name(),
+                value,
+                min,
+                max,
+            });
+        }
         let mut a = self.first_chart(u0, initial_tangent, direction)?;
         let mut label = 1;
         let mut branch = Branch {

@@ -23,7 +23,7 @@ pub use admissibility::{
     ADMISSIBILITY_TOL, AdmissibilityMargin, Margin, Violation, check_admissible,
 };
 pub use collocation::{
-    Collocation, CollocationSettings, CollocationSolution, Mesh, collocation_floquet,
+    Collocation, CollocationSettings, CollocationSolution, MAX_NTST, Mesh, collocation_floquet,
     collocation_pack, collocation_problem, collocation_unpack, gauss_legendre_points,
     solve_collocation,
 };

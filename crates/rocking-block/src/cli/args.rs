@@ -197,8 +197,9 @@ pub struct OrbitArgs {
 /// Arguments of `rocking-block figure`.
 #[derive(Debug, Args)]
 pub struct FigureArgs {
-    /// Figure number (2 to 10) or `all`.
-    pub which: String,
+    /// Figure number (2 to 10) or `all` (optional with --resume).
+    #[arg(required_unless_present = "resume")]
+    pub which: Option<String>,
     /// Output directory.
     #[arg(long, default_value = "results")]
     pub out: PathBuf,
@@ -215,6 +216,14 @@ pub struct FigureArgs {
     /// DIR/figN.shard-I-of-N.json, for `rocking-block merge` (cluster array jobs).
     #[arg(long)]
     pub shard: Option<String>,
+    /// Complete an interrupted sampling run or shard from its `*.partial.json` file (written on
+    /// Ctrl-C, SIGTERM or by an incomplete merge): runs the missing trials only.
+    #[arg(long)]
+    pub resume: Option<PathBuf>,
+    /// An interrupted run also replaces figN.json and figN.svg by the figure of the trials
+    /// counted so far (otherwise only the partial file is written).
+    #[arg(long)]
+    pub force: bool,
     /// Print the files written as JSON (`{"files": [...]}`).
     #[arg(long)]
     pub json: bool,
@@ -223,7 +232,7 @@ pub struct FigureArgs {
 /// Arguments of `rocking-block merge`.
 #[derive(Debug, Args)]
 pub struct MergeArgs {
-    /// Shard files written by `figure N --shard I/N`.
+    /// Shard files written by `figure N --shard I/N` (complete or `*.partial.json`).
     #[arg(required = true)]
     pub shards: Vec<PathBuf>,
     /// Output directory for figN.json and figN.svg.
@@ -287,4 +296,3 @@ pub struct SimulateArgs {
     #[arg(long)]
     pub svg: Option<PathBuf>,
 }
-

@@ -1,6 +1,6 @@
 //! `simulate`, `orbit` and `classify`.
 
-use super::{ClassifyArgs, KindArg, MethodArg, OrbitArgs, SimulateArgs, ensure_parent, io_err};
+use super::{ClassifyArgs, KindArg, MethodArg, OrbitArgs, SimulateArgs, io_err};
 use crate::error::{Error, Result};
 use crate::model::Parameters;
 use crate::plot;
@@ -81,46 +81,19 @@ pub(super) fn run_classify(args: &ClassifyArgs, out: &mut dyn Write) -> Result<(
         source,
     };
     if let (Some(input), Some(output)) = (&args.input, &args.output) {
-        let text = std::fs::read_to_string(input).map_err(io_err(input))?;
-        let mut lines = text.lines();
-        let header: Vec<&str> = lines
-            .next()
-            .unwrap_or("")
-            .split(',')
-            .map(str::trim)
-            .collect();
-        let col = |name: &'static str| {
-            header
-                .iter()
-                .position(|h| *h == name)
-                .ok_or(Error::InvalidArgument {
-                    name: "input",
-                    value: input.display().to_string(),
-                    reason: "the header must name the columns omega, alpha, beta, phi0, psi0",
-                })
-        };
-        let cols = [
-            col("omega")?,
-            col("alpha")?,
-            col("beta")?,
-            col("phi0")?,
-            col("psi0")?,
-        ];
-        let mut rows = Vec::new();
-        for (i, line) in lines.enumerate().filter(|(_, l)| !l.trim().is_empty()) {
-            let fields: Vec<&str> = line.split(',').map(str::trim).collect();
-            let mut v = [0.0; 5];
-            for (k, &c) in cols.iter().enumerate() {
-                v[k] = fields.get(c).and_then(|f| f.parse().ok()).ok_or_else(|| {
-                    Error::InvalidArgument {
-                        name: "input",
-                        value: format!("line {}: {line}", i + 2),
-                        reason: "expected five numbers",
-                    }
-                })?;
-            }
-            rows.push(v);
+        if crate::output::same_file(input, output) {
+            return Err(Error::InvalidArgument {
+                name: "output",
+                value: output.display().to_string(),
+                reason: "is the input file; write the classes to another file",
+            });
         }
+        crate::output::check_file(output)?;
+        let text = std::fs::read_to_string(input).map_err(io_err(input))?;
+        let rows = crate::classes::parse_trials(&text).map_err(|reason| Error::InvalidFile {
+            path: input.clone(),
+            reason,
+        })?;
         let results: Vec<String> = rows
             .par_iter()
             .map(
@@ -144,14 +117,13 @@ pub(super) fn run_classify(args: &ClassifyArgs, out: &mut dyn Write) -> Result<(
                 },
             )
             .collect();
-        ensure_parent(output)?;
         let mut text =
             String::from("omega,alpha,beta,phi0,psi0,class,decision,periods,with_rest\n");
         for r in results {
             text.push_str(&r);
             text.push('\n');
         }
-        std::fs::write(output, text).map_err(io_err(output))?;
+        crate::output::write_atomic(output, text)?;
         writeln!(
             out,
             "classified {} trials into {}",
@@ -215,23 +187,24 @@ pub(super) fn run_simulate(args: &SimulateArgs, out: &mut dyn Write) -> Result<(
             .points_per_period
             .unwrap_or(if wants_files { 200 } else { 0 }),
     };
+    for path in args.csv.iter().chain(&args.svg) {
+        crate::output::check_file(path)?;
+    }
     let (report, traj) = simulate(&req)?;
     if let Some(path) = &args.csv {
-        ensure_parent(path)?;
         let mut text = String::from("t,mode,phi,psi,r,s\n");
         for (t, mode, x) in traj.samples.iter() {
             let name = crate::model::RockingBlock.mode_name(mode);
             text.push_str(&format!("{t},{name},{},{},{},{}\n", x[0], x[1], x[2], x[3]));
         }
-        std::fs::write(path, text).map_err(io_err(path))?;
+        crate::output::write_atomic(path, text)?;
     }
     if let Some(path) = &args.svg {
-        ensure_parent(path)?;
         let title = format!(
             "rocking block: omega = {}, alpha = {}, phi0 = {}, psi0 = {} ({:?})",
             params.omega, params.alpha, args.phi0, args.psi0, report.outcome
         );
-        plot::trajectory_svg(path, &title, &traj, &params)?;
+        crate::output::write_with(path, |p| plot::trajectory_svg(p, &title, &traj, &params))?;
     }
     let stdout_err = |source| Error::Io {
         path: PathBuf::from("<stdout>"),
@@ -259,4 +232,3 @@ pub(super) fn run_simulate(args: &SimulateArgs, out: &mut dyn Write) -> Result<(
     }
     Ok(())
 }
-

@@ -1,6 +1,6 @@
 //! `continue`: one-parameter continuation from the command line, and restarts.
 
-use super::{ContinueArgs, DirectionArg, FreeArg, KindArg, MethodArg, ensure_parent, io_err};
+use super::{ContinueArgs, DirectionArg, FreeArg, KindArg, MethodArg, io_err};
 use crate::error::{Error, Result};
 use crate::model::Parameters;
 use std::io::Write;
@@ -38,15 +38,21 @@ pub(super) fn run_continue(args: &ContinueArgs, out: &mut dyn Write) -> Result<(
     };
     let branch = if let (Some(path), Some(label)) = (&args.restart, args.label) {
         let text = std::fs::read_to_string(path).map_err(io_err(path))?;
-        let saved = OrbitBranch::from_json(&text).map_err(|e| Error::InvalidArgument {
-            name: "restart",
-            value: path.display().to_string(),
-            reason: if e.is_syntax() {
-                "not JSON"
+        let invalid = |reason: String| Error::InvalidFile {
+            path: path.clone(),
+            reason,
+        };
+        let saved = OrbitBranch::from_json(&text).map_err(|e| {
+            invalid(if e.is_syntax() {
+                format!("not JSON ({e})")
             } else {
-                "not a run saved by `continue --out`"
-            },
+                format!("not a run saved by `continue --out` ({e})")
+            })
         })?;
+        saved
+            .validate(&crate::model::RockingBlock)
+            .map_err(|e| invalid(format!("not a run of the rocking block: {e}")))?;
+        saved.point(label).map_err(|e| invalid(e.to_string()))?;
         let params = Parameters::from_vec(&saved.template.params);
         let mut run = study_run(free, &params, (min, max), method)?;
         // Restarting both ways: keep going the way the saved run went.
@@ -71,24 +77,24 @@ pub(super) fn run_continue(args: &ContinueArgs, out: &mut dyn Write) -> Result<(
         source,
     };
     if let Some(path) = &args.out {
-        ensure_parent(path)?;
         let text = branch
             .to_json()
             .expect("a branch of finite values serialises");
-        std::fs::write(path, text).map_err(io_err(path))?;
+        crate::output::write_atomic(path, text)?;
     }
     if let Some(path) = &args.svg {
-        ensure_parent(path)?;
         let labels = study_labels(std::slice::from_ref(&branch), free, &[]);
         let params = Parameters::from_vec(&branch.template.params);
-        crate::plot::branches_svg(
-            path,
-            &format!("continuation in {}", free.name()),
-            std::slice::from_ref(&branch.branch),
-            free,
-            &labels,
-            params.static_boundary(),
-        )?;
+        crate::output::write_with(path, |p| {
+            crate::plot::branches_svg(
+                p,
+                &format!("continuation in {}", free.name()),
+                std::slice::from_ref(&branch.branch),
+                free,
+                &labels,
+                params.static_boundary(),
+            )
+        })?;
     }
     if args.json {
         let text =
@@ -113,4 +119,3 @@ pub(super) fn run_continue(args: &ContinueArgs, out: &mut dyn Write) -> Result<(
     }
     Ok(())
 }
-

@@ -5,22 +5,15 @@ mod args;
 mod commands;
 mod continue_cmd;
 mod sampling;
+mod shard_file;
+
+pub use shard_file::{MAX_TRIALS, SAMPLING, ShardFile};
 
 pub use args::*;
 
 use crate::error::{Error, Result};
 use std::io::Write;
 use std::path::{Path, PathBuf};
-
-/// Creates the parent directory of an output file, if needed.
-fn ensure_parent(path: &Path) -> Result<()> {
-    match path.parent() {
-        Some(dir) if !dir.as_os_str().is_empty() => {
-            std::fs::create_dir_all(dir).map_err(io_err(dir))
-        }
-        _ => Ok(()),
-    }
-}
 
 fn io_err(path: &Path) -> impl FnOnce(std::io::Error) -> Error + '_ {
     move |source| Error::Io {
@@ -44,7 +37,6 @@ pub fn run(cli: Cli, out: &mut dyn Write) -> Result<()> {
     }
 }
 
-
 /// Prints the files written, as lines or as JSON.
 fn print_written(out: &mut dyn Write, files: &[PathBuf], json: bool) -> Result<()> {
     let stdout_err = |source| Error::Io {
@@ -66,4 +58,3 @@ fn print_written(out: &mut dyn Write, files: &[PathBuf], json: bool) -> Result<(
         Ok(())
     }
 }
-

@@ -1,19 +1,20 @@
-//! `figure` and `merge`: the study's figures, sampling shards, interrupts and merging.
+//! `figure` and `merge`: the study's figures, sampling shards, interrupts, resuming and merging.
+//!
+//! A sampling run (Figs. 7, 9, 10, whole or one shard) that is interrupted (SIGINT, SIGTERM,
+//! SIGHUP) writes the exact trials it counted to a `*.partial.json` file, which never replaces
+//! a complete result; `figure --resume FILE` runs the missing trials and writes the complete
+//! result. `merge` checks every file, merges them and writes the figure when the trials are
+//! complete, a partial file otherwise.
 
-use super::{FigureArgs, MergeArgs, io_err, print_written};
+use super::shard_file::{MAX_TRIALS, SAMPLING, ShardFile};
+use super::{FigureArgs, MergeArgs, print_written};
 use crate::error::{Error, Result};
+use crate::figures::sampling::{SampleOptions, empty_tables, fill, render};
+use hycont_sample::basin::Progress;
 use std::io::Write;
-use std::path::PathBuf;
-
-/// A shard of a sampling figure on disk.
-#[derive(Debug, serde::Serialize, serde::Deserialize)]
-struct ShardFile {
-    figure: u32,
-    trials: u64,
-    seed: u64,
-    shard: (u64, u64),
-    counts: Vec<hycont_sample::basin::Counts>,
-}
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
 
 fn parse_shard(text: &str) -> Result<(u64, u64)> {
     let bad = || Error::InvalidArgument {
@@ -32,72 +33,57 @@ fn parse_shard(text: &str) -> Result<(u64, u64)> {
     Ok((i, n))
 }
 
-pub(super) fn run_merge(args: &MergeArgs, out: &mut dyn Write) -> Result<()> {
-    let mut merged: Option<ShardFile> = None;
-    for path in &args.shards {
-        let text = std::fs::read_to_string(path).map_err(io_err(path))?;
-        let shard: ShardFile = serde_json::from_str(&text).map_err(|_| Error::InvalidArgument {
-            name: "shard",
-            value: path.display().to_string(),
-            reason: "not a shard file written by `figure N --shard I/N`",
-        })?;
-        match merged.as_mut() {
-            None => merged = Some(shard),
-            Some(m) => {
-                if (m.figure, m.trials, m.seed) != (shard.figure, shard.trials, shard.seed)
-                    || m.counts.len() != shard.counts.len()
-                {
-                    return Err(Error::InvalidArgument {
-                        name: "shard",
-                        value: path.display().to_string(),
-                        reason: "belongs to another figure, trial count or seed",
-                    });
-                }
-                for (a, b) in m.counts.iter_mut().zip(&shard.counts) {
-                    a.merge(b).map_err(|e| Error::InvalidArgument {
-                        name: "shard",
-                        value: format!("{}: {e}", path.display()),
-                        reason: "overlaps a shard merged before",
-                    })?;
-                }
-            }
-        }
+fn parse_which(which: &str) -> Result<Vec<u32>> {
+    if which == "all" {
+        return Ok(crate::figures::AVAILABLE.to_vec());
     }
-    let m = merged.expect("clap requires at least one shard");
-    let complete: u64 = m.counts[0].ranges.iter().map(|(a, b)| b - a).sum();
-    if complete != m.trials {
-        eprintln!(
-            "rocking-block: the shards hold {complete} of {} trials; writing what they hold",
-            m.trials
-        );
+    let n: u32 = which.parse().map_err(|_| Error::InvalidArgument {
+        name: "figure",
+        value: which.to_string(),
+        reason: "expected a figure number (2 to 10) or `all`",
+    })?;
+    if !crate::figures::AVAILABLE.contains(&n) {
+        return Err(Error::InvalidArgument {
+            name: "figure",
+            value: which.to_string(),
+            reason: "the study has figures 2 to 10",
+        });
     }
-    std::fs::create_dir_all(&args.out).map_err(io_err(&args.out))?;
-    let options = crate::figures::sampling::SampleOptions {
-        trials: m.trials,
-        seed: m.seed,
-    };
-    let files = crate::figures::sampling::render(m.figure, &args.out, options, &m.counts)?;
-    print_written(out, &files.files, args.json)
+    Ok(vec![n])
+}
+
+/// Stops sampling runs on SIGINT, SIGTERM and SIGHUP (their counts so far are kept).
+fn stop_on_signals(progress: &Arc<Progress>) {
+    let p = Arc::clone(progress);
+    // Only the first handler of the process is installed (tests call `run` repeatedly).
+    let _ = ctrlc::set_handler(move || p.stop.store(true, Ordering::Relaxed));
 }
 
 pub(super) fn run_figure(args: &FigureArgs, out: &mut dyn Write) -> Result<()> {
-    use hycont_sample::basin::Progress;
-    use std::sync::Arc;
-    use std::sync::atomic::{AtomicBool, Ordering};
-    let which: Vec<u32> = if args.which == "all" {
-        crate::figures::AVAILABLE.to_vec()
-    } else {
-        vec![args.which.parse().map_err(|_| Error::InvalidArgument {
-            name: "figure",
-            value: args.which.clone(),
-            reason: "expected a figure number (2 to 10) or `all`",
-        })?]
+    let resume = args.resume.as_deref().map(ShardFile::read).transpose()?;
+    let which = match (&resume, args.which.as_deref()) {
+        (Some(file), Some(w)) if parse_which(w)? != [file.figure] => {
+            return Err(Error::InvalidArgument {
+                name: "figure",
+                value: w.to_string(),
+                reason: "differs from the figure of the --resume file",
+            });
+        }
+        (Some(file), _) => vec![file.figure],
+        (None, Some(w)) => parse_which(w)?,
+        (None, None) => {
+            return Err(Error::InvalidArgument {
+                name: "figure",
+                value: String::new(),
+                reason: "name a figure (2 to 10 or `all`), or --resume a partial file",
+            });
+        }
     };
-    if args.trials == 0 {
+    if !(1..=MAX_TRIALS).contains(&args.trials) {
         return Err(Error::InvalidArgument {
             name: "trials",
-            value: "0".into(),
-            reason: "must be at least 1",
+            value: args.trials.to_string(),
+            reason: "must be in 1..=10^12 (shard larger studies into separate runs)",
         });
     }
     if let Some(n) = args.threads {
@@ -113,93 +99,164 @@ pub(super) fn run_figure(args: &FigureArgs, out: &mut dyn Write) -> Result<()> {
             .num_threads(n)
             .build_global();
     }
-    let options = crate::figures::sampling::SampleOptions {
-        trials: args.trials,
-        seed: args.seed,
-    };
-    let progress = Arc::new(Progress::default());
-    if let Some(shard) = &args.shard {
-        let (i, n) = parse_shard(shard)?;
-        let [fig] = which.as_slice() else {
-            return Err(Error::InvalidArgument {
-                name: "shard",
-                value: args.which.clone(),
-                reason: "shard one sampling figure (7, 9 or 10) at a time",
-            });
-        };
-        let range = hycont_sample::basin::shard_range(args.trials, i, n).map_err(|e| {
-            Error::InvalidArgument {
-                name: "shard",
-                value: e.to_string(),
-                reason: "invalid shard",
-            }
-        })?;
-        let counts = crate::figures::sampling::counts_for(*fig, options, range, &progress)?;
-        std::fs::create_dir_all(&args.out).map_err(io_err(&args.out))?;
-        let path = args.out.join(format!("fig{fig}.shard-{i}-of-{n}.json"));
-        let file = ShardFile {
-            figure: *fig,
-            trials: args.trials,
-            seed: args.seed,
-            shard: (i, n),
-            counts,
-        };
-        std::fs::write(&path, serde_json::to_string(&file).expect("serialises"))
-            .map_err(io_err(&path))?;
-        return print_written(out, &[path], args.json);
+    let shard = args.shard.as_deref().map(parse_shard).transpose()?;
+    if shard.is_some() && !matches!(which.as_slice(), [n] if SAMPLING.contains(n)) {
+        return Err(Error::InvalidArgument {
+            name: "shard",
+            value: args.which.clone().unwrap_or_default(),
+            reason: "shard one sampling figure (7, 9 or 10) at a time",
+        });
     }
-    // Ctrl-C stops sampling studies early; what was counted is written, with its trial ranges.
-    {
-        let p = Arc::clone(&progress);
-        let _ = ctrlc::set_handler(move || p.stop.store(true, Ordering::Relaxed));
+    crate::output::check_dir(&args.out)?;
+    let progress = Arc::new(Progress::default());
+    stop_on_signals(&progress);
+    if let Some(file) = resume {
+        let from = args.resume.clone().unwrap_or_default();
+        let files = sample(file, &args.out, args.force, &progress)?;
+        if from.to_string_lossy().ends_with(".partial.json") && !files.contains(&from) {
+            let _ = std::fs::remove_file(&from);
+        }
+        return print_written(out, &files, args.json);
     }
     let mut written: Vec<PathBuf> = Vec::new();
     for n in which {
-        let total = match n {
-            7 => options.trials * crate::figures::sampling::FIG7_OMEGAS.len() as u64,
-            9 => 2 * options.trials,
-            10 => options.trials,
-            _ => 0,
-        };
-        progress.done.store(0, Ordering::Relaxed);
-        // A progress bar for the sampling figures, on stderr (hidden when not a terminal).
-        let bar = (total > 0).then(|| {
-            let bar = indicatif::ProgressBar::new(total);
-            bar.set_style(
-                indicatif::ProgressStyle::with_template(
-                    "figure {msg} [{bar:40}] {pos}/{len} trials ({per_sec}, eta {eta})",
-                )
-                .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
-            );
-            bar.set_message(n.to_string());
-            bar
-        });
-        let done = AtomicBool::new(false);
-        let files = std::thread::scope(|scope| {
-            if let Some(bar) = &bar {
-                let (p, done) = (&progress, &done);
-                scope.spawn(move || {
-                    while !done.load(Ordering::Relaxed) {
-                        bar.set_position(p.done.load(Ordering::Relaxed));
-                        std::thread::sleep(std::time::Duration::from_millis(100));
-                    }
-                });
-            }
-            let r = crate::figures::figure_with(n, &args.out, options, &progress);
-            done.store(true, Ordering::Relaxed);
-            r
-        })?;
-        if let Some(bar) = bar {
-            bar.finish_and_clear();
+        if SAMPLING.contains(&n) {
+            let file = ShardFile {
+                figure: n,
+                trials: args.trials,
+                seed: args.seed,
+                shard: shard.unwrap_or((0, 1)),
+                counts: empty_tables(n, args.seed)?,
+            };
+            written.extend(sample(file, &args.out, args.force, &progress)?);
+        } else {
+            let options = SampleOptions {
+                trials: args.trials,
+                seed: args.seed,
+            };
+            let files = crate::figures::figure_with(n, &args.out, options, &progress)?;
+            written.extend(files.files);
         }
-        written.extend(files.files);
         if progress.stop.load(Ordering::Relaxed) {
-            eprintln!(
-                "rocking-block: interrupted: figure {n} holds the trials counted so far (see trial_ranges)"
-            );
-            break;
+            print_written(out, &written, args.json)?;
+            return Err(Error::Interrupted {
+                detail: format!("after figure {n}; the figures written above are complete"),
+            });
         }
     }
     print_written(out, &written, args.json)
 }
 
+/// Counts the trials `file` lacks (with a progress bar on stderr) and writes the result: the
+/// figure or the shard when complete; otherwise the partial file (and, with `force`, the figure
+/// of the trials counted so far) and [`Error::Interrupted`].
+fn sample(
+    mut file: ShardFile,
+    dir: &Path,
+    force: bool,
+    progress: &Progress,
+) -> Result<Vec<PathBuf>> {
+    let options = SampleOptions {
+        trials: file.trials,
+        seed: file.seed,
+    };
+    let (done, total) = file.progress();
+    progress.done.store(done, Ordering::Relaxed);
+    let bar = indicatif::ProgressBar::new(total);
+    bar.set_style(
+        indicatif::ProgressStyle::with_template(
+            "figure {msg} [{bar:40}] {pos}/{len} trials ({per_sec}, eta {eta})",
+        )
+        .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+    );
+    bar.set_message(file.figure.to_string());
+    let finished = AtomicBool::new(false);
+    let range = file.range();
+    let result = std::thread::scope(|scope| {
+        scope.spawn(|| {
+            while !finished.load(Ordering::Relaxed) {
+                bar.set_position(progress.done.load(Ordering::Relaxed));
+                std::thread::sleep(std::time::Duration::from_millis(100));
+            }
+        });
+        let r = fill(file.figure, options, &mut file.counts, range, progress);
+        finished.store(true, Ordering::Relaxed);
+        r
+    });
+    bar.finish_and_clear();
+    result?;
+    let (complete, partial) = file.paths(dir);
+    let whole = file.shard.1 == 1;
+    if file.is_complete() {
+        if whole {
+            return Ok(render(file.figure, dir, options, &file.counts)?.files);
+        }
+        file.write(&complete)?;
+        return Ok(vec![complete]);
+    }
+    file.write(&partial)?;
+    if force && whole {
+        render(file.figure, dir, options, &file.counts)?;
+    }
+    let (done, total) = file.progress();
+    Err(Error::Interrupted {
+        detail: format!(
+            "{done} of {total} trials counted, kept in {}; complete them with `rocking-block figure --resume {}`",
+            partial.display(),
+            partial.display()
+        ),
+    })
+}
+
+pub(super) fn run_merge(args: &MergeArgs, out: &mut dyn Write) -> Result<()> {
+    crate::output::check_dir(&args.out)?;
+    let mut merged: Option<ShardFile> = None;
+    for path in &args.shards {
+        let shard = ShardFile::read(path)?;
+        let Some(m) = merged.as_mut() else {
+            merged = Some(ShardFile {
+                shard: (0, 1),
+                ..shard
+            });
+            continue;
+        };
+        let invalid = |reason: String| Error::InvalidFile {
+            path: path.clone(),
+            reason,
+        };
+        if (m.figure, m.trials, m.seed) != (shard.figure, shard.trials, shard.seed) {
+            return Err(invalid(format!(
+                "figure {}, {} trials, seed {} differ from the files before (figure {}, {} trials, seed {})",
+                shard.figure, shard.trials, shard.seed, m.figure, m.trials, m.seed
+            )));
+        }
+        for (a, b) in m.counts.iter_mut().zip(&shard.counts) {
+            a.merge(b).map_err(|e| invalid(e.to_string()))?;
+        }
+    }
+    let Some(m) = merged else {
+        return Err(Error::InvalidArgument {
+            name: "shards",
+            value: String::new(),
+            reason: "name at least one shard file",
+        });
+    };
+    let options = SampleOptions {
+        trials: m.trials,
+        seed: m.seed,
+    };
+    if m.is_complete() {
+        let files = render(m.figure, &args.out, options, &m.counts)?;
+        return print_written(out, &files.files, args.json);
+    }
+    let (_, partial) = m.paths(&args.out);
+    m.write(&partial)?;
+    let (done, total) = m.progress();
+    Err(Error::Incomplete {
+        detail: format!(
+            "the files hold {done} of {total} trials: wrote {} (the figure needs them all); run the missing trials with `rocking-block figure --resume {}`",
+            partial.display(),
+            partial.display()
+        ),
+    })
+}

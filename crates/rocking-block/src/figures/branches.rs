@@ -48,14 +48,9 @@ pub fn branches_figure(free: Free, out: &Path, observer: &mut dyn Observer) -> R
     write_json(&json_path, &json)?;
     let svg_path = out.join(format!("fig{n}.svg"));
     let plain: Vec<_> = branches.iter().map(|b| b.branch.clone()).collect();
-    plot::branches_svg(
-        &svg_path,
-        title,
-        &plain,
-        free,
-        &labels,
-        params.static_boundary(),
-    )?;
+    crate::output::write_with(&svg_path, |p| {
+        plot::branches_svg(p, title, &plain, free, &labels, params.static_boundary())
+    })?;
     Ok(FigureFiles {
         figure: n,
         files: vec![json_path, svg_path],

@@ -41,12 +41,14 @@ pub fn figure2(out: &Path) -> Result<FigureFiles> {
     let json_path = out.join("fig2.json");
     write_json(&json_path, &json)?;
     let svg_path = out.join("fig2.svg");
-    plot::orbits_svg(
-        &svg_path,
-        "Fig. 2: omega = 1.3, alpha = 0.66; thick: symmetric orbit (unstable), thin: asymmetric pair (stable)",
-        &orbits,
-        &params,
-    )?;
+    crate::output::write_with(&svg_path, |p| {
+        plot::orbits_svg(
+            p,
+            "Fig. 2: omega = 1.3, alpha = 0.66; thick: symmetric orbit (unstable), thin: asymmetric pair (stable)",
+            &orbits,
+            &params,
+        )
+    })?;
     Ok(FigureFiles {
         figure: 2,
         files: vec![json_path, svg_path],

@@ -123,9 +123,11 @@ pub fn figure6(out: &Path, observer: &mut dyn Observer) -> Result<FigureFiles> {
     let json_path = out.join("fig6.json");
     write_json(&json_path, &json)?;
     let svg_path = out.join("fig6.svg");
-    plot::curves_svg(&svg_path, &curves, &tests, &params)?;
+    crate::output::write_with(&svg_path, |p| plot::curves_svg(p, &curves, &tests, &params))?;
     let tests_path = out.join("fig6_tests.svg");
-    plot::test_points_svg(&tests_path, &tests, &trajectories)?;
+    crate::output::write_with(&tests_path, |p| {
+        plot::test_points_svg(p, &tests, &trajectories)
+    })?;
     Ok(FigureFiles {
         figure: 6,
         files: vec![json_path, svg_path, tests_path],

@@ -83,8 +83,5 @@ pub fn figure_with(
 
 pub(crate) fn write_json(path: &Path, value: &serde_json::Value) -> Result<()> {
     let text = serde_json::to_string_pretty(value).expect("figure JSON serialises");
-    std::fs::write(path, text).map_err(|source| Error::Io {
-        path: path.to_path_buf(),
-        source,
-    })
+    crate::output::write_atomic(path, text)
 }

@@ -89,7 +89,7 @@ pub fn figure5(out: &Path) -> Result<FigureFiles> {
     let json_path = out.join("fig5.json");
     write_json(&json_path, &json)?;
     let svg_path = out.join("fig5.svg");
-    plot::brute_force_svg(&svg_path, &a, &b)?;
+    crate::output::write_with(&svg_path, |p| plot::brute_force_svg(p, &a, &b))?;
     Ok(FigureFiles {
         figure: 5,
         files: vec![json_path, svg_path],
@@ -230,45 +230,120 @@ pub fn counts_for(
     range: std::ops::Range<u64>,
     progress: &Progress,
 ) -> Result<Vec<Counts>> {
-    let classifier = RockingClassifier::default();
+    let mut tables = empty_tables(n, options.seed)?;
+    fill(n, options, &mut tables, range, progress)?;
+    Ok(tables)
+}
+
+/// The studies of sampling figure `n` and how their trials are binned (Fig. 10: one study,
+/// three binnings; Figs. 7 and 9: one study per table).
+fn studies(n: u32, seed: u64) -> Result<(Vec<Study>, Vec<Vec<Axis>>)> {
     match n {
-        7 => FIG7_OMEGAS
-            .iter()
-            .enumerate()
-            .map(|(k, &omega)| {
-                run(
-                    &fig7_study(omega, options.seed.wrapping_add(k as u64)),
-                    &classifier,
-                    range.clone(),
-                    progress,
-                )
-                .map_err(sample_err)
-            })
-            .collect(),
-        9 => [0.0, std::f64::consts::FRAC_PI_2]
-            .into_iter()
-            .enumerate()
-            .map(|(k, beta)| {
-                run(
-                    &fig9_study(beta, options.seed.wrapping_add(k as u64)),
-                    &classifier,
-                    range.clone(),
-                    progress,
-                )
-                .map_err(sample_err)
-            })
-            .collect(),
+        7 => Ok((
+            FIG7_OMEGAS
+                .iter()
+                .enumerate()
+                .map(|(k, &omega)| fig7_study(omega, seed.wrapping_add(k as u64)))
+                .collect(),
+            Vec::new(),
+        )),
+        9 => Ok((
+            [0.0, std::f64::consts::FRAC_PI_2]
+                .into_iter()
+                .enumerate()
+                .map(|(k, beta)| fig9_study(beta, seed.wrapping_add(k as u64)))
+                .collect(),
+            Vec::new(),
+        )),
         10 => {
-            let (study, binnings) = fig10_study(options.seed);
-            hycont_sample::basin::run_binned(&study, &binnings, &classifier, range, progress)
-                .map_err(sample_err)
+            let (study, binnings) = fig10_study(seed);
+            Ok((vec![study], binnings))
         }
         _ => Err(Error::InvalidArgument {
             name: "figure",
             value: n.to_string(),
-            reason: "only the sampling figures 7, 9 and 10 can be sharded",
+            reason: "only the sampling figures 7, 9 and 10 have count tables",
         }),
     }
+}
+
+/// Whether the count tables of sampling figure `n` bin the same trials (Fig. 10: one study,
+/// three binnings) rather than count separate studies (Figs. 7 and 9).
+#[must_use]
+pub fn tables_share_trials(n: u32) -> bool {
+    n == 10
+}
+
+/// Empty count tables of sampling figure `n` (the shapes [`counts_for`] returns).
+///
+/// # Errors
+/// [`Error::InvalidArgument`] for another figure.
+pub fn empty_tables(n: u32, seed: u64) -> Result<Vec<Counts>> {
+    let classes = hycont_sample::basin::Classifier::classes(&RockingClassifier::default());
+    let (studies, binnings) = studies(n, seed)?;
+    let cells: Vec<usize> = if binnings.is_empty() {
+        studies.iter().map(Study::cells).collect()
+    } else {
+        binnings
+            .iter()
+            .map(|axes| axes.iter().map(|a| a.bins).product())
+            .collect()
+    };
+    Ok(cells
+        .into_iter()
+        .map(|c| Counts::new(classes.clone(), c))
+        .collect())
+}
+
+/// Runs the trials of `range` that `tables` (of sampling figure `n`) have not counted yet and
+/// merges them in: a fresh run from [`empty_tables`], or the rest of an interrupted one.
+/// Stops early when `progress` says so, with exact ranges.
+///
+/// # Errors
+/// Tables of another shape; numerical failures.
+pub fn fill(
+    n: u32,
+    options: SampleOptions,
+    tables: &mut [Counts],
+    range: std::ops::Range<u64>,
+    progress: &Progress,
+) -> Result<()> {
+    let classifier = RockingClassifier::default();
+    let (studies, binnings) = studies(n, options.seed)?;
+    let merge = |t: &mut Counts, c: &Counts| t.merge(c).map_err(sample_err);
+    if binnings.is_empty() {
+        if tables.len() != studies.len() {
+            return Err(sample_err(hycont_sample::Error::IncompatibleCounts {
+                reason: format!("{} tables for {} studies", tables.len(), studies.len()),
+            }));
+        }
+        for (t, study) in tables.iter_mut().zip(&studies) {
+            for r in t.missing(range.clone()) {
+                let c = run(study, &classifier, r, progress).map_err(sample_err)?;
+                merge(t, &c)?;
+            }
+        }
+    } else {
+        // One run fills every binning: the tables share their ranges.
+        let todo = tables
+            .first()
+            .map(|t| t.missing(range.clone()))
+            .unwrap_or_default();
+        for r in todo {
+            let cs =
+                hycont_sample::basin::run_binned(&studies[0], &binnings, &classifier, r, progress)
+                    .map_err(sample_err)?;
+            if cs.len() != tables.len() {
+                return Err(sample_err(hycont_sample::Error::IncompatibleCounts {
+                    reason: format!("{} tables for {} binnings", tables.len(), cs.len()),
+                }));
+            }
+            for (t, c) in tables.iter_mut().zip(&cs) {
+                merge(t, c)?;
+            }
+        }
+    }
+    Ok(())
 }
 
 /// Writes sampling figure `n` (7, 9 or 10) from its count tables (e.g. merged shards).
@@ -332,7 +407,9 @@ fn render7(out: &Path, options: SampleOptions, all: &[Counts]) -> Result<FigureF
     let json_path = out.join("fig7.json");
     write_json(&json_path, &json)?;
     let svg_path = out.join("fig7.svg");
-    plot::basins_svg(&svg_path, &rasters, Parameters::default().static_boundary())?;
+    crate::output::write_with(&svg_path, |p| {
+        plot::basins_svg(p, &rasters, Parameters::default().static_boundary())
+    })?;
     Ok(FigureFiles {
         figure: 7,
         files: vec![json_path, svg_path],
@@ -429,7 +506,9 @@ pub fn figure8(out: &Path) -> Result<FigureFiles> {
     let json_path = out.join("fig8.json");
     write_json(&json_path, &json)?;
     let svg_path = out.join("fig8.svg");
-    plot::class_grid_svg(&svg_path, &omegas, &alphas, &grids, &curves)?;
+    crate::output::write_with(&svg_path, |p| {
+        plot::class_grid_svg(p, &omegas, &alphas, &grids, &curves)
+    })?;
     Ok(FigureFiles {
         figure: 8,
         files: vec![json_path, svg_path],
@@ -535,7 +614,9 @@ fn render9(out: &Path, options: SampleOptions, all: &[Counts]) -> Result<FigureF
     let json_path = out.join("fig9.json");
     write_json(&json_path, &json)?;
     let svg_path = out.join("fig9.svg");
-    plot::probability_grid_svg(&svg_path, &panels, &curves)?;
+    crate::output::write_with(&svg_path, |p| {
+        plot::probability_grid_svg(p, &panels, &curves)
+    })?;
     Ok(FigureFiles {
         figure: 9,
         files: vec![json_path, svg_path],
@@ -616,7 +697,7 @@ fn render10(out: &Path, options: SampleOptions, counts: &[Counts]) -> Result<Fig
     let json_path = out.join("fig10.json");
     write_json(&json_path, &json)?;
     let svg_path = out.join("fig10.svg");
-    plot::marginals_svg(&svg_path, &panels)?;
+    crate::output::write_with(&svg_path, |p| plot::marginals_svg(p, &panels))?;
     Ok(FigureFiles {
         figure: 10,
         files: vec![json_path, svg_path],

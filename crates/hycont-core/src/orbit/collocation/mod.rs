@@ -55,11 +55,11 @@ impl CollocationSettings {
     /// # Errors
     /// [`Error::InvalidSetting`] for `ntst == 0` or `ncol` outside `1..=7`.
     pub fn validate(&self) -> Result<()> {
-        if self.ntst == 0 {
+        if !(1..=MAX_NTST).contains(&self.ntst) {
             return Err(Error::InvalidSetting {
                 name: "collocation.ntst",
-                value: 0.0,
-                reason: "must be >= 1",
+                value: self.ntst as f64,
+                reason: "must be in 1..=10000 (memory grows with ntst: about 80 kB per interval for a 4-dimensional system)",
             });
         }
         if !(1..=7).contains(&self.ncol) {
@@ -72,6 +72,9 @@ impl CollocationSettings {
         Ok(())
     }
 }
+
+/// The largest number of mesh intervals per segment [`CollocationSettings::validate`] accepts.
+pub const MAX_NTST: usize = 10_000;
 
 /// A collocation mesh of one segment: $0 = \tau_0 < \dots < \tau_{\mathrm{ntst}} = 1$.
 pub type Mesh = Vec<f64>;

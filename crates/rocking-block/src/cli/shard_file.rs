@@ -1,0 +1,173 @@
+//! The count tables of a sampling figure on disk: a shard (`figN.shard-I-of-N.json`), a
+//! partial run (`*.partial.json`, written on an interrupt or by an incomplete merge) or both.
+//! Every file read is checked against the figure's tables before it is used.
+
+use crate::error::{Error, Result};
+use crate::figures::sampling::empty_tables;
+use hycont_sample::basin::Counts;
+use std::path::{Path, PathBuf};
+
+/// The sampling figures that have count tables.
+pub const SAMPLING: [u32; 3] = [7, 9, 10];
+
+/// The most trials per study a run may ask for (10^12: about 30 CPU-years at the study's rate;
+/// shard larger studies into separate runs of this size).
+pub const MAX_TRIALS: u64 = 1_000_000_000_000;
+
+/// Count tables of a sampling figure over the trials of one shard, complete or not.
+#[derive(Debug, serde::Serialize, serde::Deserialize)]
+pub struct ShardFile {
+    /// The figure (7, 9 or 10).
+    pub figure: u32,
+    /// Trials of the whole study (per table).
+    pub trials: u64,
+    /// Seed of the study.
+    pub seed: u64,
+    /// `(i, n)`: shard `i` of `n` (a whole run is `(0, 1)`).
+    pub shard: (u64, u64),
+    /// One table per study of the figure.
+    pub counts: Vec<Counts>,
+}
+
+fn bad(path: &Path, reason: String) -> Error {
+    Error::InvalidFile {
+        path: path.to_path_buf(),
+        reason,
+    }
+}
+
+impl ShardFile {
+    /// Reads and checks a file.
+    ///
+    /// # Errors
+    /// [`Error::InvalidFile`] naming the file and what is wrong with it.
+    pub fn read(path: &Path) -> Result<Self> {
+        let text = std::fs::read_to_string(path).map_err(|e| bad(path, e.to_string()))?;
+        Self::parse(&text).map_err(|reason| bad(path, reason))
+    }
+
+    /// Parses and checks the text of a file.
+    ///
+    /// # Errors
+    /// What is wrong with it, in one line.
+    pub fn parse(text: &str) -> std::result::Result<Self, String> {
+        let file: ShardFile = serde_json::from_str(text)
+            .map_err(|e| format!("not a shard file written by `figure N --shard I/N` ({e})"))?;
+        file.check()?;
+        Ok(file)
+    }
+
+    /// The file's consistency: a sampling figure, a valid shard and trial count, the figure's
+    /// table shapes and classes, and counts that agree with their trial ranges, all inside the
+    /// shard's trials.
+    fn check(&self) -> std::result::Result<(), String> {
+        if !SAMPLING.contains(&self.figure) {
+            return Err(format!("figure {} has no count tables", self.figure));
+        }
+        if self.trials == 0 || self.trials > MAX_TRIALS {
+            return Err(format!(
+                "trials = {} is not in 1..={MAX_TRIALS}",
+                self.trials
+            ));
+        }
+        let (i, n) = self.shard;
+        if n == 0 || i >= n {
+            return Err(format!("shard {i}/{n} is not I/N with 0 <= I < N"));
+        }
+        let expected = empty_tables(self.figure, self.seed).map_err(|e| e.to_string())?;
+        if self.counts.len() != expected.len() {
+            return Err(format!(
+                "{} count tables; figure {} has {}",
+                self.counts.len(),
+                self.figure,
+                expected.len()
+            ));
+        }
+        let range = self.range();
+        for (k, (c, e)) in self.counts.iter().zip(&expected).enumerate() {
+            if c.classes != e.classes || c.counts.len() != e.counts.len() {
+                return Err(format!(
+                    "table {k} has {} cells of classes {:?}; figure {} has {} cells of {:?}",
+                    c.counts.len(),
+                    c.classes,
+                    self.figure,
+                    e.counts.len(),
+                    e.classes
+                ));
+            }
+            c.validate().map_err(|e| format!("table {k}: {e}"))?;
+            if let Some(&(a, b)) = c
+                .ranges
+                .iter()
+                .find(|&&(a, b)| a < range.start || b > range.end)
+            {
+                return Err(format!(
+                    "table {k} counts trials {a}..{b}, outside the shard's trials {}..{}",
+                    range.start, range.end
+                ));
+            }
+        }
+        Ok(())
+    }
+
+    /// The trials of the shard.
+    pub fn range(&self) -> std::ops::Range<u64> {
+        let (i, n) = self.shard;
+        hycont_sample::basin::shard_range(self.trials, i, n).unwrap_or(0..0)
+    }
+
+    /// Trials counted and trials of the shard, over the figure's studies (Fig. 10's tables
+    /// bin the same trials: they count once).
+    pub fn progress(&self) -> (u64, u64) {
+        let range = self.range();
+        let per = range.end - range.start;
+        let studies = if crate::figures::sampling::tables_share_trials(self.figure) {
+            &self.counts[..self.counts.len().min(1)]
+        } else {
+            &self.counts[..]
+        };
+        let done = studies
+            .iter()
+            .map(|c| {
+                per - c
+                    .missing(range.clone())
+                    .iter()
+                    .map(|r| r.end - r.start)
+                    .sum::<u64>()
+            })
+            .sum();
+        (done, per * studies.len() as u64)
+    }
+
+    /// Whether every table has counted every trial of the shard.
+    pub fn is_complete(&self) -> bool {
+        let (done, total) = self.progress();
+        done == total
+    }
+
+    /// Where a complete shard or figure of this file goes in `dir`, and where a partial one.
+    pub fn paths(&self, dir: &Path) -> (PathBuf, PathBuf) {
+        let (i, n) = self.shard;
+        let f = self.figure;
+        if n == 1 {
+            (
+                dir.join(format!("fig{f}.json")),
+                dir.join(format!("fig{f}.partial.json")),
+            )
+        } else {
+            (
+                dir.join(format!("fig{f}.shard-{i}-of-{n}.json")),
+                dir.join(format!("fig{f}.shard-{i}-of-{n}.partial.json")),
+            )
+        }
+    }
+
+    /// Writes the file (atomically).
+    ///
+    /// # Errors
+    /// [`Error::Io`] naming the file.
+    pub fn write(&self, path: &Path) -> Result<()> {
+        let text = serde_json::to_string(self).expect("count tables serialise");
+        crate::output::write_atomic(path, text)
+    }
+}
