@@ -240,3 +240,64 @@ fn curve_conditions_out_of_range_are_refused() {
         );
     }
 }
+
+/// Guesses whose signature does not fit the flow (a segment missing, one too many) are refused
+/// by the solver, never returned as an orbit with a zero duration or a phase running away; a
+/// swapped signature gives the same orbit started elsewhere or an error, never a negative
+/// duration.
+#[test]
+fn solves_that_leave_the_signature_are_refused() {
+    use hycont::orbit::{ShootingSettings, solve_shooting};
+    use hycont::problem::NewtonSettings;
+    let fd = hycont::FiniteDifferences::new(Table);
+    let newton = NewtonSettings::default();
+    let good = solve_shooting(
+        &fd,
+        &follow(&[WRAP, IMPACT]).unwrap(),
+        ShootingSettings::default(),
+        &newton,
+    )
+    .unwrap()
+    .orbit;
+    let build = |ends: &[hycont::EventId], starts: Vec<Vec<f64>>, durations: Vec<f64>| {
+        PeriodicOrbit::new(
+            &Table,
+            signature(ends),
+            starts,
+            durations,
+            good.params.clone(),
+        )
+        .unwrap()
+    };
+    // Swapped: the solver may find the same orbit started elsewhere (a valid answer: positive
+    // durations, period 2 pi), never a negative duration.
+    let swapped = build(&[IMPACT, WRAP], good.starts.clone(), good.durations.clone());
+    if let Ok(sol) = solve_shooting(&fd, &swapped, ShootingSettings::default(), &newton) {
+        assert!(
+            sol.orbit.durations.iter().all(|d| *d > 0.0),
+            "{:?}",
+            sol.orbit.durations
+        );
+        approx::assert_abs_diff_eq!(sol.orbit.period(), good.period(), epsilon = 1e-8);
+    }
+    let missing = build(&[IMPACT], vec![good.starts[0].clone()], vec![good.period()]);
+    let mut starts = good.starts.clone();
+    starts.push(good.starts[0].clone());
+    let mut durations = good.durations.clone();
+    durations.push(1e-3);
+    let extra = build(&[WRAP, IMPACT, IMPACT], starts, durations);
+    for (name, guess) in [("missing", missing), ("extra", extra)] {
+        match solve_shooting(&fd, &guess, ShootingSettings::default(), &newton) {
+            Ok(sol) => panic!("{name}: accepted {:?}", sol.orbit.durations),
+            Err(e) => assert!(
+                matches!(
+                    e,
+                    Error::Inadmissible { .. }
+                        | Error::NewtonFailed { .. }
+                        | Error::InvalidSignature { .. }
+                ),
+                "{name}: {e}"
+            ),
+        }
+    }
+}

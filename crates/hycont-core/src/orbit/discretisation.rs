@@ -9,7 +9,7 @@
 
 use super::collocation::{
     Collocation, CollocationSettings, Mesh, collocation_floquet, collocation_pack,
-    collocation_unpack, initial_nodes, solve_collocation,
+    collocation_unpack, initial_nodes,
 };
 use super::shooting::{LinearizationCache, Shooting, ShootingSettings};
 use super::{Floquet, PeriodicOrbit, monodromy_by_shooting, monodromy_from_cache, pack, unpack};
@@ -104,7 +104,13 @@ impl Discretisation {
                 Ok((Self::Shooting(settings), orbit.clone(), pack(orbit)))
             }
             OrbitMethod::Collocation(settings) => {
-                let sol = solve_collocation(system, orbit, settings, &NewtonSettings::default())?;
+                // The continuation watches admissibility along the branch (or is asked not to).
+                let sol = super::collocation::solve_collocation_unchecked(
+                    system,
+                    orbit,
+                    settings,
+                    &NewtonSettings::default(),
+                )?;
                 let u = sol.unknowns();
                 Ok((
                     Self::Collocation {

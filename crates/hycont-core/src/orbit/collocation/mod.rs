@@ -566,6 +566,19 @@ pub fn solve_collocation<S: HybridJacobians + ?Sized>(
     settings: CollocationSettings,
     newton_settings: &NewtonSettings,
 ) -> Result<CollocationSolution> {
+    let sol = solve_collocation_unchecked(system, guess, settings, newton_settings)?;
+    super::check_admissible(system, &sol.solution.orbit)?;
+    Ok(sol)
+}
+
+/// [`solve_collocation`] without the admissibility check (a continuation that watches
+/// admissibility itself, or has it switched off, starts from any solution).
+pub(crate) fn solve_collocation_unchecked<S: HybridJacobians + ?Sized>(
+    system: &S,
+    guess: &PeriodicOrbit,
+    settings: CollocationSettings,
+    newton_settings: &NewtonSettings,
+) -> Result<CollocationSolution> {
     settings.validate()?;
     guess.validate(system)?;
     let n = system.state_dim();
@@ -616,7 +629,6 @@ pub fn solve_collocation<S: HybridJacobians + ?Sized>(
         residual = sol.residual;
         history.extend(sol.history);
     }
-    super::check_admissible(system, &orbit)?;
     let floquet = condensed_floquet(system, &orbit, &meshes, &nodes, settings.ncol)?;
     Ok(CollocationSolution {
         solution: OrbitSolution {
