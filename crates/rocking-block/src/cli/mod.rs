@@ -1,4 +1,4 @@
-//! The `rocking-block` command line: arguments ([`args`]), the commands, and how they write
+//! The `rocking-block` command line: the arguments ([`Cli`]), the commands, and how they write
 //! files ([`crate::output`]).
 
 mod args;

@@ -4,6 +4,7 @@ pub mod branches;
 mod fig2;
 pub mod fig6;
 pub mod sampling;
+pub mod tables;
 
 pub use branches::branches_figure;
 pub use fig2::figure2;

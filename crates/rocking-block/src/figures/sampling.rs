@@ -1,12 +1,15 @@
-//! Sample-based figures: Fig. 5 (brute-force diagram) and Fig. 7 (basins of attraction).
+//! Sample-based figures: Fig. 5 (brute-force diagram), Figs. 7, 9, 10 (basin stability,
+//! rendered from the count tables of [`super::tables`]) and Fig. 8 (final classes).
+
+pub use super::tables::{counts_for, empty_tables, fill, tables_share_trials};
 
 use super::{FigureFiles, write_json};
-use crate::classes::{Class, RockingClassifier, base_class};
+use crate::classes::{Class, base_class};
 use crate::error::{Error, Result};
 use crate::model::{ALPHA, Parameters, RockingBlock, initial_mode, initial_state};
 use crate::plot;
 use hycont_core::{SimulationSettings, StopReason};
-use hycont_sample::basin::{Axis, Counts, Distribution, Progress, Study, run};
+use hycont_sample::basin::{Axis, Counts, Distribution, Progress, Study};
 use hycont_sample::sweep::{Sweep, SweepPoint, brute_force};
 use serde_json::{Value, json};
 use std::path::Path;
@@ -20,7 +23,7 @@ pub struct SampleOptions {
     pub seed: u64,
 }
 
-fn sample_err(e: hycont_sample::Error) -> Error {
+pub(crate) fn sample_err(e: hycont_sample::Error) -> Error {
     Error::InvalidArgument {
         name: "study",
         value: e.to_string(),
@@ -217,133 +220,6 @@ pub fn raster(counts: &Counts) -> Vec<Vec<Option<&'static str>>> {
 pub fn figure7(out: &Path, options: SampleOptions, progress: &Progress) -> Result<FigureFiles> {
     let counts = counts_for(7, options, 0..options.trials, progress)?;
     render(7, out, options, &counts)
-}
-
-/// The count tables of sampling figure `n` (7, 9 or 10) over trials `range`: one per study
-/// (Fig. 7: one per omega; Fig. 9: one per beta; Fig. 10: one per binned variable).
-///
-/// # Errors
-/// [`Error::InvalidArgument`] for another figure; numerical failures.
-pub fn counts_for(
-    n: u32,
-    options: SampleOptions,
-    range: std::ops::Range<u64>,
-    progress: &Progress,
-) -> Result<Vec<Counts>> {
-    let mut tables = empty_tables(n, options.seed)?;
-    fill(n, options, &mut tables, range, progress)?;
-    Ok(tables)
-}
-
-/// The studies of sampling figure `n` and how their trials are binned (Fig. 10: one study,
-/// three binnings; Figs. 7 and 9: one study per table).
-fn studies(n: u32, seed: u64) -> Result<(Vec<Study>, Vec<Vec<Axis>>)> {
-    match n {
-        7 => Ok((
-            FIG7_OMEGAS
-                .iter()
-                .enumerate()
-                .map(|(k, &omega)| fig7_study(omega, seed.wrapping_add(k as u64)))
-                .collect(),
-            Vec::new(),
-        )),
-        9 => Ok((
-            [0.0, std::f64::consts::FRAC_PI_2]
-                .into_iter()
-                .enumerate()
-                .map(|(k, beta)| fig9_study(beta, seed.wrapping_add(k as u64)))
-                .collect(),
-            Vec::new(),
-        )),
-        10 => {
-            let (study, binnings) = fig10_study(seed);
-            Ok((vec![study], binnings))
-        }
-        _ => Err(Error::InvalidArgument {
-            name: "figure",
-            value: n.to_string(),
-            reason: "only the sampling figures 7, 9 and 10 have count tables",
-        }),
-    }
-}
-
-/// Whether the count tables of sampling figure `n` bin the same trials (Fig. 10: one study,
-/// three binnings) rather than count separate studies (Figs. 7 and 9).
-#[must_use]
-pub fn tables_share_trials(n: u32) -> bool {
-    n == 10
-}
-
-/// Empty count tables of sampling figure `n` (the shapes [`counts_for`] returns).
-///
-/// # Errors
-/// [`Error::InvalidArgument`] for another figure.
-pub fn empty_tables(n: u32, seed: u64) -> Result<Vec<Counts>> {
-    let classes = hycont_sample::basin::Classifier::classes(&RockingClassifier::default());
-    let (studies, binnings) = studies(n, seed)?;
-    let cells: Vec<usize> = if binnings.is_empty() {
-        studies.iter().map(Study::cells).collect()
-    } else {
-        binnings
-            .iter()
-            .map(|axes| axes.iter().map(|a| a.bins).product())
-            .collect()
-    };
-    Ok(cells
-        .into_iter()
-        .map(|c| Counts::new(classes.clone(), c))
-        .collect())
-}
-
-/// Runs the trials of `range` that `tables` (of sampling figure `n`) have not counted yet and
-/// merges them in: a fresh run from [`empty_tables`], or the rest of an interrupted one.
-/// Stops early when `progress` says so, with exact ranges.
-///
-/// # Errors
-/// Tables of another shape; numerical failures.
-pub fn fill(
-    n: u32,
-    options: SampleOptions,
-    tables: &mut [Counts],
-    range: std::ops::Range<u64>,
-    progress: &Progress,
-) -> Result<()> {
-    let classifier = RockingClassifier::default();
-    let (studies, binnings) = studies(n, options.seed)?;
-    let merge = |t: &mut Counts, c: &Counts| t.merge(c).map_err(sample_err);
-    if binnings.is_empty() {
-        if tables.len() != studies.len() {
-            return Err(sample_err(hycont_sample::Error::IncompatibleCounts {
-                reason: format!("{} tables for {} studies", tables.len(), studies.len()),
-            }));
-        }
-        for (t, study) in tables.iter_mut().zip(&studies) {
-            for r in t.missing(range.clone()) {
-                let c = run(study, &classifier, r, progress).map_err(sample_err)?;
-                merge(t, &c)?;
-            }
-        }
-    } else {
-        // One run fills every binning: the tables share their ranges.
-        let todo = tables
-            .first()
-            .map(|t| t.missing(range.clone()))
-            .unwrap_or_default();
-        for r in todo {
-            let cs =
-                hycont_sample::basin::run_binned(&studies[0], &binnings, &classifier, r, progress)
-                    .map_err(sample_err)?;
-            if cs.len() != tables.len() {
-                return Err(sample_err(hycont_sample::Error::IncompatibleCounts {
-                    reason: format!("{} tables for {} binnings", tables.len(), cs.len()),
-                }));
-            }
-            for (t, c) in tables.iter_mut().zip(&cs) {
-                merge(t, c)?;
-            }
-        }
-    }
-    Ok(())
 }
 
 /// Writes sampling figure `n` (7, 9 or 10) from its count tables (e.g. merged shards).
@@ -559,7 +435,7 @@ pub fn figure9(out: &Path, options: SampleOptions, progress: &Progress) -> Resul
     render(9, out, options, &counts)
 }
 
-fn fig9_study(beta: f64, seed: u64) -> Study {
+pub(crate) fn fig9_study(beta: f64, seed: u64) -> Study {
     Study {
         axes: vec![
             Axis {
@@ -633,7 +509,7 @@ pub fn figure10(out: &Path, options: SampleOptions, progress: &Progress) -> Resu
     render(10, out, options, &counts)
 }
 
-fn fig10_study(seed: u64) -> (Study, Vec<Vec<Axis>>) {
+pub(crate) fn fig10_study(seed: u64) -> (Study, Vec<Vec<Axis>>) {
     let b = Parameters::default().static_boundary();
     let study = plane_study(
         Distribution::Uniform {
