@@ -85,6 +85,8 @@ impl<'de> Deserialize<'de> for SpecialKind {
     }
 }
 
+pub use hycont_core::orbit::NEUTRAL_BAND;
+
 /// One point of a branch.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct BranchPoint {
@@ -102,7 +104,8 @@ pub struct BranchPoint {
     pub multipliers: Vec<(f64, f64)>,
     /// Which multipliers are trivial.
     pub trivial: Vec<bool>,
-    /// Number of non-trivial multipliers outside the unit circle.
+    /// Number of non-trivial multipliers outside the unit circle by more than
+    /// [`NEUTRAL_BAND`] (relative).
     pub unstable: usize,
     /// Corrector iterations.
     pub newton_iterations: usize,
@@ -124,7 +127,7 @@ impl BranchPoint {
             .multipliers
             .iter()
             .zip(&info.trivial)
-            .filter(|((re, im), t)| !**t && re.hypot(*im) > 1.0)
+            .filter(|((re, im), t)| !**t && re.hypot(*im) > 1.0 + NEUTRAL_BAND)
             .count();
         BranchPoint {
             label: 0,
@@ -140,7 +143,9 @@ impl BranchPoint {
         }
     }
 
-    /// Whether the point is stable (no unstable non-trivial multiplier).
+    /// Whether the point is stable: no non-trivial multiplier outside the unit circle (beyond
+    /// the [`NEUTRAL_BAND`]; a located fold, branch point, period doubling or torus point has the
+    /// stability of its other multipliers).
     #[must_use]
     pub fn stable(&self) -> bool {
         self.unstable == 0

@@ -69,7 +69,9 @@ pub mod quantity;
 pub mod settings;
 pub mod switch;
 
-pub use branch::{Branch, BranchPoint, EndReason, RunStatistics, SpecialKind, SpecialPoint};
+pub use branch::{
+    Branch, BranchPoint, EndReason, NEUTRAL_BAND, RunStatistics, SpecialKind, SpecialPoint,
+};
 pub use codim2::{Codim2, CurveCondition, curve_settings};
 pub use error::{Error, Result};
 pub use hycont_core::orbit::{Discretisation, OrbitMethod};

@@ -15,6 +15,17 @@ use serde::{Deserialize, Serialize};
 use super::PeriodicOrbit;
 use super::signature::SegmentEnd;
 
+/// Multipliers within this (relative) distance of the unit circle are *neutral*: they count
+/// as neither stable nor unstable in [`Floquet::unstable`] (and the continuation's branch points).
+///
+/// At a located fold or branch point a multiplier is exactly 1, at a period doubling -1, at a
+/// torus bifurcation a pair lies on the circle; each discretisation puts it there only up to
+/// its own error (shooting to about the integration tolerance, collocation to the mesh's
+/// error, both well below $10^{-6}$). Without the band one method would call such a point
+/// unstable and the other stable; with it both give the point the stability of its other
+/// multipliers. Away from special points no multiplier comes this close to the circle.
+pub const NEUTRAL_BAND: f64 = 1e-6;
+
 /// Floquet multipliers of a periodic orbit.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Floquet {
@@ -22,14 +33,16 @@ pub struct Floquet {
     pub multipliers: Vec<(f64, f64)>,
     /// Whether each multiplier is one of the system's trivial (structural) multipliers.
     pub trivial: Vec<bool>,
-    /// Number of non-trivial multipliers outside the unit circle.
+    /// Number of non-trivial multipliers outside the unit circle by more than
+    /// [`NEUTRAL_BAND`] (relative).
     pub unstable: usize,
     /// The monodromy matrix (column-major), at the start of segment 0.
     pub monodromy: Vec<f64>,
 }
 
 impl Floquet {
-    /// Whether all non-trivial multipliers are inside the unit circle.
+    /// Whether all non-trivial multipliers are inside the unit circle (up to the
+    /// [`NEUTRAL_BAND`]).
     #[must_use]
     pub fn stable(&self) -> bool {
         self.unstable == 0
@@ -92,7 +105,7 @@ impl Floquet {
         let unstable = multipliers
             .iter()
             .zip(&trivial)
-            .filter(|((re, im), t)| !**t && re.hypot(*im) > 1.0)
+            .filter(|((re, im), t)| !**t && re.hypot(*im) > 1.0 + NEUTRAL_BAND)
             .count();
         Ok(Self {
             multipliers,

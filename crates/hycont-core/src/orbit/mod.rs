@@ -28,7 +28,7 @@ pub use collocation::{
     solve_collocation,
 };
 pub use discretisation::{Discretisation, OrbitEquations, OrbitMethod, orbit_problem};
-pub use floquet::{Floquet, saltation_matrix};
+pub use floquet::{Floquet, NEUTRAL_BAND, saltation_matrix};
 pub use measure::{
     Extremum, ExtremumKind, GrazingMargin, Measure, MeasureSet, SegmentDuration, SegmentPoint,
     SegmentValue, TimeAverage,
