@@ -234,6 +234,7 @@ impl ContinuationSettings {
                 return bad("bounds", b.min, "min must be < max");
             }
         }
+        self.newton.validate()?;
 
         Ok(())
     }

@@ -292,3 +292,65 @@ fn shards_merge_into_the_same_figure_as_one_run() {
     assert_one_line_usage_error(&["figure", "7", "--shard", "2/2"], "shard");
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// `continue` takes the step sizes, point count, mesh and tolerance: a smaller largest step
+/// gives a denser branch with the same special points; a finer mesh the same fold; settings
+/// the library refuses exit 2 naming them.
+#[test]
+fn continue_takes_steps_meshes_and_tolerances() {
+    let run = |extra: &[&str]| -> serde_json::Value {
+        let out = bin()
+            .args(["continue", "--free", "omega", "--json"])
+            .args(extra)
+            .run_ok();
+        serde_json::from_slice(&out.stdout).unwrap()
+    };
+    let points = |v: &serde_json::Value| v["points"].as_array().unwrap().len();
+    let fold = |v: &serde_json::Value| {
+        v["special_points"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|s| s["kind"] == "SN")
+            .unwrap()["omega"]
+            .as_f64()
+            .unwrap()
+    };
+    let default = run(&[]);
+    let dense = run(&["--h-max", "0.02", "--tol", "1e-11"]);
+    assert!(
+        points(&dense) > 3 * points(&default),
+        "{} vs {}",
+        points(&dense),
+        points(&default)
+    );
+    assert_abs_diff_eq!(fold(&dense), fold(&default), epsilon = 1e-9);
+    let coarse = run(&[
+        "--method",
+        "collocation",
+        "--ntst",
+        "8",
+        "--ncol",
+        "3",
+        "--max-points",
+        "60",
+    ]);
+    let fine = run(&["--method", "collocation", "--ntst", "30", "--ncol", "4"]);
+    assert!(points(&coarse) <= 2 * 60);
+    assert_abs_diff_eq!(fold(&fine), fold(&default), epsilon = 1e-8);
+    for (args, needle) in [
+        (&["--h0", "-1"][..], "h0 = -1"),
+        (&["--h-min", "0.5"][..], "h_max = 0.1: must be >= h_min"),
+        (&["--tol", "0"][..], "newton.tol = 0"),
+        (&["--max-points", "1"][..], "max_points = 1"),
+        (&["--ntst", "5"][..], "--method collocation"),
+        (
+            &["--method", "collocation", "--ncol", "9"][..],
+            "collocation.ncol = 9",
+        ),
+    ] {
+        let mut all = vec!["continue", "--free", "omega"];
+        all.extend_from_slice(args);
+        assert_one_line_usage_error(&all, needle);
+    }
+}

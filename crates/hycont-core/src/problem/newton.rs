@@ -35,7 +35,17 @@ impl Default for NewtonSettings {
 }
 
 impl NewtonSettings {
-    fn validate(&self) -> Result<()> {
+    /// Checks the settings.
+    ///
+    /// # Errors
+    /// [`Error::InvalidSetting`] naming the first invalid setting.
+    ///
+    /// ```
+    /// use hycont_core::problem::NewtonSettings;
+    /// assert!(NewtonSettings::default().validate().is_ok());
+    /// assert!(NewtonSettings { tol: 0.0, ..NewtonSettings::default() }.validate().is_err());
+    /// ```
+    pub fn validate(&self) -> Result<()> {
         let bad = |name, value, reason| {
             Err(Error::InvalidSetting {
                 name,
@@ -43,11 +53,15 @@ impl NewtonSettings {
                 reason,
             })
         };
-        if !(self.tol > 0.0) {
-            return bad("newton.tol", self.tol, "must be > 0");
+        if !(self.tol > 0.0 && self.tol < 1.0) {
+            return bad("newton.tol", self.tol, "must be in (0, 1)");
         }
-        if !(self.residual_tol > 0.0) {
-            return bad("newton.residual_tol", self.residual_tol, "must be > 0");
+        if !(self.residual_tol > 0.0 && self.residual_tol.is_finite()) {
+            return bad(
+                "newton.residual_tol",
+                self.residual_tol,
+                "must be > 0 and finite",
+            );
         }
         if self.max_iterations == 0 {
             return bad("newton.max_iterations", 0.0, "must be >= 1");

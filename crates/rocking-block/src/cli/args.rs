@@ -120,6 +120,29 @@ pub struct ContinueArgs {
     /// Discretisation (a collocation run restarted by collocation keeps its mesh).
     #[arg(long, value_enum, default_value_t = MethodArg::Shooting)]
     pub method: MethodArg,
+    /// First arclength step.
+    #[arg(long, default_value_t = 0.02, allow_negative_numbers = true)]
+    pub h0: f64,
+    /// Smallest arclength step before the run gives up.
+    #[arg(long = "h-min", default_value_t = 1e-8, allow_negative_numbers = true)]
+    pub h_min: f64,
+    /// Largest arclength step (smaller: denser branches).
+    #[arg(long = "h-max", default_value_t = 0.1, allow_negative_numbers = true)]
+    pub h_max: f64,
+    /// Largest number of points of a run (each way).
+    #[arg(long = "max-points", default_value_t = 2000)]
+    pub max_points: usize,
+    /// Collocation: mesh intervals per segment (--method collocation; a restart by collocation
+    /// keeps the saved mesh).
+    #[arg(long)]
+    pub ntst: Option<usize>,
+    /// Collocation: collocation points per interval, 1 to 7 (--method collocation).
+    #[arg(long)]
+    pub ncol: Option<usize>,
+    /// Newton tolerance of the corrector: the step relative to 1 + |u| (the residual must
+    /// also be below 1e-10).
+    #[arg(long, default_value_t = 1e-10, allow_negative_numbers = true)]
+    pub tol: f64,
     /// Restart from this saved run (a file written by --out).
     #[arg(long, requires = "label")]
     pub restart: Option<PathBuf>,

@@ -26,10 +26,31 @@ pub(super) fn run_continue(args: &ContinueArgs, out: &mut dyn Write) -> Result<(
         });
     }
     let method = match args.method {
+        MethodArg::Shooting if args.ntst.is_some() || args.ncol.is_some() => {
+            return Err(Error::InvalidArgument {
+                name: "ntst/ncol",
+                value: format!("{:?}/{:?}", args.ntst, args.ncol),
+                reason: "set the collocation mesh with --method collocation",
+            });
+        }
         MethodArg::Shooting => default_method(),
         MethodArg::Collocation => {
-            OrbitMethod::Collocation(hycont_core::orbit::CollocationSettings::default())
+            let d = hycont_core::orbit::CollocationSettings::default();
+            let settings = hycont_core::orbit::CollocationSettings {
+                ntst: args.ntst.unwrap_or(d.ntst),
+                ncol: args.ncol.unwrap_or(d.ncol),
+                ..d
+            };
+            settings.validate()?;
+            OrbitMethod::Collocation(settings)
         }
+    };
+    // The user's steps, point count and tolerance over the study's recipe (validated by the
+    // library when the run starts).
+    let tune = |run: &mut hycont_continuation::OrbitRun<'_, crate::model::RockingBlock>| {
+        run.steps(args.h0, args.h_min, args.h_max)
+            .max_points(args.max_points);
+        run.settings_mut().newton.tol = args.tol;
     };
     let direction = match args.direction {
         DirectionArg::Both => RunDirection::Both,
@@ -55,6 +76,7 @@ pub(super) fn run_continue(args: &ContinueArgs, out: &mut dyn Write) -> Result<(
         saved.point(label).map_err(|e| invalid(e.to_string()))?;
         let params = Parameters::from_vec(&saved.template.params);
         let mut run = study_run(free, &params, (min, max), method)?;
+        tune(&mut run);
         // Restarting both ways: keep going the way the saved run went.
         let way = (args.direction != DirectionArg::Both).then_some(direction);
         run.restart("branch", &saved, label, way)?
@@ -70,6 +92,7 @@ pub(super) fn run_continue(args: &ContinueArgs, out: &mut dyn Write) -> Result<(
         };
         let start = orbit(&params, kind, Some((args.phi0, args.psi0, args.beta)))?;
         let mut run = study_run(free, &params, (min, max), method)?;
+        tune(&mut run);
         run.run("branch", &start.solution.orbit, direction)?
     };
     let stdout_err = |source| Error::Io {
