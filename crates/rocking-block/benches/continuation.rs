@@ -112,6 +112,58 @@ fn symmetric_omega_branch(c: &mut Criterion) {
     });
 }
 
+/// Per point, both discretisations, on the symmetric omega branch at alpha = 0.66 (issue 13's
+/// targets: collocation with NTST 20 per segment and NCOL 4 at <= 0.25 ms/point, shooting at
+/// <= 0.1 ms/point). AUTO-07p on the same model and branch (2-segment stacked BVP, analytic
+/// Jacobians, this machine, one thread, medians of 11 runs): 0.75 ms/point at NTST 20,
+/// 1.34 ms/point at NTST 40, fixed cost of a run (start and 2 points) 10 ms. Prints ms/point and
+/// corrector iterations per point; the criterion medians are of whole branches.
+fn per_point(c: &mut Criterion) {
+    use hycont_continuation::{OrbitMethod, RunDirection};
+    use hycont_core::orbit::CollocationSettings;
+    use rocking_block::continuation::{default_method, study_run};
+    use rocking_block::model::Parameters;
+    use rocking_block::orbits::{OrbitKind, orbit};
+    let params = Parameters::new(1.3, 0.66);
+    let start = orbit(&params, OrbitKind::Symmetric, None)
+        .unwrap()
+        .solution
+        .orbit;
+    let methods = [
+        ("shooting", default_method()),
+        (
+            "collocation",
+            OrbitMethod::Collocation(CollocationSettings {
+                ntst: 20,
+                ncol: 4,
+                adapt: 1,
+            }),
+        ),
+    ];
+    for (name, method) in methods {
+        let branch = || {
+            let mut run = study_run(Free::Omega, &params, (0.5, 4.0), method).unwrap();
+            run.run("symmetric", &start, RunDirection::Both)
+                .unwrap()
+                .branch
+        };
+        let t = std::time::Instant::now();
+        let b = branch();
+        let elapsed = t.elapsed().as_secs_f64();
+        let points = b.points.len() + b.special_points.len();
+        let iterations: usize = b.points.iter().map(|p| p.newton_iterations).sum();
+        eprintln!(
+            "per point, {name}: {points} points (incl. special), {:.3} ms/point, {:.2} corrector \
+             iterations/point",
+            1e3 * elapsed / points as f64,
+            iterations as f64 / b.points.len() as f64
+        );
+        c.bench_function(&format!("continuation/per_point_{name}"), |bch| {
+            bch.iter(|| black_box(branch()));
+        });
+    }
+}
+
 fn figure_6_curves(c: &mut Criterion) {
     let t = std::time::Instant::now();
     let curves = study_curves(&mut Silent).unwrap();
@@ -135,6 +187,6 @@ fn figure_6_curves(c: &mut Criterion) {
 criterion_group! {
     name = benches;
     config = Criterion::default().sample_size(10);
-    targets = figures_3_and_4, symmetric_omega_branch, figure_6_curves
+    targets = figures_3_and_4, symmetric_omega_branch, per_point, figure_6_curves
 }
 criterion_main!(benches);
