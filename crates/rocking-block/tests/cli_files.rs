@@ -64,9 +64,12 @@ fn an_interrupted_shard_resumes_to_the_uninterrupted_shard() {
             out.display().to_string(),
         ]
     };
-    let run: Vec<String> = args(&a);
+    // One thread (results do not depend on it) keeps the run long enough to be interrupted on
+    // fast machines: 20,000 trials take seconds.
+    let mut run: Vec<String> = args(&a);
+    run.extend(["--threads".into(), "1".into()]);
     let run: Vec<&str> = run.iter().map(String::as_str).collect();
-    let out = interrupted(&run, "-INT", 1.0);
+    let out = interrupted(&run, "-INT", 0.5);
     fails(&out, 1, "figure --resume");
     let partial = a.join("fig10.shard-0-of-2.partial.json");
     assert!(!a.join("fig10.shard-0-of-2.json").exists());
@@ -102,9 +105,18 @@ fn a_terminated_run_never_replaces_a_complete_result() {
         .run_ok();
     let before = std::fs::read(dir.join("fig10.json")).unwrap();
     let out = interrupted(
-        &["figure", "10", "--trials", "40000", "--out", &d],
+        &[
+            "figure",
+            "10",
+            "--trials",
+            "40000",
+            "--threads",
+            "1",
+            "--out",
+            &d,
+        ],
         "-TERM",
-        1.0,
+        0.5,
     );
     fails(&out, 1, "interrupted");
     assert_eq!(std::fs::read(dir.join("fig10.json")).unwrap(), before);
