@@ -1,0 +1,223 @@
+//! Time series, phase portraits and orbits.
+
+use super::{mode_colour, pieces, plot_err, range};
+use crate::error::Result;
+use crate::model::{MINUS, PLUS, Parameters};
+use hycont_core::orbit::PeriodicOrbit;
+use hycont_core::{SimulationSettings, Trajectory};
+use plotters::prelude::*;
+use std::path::Path;
+
+/// Draws the time series $\varphi(t)$ (top) and the phase portrait $(\varphi, \psi)$ (bottom) of a
+/// simulation with dense samples, segments coloured by mode and impacts drawn as jumps; the
+/// static boundary $\pm(\pi/2 - \theta_b)$ is marked.
+///
+/// # Errors
+/// [`Error::Plot`] if the file cannot be written.
+pub fn trajectory_svg(
+    path: &Path,
+    title: &str,
+    traj: &Trajectory,
+    params: &Parameters,
+) -> Result<()> {
+    let (pieces, jumps) = pieces(traj);
+    let root = SVGBackend::new(path, (1000, 900)).into_drawing_area();
+    root.fill(&WHITE).map_err(|e| plot_err(path, e))?;
+    let (upper, lower) = root.split_vertically(420);
+    let boundary = params.static_boundary();
+
+    let t0 = pieces
+        .first()
+        .and_then(|p| p.points.first())
+        .map_or(0.0, |p| p.0);
+    let t1 = traj.t_final.max(t0 + 1e-9);
+    let (phi_lo, phi_hi) = range(
+        pieces
+            .iter()
+            .flat_map(|p| p.points.iter().map(|q| q.1))
+            .chain([boundary, -boundary]),
+    );
+    let mut chart = ChartBuilder::on(&upper)
+        .caption(title, ("sans-serif", 20))
+        .margin(12)
+        .x_label_area_size(35)
+        .y_label_area_size(55)
+        .build_cartesian_2d(t0..t1, phi_lo..phi_hi)
+        .map_err(|e| plot_err(path, e))?;
+    chart
+        .configure_mesh()
+        .x_desc("t")
+        .y_desc("phi")
+        .draw()
+        .map_err(|e| plot_err(path, e))?;
+    for b in [boundary, -boundary] {
+        chart
+            .draw_series(LineSeries::new(
+                [(t0, b), (t1, b)],
+                ShapeStyle::from(&BLACK.mix(0.4)).stroke_width(1),
+            ))
+            .map_err(|e| plot_err(path, e))?;
+    }
+    for piece in &pieces {
+        chart
+            .draw_series(LineSeries::new(
+                piece.points.iter().map(|q| (q.0, q.1)),
+                mode_colour(piece.mode).stroke_width(2),
+            ))
+            .map_err(|e| plot_err(path, e))?;
+    }
+
+    let (psi_lo, psi_hi) = range(pieces.iter().flat_map(|p| p.points.iter().map(|q| q.2)));
+    let mut phase = ChartBuilder::on(&lower)
+        .margin(12)
+        .x_label_area_size(35)
+        .y_label_area_size(55)
+        .build_cartesian_2d(phi_lo..phi_hi, psi_lo..psi_hi)
+        .map_err(|e| plot_err(path, e))?;
+    phase
+        .configure_mesh()
+        .x_desc("phi")
+        .y_desc("psi")
+        .draw()
+        .map_err(|e| plot_err(path, e))?;
+    for piece in &pieces {
+        phase
+            .draw_series(LineSeries::new(
+                piece.points.iter().map(|q| (q.1, q.2)),
+                mode_colour(piece.mode).stroke_width(2),
+            ))
+            .map_err(|e| plot_err(path, e))?;
+    }
+    for (pre, post) in &jumps {
+        phase
+            .draw_series(LineSeries::new(
+                [*pre, *post],
+                ShapeStyle::from(&BLACK.mix(0.5)).stroke_width(1),
+            ))
+            .map_err(|e| plot_err(path, e))?;
+    }
+    root.present().map_err(|e| plot_err(path, e))?;
+    Ok(())
+}
+
+/// Draws periodic orbits: phase portraits $(\varphi, \psi)$ (top, segments coloured by mode,
+/// impacts as thin grey jumps, the first orbit thick, the others thin) and $\varphi(t)$ over
+/// one period (bottom), with the static boundary marked.
+///
+/// # Errors
+/// [`Error::Plot`] if the file cannot be written; integration failures while sampling.
+pub fn orbits_svg(
+    path: &Path,
+    title: &str,
+    orbits: &[(&str, PeriodicOrbit)],
+    params: &Parameters,
+) -> Result<()> {
+    let settings = SimulationSettings::default().rtol(1e-12).atol(1e-14);
+    let mut sampled = Vec::new();
+    for (name, o) in orbits {
+        sampled.push((*name, o.sample(&crate::RockingBlock, 60, &settings)?));
+    }
+    let boundary = params.static_boundary();
+    let all = || {
+        sampled
+            .iter()
+            .flat_map(|(_, s)| s.iter())
+            .flat_map(|ts| ts.iter())
+    };
+    let (phi_lo, phi_hi) = range(all().map(|(_, _, x)| x[0]).chain([boundary, -boundary]));
+    let (psi_lo, psi_hi) = range(all().map(|(_, _, x)| x[1]));
+    let t_hi = all().map(|(t, _, _)| t).fold(0.0, f64::max);
+
+    let root = SVGBackend::new(path, (1000, 1000)).into_drawing_area();
+    root.fill(&WHITE).map_err(|e| plot_err(path, e))?;
+    let (upper, lower) = root.split_vertically(560);
+    let mut phase = ChartBuilder::on(&upper)
+        .caption(title, ("sans-serif", 18))
+        .margin(12)
+        .x_label_area_size(35)
+        .y_label_area_size(55)
+        .build_cartesian_2d(phi_lo..phi_hi, psi_lo..psi_hi)
+        .map_err(|e| plot_err(path, e))?;
+    phase
+        .configure_mesh()
+        .x_desc("phi")
+        .y_desc("psi")
+        .draw()
+        .map_err(|e| plot_err(path, e))?;
+    for b in [boundary, -boundary] {
+        phase
+            .draw_series(LineSeries::new(
+                [(b, psi_lo), (b, psi_hi)],
+                ShapeStyle::from(&BLACK.mix(0.4)).stroke_width(1),
+            ))
+            .map_err(|e| plot_err(path, e))?;
+    }
+    for (mode, label) in [
+        (PLUS, "mode + (right corner)"),
+        (MINUS, "mode - (left corner)"),
+    ] {
+        let colour = mode_colour(mode);
+        phase
+            .draw_series(std::iter::empty::<PathElement<(f64, f64)>>())
+            .map_err(|e| plot_err(path, e))?
+            .label(label)
+            .legend(move |(x, y)| {
+                PathElement::new(vec![(x, y), (x + 20, y)], colour.stroke_width(2))
+            });
+    }
+    for (idx, (_, segments)) in sampled.iter().enumerate() {
+        let width = if idx == 0 { 3 } else { 1 };
+        for (k, ts) in segments.iter().enumerate() {
+            let colour = mode_colour(ts.mode.first().copied().unwrap_or(PLUS));
+            phase
+                .draw_series(LineSeries::new(
+                    ts.iter().map(|(_, _, x)| (x[0], x[1])),
+                    colour.stroke_width(width),
+                ))
+                .map_err(|e| plot_err(path, e))?;
+            // The jump at the end of the segment, to the next segment's start.
+            let next = &segments[(k + 1) % segments.len()];
+            if let (Some(end), Some(start)) = (ts.iter().last(), next.iter().next()) {
+                phase
+                    .draw_series(LineSeries::new(
+                        [(end.2[0], end.2[1]), (start.2[0], start.2[1])],
+                        ShapeStyle::from(&BLACK.mix(0.5)).stroke_width(1),
+                    ))
+                    .map_err(|e| plot_err(path, e))?;
+            }
+        }
+    }
+    phase
+        .configure_series_labels()
+        .border_style(BLACK)
+        .background_style(WHITE.mix(0.8))
+        .draw()
+        .map_err(|e| plot_err(path, e))?;
+
+    let mut series = ChartBuilder::on(&lower)
+        .margin(12)
+        .x_label_area_size(35)
+        .y_label_area_size(55)
+        .build_cartesian_2d(0.0..t_hi.max(1e-9), phi_lo..phi_hi)
+        .map_err(|e| plot_err(path, e))?;
+    series
+        .configure_mesh()
+        .x_desc("t (one period)")
+        .y_desc("phi")
+        .draw()
+        .map_err(|e| plot_err(path, e))?;
+    for (idx, (_, segments)) in sampled.iter().enumerate() {
+        let width = if idx == 0 { 3 } else { 1 };
+        for ts in segments {
+            let colour = mode_colour(ts.mode.first().copied().unwrap_or(PLUS));
+            series
+                .draw_series(LineSeries::new(
+                    ts.iter().map(|(t, _, x)| (t, x[0])),
+                    colour.stroke_width(width),
+                ))
+                .map_err(|e| plot_err(path, e))?;
+        }
+    }
+    root.present().map_err(|e| plot_err(path, e))?;
+    Ok(())
+}

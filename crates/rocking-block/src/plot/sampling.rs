@@ -1,0 +1,310 @@
+//! Brute-force diagrams, basins, class grids, probability maps and marginals.
+
+use super::{plot_err, range};
+use crate::error::Result;
+use plotters::prelude::*;
+use std::path::Path;
+
+/// Fig. 5: psi at the stroboscopic samples against alpha (sweep up: dark, down: light), with a
+/// blow-up of [0.73, 0.79].
+///
+/// # Errors
+/// [`Error::Plot`] if the file cannot be written.
+pub fn brute_force_svg(
+    path: &Path,
+    up: &[hycont_sample::sweep::SweepPoint],
+    down: &[hycont_sample::sweep::SweepPoint],
+) -> Result<()> {
+    let root = SVGBackend::new(path, (1000, 900)).into_drawing_area();
+    root.fill(&WHITE).map_err(|e| plot_err(path, e))?;
+    let (top, bottom) = root.split_vertically(450);
+    for (area, (lo, hi), title) in [
+        (
+            &top,
+            (0.5, 0.8),
+            "Fig. 5: brute-force diagram, omega = 1.3 (psi at t = 2 pi k / omega)",
+        ),
+        (
+            &bottom,
+            (0.73, 0.79),
+            "blow-up of [0.73, 0.79]: period doubling to chaos",
+        ),
+    ] {
+        let pts = || {
+            up.iter()
+                .map(|p| (p, BLACK.mix(0.8)))
+                .chain(down.iter().map(|p| (p, RGBColor(214, 39, 40).mix(0.5))))
+                .filter(move |(p, _)| p.value >= lo && p.value <= hi)
+        };
+        let (y_lo, y_hi) = range(pts().flat_map(|(p, _)| p.samples.iter().map(|s| s[1])));
+        let mut chart = ChartBuilder::on(area)
+            .caption(title, ("sans-serif", 16))
+            .margin(10)
+            .x_label_area_size(35)
+            .y_label_area_size(55)
+            .build_cartesian_2d(lo..hi, y_lo..y_hi)
+            .map_err(|e| plot_err(path, e))?;
+        chart
+            .configure_mesh()
+            .x_desc("alpha")
+            .y_desc("psi")
+            .draw()
+            .map_err(|e| plot_err(path, e))?;
+        for (p, colour) in pts() {
+            chart
+                .draw_series(
+                    p.samples
+                        .iter()
+                        .map(|s| Circle::new((p.value, s[1]), 1, colour.filled())),
+                )
+                .map_err(|e| plot_err(path, e))?;
+        }
+    }
+    root.present().map_err(|e| plot_err(path, e))?;
+    Ok(())
+}
+
+fn class_colour(name: &str) -> RGBColor {
+    match name {
+        "equilibrium" => RGBColor(0, 0, 0),
+        "symmetric_p1" => RGBColor(255, 200, 0),
+        "asymmetric_p1_pos" => RGBColor(31, 119, 180),
+        "asymmetric_p1_neg" => RGBColor(214, 39, 40),
+        "period2" => RGBColor(44, 160, 44),
+        "other" => RGBColor(148, 103, 189),
+        "overturn_pos" => RGBColor(140, 200, 140),
+        "overturn_neg" => RGBColor(200, 140, 200),
+        _ => RGBColor(255, 255, 255),
+    }
+}
+
+/// Fig. 7: one raster of the dominant class per (phi0, psi0) cell for each omega.
+///
+/// # Errors
+/// [`Error::Plot`] if the file cannot be written.
+pub fn basins_svg(
+    path: &Path,
+    rasters: &[(f64, Vec<Vec<Option<&str>>>)],
+    boundary: f64,
+) -> Result<()> {
+    let root = SVGBackend::new(path, (1050, 760)).into_drawing_area();
+    root.fill(&WHITE).map_err(|e| plot_err(path, e))?;
+    let panels = root.split_evenly((2, 3));
+    for (panel, (omega, raster)) in panels.iter().zip(rasters) {
+        let n = raster.len().max(1);
+        let mut chart = ChartBuilder::on(panel)
+            .caption(format!("omega = {omega}"), ("sans-serif", 14))
+            .margin(8)
+            .x_label_area_size(28)
+            .y_label_area_size(40)
+            .build_cartesian_2d(-boundary..boundary, -1.0..1.0)
+            .map_err(|e| plot_err(path, e))?;
+        chart
+            .configure_mesh()
+            .x_desc("phi0")
+            .y_desc("psi0")
+            .draw()
+            .map_err(|e| plot_err(path, e))?;
+        let (dx, dy) = (2.0 * boundary / n as f64, 2.0 / n as f64);
+        for (i, row) in raster.iter().enumerate() {
+            for (j, c) in row.iter().enumerate() {
+                let Some(c) = c else { continue };
+                let (x0, y0) = (-boundary + i as f64 * dx, -1.0 + j as f64 * dy);
+                chart
+                    .draw_series(std::iter::once(Rectangle::new(
+                        [(x0, y0), (x0 + dx, y0 + dy)],
+                        class_colour(c).filled(),
+                    )))
+                    .map_err(|e| plot_err(path, e))?;
+            }
+        }
+    }
+    root.present().map_err(|e| plot_err(path, e))?;
+    Ok(())
+}
+
+fn overlay_curves<DB: DrawingBackend>(
+    chart: &mut ChartContext<
+        '_,
+        DB,
+        Cartesian2d<plotters::coord::types::RangedCoordf64, plotters::coord::types::RangedCoordf64>,
+    >,
+    curves: &[crate::continuation::Curve],
+) -> std::result::Result<(), String> {
+    use hycont_continuation::SpecialKind;
+    for c in curves {
+        let col = match c.kind {
+            SpecialKind::Fold => RGBColor(255, 127, 14),
+            SpecialKind::PeriodDoubling => RGBColor(44, 160, 44),
+            SpecialKind::BranchPoint => RGBColor(148, 103, 189),
+            _ => continue,
+        };
+        chart
+            .draw_series(LineSeries::new(c.points(), col.stroke_width(2)))
+            .map_err(|e| e.to_string())?;
+    }
+    Ok(())
+}
+
+/// Fig. 8: the class of each grid cell, one panel per beta, with the SN, BP and PD curves.
+///
+/// # Errors
+/// [`Error::Plot`] if the file cannot be written.
+pub fn class_grid_svg(
+    path: &Path,
+    omegas: &[f64],
+    alphas: &[f64],
+    grids: &[(f64, Vec<Vec<&str>>)],
+    curves: &[crate::continuation::Curve],
+) -> Result<()> {
+    let root = SVGBackend::new(path, (1100, 520)).into_drawing_area();
+    root.fill(&WHITE).map_err(|e| plot_err(path, e))?;
+    let panels = root.split_evenly((1, 2));
+    let (dw, da) = (3.5 / omegas.len() as f64, 0.8 / alphas.len() as f64);
+    for (panel, (beta, grid)) in panels.iter().zip(grids) {
+        let mut chart = ChartBuilder::on(panel)
+            .caption(
+                format!("Fig. 8: final class from phi0 = 0.01, beta = {beta:.4}"),
+                ("sans-serif", 14),
+            )
+            .margin(8)
+            .x_label_area_size(30)
+            .y_label_area_size(40)
+            .build_cartesian_2d(0.5..4.0, 0.1..0.9)
+            .map_err(|e| plot_err(path, e))?;
+        chart
+            .configure_mesh()
+            .x_desc("omega")
+            .y_desc("alpha")
+            .draw()
+            .map_err(|e| plot_err(path, e))?;
+        for (i, col) in grid.iter().enumerate() {
+            for (j, c) in col.iter().enumerate() {
+                let (x0, y0) = (omegas[i] - 0.5 * dw, alphas[j] - 0.5 * da);
+                chart
+                    .draw_series(std::iter::once(Rectangle::new(
+                        [(x0, y0), (x0 + dw, y0 + da)],
+                        class_colour(c).filled(),
+                    )))
+                    .map_err(|e| plot_err(path, e))?;
+            }
+        }
+        overlay_curves(&mut chart, curves).map_err(|e| plot_err(path, e))?;
+    }
+    root.present().map_err(|e| plot_err(path, e))?;
+    Ok(())
+}
+
+/// Probabilities per group (name, one value per cell) for one beta.
+pub type GroupPanel<'a> = (f64, Vec<(&'a str, Vec<f64>)>);
+
+/// Fig. 9: probability heat maps per group and beta (rows: groups; columns: beta).
+///
+/// # Errors
+/// [`Error::Plot`] if the file cannot be written.
+pub fn probability_grid_svg(
+    path: &Path,
+    panels: &[GroupPanel<'_>],
+    curves: &[crate::continuation::Curve],
+) -> Result<()> {
+    let groups = panels.first().map_or(0, |p| p.1.len());
+    let root = SVGBackend::new(path, (900, 300 * groups as u32)).into_drawing_area();
+    root.fill(&WHITE).map_err(|e| plot_err(path, e))?;
+    let areas = root.split_evenly((groups, panels.len()));
+    for (g, row) in (0..groups).map(|g| (g, &areas[g * panels.len()..(g + 1) * panels.len()])) {
+        for (area, (beta, probs)) in row.iter().zip(panels) {
+            let (name, p) = &probs[g];
+            let mut chart = ChartBuilder::on(area)
+                .caption(format!("{name}, beta = {beta:.4}"), ("sans-serif", 13))
+                .margin(6)
+                .x_label_area_size(25)
+                .y_label_area_size(35)
+                .build_cartesian_2d(0.5..4.0, 0.1..0.9)
+                .map_err(|e| plot_err(path, e))?;
+            chart
+                .configure_mesh()
+                .disable_mesh()
+                .draw()
+                .map_err(|e| plot_err(path, e))?;
+            for (cell, v) in p.iter().enumerate() {
+                if v.is_nan() {
+                    continue;
+                }
+                let (i, j) = (cell / 30, cell % 30);
+                let (x0, y0) = (0.5 + 3.5 * i as f64 / 30.0, 0.1 + 0.8 * j as f64 / 30.0);
+                let shade = (255.0 * (1.0 - v)) as u8;
+                chart
+                    .draw_series(std::iter::once(Rectangle::new(
+                        [(x0, y0), (x0 + 3.5 / 30.0, y0 + 0.8 / 30.0)],
+                        RGBColor(shade, shade, 255).filled(),
+                    )))
+                    .map_err(|e| plot_err(path, e))?;
+            }
+            overlay_curves(&mut chart, curves).map_err(|e| plot_err(path, e))?;
+        }
+    }
+    root.present().map_err(|e| plot_err(path, e))?;
+    Ok(())
+}
+
+/// Fig. 10: group probabilities against each binned variable.
+///
+/// # Errors
+/// [`Error::Plot`] if the file cannot be written.
+#[allow(clippy::type_complexity)]
+pub fn marginals_svg(
+    path: &Path,
+    panels: &[(&str, f64, f64, Vec<(&str, Vec<f64>)>)],
+) -> Result<()> {
+    let root = SVGBackend::new(path, (1200, 420)).into_drawing_area();
+    root.fill(&WHITE).map_err(|e| plot_err(path, e))?;
+    let areas = root.split_evenly((1, panels.len()));
+    let colours = [
+        RGBColor(255, 200, 0),
+        RGBColor(31, 119, 180),
+        RGBColor(140, 200, 140),
+        RGBColor(0, 0, 0),
+        RGBColor(148, 103, 189),
+    ];
+    for (area, (name, lo, hi, probs)) in areas.iter().zip(panels) {
+        let mut chart = ChartBuilder::on(area)
+            .caption(
+                format!("Fig. 10: probability against {name}"),
+                ("sans-serif", 13),
+            )
+            .margin(8)
+            .x_label_area_size(30)
+            .y_label_area_size(40)
+            .build_cartesian_2d(*lo..*hi, 0.0..1.0)
+            .map_err(|e| plot_err(path, e))?;
+        chart
+            .configure_mesh()
+            .x_desc(*name)
+            .draw()
+            .map_err(|e| plot_err(path, e))?;
+        for ((group, p), col) in probs.iter().zip(colours) {
+            let n = p.len().max(1);
+            let pts: Vec<(f64, f64)> = p
+                .iter()
+                .enumerate()
+                .filter(|(_, v)| v.is_finite())
+                .map(|(i, v)| (lo + (hi - lo) * (i as f64 + 0.5) / n as f64, *v))
+                .collect();
+            chart
+                .draw_series(LineSeries::new(pts, col.stroke_width(2)))
+                .map_err(|e| plot_err(path, e))?
+                .label(*group)
+                .legend(move |(x, y)| {
+                    PathElement::new(vec![(x, y), (x + 20, y)], col.stroke_width(2))
+                });
+        }
+        chart
+            .configure_series_labels()
+            .border_style(BLACK)
+            .background_style(WHITE.mix(0.85))
+            .draw()
+            .map_err(|e| plot_err(path, e))?;
+    }
+    root.present().map_err(|e| plot_err(path, e))?;
+    Ok(())
+}
