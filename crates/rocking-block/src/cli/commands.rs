@@ -1,13 +1,12 @@
 //! `simulate`, `orbit` and `classify`.
 
-use super::{ClassifyArgs, KindArg, MethodArg, OrbitArgs, SimulateArgs, io_err};
+use super::{ClassifyArgs, KindArg, MethodArg, OrbitArgs, SimulateArgs, io_err, stdout_err};
 use crate::error::{Error, Result};
 use crate::model::Parameters;
 use crate::plot;
 use crate::simulation::{SimulationRequest, simulate};
 use hycont_core::HybridSystem;
 use std::io::Write;
-use std::path::PathBuf;
 
 pub(super) fn run_orbit(args: &OrbitArgs, out: &mut dyn Write) -> Result<()> {
     use crate::orbits::{OrbitKind, orbit};
@@ -31,10 +30,6 @@ pub(super) fn run_orbit(args: &OrbitArgs, out: &mut dyn Write) -> Result<()> {
         found = found.by_collocation(settings)?;
     }
     let report = found.report(name)?;
-    let stdout_err = |source| Error::Io {
-        path: PathBuf::from("<stdout>"),
-        source,
-    };
     if args.json {
         let text = serde_json::to_string_pretty(&report).expect("report serialises");
         writeln!(out, "{text}").map_err(stdout_err)?;
@@ -76,10 +71,6 @@ pub(super) fn run_classify(args: &ClassifyArgs, out: &mut dyn Write) -> Result<(
     use crate::classes::{ClassifierSettings, classify};
     use rayon::prelude::*;
     let settings = ClassifierSettings::default();
-    let stdout_err = |source| Error::Io {
-        path: PathBuf::from("<stdout>"),
-        source,
-    };
     if let (Some(input), Some(output)) = (&args.input, &args.output) {
         if crate::output::same_file(input, output) {
             return Err(Error::InvalidArgument {
@@ -206,10 +197,6 @@ pub(super) fn run_simulate(args: &SimulateArgs, out: &mut dyn Write) -> Result<(
         );
         crate::output::write_with(path, |p| plot::trajectory_svg(p, &title, &traj, &params))?;
     }
-    let stdout_err = |source| Error::Io {
-        path: PathBuf::from("<stdout>"),
-        source,
-    };
     if args.json {
         let text = serde_json::to_string_pretty(&report).expect("report serialises");
         writeln!(out, "{text}").map_err(stdout_err)?;

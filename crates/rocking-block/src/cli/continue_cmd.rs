@@ -1,10 +1,9 @@
 //! `continue`: one-parameter continuation from the command line, and restarts.
 
-use super::{ContinueArgs, DirectionArg, FreeArg, KindArg, MethodArg, io_err};
+use super::{ContinueArgs, DirectionArg, FreeArg, KindArg, MethodArg, io_err, stdout_err};
 use crate::error::{Error, Result};
 use crate::model::Parameters;
 use std::io::Write;
-use std::path::PathBuf;
 
 pub(super) fn run_continue(args: &ContinueArgs, out: &mut dyn Write) -> Result<()> {
     use crate::continuation::{AMP, Free, default_method, study_run};
@@ -94,10 +93,6 @@ pub(super) fn run_continue(args: &ContinueArgs, out: &mut dyn Write) -> Result<(
         let mut run = study_run(free, &params, (min, max), method)?;
         tune(&mut run);
         run.run("branch", &start.solution.orbit, direction)?
-    };
-    let stdout_err = |source| Error::Io {
-        path: PathBuf::from("<stdout>"),
-        source,
     };
     if let Some(path) = &args.out {
         let text = branch

@@ -15,6 +15,14 @@ use crate::error::{Error, Result};
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
+/// A failed write to standard output.
+fn stdout_err(source: std::io::Error) -> Error {
+    Error::Io {
+        path: PathBuf::from("<stdout>"),
+        source,
+    }
+}
+
 fn io_err(path: &Path) -> impl FnOnce(std::io::Error) -> Error + '_ {
     move |source| Error::Io {
         path: path.to_path_buf(),
@@ -39,10 +47,6 @@ pub fn run(cli: Cli, out: &mut dyn Write) -> Result<()> {
 
 /// Prints the files written, as lines or as JSON.
 fn print_written(out: &mut dyn Write, files: &[PathBuf], json: bool) -> Result<()> {
-    let stdout_err = |source| Error::Io {
-        path: PathBuf::from("<stdout>"),
-        source,
-    };
     if json {
         let v = serde_json::json!({"files": files.iter().map(|f| f.display().to_string()).collect::<Vec<_>>()});
         writeln!(
