@@ -1,5 +1,6 @@
 //! SVG figures (plotters, SVG backend only: no system libraries needed): trajectories and
-//! orbits ([`orbits`]), branches and curves ([`branches`]), sampling maps ([`sampling`]).
+//! orbits ([`trajectory_svg`], [`orbits_svg`]), branches and curves ([`branches_svg`],
+//! [`curves_svg`], [`test_points_svg`]), sampling maps ([`basins_svg`] and the others).
 
 mod branches;
 mod orbits;
