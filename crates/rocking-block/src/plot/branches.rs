@@ -21,7 +21,7 @@ fn branch_colour(i: usize) -> RGBColor {
 /// solid, unstable dashed), labelled special points, and the static boundary.
 ///
 /// # Errors
-/// [`Error::Plot`] if the file cannot be written.
+/// [`crate::Error::Plot`] if the file cannot be written.
 pub fn branches_svg(
     path: &Path,
     title: &str,
@@ -166,7 +166,7 @@ fn emptiest_corner(
 /// lines of Figs. 3 and 4, and the test points.
 ///
 /// # Errors
-/// [`Error::Plot`] if the file cannot be written.
+/// [`crate::Error::Plot`] if the file cannot be written.
 pub fn curves_svg(
     path: &Path,
     curves: &[crate::continuation::Curve],
@@ -297,7 +297,7 @@ pub fn curves_svg(
 /// The test points' time series $\varphi(t)$, one panel each.
 ///
 /// # Errors
-/// [`Error::Plot`] if the file cannot be written.
+/// [`crate::Error::Plot`] if the file cannot be written.
 pub fn test_points_svg(
     path: &Path,
     tests: &[crate::figures::fig6::TestPoint],

@@ -13,7 +13,7 @@ use std::path::Path;
 /// static boundary $\pm(\pi/2 - \theta_b)$ is marked.
 ///
 /// # Errors
-/// [`Error::Plot`] if the file cannot be written.
+/// [`crate::Error::Plot`] if the file cannot be written.
 pub fn trajectory_svg(
     path: &Path,
     title: &str,
@@ -105,7 +105,7 @@ pub fn trajectory_svg(
 /// one period (bottom), with the static boundary marked.
 ///
 /// # Errors
-/// [`Error::Plot`] if the file cannot be written; integration failures while sampling.
+/// [`crate::Error::Plot`] if the file cannot be written; integration failures while sampling.
 pub fn orbits_svg(
     path: &Path,
     title: &str,

@@ -9,7 +9,7 @@ use std::path::Path;
 /// blow-up of [0.73, 0.79].
 ///
 /// # Errors
-/// [`Error::Plot`] if the file cannot be written.
+/// [`crate::Error::Plot`] if the file cannot be written.
 pub fn brute_force_svg(
     path: &Path,
     up: &[hycont_sample::sweep::SweepPoint],
@@ -81,7 +81,7 @@ fn class_colour(name: &str) -> RGBColor {
 /// Fig. 7: one raster of the dominant class per (phi0, psi0) cell for each omega.
 ///
 /// # Errors
-/// [`Error::Plot`] if the file cannot be written.
+/// [`crate::Error::Plot`] if the file cannot be written.
 pub fn basins_svg(
     path: &Path,
     rasters: &[(f64, Vec<Vec<Option<&str>>>)],
@@ -149,7 +149,7 @@ fn overlay_curves<DB: DrawingBackend>(
 /// Fig. 8: the class of each grid cell, one panel per beta, with the SN, BP and PD curves.
 ///
 /// # Errors
-/// [`Error::Plot`] if the file cannot be written.
+/// [`crate::Error::Plot`] if the file cannot be written.
 pub fn class_grid_svg(
     path: &Path,
     omegas: &[f64],
@@ -201,7 +201,7 @@ pub type GroupPanel<'a> = (f64, Vec<(&'a str, Vec<f64>)>);
 /// Fig. 9: probability heat maps per group and beta (rows: groups; columns: beta).
 ///
 /// # Errors
-/// [`Error::Plot`] if the file cannot be written.
+/// [`crate::Error::Plot`] if the file cannot be written.
 pub fn probability_grid_svg(
     path: &Path,
     panels: &[GroupPanel<'_>],
@@ -250,7 +250,7 @@ pub fn probability_grid_svg(
 /// Fig. 10: group probabilities against each binned variable.
 ///
 /// # Errors
-/// [`Error::Plot`] if the file cannot be written.
+/// [`crate::Error::Plot`] if the file cannot be written.
 #[allow(clippy::type_complexity)]
 pub fn marginals_svg(
     path: &Path,
