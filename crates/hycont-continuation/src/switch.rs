@@ -7,7 +7,7 @@ use hycont_core::problem::Problem;
 
 /// The sparsity pattern of the augmented Jacobian $[J; r^\top]$ of a problem with one more
 /// unknown than equations (a dense last row), and the number of entries of $J$ (which come
-/// first in its values).
+/// first in its values). The problem's local blocks are condensed (the last row borders them).
 ///
 /// # Errors
 /// [`Error::NotOneDimensional`] if the problem does not have one more unknown than equations.
@@ -22,7 +22,8 @@ pub(crate) fn augmented_pattern(problem: &Problem<'_>) -> Result<(SparsePattern,
     let mut entries = problem.jacobian_entries();
     let k = entries.len();
     entries.extend((0..n).map(|j| (m, j)));
-    Ok((SparsePattern::new(n, n, &entries)?, k))
+    let blocks = problem.elimination_blocks();
+    Ok((SparsePattern::with_blocks(n, n, &entries, &blocks)?, k))
 }
 
 /// At a (located) branch point `u` of a branch with tangent `t`, the direction of the other

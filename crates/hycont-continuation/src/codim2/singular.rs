@@ -18,9 +18,9 @@
 //! second derivatives of the system. The borders are refreshed to the current null vectors at
 //! every exact evaluation (a converged point), which leaves the curve unchanged.
 
-use hycont_core::linalg::SparsePattern;
+use hycont_core::linalg::{EliminationBlock, SparsePattern};
 use hycont_core::orbit::OrbitEquations;
-use hycont_core::problem::{JacobianHints, JacobianUse, ZeroFunction};
+use hycont_core::problem::{JacobianHints, JacobianUse, LocalBlock, ZeroFunction};
 use hycont_core::{Error, Result};
 
 /// The orbit equations plus the singularity condition of the closure-scaled Jacobian.
@@ -86,7 +86,16 @@ impl<'a> SingularClosure<'a> {
         entries.extend((0..m).map(|i| (i, m)));
         entries.extend((0..m).map(|j| (m, j)));
         entries.push((m, m));
-        let bordered = SparsePattern::new(m + 1, m + 1, &entries)?;
+        // The inner part's local blocks, bordered by the last row and column.
+        let blocks: Vec<EliminationBlock> = inner
+            .local_blocks()
+            .into_iter()
+            .map(|b| EliminationBlock {
+                rows: b.equations.collect(),
+                cols: b.unknowns.collect(),
+            })
+            .collect();
+        let bordered = SparsePattern::with_blocks(m + 1, m + 1, &entries, &blocks)?;
         let mut me = Self {
             inner,
             factor,
@@ -171,6 +180,9 @@ impl ZeroFunction for SingularClosure<'_> {
     }
     fn equations(&self) -> usize {
         self.m + 1
+    }
+    fn local_blocks(&self) -> Vec<LocalBlock> {
+        self.inner.local_blocks()
     }
     fn jacobian_pattern(&self) -> Vec<(usize, usize)> {
         let mut p = self.pattern.clone();

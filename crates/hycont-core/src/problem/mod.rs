@@ -12,103 +12,15 @@
 //! ([`crate::linalg::SparsePattern`]) and reused by every Newton step ([`newton`]).
 
 mod newton;
+mod parts;
 
 pub use newton::{NewtonIteration, NewtonSettings, NewtonSolution, newton};
+pub use parts::{
+    JacobianHints, JacobianUse, LocalBlock, MonitorFunction, UnknownMonitor, ZeroFunction,
+};
 
 use crate::error::{Error, Result, check_finite, check_len};
-use crate::linalg::SparsePattern;
-
-/// A block of equations over a list of the problem's unknowns.
-pub trait ZeroFunction {
-    /// Number of unknowns the part reads (the length of its local `u`).
-    fn unknowns(&self) -> usize;
-    /// Number of equations.
-    fn equations(&self) -> usize;
-    /// The Jacobian's non-zero entries as `(equation, local unknown)` pairs; fixed for the life
-    /// of the part.
-    fn jacobian_pattern(&self) -> Vec<(usize, usize)>;
-    /// Evaluates the residual (length [`ZeroFunction::equations`]) and, if asked, the Jacobian's
-    /// values in the order of [`ZeroFunction::jacobian_pattern`].
-    ///
-    /// # Errors
-    /// If the evaluation fails (e.g. an integration error in shooting).
-    fn evaluate(
-        &mut self,
-        u: &[f64],
-        residual: &mut [f64],
-        jacobian: Option<&mut [f64]>,
-    ) -> Result<()>;
-
-    /// Like [`ZeroFunction::evaluate`] with hints on the Jacobian: which local unknowns the
-    /// problem holds fixed, and what the Jacobian is for. Parts may use them to save work (see
-    /// [`JacobianHints`]); the residual must be exact. The default evaluates everything.
-    ///
-    /// # Errors
-    /// As [`ZeroFunction::evaluate`].
-    fn evaluate_hinted(
-        &mut self,
-        u: &[f64],
-        residual: &mut [f64],
-        jacobian: Option<&mut [f64]>,
-        hints: JacobianHints<'_>,
-    ) -> Result<()> {
-        let _ = hints;
-        self.evaluate(u, residual, jacobian)
-    }
-}
-
-/// What a Jacobian evaluation is for.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-pub enum JacobianUse {
-    /// Everything: tangents, determinants, Floquet multipliers from the linearisation. As
-    /// accurate as the residual.
-    #[default]
-    Exact,
-    /// A Newton (chord) direction only. An approximate Jacobian changes the convergence rate,
-    /// not the solution (the exact residual decides convergence), so a part may compute it more
-    /// cheaply; shooting integrates the variational equations at a looser tolerance.
-    NewtonDirection,
-}
-
-/// Hints passed to [`ZeroFunction::evaluate_hinted`].
-#[derive(Debug, Clone, Copy)]
-pub struct JacobianHints<'a> {
-    /// `held[j]`: local unknown `j` is held fixed by the problem (an inactive monitor of that
-    /// unknown alone, at its value). Newton steps, tangents and the determinant's sign do not
-    /// depend on the Jacobian's entries in held columns (the monitor's row pins the unknown's
-    /// change to zero), so they may be left zero where expensive (shooting: a parameter's
-    /// sensitivities).
-    pub held: &'a [bool],
-    /// What the Jacobian is for.
-    pub purpose: JacobianUse,
-}
-
-/// A scalar function $\psi(u)$ of some of the problem's unknowns.
-pub trait MonitorFunction {
-    /// Number of unknowns the monitor reads.
-    fn unknowns(&self) -> usize;
-    /// The value, and the gradient (length [`MonitorFunction::unknowns`]) if asked.
-    ///
-    /// # Errors
-    /// If the evaluation fails.
-    fn evaluate(&mut self, u: &[f64], gradient: Option<&mut [f64]>) -> Result<f64>;
-}
-
-/// A monitor of a single unknown: $\psi(u) = u_0$ (how parameters enter a problem).
-#[derive(Debug, Clone, Copy, Default)]
-pub struct UnknownMonitor;
-
-impl MonitorFunction for UnknownMonitor {
-    fn unknowns(&self) -> usize {
-        1
-    }
-    fn evaluate(&mut self, u: &[f64], gradient: Option<&mut [f64]>) -> Result<f64> {
-        if let Some(g) = gradient {
-            g[0] = 1.0;
-        }
-        Ok(u[0])
-    }
-}
+use crate::linalg::{EliminationBlock, SparsePattern};
 
 /// Handle of a part of a [`Problem`].
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -400,18 +312,47 @@ impl<'a> Problem<'a> {
         entries
     }
 
-    /// The sparse pattern of the Jacobian (built, with its symbolic analysis, on first use).
+    /// The parts' [`LocalBlock`]s in the problem's rows and unknowns.
+    #[must_use]
+    pub fn elimination_blocks(&self) -> Vec<EliminationBlock> {
+        self.parts
+            .iter()
+            .flat_map(|part| {
+                // Indices outside the part become out of range (refused by the pattern).
+                let rows = part.function.equations();
+                part.function
+                    .local_blocks()
+                    .into_iter()
+                    .map(move |b| EliminationBlock {
+                        rows: b
+                            .equations
+                            .map(|r| if r < rows { part.row + r } else { usize::MAX })
+                            .collect(),
+                        cols: b
+                            .unknowns
+                            .map(|c| part.unknowns.get(c).copied().unwrap_or(usize::MAX))
+                            .collect(),
+                    })
+            })
+            .collect()
+    }
+
+    /// The sparse pattern of the Jacobian (built, with its symbolic analysis, on first use);
+    /// a square problem condenses its parts' [`LocalBlock`]s.
     ///
     /// # Errors
-    /// If the pattern is invalid.
+    /// If the pattern is invalid, or a part's local blocks are (out of range, overlapping, read
+    /// by another block's equations).
     pub fn pattern(&mut self) -> Result<&mut SparsePattern> {
         if self.pattern.is_none() {
             let entries = self.global_pattern();
-            self.pattern = Some(SparsePattern::new(
-                self.equations(),
-                self.unknowns(),
-                &entries,
-            )?);
+            let (m, n) = (self.equations(), self.unknowns());
+            let blocks = if m == n {
+                self.elimination_blocks()
+            } else {
+                Vec::new()
+            };
+            self.pattern = Some(SparsePattern::with_blocks(m, n, &entries, &blocks)?);
         }
         Ok(self.pattern.as_mut().expect("pattern built above"))
     }

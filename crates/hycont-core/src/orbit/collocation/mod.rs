@@ -18,7 +18,7 @@ use super::floquet::Floquet;
 use super::signature::Signature;
 use super::{OrbitSolution, PeriodicOrbit};
 use crate::error::{Error, Result};
-use crate::problem::{NewtonSettings, Problem, ZeroFunction, newton};
+use crate::problem::{LocalBlock, NewtonSettings, Problem, ZeroFunction, newton};
 use crate::simulate::{SimulationSettings, Simulator};
 use crate::system::{HybridJacobians, Mode};
 use basis::Basis;
@@ -188,6 +188,26 @@ impl<S: HybridJacobians + ?Sized> ZeroFunction for Collocation<'_, S> {
 
     fn equations(&self) -> usize {
         self.row_offset(self.signature.len())
+    }
+
+    /// The interior nodes of each mesh interval, read only by that interval's `ncol * n`
+    /// collocation equations (none for `ncol == 1`).
+    fn local_blocks(&self) -> Vec<LocalBlock> {
+        let (n, ncol) = (self.n, self.basis.ncol);
+        let mut out = Vec::new();
+        if ncol < 2 {
+            return out;
+        }
+        for k in 0..self.signature.len() {
+            let (off, r0) = (self.segment_offset(k), self.row_offset(k));
+            for j in 0..self.meshes[k].len() - 1 {
+                out.push(LocalBlock {
+                    equations: r0 + j * ncol * n..r0 + (j + 1) * ncol * n,
+                    unknowns: off + (j * ncol + 1) * n..off + (j + 1) * ncol * n,
+                });
+            }
+        }
+        out
     }
 
     fn jacobian_pattern(&self) -> Vec<(usize, usize)> {

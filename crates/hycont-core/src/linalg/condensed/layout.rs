@@ -1,0 +1,269 @@
+//! Where every entry of a condensed pattern goes: the dense blocks, the border rows, the
+//! pinned columns (singleton rows), or the reduced system.
+
+use super::{Block, Border, Condensed, Dest, Pin, Routes};
+use crate::error::{Error, Result};
+use crate::linalg::sparse_lu::SparseLu;
+use crate::linalg::{EliminationBlock, permutation_sign};
+
+const NONE: usize = usize::MAX;
+
+fn bad(blocks: &[EliminationBlock], reason: &'static str) -> Error {
+    Error::InvalidSetting {
+        name: "elimination blocks",
+        value: blocks.len() as f64,
+        reason,
+    }
+}
+
+/// Which block owns each row and column (`NONE` for none).
+fn owners(n: usize, blocks: &[EliminationBlock]) -> Result<(Vec<usize>, Vec<usize>)> {
+    let mut row = vec![NONE; n];
+    let mut col = vec![NONE; n];
+    for (b, blk) in blocks.iter().enumerate() {
+        if blk.cols.is_empty() || blk.rows.len() < blk.cols.len() {
+            return Err(bad(
+                blocks,
+                "each block needs unknowns and at least as many equations",
+            ));
+        }
+        for (list, owner) in [(&blk.rows, &mut row), (&blk.cols, &mut col)] {
+            for &i in list {
+                match owner.get_mut(i) {
+                    Some(slot) if *slot == NONE => *slot = b,
+                    Some(_) => return Err(bad(blocks, "blocks overlap or repeat an index")),
+                    None => return Err(bad(blocks, "an index is out of range")),
+                }
+            }
+        }
+    }
+    Ok((row, col))
+}
+
+/// Rows outside the blocks with a single (structural) entry, in a column outside the blocks:
+/// `pin_of_row[r]`/`pin_of_col[c]` give the pin's index. One pin per column.
+fn pins(
+    n: usize,
+    entries: &[(usize, usize)],
+    row_owner: &[usize],
+    col_owner: &[usize],
+) -> (Vec<Pin>, Vec<usize>, Vec<usize>) {
+    let (mut first, mut multi) = (vec![NONE; n], vec![false; n]);
+    for &(r, c) in entries {
+        if first[r] == NONE {
+            first[r] = c;
+        } else if first[r] != c {
+            multi[r] = true;
+        }
+    }
+    let (mut pin_of_row, mut pin_of_col) = (vec![NONE; n], vec![NONE; n]);
+    let mut pins = Vec::new();
+    for r in 0..n {
+        let c = first[r];
+        let single = row_owner[r] == NONE && !multi[r] && c != NONE;
+        if single && col_owner[c] == NONE && pin_of_col[c] == NONE {
+            pin_of_row[r] = pins.len();
+            pin_of_col[c] = pins.len();
+            pins.push(Pin { row: r, col: c });
+        }
+    }
+    (pins, pin_of_row, pin_of_col)
+}
+
+impl Condensed {
+    /// The condensed layout of a square pattern.
+    pub(in crate::linalg) fn new(
+        n: usize,
+        entries: &[(usize, usize)],
+        specs: &[EliminationBlock],
+    ) -> Result<Self> {
+        let (row_owner, col_owner) = owners(n, specs)?;
+        let (pins, pin_of_row, pin_of_col) = pins(n, entries, &row_owner, &col_owner);
+        // Reduced numbering: the rows left in each block (in block order), then the free rows;
+        // the kept columns in order.
+        let kept: Vec<usize> = (0..n)
+            .filter(|&j| col_owner[j] == NONE && pin_of_col[j] == NONE)
+            .collect();
+        let mut red_col = vec![NONE; n];
+        for (k, &j) in kept.iter().enumerate() {
+            red_col[j] = k;
+        }
+        let mut blocks = Vec::with_capacity(specs.len());
+        let (mut schur_row, mut top) = (0, 0);
+        for s in specs {
+            blocks.push(Block::new(s, schur_row, top));
+            schur_row += s.rows.len() - s.cols.len();
+            top += s.cols.len();
+        }
+        let free: Vec<usize> = (0..n)
+            .filter(|&i| row_owner[i] == NONE && pin_of_row[i] == NONE)
+            .collect();
+        let mut red_row = vec![NONE; n];
+        for (k, &i) in free.iter().enumerate() {
+            red_row[i] = schur_row + k;
+        }
+        // Kept columns each block reads; block columns each free row reads.
+        let mut borders: Vec<Vec<usize>> = vec![Vec::new(); specs.len()];
+        let mut read = vec![false; n];
+        for &(r, c) in entries {
+            let (rb, cb) = (row_owner[r], col_owner[c]);
+            if rb != NONE && cb == NONE && red_col[c] != NONE {
+                blocks[rb].other.push(red_col[c]);
+            } else if rb != NONE && cb == rb {
+                read[c] = true;
+            } else if rb != NONE && cb != NONE {
+                return Err(bad(
+                    specs,
+                    "a block's unknowns appear in another block's equations",
+                ));
+            } else if rb == NONE && cb != NONE {
+                borders[cb].push(r);
+            }
+        }
+        let mut red_entries: Vec<(usize, usize)> = Vec::new();
+        let mut dense_len = 0;
+        let mut border_len = 0;
+        for (blk, rows) in blocks.iter_mut().zip(&mut borders) {
+            if blk.cols.iter().any(|&j| !read[j]) {
+                return Err(bad(specs, "a block's unknown is not read by its equations"));
+            }
+            blk.other.sort_unstable();
+            blk.other.dedup();
+            blk.at = dense_len;
+            dense_len += blk.m() * blk.w();
+            blk.schur_entries = red_entries.len();
+            for s in 0..blk.m() - blk.c() {
+                red_entries.extend(blk.other.iter().map(|&rc| (blk.schur_row + s, rc)));
+            }
+            rows.sort_unstable();
+            rows.dedup();
+            for &r in rows.iter() {
+                blk.borders.push(Border {
+                    row: r,
+                    red_row: red_row[r],
+                    at: border_len,
+                    entries: red_entries.len(),
+                });
+                border_len += blk.c();
+                red_entries.extend(blk.other.iter().map(|&rc| (red_row[r], rc)));
+            }
+        }
+        if u32::try_from(entries.len()).is_err() {
+            return Err(bad(specs, "condensation handles at most 2^32 entries"));
+        }
+        let mut me = Self {
+            entries: entries.len(),
+            routes: Routes::default(),
+            pin_entries: Vec::new(),
+            pin_vals: Vec::new(),
+            reduced: SparseLu::new(0, 0, &[])?,
+            red_vals: Vec::new(),
+            dense: vec![0.0; dense_len],
+            border: vec![0.0; border_len],
+            free_rows: free.iter().map(|&i| (i, red_row[i])).collect(),
+            col_sign: 1.0,
+            row_order: vec![0; n],
+            rhs: vec![0.0; n],
+            red_rhs: vec![0.0; kept.len()],
+            top: vec![0.0; top],
+            pivots: vec![0.0; top + pins.len()],
+            pins,
+            blocks,
+            kept,
+        };
+        let ctx = Numbering {
+            row_owner: &row_owner,
+            col_owner: &col_owner,
+            pin_of_row: &pin_of_row,
+            pin_of_col: &pin_of_col,
+            red_row: &red_row,
+            red_col: &red_col,
+        };
+        let dest = me.route(entries, &ctx, &mut red_entries);
+        me.routes = Routes::new(&dest, top);
+        let nred = me.kept.len();
+        me.reduced = SparseLu::new(nred, nred, &red_entries)?;
+        me.red_vals = vec![0.0; red_entries.len()];
+        let col_order: Vec<usize> = (me.pins.iter().map(|p| p.col))
+            .chain(specs.iter().flat_map(|s| s.cols.iter().copied()))
+            .chain(me.kept.iter().copied())
+            .collect();
+        me.col_sign = permutation_sign(&col_order);
+        Ok(me)
+    }
+
+    /// Sets the destination of every entry.
+    fn route(
+        &mut self,
+        entries: &[(usize, usize)],
+        ctx: &Numbering<'_>,
+        red_entries: &mut Vec<(usize, usize)>,
+    ) -> Vec<Dest> {
+        let mut out = Vec::with_capacity(entries.len());
+        let mut local = vec![NONE; ctx.row_owner.len()];
+        for blk in &self.blocks {
+            for (k, &j) in blk.cols.iter().enumerate() {
+                local[j] = k;
+            }
+        }
+        for &(r, c) in entries {
+            let (rb, cb) = (ctx.row_owner[r], ctx.col_owner[c]);
+            let pin = ctx.pin_of_col[c];
+            let dest = if pin != NONE && ctx.pin_of_row[r] == pin {
+                Dest::Pivot(pin)
+            } else if pin != NONE {
+                self.pin_entries.push((pin, r));
+                Dest::PinColumn(self.pin_entries.len() - 1)
+            } else if rb != NONE {
+                let blk = &self.blocks[rb];
+                let i = blk
+                    .rows
+                    .iter()
+                    .position(|&x| x == r)
+                    .expect("row of its block");
+                let j = if cb == rb {
+                    local[c]
+                } else {
+                    let k = blk.other.binary_search(&ctx.red_col[c]);
+                    blk.c() + k.expect("the block's kept columns are listed")
+                };
+                Dest::Dense(blk.at + i + j * blk.m())
+            } else if cb != NONE {
+                let blk = &self.blocks[cb];
+                let bd = blk.borders.iter().find(|bd| bd.row == r);
+                Dest::Border(bd.expect("a border row of its block").at + local[c])
+            } else {
+                red_entries.push((ctx.red_row[r], ctx.red_col[c]));
+                Dest::Reduced(red_entries.len() - 1)
+            };
+            out.push(dest);
+        }
+        out
+    }
+}
+
+/// The numbering maps [`Condensed::route`] needs.
+struct Numbering<'a> {
+    row_owner: &'a [usize],
+    col_owner: &'a [usize],
+    pin_of_row: &'a [usize],
+    pin_of_col: &'a [usize],
+    red_row: &'a [usize],
+    red_col: &'a [usize],
+}
+
+impl Block {
+    fn new(s: &EliminationBlock, schur_row: usize, top: usize) -> Self {
+        Self {
+            rows: s.rows.clone(),
+            cols: s.cols.clone(),
+            other: Vec::new(),
+            perm: (0..s.rows.len()).collect(),
+            at: 0,
+            schur_row,
+            schur_entries: 0,
+            top,
+            borders: Vec::new(),
+        }
+    }
+}

@@ -1,0 +1,380 @@
+//! LU by condensation of local unknowns (AUTO's and COCO's treatment of collocation systems),
+//! then a sparse LU of the small reduced system.
+//!
+//! Each [`EliminationBlock`] is a set $C_b$ of columns that no row of another block touches and a
+//! set $R_b$ of rows with $|R_b| \ge |C_b|$. Rows outside the blocks with a single entry
+//! (parameters held by a monitor) *pin* their column $D$. Order rows as $[E; P; Q]$ and columns as
+//! $[D; C; K]$, where $E$ are the pinned rows, $P_b \subset R_b$ the rows chosen as pivots by
+//! Gaussian elimination with partial pivoting of the dense block $A[R_b, C_b]$, $C$ all block
+//! columns and $K$ the kept ones:
+//! $$\Pi_r A \Pi_c = \begin{pmatrix} \Delta & 0 & 0 \\ \ast & X & Y \\ \ast & Z & W
+//! \end{pmatrix}, \quad \Delta \text{ diagonal}, \quad X = \operatorname{diag}(X_b),\
+//! X_b = L_b U_b,$$
+//! $$\det A = \operatorname{sgn}\Pi_r \operatorname{sgn}\Pi_c \det\Delta \prod_b \det U_b\,
+//! \det S, \qquad S = W - Z X^{-1} Y.$$
+//! The Schur complement $S$ (over $Q \times K$) touches only the rows that remain of each block
+//! and the *border rows* (rows outside every block that touch a block's columns, e.g. an
+//! arclength row): each gets $-\,g^\top X_b^{-1} Y_b$ on the kept columns $O_b$ its block reads.
+//! Each block is a small dense matrix $|R_b| \times (|C_b| + |O_b|)$ factorised in place; $S$ is
+//! factorised by [`super::sparse_lu::SparseLu`] (symbolic analysis once). Solves fix the pinned
+//! unknowns, forward-eliminate block by block, solve with $S$ and back-substitute.
+
+mod layout;
+
+use super::dense::{dot, eliminate, solve_upper, solve_upper_transpose};
+use super::permutation_sign;
+use super::sparse_lu::SparseLu;
+use crate::error::Result;
+
+/// Where an entry's value goes.
+#[derive(Debug, Clone, Copy)]
+enum Dest {
+    /// Into a dense block (absolute position in `dense`).
+    Dense(usize),
+    /// Into a border row's block columns (position in `border`).
+    Border(usize),
+    /// Into the reduced system (its entry index).
+    Reduced(usize),
+    /// A pinned row's only entry (the pin's index).
+    Pivot(usize),
+    /// Another entry of a pinned column (index into `pin_entries`).
+    PinColumn(usize),
+}
+
+/// `(entry, position)` pairs by destination (one tight loop each when values are scattered);
+/// pivots of pins are stored after the blocks' pivots.
+#[derive(Debug, Default)]
+struct Routes {
+    dense: Vec<(u32, usize)>,
+    border: Vec<(u32, usize)>,
+    reduced: Vec<(u32, usize)>,
+    pivot: Vec<(u32, usize)>,
+    pin_column: Vec<(u32, usize)>,
+}
+
+impl Routes {
+    fn new(dest: &[Dest], pin0: usize) -> Self {
+        let mut r = Self::default();
+        for (e, d) in dest.iter().enumerate() {
+            let e = u32::try_from(e).expect("at most 2^32 entries");
+            match *d {
+                Dest::Dense(p) => r.dense.push((e, p)),
+                Dest::Border(p) => r.border.push((e, p)),
+                Dest::Reduced(p) => r.reduced.push((e, p)),
+                Dest::Pivot(p) => r.pivot.push((e, pin0 + p)),
+                Dest::PinColumn(p) => r.pin_column.push((e, p)),
+            }
+        }
+        r
+    }
+}
+
+/// A row outside the blocks with one entry, and its column.
+#[derive(Debug, Clone, Copy)]
+struct Pin {
+    row: usize,
+    col: usize,
+}
+
+/// A border row of one block.
+#[derive(Debug)]
+struct Border {
+    row: usize,
+    /// Its index in the reduced system.
+    red_row: usize,
+    /// Start of its `|C_b|` values in `border` ($g$, then $y = U_b^{-\top} g$).
+    at: usize,
+    /// First of its `|O_b|` entries in the reduced system.
+    entries: usize,
+}
+
+#[derive(Debug)]
+struct Block {
+    rows: Vec<usize>,
+    cols: Vec<usize>,
+    /// Reduced columns of the kept columns the block's rows read.
+    other: Vec<usize>,
+    /// Row order after pivoting (local indices into `rows`).
+    perm: Vec<usize>,
+    /// Start of the column-major `rows.len() x (cols.len() + other.len())` storage in `dense`.
+    at: usize,
+    /// First reduced row of the rows left after elimination.
+    schur_row: usize,
+    /// First reduced entry of those rows (row-major, `other.len()` per row).
+    schur_entries: usize,
+    /// Start of the block's `cols.len()` values in `top` (and its pivots in `pivots`).
+    top: usize,
+    borders: Vec<Border>,
+}
+
+impl Block {
+    fn m(&self) -> usize {
+        self.rows.len()
+    }
+    fn c(&self) -> usize {
+        self.cols.len()
+    }
+    fn w(&self) -> usize {
+        self.cols.len() + self.other.len()
+    }
+}
+
+/// The condensed factorisation of one pattern.
+#[derive(Debug)]
+pub(super) struct Condensed {
+    blocks: Vec<Block>,
+    pins: Vec<Pin>,
+    entries: usize,
+    routes: Routes,
+    dense: Vec<f64>,
+    border: Vec<f64>,
+    /// `(pin, row)` of the other entries of pinned columns, and their values (`pin_vals`).
+    pin_entries: Vec<(usize, usize)>,
+    pin_vals: Vec<f64>,
+    reduced: SparseLu,
+    red_vals: Vec<f64>,
+    /// `(row, reduced row)` of the rows outside every block.
+    free_rows: Vec<(usize, usize)>,
+    /// Original column of each reduced column.
+    kept: Vec<usize>,
+    col_sign: f64,
+    /// Work space: row order of the last factorisation, right-hand sides.
+    row_order: Vec<usize>,
+    rhs: Vec<f64>,
+    red_rhs: Vec<f64>,
+    top: Vec<f64>,
+    /// The blocks' pivots (at each block's `top`), then the pins'.
+    pivots: Vec<f64>,
+}
+
+/// Outcome of a condensed factorisation.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(super) enum Condensation {
+    /// Factorised.
+    Done,
+    /// A block or pin is numerically singular on its own: factorise the whole matrix instead.
+    SingularBlock,
+}
+
+impl Condensed {
+    /// Condenses the blocks and factorises the reduced system.
+    pub(super) fn factorize(&mut self, values: &[f64]) -> Result<Condensation> {
+        crate::error::check_len("sparse values", values, self.entries)?;
+        self.dense.fill(0.0);
+        self.border.fill(0.0);
+        self.red_vals.fill(0.0);
+        self.pin_vals.resize(self.pin_entries.len(), 0.0);
+        self.pin_vals.fill(0.0);
+        let pin0 = self.top.len();
+        self.pivots[pin0..].fill(0.0);
+        let r = &self.routes;
+        for (to, list) in [
+            (&mut self.dense, &r.dense),
+            (&mut self.border, &r.border),
+            (&mut self.red_vals, &r.reduced),
+            (&mut self.pivots, &r.pivot),
+            (&mut self.pin_vals, &r.pin_column),
+        ] {
+            for &(e, p) in list {
+                to[p] += values[e as usize];
+            }
+        }
+        if self.pivots[pin0..].iter().any(|p| !(p.abs() > 0.0)) {
+            return Ok(Condensation::SingularBlock);
+        }
+        for blk in &mut self.blocks {
+            let a = &mut self.dense[blk.at..blk.at + blk.m() * blk.w()];
+            let pivots = &mut self.pivots[blk.top..blk.top + blk.c()];
+            if !eliminate(a, (blk.m(), blk.c(), blk.w()), &mut blk.perm, pivots) {
+                return Ok(Condensation::SingularBlock);
+            }
+            schur_into(blk, &self.dense, &mut self.border, &mut self.red_vals);
+        }
+        self.reduced.factorize(&self.red_vals)?;
+        self.order_rows();
+        Ok(Condensation::Done)
+    }
+
+    /// Row order `[E, P_1 .. P_B, rows left in each block, free rows]` of the factorisation.
+    fn order_rows(&mut self) {
+        let order = self
+            .pins
+            .iter()
+            .map(|p| p.row)
+            .chain(
+                self.blocks
+                    .iter()
+                    .flat_map(|b| b.perm[..b.c()].iter().map(|&i| b.rows[i])),
+            )
+            .chain(
+                self.blocks
+                    .iter()
+                    .flat_map(|b| b.perm[b.c()..].iter().map(|&i| b.rows[i])),
+            )
+            .chain(self.free_rows.iter().map(|&(i, _)| i));
+        for (slot, i) in self.row_order.iter_mut().zip(order) {
+            *slot = i;
+        }
+    }
+
+    /// Sign and $\ln|\det|$ of the factorised matrix.
+    pub(super) fn determinant(&self) -> Result<(f64, f64)> {
+        let (mut sign, mut log) = self.reduced.determinant()?;
+        sign *= permutation_sign(&self.row_order) * self.col_sign;
+        for p in &self.pivots {
+            sign *= p.signum();
+            log += p.abs().ln();
+        }
+        Ok((sign, log))
+    }
+
+    /// Solves $A x = b$ in place.
+    pub(super) fn solve(&mut self, b: &mut [f64]) -> Result<()> {
+        self.rhs.copy_from_slice(b);
+        let pin0 = self.top.len();
+        for (k, p) in self.pins.iter().enumerate() {
+            b[p.col] = self.rhs[p.row] / self.pivots[pin0 + k];
+        }
+        for (&(k, r), a) in self.pin_entries.iter().zip(&self.pin_vals) {
+            self.rhs[r] -= a * b[self.pins[k].col];
+        }
+        for blk in &self.blocks {
+            let (m, c) = (blk.m(), blk.c());
+            let a = &self.dense[blk.at..blk.at + m * blk.w()];
+            let t = &mut self.top[blk.top..blk.top + c];
+            // Forward elimination: the pivot rows into `top`, the rows left into the reduced
+            // right-hand side.
+            let rest = &mut self.red_rhs[blk.schur_row..blk.schur_row + m - c];
+            for (i, &p) in blk.perm.iter().enumerate() {
+                let v = self.rhs[blk.rows[p]];
+                if i < c {
+                    t[i] = v;
+                } else {
+                    rest[i - c] = v;
+                }
+            }
+            for k in 0..c {
+                let tk = t[k];
+                if tk != 0.0 {
+                    let col = &a[k * m..(k + 1) * m];
+                    for (ti, l) in t[k + 1..].iter_mut().zip(&col[k + 1..c]) {
+                        *ti -= l * tk;
+                    }
+                    for (ri, l) in rest.iter_mut().zip(&col[c..]) {
+                        *ri -= l * tk;
+                    }
+                }
+            }
+        }
+        for &(i, r) in &self.free_rows {
+            self.red_rhs[r] = self.rhs[i];
+        }
+        for blk in &self.blocks {
+            let t = &self.top[blk.top..blk.top + blk.c()];
+            for bd in &blk.borders {
+                self.red_rhs[bd.red_row] -= dot(&self.border[bd.at..bd.at + blk.c()], t);
+            }
+        }
+        self.reduced.solve(&mut self.red_rhs, 1, false)?;
+        for (k, &j) in self.kept.iter().enumerate() {
+            b[j] = self.red_rhs[k];
+        }
+        for blk in &self.blocks {
+            let (m, c) = (blk.m(), blk.c());
+            let a = &self.dense[blk.at..blk.at + m * blk.w()];
+            let t = &mut self.top[blk.top..blk.top + c];
+            // t <- t - W' x_O, then U x_C = t.
+            for (k, &rc) in blk.other.iter().enumerate() {
+                let xo = self.red_rhs[rc];
+                if xo != 0.0 {
+                    for (ti, wi) in t.iter_mut().zip(&a[(c + k) * m..(c + k) * m + c]) {
+                        *ti -= wi * xo;
+                    }
+                }
+            }
+            solve_upper(a, m, t);
+            for (&j, &x) in blk.cols.iter().zip(t.iter()) {
+                b[j] = x;
+            }
+        }
+        Ok(())
+    }
+
+    /// Solves $A^\top z = d$ in place.
+    pub(super) fn solve_transpose(&mut self, d: &mut [f64]) -> Result<()> {
+        self.rhs.copy_from_slice(d);
+        for (k, &j) in self.kept.iter().enumerate() {
+            self.red_rhs[k] = self.rhs[j];
+        }
+        for blk in &self.blocks {
+            let (m, c) = (blk.m(), blk.c());
+            let a = &self.dense[blk.at..blk.at + m * blk.w()];
+            let v = &mut self.top[blk.top..blk.top + c];
+            // U^T v = d_C, then d_K[O] -= W'^T v.
+            for (vk, &j) in v.iter_mut().zip(&blk.cols) {
+                *vk = self.rhs[j];
+            }
+            solve_upper_transpose(a, m, v);
+            for (k, &rc) in blk.other.iter().enumerate() {
+                self.red_rhs[rc] -= dot(&a[(c + k) * m..(c + k) * m + c], v);
+            }
+        }
+        self.reduced.solve(&mut self.red_rhs, 1, true)?;
+        for &(i, r) in &self.free_rows {
+            d[i] = self.red_rhs[r];
+        }
+        for blk in &self.blocks {
+            let (m, c) = (blk.m(), blk.c());
+            let a = &self.dense[blk.at..blk.at + m * blk.w()];
+            let v = &mut self.top[blk.top..blk.top + c];
+            for bd in &blk.borders {
+                let zr = self.red_rhs[bd.red_row];
+                for (vk, y) in v.iter_mut().zip(&self.border[bd.at..bd.at + c]) {
+                    *vk -= y * zr;
+                }
+            }
+            // z = [z_P; z_S] with L^T z = v on the pivot rows: z_k = v_k - sum_{i > k} L_ik z_i.
+            let rest = &self.red_rhs[blk.schur_row..blk.schur_row + m - c];
+            for k in (0..c).rev() {
+                let col = &a[k * m..(k + 1) * m];
+                v[k] -= dot(&col[k + 1..c], &v[k + 1..c]) + dot(&col[c..m], rest);
+            }
+            for (i, &p) in blk.perm.iter().enumerate() {
+                d[blk.rows[p]] = if i < c { v[i] } else { rest[i - c] };
+            }
+        }
+        // Pinned rows last: Delta z_E = d_D - (other entries of the pinned columns)^T z.
+        let pin0 = self.top.len();
+        for p in &self.pins {
+            d[p.row] = self.rhs[p.col];
+        }
+        for (&(k, r), a) in self.pin_entries.iter().zip(&self.pin_vals) {
+            d[self.pins[k].row] -= a * d[r];
+        }
+        for (k, p) in self.pins.iter().enumerate() {
+            d[p.row] /= self.pivots[pin0 + k];
+        }
+        Ok(())
+    }
+}
+
+/// The block's contributions to the reduced system: its rows left after elimination, and the
+/// border rows' updates $-y^\top W'$ with $U^\top y = g$ (`y` kept for the solves).
+fn schur_into(blk: &Block, dense: &[f64], border: &mut [f64], red: &mut [f64]) {
+    let (m, c, o) = (blk.m(), blk.c(), blk.other.len());
+    let a = &dense[blk.at..blk.at + m * blk.w()];
+    for s in 0..m - c {
+        let row = &mut red[blk.schur_entries + s * o..blk.schur_entries + (s + 1) * o];
+        for (k, x) in row.iter_mut().enumerate() {
+            *x += a[c + s + (c + k) * m];
+        }
+    }
+    for bd in &blk.borders {
+        let y = &mut border[bd.at..bd.at + c];
+        solve_upper_transpose(a, m, y);
+        let row = &mut red[bd.entries..bd.entries + o];
+        for (k, x) in row.iter_mut().enumerate() {
+            *x -= dot(&a[(c + k) * m..(c + k) * m + c], y);
+        }
+    }
+}
