@@ -161,6 +161,22 @@ pub trait ContinuationProblem<'a> {
     /// # Errors
     /// If the analysis fails (the continuation then shrinks the step).
     fn analyse(&mut self, u: &[f64]) -> hycont_core::Result<PointInfo>;
+    /// [`ContinuationProblem::analyse`] at a point where the continuation has just factorised
+    /// the augmented Jacobian $[J(u); r^\top]$ (`jacobian`; its rows, columns and elimination
+    /// blocks begin with those of [`ContinuationProblem::problem`]). A problem may read what it
+    /// needs off the factorisation (collocation: the multipliers from the condensed intervals);
+    /// the default ignores it.
+    ///
+    /// # Errors
+    /// As [`ContinuationProblem::analyse`].
+    fn analyse_factorised(
+        &mut self,
+        u: &[f64],
+        jacobian: &hycont_core::linalg::SparsePattern,
+    ) -> hycont_core::Result<PointInfo> {
+        let _ = jacobian;
+        self.analyse(u)
+    }
     /// Events to detect and locate (default: none).
     fn monitor_events(&self) -> Vec<MonitorEvent> {
         Vec::new()

@@ -230,13 +230,15 @@ fn badly_declared_blocks_are_refused() {
 
 /// Collocation declares each mesh interval's interior nodes as a local block: on a two-segment
 /// orbit problem (its parameter held by a monitor, a pinned column) the condensed Newton step
-/// and determinant equal those of the plain sparse LU of the same Jacobian, to rounding.
+/// and determinant equal those of the plain sparse LU of the same Jacobian, to rounding, and
+/// the multipliers read off the condensation equal a fresh computation's.
 #[test]
 fn a_collocation_problem_condenses_to_the_plain_lu_steps() {
     use common::Relaxation;
     use hycont_core::orbit::{
         CollocationSettings, PeriodicOrbit, SegmentEnd, SegmentSpec, Signature,
-        collocation_problem, solve_collocation,
+        collocation_floquet, collocation_floquet_factorised, collocation_problem,
+        solve_collocation,
     };
     use hycont_core::problem::NewtonSettings;
     use hycont_core::simulate::SimulationSettings;
@@ -292,4 +294,26 @@ fn a_collocation_problem_condenses_to_the_plain_lu_steps() {
     let (plain_sign, plain_log) = plain.determinant().unwrap();
     assert_eq!(sign, plain_sign);
     assert!((log - plain_log).abs() < 1e-10 * plain_log.abs().max(1.0));
+
+    // At the solution, the multipliers read off the factorisation's condensed intervals equal
+    // those of a fresh condensation; a factorisation that did not condense gives none.
+    let u = problem.initial_unknowns(&sol.unknowns());
+    problem.factorize(&u, &mut res).unwrap();
+    let orbit = &sol.solution.orbit;
+    let fresh = collocation_floquet(&Relaxation, orbit, &sol.meshes, &sol.nodes, ncol).unwrap();
+    let jacobian = problem.pattern().unwrap();
+    let read =
+        collocation_floquet_factorised(&Relaxation, orbit, &sol.meshes, &sol.nodes, ncol, jacobian)
+            .unwrap()
+            .expect("a condensed factorisation");
+    for (a, b) in read.multipliers.iter().zip(&fresh.multipliers) {
+        assert!(
+            (a.0 - b.0).abs() < 1e-12 && (a.1 - b.1).abs() < 1e-12,
+            "{a:?} {b:?}"
+        );
+    }
+    assert_eq!(read.trivial, fresh.trivial);
+    let by_plain =
+        collocation_floquet_factorised(&Relaxation, orbit, &sol.meshes, &sol.nodes, ncol, &plain);
+    assert!(by_plain.unwrap().is_none());
 }

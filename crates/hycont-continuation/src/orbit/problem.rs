@@ -17,7 +17,7 @@ use crate::quantity::{MeasureId, Quantity};
 use crate::switch::branch_switch_direction;
 use crate::{ContinuationProblem, MonitorEvent, PointInfo};
 use hycont_core::orbit::{
-    Closure, Discretisation, LinearizationCache, MeasureSet, OrbitEquations, OrbitMethod,
+    Closure, Discretisation, Floquet, LinearizationCache, MeasureSet, OrbitEquations, OrbitMethod,
     PeriodicOrbit, orbit_problem, symmetric_floquet,
 };
 use hycont_core::problem::{Activity, Problem, ZeroFunction};
@@ -341,6 +341,35 @@ impl<'a, S: HybridJacobians + ?Sized> OrbitContinuation<'a, S> {
         let phi = branch_switch_direction(&mut doubled, &u0, &t)?;
         Ok((doubled, u0, phi))
     }
+
+    /// The point's parameters, monitors and multipliers (the full orbit's on a half orbit).
+    fn info(&mut self, orbit: &PeriodicOrbit, floquet: Floquet) -> hycont_core::Result<PointInfo> {
+        let shortest = orbit
+            .durations
+            .iter()
+            .enumerate()
+            .filter(|(k, _)| Some(*k) != self.collapsed)
+            .map(|(_, d)| *d)
+            .fold(f64::INFINITY, f64::min);
+        // On a half orbit: the full orbit's multipliers and period, and the half map's
+        // symmetry-breaking factor.
+        let (floquet, period, branch_point_factor) = if self.half_of.is_some() {
+            let (half, full) = symmetric_floquet(self.system, orbit, &floquet.monodromy)?;
+            let factor = crate::shifted_product(&half.multipliers, &half.trivial, 1.0);
+            (full, 2.0 * orbit.period(), Some(factor))
+        } else {
+            (floquet, orbit.period(), None)
+        };
+        let mut monitors = vec![period, shortest];
+        monitors.extend(self.measures.evaluate(self.system, orbit)?);
+        Ok(PointInfo {
+            params: orbit.params.clone(),
+            monitors,
+            multipliers: floquet.multipliers,
+            trivial: floquet.trivial,
+            branch_point_factor,
+        })
+    }
 }
 
 fn normalize(t: &mut [f64]) {
@@ -380,31 +409,21 @@ impl<'a, S: HybridJacobians + ?Sized> ContinuationProblem<'a> for OrbitContinuat
         let (orbit, floquet) =
             self.disc
                 .floquet(self.system, &self.like, u, self.cache.as_ref())?;
-        let shortest = orbit
-            .durations
-            .iter()
-            .enumerate()
-            .filter(|(k, _)| Some(*k) != self.collapsed)
-            .map(|(_, d)| *d)
-            .fold(f64::INFINITY, f64::min);
-        // On a half orbit: the full orbit's multipliers and period, and the half map's
-        // symmetry-breaking factor.
-        let (floquet, period, branch_point_factor) = if self.half_of.is_some() {
-            let (half, full) = symmetric_floquet(self.system, &orbit, &floquet.monodromy)?;
-            let factor = crate::shifted_product(&half.multipliers, &half.trivial, 1.0);
-            (full, 2.0 * orbit.period(), Some(factor))
-        } else {
-            (floquet, orbit.period(), None)
-        };
-        let mut monitors = vec![period, shortest];
-        monitors.extend(self.measures.evaluate(self.system, &orbit)?);
-        Ok(PointInfo {
-            params: orbit.params.clone(),
-            monitors,
-            multipliers: floquet.multipliers,
-            trivial: floquet.trivial,
-            branch_point_factor,
-        })
+        self.info(&orbit, floquet)
+    }
+    /// Collocation reads the multipliers off the factorisation's condensed intervals.
+    fn analyse_factorised(
+        &mut self,
+        u: &[f64],
+        jacobian: &hycont_core::linalg::SparsePattern,
+    ) -> hycont_core::Result<PointInfo> {
+        match self
+            .disc
+            .floquet_factorised(self.system, &self.like, u, jacobian)?
+        {
+            Some((orbit, floquet)) => self.info(&orbit, floquet),
+            None => self.analyse(u),
+        }
     }
     /// Collocation: each segment's node values weigh `1 / nodes` (the segment's mean square,
     /// as AUTO's $L_2$ norm, independent of the mesh); shooting's few segment starts, the

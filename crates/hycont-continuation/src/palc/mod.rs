@@ -333,10 +333,12 @@ impl<'p, 'a, P: ContinuationProblem<'a> + ?Sized> Palc<'p, 'a, P> {
         self.tangent_from_factorization()
     }
 
-    /// The chart at a corrected `u`, using the factorisation the corrector left.
+    /// The chart at a corrected `u`, using the factorisation the corrector left (also for the
+    /// analysis, see [`ContinuationProblem::analyse_factorised`]).
     fn chart(&mut self, u: Vec<f64>, _row: &[f64], iterations: usize) -> Result<Chart> {
         let (t, det) = self.tangent_from_factorization()?;
-        let info = self.analyse(&u)?;
+        self.stats.analyses += 1;
+        let info = self.p.analyse_factorised(&u, &self.pattern)?;
         Ok(Chart {
             u,
             t,

@@ -9,6 +9,7 @@ mod eigen;
 mod sparse_lu;
 
 use crate::error::{Error, Result};
+pub use condensed::ReducedRows;
 use condensed::{Condensation, Condensed};
 pub use eigen::{eigenvalues, eigenvectors};
 use faer::sparse::SparseColMat;
@@ -161,6 +162,19 @@ impl SparsePattern {
         self.full.factorize(values)?;
         self.current = Current::Full;
         Ok(())
+    }
+
+    /// The rows [`EliminationBlock`] number `block` (in the order given to
+    /// [`SparsePattern::with_blocks`]) leaves after its unknowns are eliminated, in the last
+    /// factorisation: $n$ equations over the block's other columns equivalent to the block's
+    /// equations (collocation: an interval's transfer from its first node to its last). `None`
+    /// unless the last factorisation was condensed (no blocks, or a block singular on its own).
+    #[must_use]
+    pub fn reduced_rows(&self, block: usize) -> Option<ReducedRows<'_>> {
+        match (self.current, self.condensed.as_ref()) {
+            (Current::Condensed, Some(c)) => c.reduced_rows(block),
+            _ => None,
+        }
     }
 
     /// Whether a factorisation is available for [`SparsePattern::solve_in_place`].

@@ -8,8 +8,8 @@
 //! parameters.
 
 use super::collocation::{
-    Collocation, CollocationSettings, Mesh, collocation_floquet, collocation_pack,
-    collocation_unpack, initial_nodes,
+    Collocation, CollocationSettings, Mesh, collocation_floquet, collocation_floquet_factorised,
+    collocation_pack, collocation_unpack, initial_nodes,
 };
 use super::shooting::{LinearizationCache, Shooting, ShootingSettings};
 use super::{Floquet, PeriodicOrbit, monodromy_by_shooting, monodromy_from_cache, pack, unpack};
@@ -227,6 +227,27 @@ impl Discretisation {
                 Ok((orbit, f))
             }
         }
+    }
+
+    /// [`Discretisation::floquet`] from a factorisation of the problem's Jacobian at `u` that
+    /// has condensed collocation's intervals already (see [`collocation_floquet_factorised`]):
+    /// `Ok(None)` for shooting or when the factorisation cannot be used.
+    ///
+    /// # Errors
+    /// As [`Discretisation::floquet`].
+    pub fn floquet_factorised<S: HybridJacobians + ?Sized>(
+        &self,
+        system: &S,
+        like: &PeriodicOrbit,
+        u: &[f64],
+        jacobian: &crate::linalg::SparsePattern,
+    ) -> Result<Option<(PeriodicOrbit, Floquet)>> {
+        let Self::Collocation { meshes, ncol } = self else {
+            return Ok(None);
+        };
+        let (nodes, orbit) = collocation_unpack(like, meshes, *ncol, u);
+        let f = collocation_floquet_factorised(system, &orbit, meshes, &nodes, *ncol, jacobian)?;
+        Ok(f.map(|f| (orbit, f)))
     }
 
     /// The number of unknowns holding segment states (they come first).

@@ -24,8 +24,8 @@ pub use admissibility::{
 };
 pub use collocation::{
     Collocation, CollocationSettings, CollocationSolution, MAX_NTST, Mesh, collocation_floquet,
-    collocation_pack, collocation_problem, collocation_unpack, gauss_legendre_points,
-    solve_collocation,
+    collocation_floquet_factorised, collocation_pack, collocation_problem, collocation_unpack,
+    gauss_legendre_points, solve_collocation,
 };
 pub use discretisation::{Discretisation, OrbitEquations, OrbitMethod, orbit_problem};
 pub use floquet::{Floquet, NEUTRAL_BAND, saltation_matrix};

@@ -129,6 +129,7 @@ impl Condensed {
             }
             blk.other.sort_unstable();
             blk.other.dedup();
+            blk.other_cols = blk.other.iter().map(|&rc| kept[rc]).collect();
             blk.at = dense_len;
             dense_len += blk.m() * blk.w();
             blk.schur_entries = red_entries.len();
@@ -258,6 +259,7 @@ impl Block {
             rows: s.rows.clone(),
             cols: s.cols.clone(),
             other: Vec::new(),
+            other_cols: Vec::new(),
             perm: (0..s.rows.len()).collect(),
             at: 0,
             schur_row,

@@ -94,6 +94,8 @@ struct Block {
     cols: Vec<usize>,
     /// Reduced columns of the kept columns the block's rows read.
     other: Vec<usize>,
+    /// The same columns' original indices.
+    other_cols: Vec<usize>,
     /// Row order after pivoting (local indices into `rows`).
     perm: Vec<usize>,
     /// Start of the column-major `rows.len() x (cols.len() + other.len())` storage in `dense`.
@@ -156,7 +158,56 @@ pub(super) enum Condensation {
     SingularBlock,
 }
 
+/// The rows a block leaves after its local unknowns are eliminated (see
+/// [`crate::linalg::SparsePattern::reduced_rows`]).
+#[derive(Debug, Clone, Copy)]
+pub struct ReducedRows<'a> {
+    columns: &'a [usize],
+    data: &'a [f64],
+    m: usize,
+    c: usize,
+}
+
+impl ReducedRows<'_> {
+    /// Number of rows left (the block's equations minus its local unknowns).
+    #[must_use]
+    pub fn rows(&self) -> usize {
+        self.m - self.c
+    }
+
+    /// The columns (in increasing order) the rows are over: every column the block's equations
+    /// read apart from its own unknowns and pinned columns.
+    #[must_use]
+    pub fn columns(&self) -> &[usize] {
+        self.columns
+    }
+
+    /// Entry `(row, k)`, `k` indexing [`ReducedRows::columns`].
+    ///
+    /// # Panics
+    /// If `row` or `k` is out of range.
+    #[must_use]
+    pub fn value(&self, row: usize, k: usize) -> f64 {
+        assert!(
+            row < self.rows() && k < self.columns.len(),
+            "index out of range"
+        );
+        self.data[self.c + row + (self.c + k) * self.m]
+    }
+}
+
 impl Condensed {
+    /// Block `b`'s rows left after elimination in the last factorisation.
+    pub(super) fn reduced_rows(&self, b: usize) -> Option<ReducedRows<'_>> {
+        let blk = self.blocks.get(b)?;
+        Some(ReducedRows {
+            columns: &blk.other_cols,
+            data: &self.dense[blk.at..blk.at + blk.m() * blk.w()],
+            m: blk.m(),
+            c: blk.c(),
+        })
+    }
+
     /// Condenses the blocks and factorises the reduced system.
     pub(super) fn factorize(&mut self, values: &[f64]) -> Result<Condensation> {
         crate::error::check_len("sparse values", values, self.entries)?;

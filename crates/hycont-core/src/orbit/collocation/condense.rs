@@ -1,18 +1,24 @@
 //! Floquet multipliers of a collocation solution by condensation of its Jacobian.
+//!
+//! On each mesh interval the linearised collocation equations (durations and parameters fixed)
+//! read $A_I\,\delta x_I + A_0\,\delta x_{j,0} + A_1\,\delta x_{j,\mathrm{ncol}} = 0$ with
+//! $\delta x_I$ the interior nodes. Eliminating $\delta x_I$ leaves $n$ equations
+//! $S_0\,\delta x_{j,0} + S_1\,\delta x_{j,\mathrm{ncol}} = 0$: the interval's transfer matrix is
+//! $Y_j = -S_1^{-1} S_0$, and $\Phi_k = Y_{\mathrm{ntst}-1} \cdots Y_0$ is the discrete flow
+//! Jacobian of segment $k$, combined with the saltation matrices. The rows $[S_0\ S_1]$ come
+//! either from a fresh elimination ([`condensed_floquet`]) or from a factorisation that has
+//! already condensed the intervals ([`factorised_floquet`]).
 
 use super::Mesh;
 use super::basis::Basis;
 use crate::error::{Error, Result};
+use crate::linalg::SparsePattern;
 use crate::linalg::dense::{eliminate, solve_upper};
 use crate::orbit::PeriodicOrbit;
 use crate::orbit::floquet::{Floquet, matmul, saltation};
 use crate::system::HybridJacobians;
 
-/// Multipliers from the collocation Jacobian by condensation: on each mesh interval the
-/// linearised collocation equations $A_0 \delta x_{j,0} + A_1 (\delta x_{j,1}, \dots,
-/// \delta x_{j,\mathrm{ncol}}) = 0$ (durations and parameters fixed) give the interval's transfer
-/// matrix $Y_j$ from its first node to its last; $\Phi_k = Y_{\mathrm{ntst}-1} \cdots Y_0$ is the
-/// discrete flow Jacobian of segment $k$, combined with the saltation matrices.
+/// Multipliers by eliminating each interval's interior nodes afresh.
 pub(super) fn condensed_floquet<S: HybridJacobians + ?Sized>(
     system: &S,
     orbit: &PeriodicOrbit,
@@ -22,84 +28,179 @@ pub(super) fn condensed_floquet<S: HybridJacobians + ?Sized>(
 ) -> Result<Floquet> {
     let n = system.state_dim();
     let basis = Basis::new(ncol);
-    let p = &orbit.params;
-    let mut m = identity(n);
     // One interval's linearised collocation equations, column-major `rows x (interior, first
-    // node, last node)`; eliminating the interior leaves `n` rows [S_0 | S_1] with
-    // S_0 dx_0 + S_1 dx_last = 0, so Y_j = -S_1^{-1} S_0.
+    // node, last node)`.
     let rows = ncol * n;
     let inner = (ncol - 1) * n;
     let width = inner + 2 * n;
     let mut block = vec![0.0; rows * width];
     let mut perm = vec![0; rows];
     let mut pivots = vec![0.0; rows];
-    let mut small = vec![0.0; n * 2 * n];
     let mut xi = vec![0.0; n];
     let mut a = vec![0.0; n * n];
-    let mut next = vec![0.0; n * n];
-    for (k, seg) in orbit.signature.segments().iter().enumerate() {
-        let t_k = orbit.durations[k];
-        let mut phi = identity(n);
-        for (j, w) in meshes[k].windows(2).enumerate() {
-            let h = w[1] - w[0];
-            let base = j * ncol * n;
-            for c in 0..ncol {
+    let mut small = Transfer::new(n);
+    let transfer = |k: usize, j: usize, y: &mut [f64]| {
+        let mode = orbit.signature.segments()[k].mode;
+        let (t_k, h) = (orbit.durations[k], meshes[k][j + 1] - meshes[k][j]);
+        let base = j * ncol * n;
+        for c in 0..ncol {
+            for comp in 0..n {
+                xi[comp] = (0..=ncol)
+                    .map(|node| basis.l[c][node] * nodes[k][base + node * n + comp])
+                    .sum();
+            }
+            system.vector_field_jacobian(mode, &xi, &orbit.params, &mut a, None);
+            for node in 0..=ncol {
+                // Interior nodes first, then the first and the last node.
+                let col0 = match node {
+                    0 => inner,
+                    _ if node == ncol => inner + n,
+                    _ => (node - 1) * n,
+                };
                 for comp in 0..n {
-                    xi[comp] = (0..=ncol)
-                        .map(|node| basis.l[c][node] * nodes[k][base + node * n + comp])
-                        .sum();
-                }
-                system.vector_field_jacobian(seg.mode, &xi, p, &mut a, None);
-                for node in 0..=ncol {
-                    // Interior nodes first, then the first and the last node.
-                    let col0 = match node {
-                        0 => inner,
-                        _ if node == ncol => inner + n,
-                        _ => (node - 1) * n,
-                    };
-                    for comp in 0..n {
-                        let col = &mut block[(col0 + comp) * rows..(col0 + comp + 1) * rows];
-                        for i in 0..n {
-                            let mut v = -h * t_k * a[i + comp * n] * basis.l[c][node];
-                            if comp == i {
-                                v += basis.dl[c][node];
-                            }
-                            col[c * n + i] = v;
-                        }
-                    }
-                }
-            }
-            let singular = || Error::SingularMatrix {
-                reason: format!("collocation block {j} of segment {k} is singular"),
-            };
-            if !eliminate(&mut block, (rows, inner, width), &mut perm, &mut pivots) {
-                return Err(singular());
-            }
-            // [S_1 | S_0] from the rows left, then S_1 Y = -S_0.
-            for i in 0..n {
-                for col in 0..n {
-                    small[i + col * n] = block[inner + i + (inner + n + col) * rows];
-                    small[i + (n + col) * n] = -block[inner + i + (inner + col) * rows];
-                }
-            }
-            if !eliminate(&mut small, (n, n, 2 * n), &mut perm[..n], &mut pivots[..n]) {
-                return Err(singular());
-            }
-            // Y_j = U^{-1} (L^{-1} P (-S_0)); Phi <- Y_j Phi.
-            let (u, y) = small.split_at_mut(n * n);
-            for col in y.chunks_exact_mut(n) {
-                solve_upper(u, n, col);
-            }
-            next.fill(0.0);
-            for col in 0..n {
-                for l in 0..n {
-                    let f = phi[l + col * n];
+                    let col = &mut block[(col0 + comp) * rows..(col0 + comp + 1) * rows];
                     for i in 0..n {
-                        next[i + col * n] += small[i + (n + l) * n] * f;
+                        let mut v = -h * t_k * a[i + comp * n] * basis.l[c][node];
+                        if comp == i {
+                            v += basis.dl[c][node];
+                        }
+                        col[c * n + i] = v;
                     }
                 }
             }
-            std::mem::swap(&mut phi, &mut next);
+        }
+        if !eliminate(&mut block, (rows, inner, width), &mut perm, &mut pivots) {
+            return Err(singular(k, j));
+        }
+        small.solve(|i, col| block[inner + i + (inner + col) * rows], k, j, y)
+    };
+    floquet_from_transfers(system, orbit, meshes, nodes, transfer)
+}
+
+/// Multipliers from a factorised Jacobian whose first condensed blocks are the intervals of
+/// every segment in order, with the collocation unknowns first among its columns (as
+/// [`super::collocation_problem`] and continuation build them). `None` if the factorisation was
+/// not condensed or its blocks do not have this layout.
+pub(super) fn factorised_floquet<S: HybridJacobians + ?Sized>(
+    system: &S,
+    orbit: &PeriodicOrbit,
+    meshes: &[Mesh],
+    nodes: &[Vec<f64>],
+    ncol: usize,
+    jacobian: &SparsePattern,
+) -> Result<Option<Floquet>> {
+    let n = system.state_dim();
+    let mut small = Transfer::new(n);
+    let mut offsets = Vec::with_capacity(meshes.len());
+    let mut block = 0;
+    let mut offset = 0;
+    for (k, mesh) in meshes.iter().enumerate() {
+        offsets.push((block, offset));
+        block += mesh.len() - 1;
+        offset += nodes[k].len();
+    }
+    // Every interval's rows over (first node, last node) columns, or give up.
+    let mut found = Vec::with_capacity(block);
+    for (k, mesh) in meshes.iter().enumerate() {
+        let (b0, off) = offsets[k];
+        for j in 0..mesh.len() - 1 {
+            let Some(rows) = jacobian.reduced_rows(b0 + j) else {
+                return Ok(None);
+            };
+            let first = off + j * ncol * n;
+            let last = first + ncol * n;
+            let pos = |col: usize| rows.columns().binary_search(&col).ok();
+            let cols: Option<Vec<usize>> = (0..n)
+                .map(|c| pos(first + c))
+                .chain((0..n).map(|c| pos(last + c)))
+                .collect();
+            match cols {
+                Some(cols) if rows.rows() == n => found.push((rows, cols)),
+                _ => return Ok(None),
+            }
+        }
+    }
+    let transfer = |k: usize, j: usize, y: &mut [f64]| {
+        let (rows, cols) = &found[offsets[k].0 + j];
+        small.solve(|i, col| rows.value(i, cols[col]), k, j, y)
+    };
+    floquet_from_transfers(system, orbit, meshes, nodes, transfer).map(Some)
+}
+
+fn singular(k: usize, j: usize) -> Error {
+    Error::SingularMatrix {
+        reason: format!("collocation block {j} of segment {k} is singular"),
+    }
+}
+
+/// Work space for $Y = -S_1^{-1} S_0$ from the rows $[S_0\ S_1]$.
+struct Transfer {
+    n: usize,
+    small: Vec<f64>,
+    perm: Vec<usize>,
+    pivots: Vec<f64>,
+}
+
+impl Transfer {
+    fn new(n: usize) -> Self {
+        Self {
+            n,
+            small: vec![0.0; 2 * n * n],
+            perm: vec![0; n],
+            pivots: vec![0.0; n],
+        }
+    }
+
+    /// `s(i, col)`: row `i`, column `col` of $[S_0\ S_1]$ (`col < 2n`).
+    fn solve(
+        &mut self,
+        s: impl Fn(usize, usize) -> f64,
+        k: usize,
+        j: usize,
+        y: &mut [f64],
+    ) -> Result<()> {
+        let n = self.n;
+        // [S_1 | -S_0], then U Y = L^{-1} P (-S_0).
+        for i in 0..n {
+            for col in 0..n {
+                self.small[i + col * n] = s(i, n + col);
+                self.small[i + (n + col) * n] = -s(i, col);
+            }
+        }
+        if !eliminate(
+            &mut self.small,
+            (n, n, 2 * n),
+            &mut self.perm,
+            &mut self.pivots,
+        ) {
+            return Err(singular(k, j));
+        }
+        let (u, rhs) = self.small.split_at_mut(n * n);
+        for col in rhs.chunks_exact_mut(n) {
+            solve_upper(u, n, col);
+        }
+        y.copy_from_slice(rhs);
+        Ok(())
+    }
+}
+
+/// The monodromy from the intervals' transfer matrices (`transfer(k, j, y)` writes $Y_j$ of
+/// segment `k`, column-major) and the saltation matrices, and its multipliers.
+fn floquet_from_transfers<S: HybridJacobians + ?Sized>(
+    system: &S,
+    orbit: &PeriodicOrbit,
+    meshes: &[Mesh],
+    nodes: &[Vec<f64>],
+    mut transfer: impl FnMut(usize, usize, &mut [f64]) -> Result<()>,
+) -> Result<Floquet> {
+    let n = system.state_dim();
+    let mut m = identity(n);
+    let mut y = vec![0.0; n * n];
+    for (k, mesh) in meshes.iter().enumerate() {
+        let mut phi = identity(n);
+        for j in 0..mesh.len() - 1 {
+            transfer(k, j, &mut y)?;
+            phi = matmul(n, &y, &phi);
         }
         if phi.iter().any(|v: &f64| !v.is_finite()) {
             return Err(Error::SingularMatrix {

@@ -548,6 +548,27 @@ pub fn collocation_floquet<S: HybridJacobians + ?Sized>(
     condensed_floquet(system, orbit, meshes, nodes, ncol)
 }
 
+/// [`collocation_floquet`] from the condensation a factorisation of the problem's Jacobian at
+/// these nodes has already done (each interval's rows left after eliminating its interior
+/// nodes; see [`crate::linalg::SparsePattern::reduced_rows`]): no Jacobian evaluation and no
+/// elimination. `jacobian` must be factorised at the unknowns of `nodes` and `orbit`, with the
+/// collocation part's blocks first and its unknowns first (as [`collocation_problem`] and
+/// continuation build it). `Ok(None)` if the factorisation did not condense (a block was
+/// singular on its own) or has another layout.
+///
+/// # Errors
+/// Singular transfer blocks or eigenvalue failures.
+pub fn collocation_floquet_factorised<S: HybridJacobians + ?Sized>(
+    system: &S,
+    orbit: &PeriodicOrbit,
+    meshes: &[Mesh],
+    nodes: &[Vec<f64>],
+    ncol: usize,
+    jacobian: &crate::linalg::SparsePattern,
+) -> Result<Option<Floquet>> {
+    condense::factorised_floquet(system, orbit, meshes, nodes, ncol, jacobian)
+}
+
 fn unpack_nodes(
     u: &[f64],
     like: &PeriodicOrbit,
