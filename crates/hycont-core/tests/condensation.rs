@@ -226,6 +226,9 @@ fn badly_declared_blocks_are_refused() {
         );
     }
     assert!(SparsePattern::with_blocks(3, 4, &entries, &[block(vec![0], vec![0])]).is_err());
+    // An entry out of range.
+    let outside = [(0, 0), (3, 1)];
+    assert!(SparsePattern::with_blocks(3, 3, &outside, &[block(vec![0], vec![0])]).is_err());
 }
 
 /// Collocation declares each mesh interval's interior nodes as a local block: on a two-segment

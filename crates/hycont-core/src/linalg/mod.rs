@@ -63,7 +63,11 @@ enum Current {
 /// ```
 #[derive(Debug)]
 pub struct SparsePattern {
-    full: SparseLu,
+    nrows: usize,
+    ncols: usize,
+    entries: Vec<(usize, usize)>,
+    /// The whole matrix's LU: built at once without blocks, on the first fallback with them.
+    full: Option<SparseLu>,
     condensed: Option<Condensed>,
     current: Current,
 }
@@ -75,7 +79,10 @@ impl SparsePattern {
     /// [`Error::InvalidSetting`] if an index is out of range.
     pub fn new(nrows: usize, ncols: usize, entries: &[(usize, usize)]) -> Result<Self> {
         Ok(Self {
-            full: SparseLu::new(nrows, ncols, entries)?,
+            nrows,
+            ncols,
+            entries: Vec::new(),
+            full: Some(SparseLu::new(nrows, ncols, entries)?),
             condensed: None,
             current: Current::None,
         })
@@ -94,46 +101,55 @@ impl SparsePattern {
         entries: &[(usize, usize)],
         blocks: &[EliminationBlock],
     ) -> Result<Self> {
-        let mut out = Self::new(nrows, ncols, entries)?;
-        if !blocks.is_empty() {
-            if nrows != ncols {
-                return Err(Error::InvalidSetting {
-                    name: "elimination blocks",
-                    value: nrows as f64,
-                    reason: "condensation needs a square matrix",
-                });
-            }
-            out.condensed = Some(Condensed::new(nrows, entries, blocks)?);
+        if blocks.is_empty() {
+            return Self::new(nrows, ncols, entries);
         }
-        Ok(out)
+        if nrows != ncols {
+            return Err(Error::InvalidSetting {
+                name: "elimination blocks",
+                value: nrows as f64,
+                reason: "condensation needs a square matrix",
+            });
+        }
+        if entries.iter().any(|&(r, c)| r >= nrows || c >= ncols) {
+            return Err(Error::InvalidSetting {
+                name: "sparse pattern",
+                value: entries.len() as f64,
+                reason: "an entry is out of range",
+            });
+        }
+        Ok(Self {
+            nrows,
+            ncols,
+            entries: entries.to_vec(),
+            full: None,
+            condensed: Some(Condensed::new(nrows, entries, blocks)?),
+            current: Current::None,
+        })
     }
 
     /// Number of rows.
     #[must_use]
     pub fn nrows(&self) -> usize {
-        self.full_dims().0
+        self.nrows
     }
 
     /// Number of columns.
     #[must_use]
     pub fn ncols(&self) -> usize {
-        self.full_dims().1
-    }
-
-    fn full_dims(&self) -> (usize, usize) {
-        self.full.dims()
+        self.ncols
     }
 
     /// Number of entries (with duplicates) the values must supply.
     #[must_use]
     pub fn len(&self) -> usize {
-        self.full.len()
+        self.full.as_ref().map_or(self.entries.len(), SparseLu::len)
     }
 
     /// Whether the pattern has no entries.
     #[must_use]
     pub fn is_empty(&self) -> bool {
-        self.full.len() == 0
+        self.len() == 0
     }
 
     /// The matrix with the given values (in entry order).
@@ -141,7 +157,10 @@ impl SparsePattern {
     /// # Errors
     /// [`Error::DimensionMismatch`] if `values` has the wrong length.
     pub fn matrix(&self, values: &[f64]) -> Result<SparseColMat<usize, f64>> {
-        self.full.matrix(values)
+        match &self.full {
+            Some(full) => full.matrix(values),
+            None => SparseLu::new(self.nrows, self.ncols, &self.entries)?.matrix(values),
+        }
     }
 
     /// LU-factorises the square matrix with these values (partial pivoting after a COLAMD
@@ -159,7 +178,11 @@ impl SparsePattern {
             self.current = Current::Condensed;
             return Ok(());
         }
-        self.full.factorize(values)?;
+        if self.full.is_none() {
+            self.full = Some(SparseLu::new(self.nrows, self.ncols, &self.entries)?);
+        }
+        let full = self.full.as_mut().expect("built above");
+        full.factorize(values)?;
         self.current = Current::Full;
         Ok(())
     }
@@ -200,7 +223,11 @@ impl SparsePattern {
                     }
                 }
             }
-            _ => self.full.solve(b, k, transpose)?,
+            (_, _) => self
+                .full
+                .as_mut()
+                .map_or_else(not_factorized, Ok)?
+                .solve(b, k, transpose)?,
         }
         if b.iter().all(|v| v.is_finite()) {
             Ok(())
@@ -229,7 +256,11 @@ impl SparsePattern {
     pub fn determinant(&self) -> Result<(f64, f64)> {
         match (self.current, self.condensed.as_ref()) {
             (Current::Condensed, Some(c)) => c.determinant(),
-            (Current::Full, _) => self.full.determinant(),
+            (Current::Full, _) => self
+                .full
+                .as_ref()
+                .map_or_else(not_factorized, Ok)?
+                .determinant(),
             _ => Err(Error::SingularMatrix {
                 reason: "no factorisation to take the determinant of".into(),
             }),
@@ -263,6 +294,12 @@ impl SparsePattern {
         crate::error::check_len("right-hand sides", b, self.nrows() * k)?;
         self.solve_cols(b, k, false)
     }
+}
+
+fn not_factorized<T>() -> Result<T> {
+    Err(Error::SingularMatrix {
+        reason: "no factorisation (factorize first)".into(),
+    })
 }
 
 /// Parity sign of a permutation given as an index array.

@@ -87,10 +87,6 @@ impl SparseLu {
         self.slot.len()
     }
 
-    pub(super) fn dims(&self) -> (usize, usize) {
-        (self.nrows, self.ncols)
-    }
-
     /// Loads the values (in entry order, summing duplicates) into the compressed columns.
     fn load(&mut self, values: &[f64]) -> Result<()> {
         crate::error::check_len("sparse values", values, self.slot.len())?;
@@ -137,15 +133,6 @@ impl SparseLu {
             reason: format!("numeric LU failed: {e:?}"),
         })?;
         st.ready = true;
-        if std::env::var("HYDBG").is_ok() {
-            eprintln!(
-                "n {} nnzA {} L {} U {}",
-                self.nrows,
-                self.vals.len(),
-                st.numeric.l_factor_unsorted().compute_nnz(),
-                st.numeric.u_factor_unsorted().compute_nnz()
-            );
-        }
         Ok(())
     }
 

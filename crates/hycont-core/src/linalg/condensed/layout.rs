@@ -3,8 +3,7 @@
 
 use super::{Block, Border, Condensed, Dest, Pin, Routes};
 use crate::error::{Error, Result};
-use crate::linalg::sparse_lu::SparseLu;
-use crate::linalg::{EliminationBlock, permutation_sign};
+use crate::linalg::{EliminationBlock, SparsePattern, permutation_sign};
 
 const NONE: usize = usize::MAX;
 
@@ -157,7 +156,7 @@ impl Condensed {
             routes: Routes::default(),
             pin_entries: Vec::new(),
             pin_vals: Vec::new(),
-            reduced: SparseLu::new(0, 0, &[])?,
+            reduced: Box::new(SparsePattern::new(0, 0, &[])?),
             red_vals: Vec::new(),
             dense: vec![0.0; dense_len],
             border: vec![0.0; border_len],
@@ -183,7 +182,8 @@ impl Condensed {
         let dest = me.route(entries, &ctx, &mut red_entries);
         me.routes = Routes::new(&dest, top);
         let nred = me.kept.len();
-        me.reduced = SparseLu::new(nred, nred, &red_entries)?;
+        let next = next_level(&me.blocks, nred, &red_entries);
+        me.reduced = Box::new(SparsePattern::with_blocks(nred, nred, &red_entries, &next)?);
         me.red_vals = vec![0.0; red_entries.len()];
         let col_order: Vec<usize> = (me.pins.iter().map(|p| p.col))
             .chain(specs.iter().flat_map(|s| s.cols.iter().copied()))
@@ -201,10 +201,15 @@ impl Condensed {
         red_entries: &mut Vec<(usize, usize)>,
     ) -> Vec<Dest> {
         let mut out = Vec::with_capacity(entries.len());
+        // Position of each block column and block row within its block.
         let mut local = vec![NONE; ctx.row_owner.len()];
+        let mut local_row = vec![NONE; ctx.row_owner.len()];
         for blk in &self.blocks {
             for (k, &j) in blk.cols.iter().enumerate() {
                 local[j] = k;
+            }
+            for (i, &r) in blk.rows.iter().enumerate() {
+                local_row[r] = i;
             }
         }
         for &(r, c) in entries {
@@ -217,11 +222,7 @@ impl Condensed {
                 Dest::PinColumn(self.pin_entries.len() - 1)
             } else if rb != NONE {
                 let blk = &self.blocks[rb];
-                let i = blk
-                    .rows
-                    .iter()
-                    .position(|&x| x == r)
-                    .expect("row of its block");
+                let i = local_row[r];
                 let j = if cb == rb {
                     local[c]
                 } else {
@@ -268,4 +269,59 @@ impl Block {
             borders: Vec::new(),
         }
     }
+}
+
+/// Blocks for the reduced system: pairs of this level's blocks whose remaining rows share
+/// columns that no other block's remaining rows read (border rows may), each eliminating those
+/// columns. On a chain of intervals (collocation) these are every other mesh point's nodes,
+/// and the levels that follow halve the chain again: AUTO's reduction, as nested condensation.
+/// Greedy in column order; columns that fit no pair stay for the sparse LU.
+fn next_level(
+    blocks: &[Block],
+    nred: usize,
+    red_entries: &[(usize, usize)],
+) -> Vec<EliminationBlock> {
+    let left = |b: &Block| b.schur_row..b.schur_row + b.m() - b.c();
+    let schur_rows = blocks.last().map_or(0, |b| left(b).end);
+    let mut block_of_row = vec![NONE; schur_rows];
+    for (b, blk) in blocks.iter().enumerate() {
+        block_of_row[left(blk)].fill(b);
+    }
+    // Up to two blocks reading each column; more make it shared.
+    let mut readers = vec![(NONE, NONE); nred];
+    let mut shared = vec![false; nred];
+    for &(r, c) in red_entries.iter().filter(|e| e.0 < schur_rows) {
+        let b = block_of_row[r];
+        match readers[c] {
+            (x, _) if x == NONE => readers[c].0 = b,
+            (x, y) if x == b || y == b => {}
+            (_, y) if y == NONE => readers[c].1 = b,
+            _ => shared[c] = true,
+        }
+    }
+    let mut group_of = vec![NONE; blocks.len()];
+    let mut groups: Vec<(usize, usize, Vec<usize>)> = Vec::new();
+    for c in 0..nred {
+        let (a, b) = readers[c];
+        if shared[c] || a == NONE || b == NONE {
+            continue;
+        }
+        match (group_of[a], group_of[b]) {
+            (g, h) if g == NONE && h == NONE => {
+                group_of[a] = groups.len();
+                group_of[b] = groups.len();
+                groups.push((a, b, vec![c]));
+            }
+            (g, h) if g == h => groups[g].2.push(c),
+            _ => {}
+        }
+    }
+    groups
+        .into_iter()
+        .map(|(a, b, cols)| EliminationBlock {
+            rows: left(&blocks[a]).chain(left(&blocks[b])).collect(),
+            cols,
+        })
+        .filter(|g| g.rows.len() >= g.cols.len())
+        .collect()
 }

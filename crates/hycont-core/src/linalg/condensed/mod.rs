@@ -21,9 +21,9 @@
 
 mod layout;
 
+use super::SparsePattern;
 use super::dense::{dot, eliminate, solve_upper, solve_upper_transpose};
 use super::permutation_sign;
-use super::sparse_lu::SparseLu;
 use crate::error::Result;
 
 /// Where an entry's value goes.
@@ -133,7 +133,9 @@ pub(super) struct Condensed {
     /// `(pin, row)` of the other entries of pinned columns, and their values (`pin_vals`).
     pin_entries: Vec<(usize, usize)>,
     pin_vals: Vec<f64>,
-    reduced: SparseLu,
+    /// The reduced system: itself condensed where the blocks' remaining rows pair up (see
+    /// `layout::next_level`), else a plain sparse LU.
+    reduced: Box<SparsePattern>,
     red_vals: Vec<f64>,
     /// `(row, reduced row)` of the rows outside every block.
     free_rows: Vec<(usize, usize)>,
@@ -326,7 +328,7 @@ impl Condensed {
                 self.red_rhs[bd.red_row] -= dot(&self.border[bd.at..bd.at + blk.c()], t);
             }
         }
-        self.reduced.solve(&mut self.red_rhs, 1, false)?;
+        self.reduced.solve_in_place(&mut self.red_rhs)?;
         for (k, &j) in self.kept.iter().enumerate() {
             b[j] = self.red_rhs[k];
         }
@@ -370,7 +372,7 @@ impl Condensed {
                 self.red_rhs[rc] -= dot(&a[(c + k) * m..(c + k) * m + c], v);
             }
         }
-        self.reduced.solve(&mut self.red_rhs, 1, true)?;
+        self.reduced.solve_transpose_in_place(&mut self.red_rhs)?;
         for &(i, r) in &self.free_rows {
             d[i] = self.red_rhs[r];
         }

@@ -286,7 +286,18 @@ impl<S: HybridJacobians + ?Sized> ZeroFunction for Collocation<'_, S> {
                             .map(|node| self.basis.l[c][node] * u[base + node * n + comp])
                             .sum();
                     }
-                    self.system.vector_field(mode, &self.xi, &p, &mut self.f);
+                    if jac.is_some() {
+                        self.system.vector_field_with_jacobian(
+                            mode,
+                            &self.xi,
+                            &p,
+                            &mut self.f,
+                            &mut self.a,
+                            Some(&mut self.fp),
+                        );
+                    } else {
+                        self.system.vector_field(mode, &self.xi, &p, &mut self.f);
+                    }
                     let row = r0 + (j * ncol + c) * n;
                     for i in 0..n {
                         let dp: f64 = (0..=ncol)
@@ -295,13 +306,6 @@ impl<S: HybridJacobians + ?Sized> ZeroFunction for Collocation<'_, S> {
                         residual[row + i] = dp - h * t_k * self.f[i];
                     }
                     if let Some(jac) = jac.as_deref_mut() {
-                        self.system.vector_field_jacobian(
-                            mode,
-                            &self.xi,
-                            &p,
-                            &mut self.a,
-                            Some(&mut self.fp),
-                        );
                         for i in 0..n {
                             for node in 0..=ncol {
                                 for comp in 0..n {
