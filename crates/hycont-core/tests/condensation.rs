@@ -167,6 +167,75 @@ fn condensed_solves_and_determinants_match_the_dense_lu() {
     }
 }
 
+/// A chain like collocation's: `nb` intervals, each with `c` local unknowns and `c + s` rows
+/// reading its two end nodes (`s` unknowns each), a shared "duration" and a "parameter"
+/// pinned by a singleton row; `s` closure rows tie the last node to the first and one dense
+/// row (a phase or arclength condition) reads everything. The reduced system pairs intervals
+/// level by level (nested condensation).
+fn chain_case(rng: &mut Rng, nb: usize, c: usize, s: usize) -> Case {
+    let node = |j: usize| nb * c + j * s;
+    let (dur, par) = (nb * c + (nb + 1) * s, nb * c + (nb + 1) * s + 1);
+    let n = par + 1;
+    let mut entries = Vec::new();
+    let mut blocks = Vec::new();
+    for b in 0..nb {
+        let rows: Vec<usize> = (b * (c + s)..(b + 1) * (c + s)).collect();
+        let cols: Vec<usize> = (b * c..(b + 1) * c).collect();
+        for &r in &rows {
+            entries.extend(cols.iter().map(|&j| (r, j)));
+            entries.extend((node(b)..node(b + 2)).map(|j| (r, j)));
+            entries.extend([(r, dur), (r, par)]);
+        }
+        blocks.push(EliminationBlock { rows, cols });
+    }
+    let mut r = nb * (c + s);
+    for i in 0..s {
+        entries.extend([(r, node(nb) + i), (r, node(0) + i)]);
+        r += 1;
+    }
+    entries.extend((0..n).map(|j| (r, j)));
+    entries.push((r + 1, par));
+    assert_eq!(r + 2, n);
+    let values = entries.iter().map(|_| 2.0 * rng.next() - 1.0).collect();
+    Case {
+        n,
+        entries,
+        values,
+        blocks,
+    }
+}
+
+#[test]
+fn nested_condensation_of_a_chain_matches_the_dense_lu() {
+    let mut rng = Rng(0xc4a1_0000_0000_0007);
+    for nb in [1, 2, 3, 5, 16, 33] {
+        let case = chain_case(&mut rng, nb, 6, 2);
+        let mut a =
+            SparsePattern::with_blocks(case.n, case.n, &case.entries, &case.blocks).unwrap();
+        a.factorize(&case.values).unwrap();
+        let dense_a = dense(&case, &case.values);
+        for transpose in [false, true] {
+            let b: Vec<f64> = (0..case.n).map(|_| rng.next() - 0.5).collect();
+            let mut x = b.clone();
+            if transpose {
+                a.solve_transpose_in_place(&mut x).unwrap();
+            } else {
+                a.solve_in_place(&mut x).unwrap();
+            }
+            let err = backward_error(&dense_a, &x, &b, transpose);
+            assert!(err < 1e-13, "nb = {nb}, transpose {transpose}: {err:e}");
+        }
+        let lu = dense_a.partial_piv_lu();
+        let log_abs: f64 = (0..case.n).map(|i| lu.U()[(i, i)].abs().ln()).sum();
+        let (sign, log) = a.determinant().unwrap();
+        assert_eq!(sign, dense_a.determinant().signum(), "nb = {nb}");
+        assert!(
+            (log - log_abs).abs() < 1e-10 * (1.0 + log_abs.abs()),
+            "nb = {nb}"
+        );
+    }
+}
+
 /// A block whose own equations are singular on its unknowns (here: two rows of the block are
 /// equal on the block's columns and its other rows vanish there) while the matrix is not: the
 /// pattern factorises the whole matrix instead and the solve is still exact.

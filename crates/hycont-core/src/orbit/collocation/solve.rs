@@ -1,0 +1,323 @@
+//! Solving for an orbit by collocation: the problem over a mesh, node values from a simulated
+//! guess, packing and unpacking unknowns, multipliers, and Newton with mesh adaptation.
+
+use super::basis::Basis;
+use super::condense::{condensed_floquet, factorised_floquet};
+use super::mesh::{adapted_mesh, eval_piecewise, uniform_mesh};
+use super::{Collocation, CollocationSettings, Mesh};
+use crate::error::Result;
+use crate::orbit::floquet::Floquet;
+use crate::orbit::{OrbitSolution, PeriodicOrbit};
+use crate::problem::{NewtonSettings, Problem, newton};
+use crate::simulate::{SimulationSettings, Simulator};
+use crate::system::{HybridJacobians, Mode};
+use serde::{Deserialize, Serialize};
+
+/// A periodic orbit solved by collocation: the orbit (segment starts and durations read off the
+/// collocation solution), the meshes and node values, and multipliers from the condensed
+/// collocation Jacobian.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct CollocationSolution {
+    /// The orbit, multipliers (from the collocation Jacobian) and Newton history.
+    pub solution: OrbitSolution,
+    /// The final mesh of each segment.
+    pub meshes: Vec<Mesh>,
+    /// The node states of each segment (`ntst * ncol + 1` states of length $n$, flattened).
+    pub nodes: Vec<Vec<f64>>,
+    /// The settings used.
+    pub settings: CollocationSettings,
+}
+
+impl CollocationSolution {
+    /// The solution as the unknowns of [`collocation_problem`] (node states of every segment,
+    /// durations, parameters).
+    #[must_use]
+    pub fn unknowns(&self) -> Vec<f64> {
+        pack_nodes(&self.nodes, &self.solution.orbit)
+    }
+
+    /// Floquet multipliers recomputed from the condensed collocation Jacobian.
+    ///
+    /// # Errors
+    /// Singular blocks or eigenvalue failures.
+    pub fn floquet<S: HybridJacobians + ?Sized>(&self, system: &S) -> Result<Floquet> {
+        condensed_floquet(
+            system,
+            &self.solution.orbit,
+            &self.meshes,
+            &self.nodes,
+            self.settings.ncol,
+        )
+    }
+}
+
+/// Node states of each segment of `orbit` on the given meshes, by simulating the segments.
+pub(crate) fn initial_nodes<S: HybridJacobians + ?Sized>(
+    system: &S,
+    orbit: &PeriodicOrbit,
+    meshes: &[Mesh],
+    ncol: usize,
+) -> Result<Vec<Vec<f64>>> {
+    let n = system.state_dim();
+    let basis_nodes: Vec<f64> = (0..=ncol).map(|i| i as f64 / ncol as f64).collect();
+    let mut out = Vec::new();
+    for (k, seg) in orbit.signature.segments().iter().enumerate() {
+        let taus: Vec<f64> = meshes[k]
+            .windows(2)
+            .flat_map(|w| {
+                let (a, b) = (w[0], w[1]);
+                basis_nodes[..ncol].iter().map(move |z| a + z * (b - a))
+            })
+            .chain(std::iter::once(1.0))
+            .collect();
+        // Uniform meshes: one run with the node times as samples (dense output); otherwise
+        // integrate from node to node.
+        let flow = crate::orbit::flow::SegmentFlow::plain(system, seg.mode);
+        let uniform = meshes[k]
+            .windows(2)
+            .all(|w| ((w[1] - w[0]) - 1.0 / (meshes[k].len() - 1) as f64).abs() < 1e-14);
+        let mut vals = Vec::with_capacity(taus.len() * n);
+        if uniform {
+            let step = orbit.durations[k] / (taus.len() - 1) as f64;
+            let mut sim = Simulator::new(
+                SimulationSettings::default()
+                    .rtol(1e-12)
+                    .atol(1e-14)
+                    .samples(crate::simulate::SampleTimes::new(0.0, step)),
+            )?;
+            let traj = sim.run(
+                &flow,
+                Mode(0),
+                0.0,
+                &orbit.starts[k],
+                &orbit.params,
+                orbit.durations[k],
+            )?;
+            for (_, _, x) in traj.samples.iter().take(taus.len()) {
+                vals.extend_from_slice(x);
+            }
+            while vals.len() < taus.len() * n {
+                vals.extend_from_slice(&traj.state_final);
+            }
+        } else {
+            let mut sim = Simulator::new(SimulationSettings::default().rtol(1e-12).atol(1e-14))?;
+            let mut x = orbit.starts[k].clone();
+            let mut t_prev = 0.0;
+            for &tau in &taus {
+                let t = tau * orbit.durations[k];
+                if t > t_prev {
+                    let traj = sim.run(&flow, Mode(0), t_prev, &x, &orbit.params, t)?;
+                    x.clone_from(&traj.state_final);
+                    t_prev = t;
+                }
+                vals.extend_from_slice(&x);
+            }
+        }
+        out.push(vals);
+    }
+    Ok(out)
+}
+
+/// The collocation problem of an orbit on the given meshes: the [`Collocation`] equations with
+/// every parameter held by an inactive monitor named after it. Its unknowns are packed as in
+/// [`CollocationSolution::unknowns`].
+///
+/// # Errors
+/// Invalid meshes or degree.
+pub fn collocation_problem<'a, S: HybridJacobians + ?Sized>(
+    system: &'a S,
+    orbit: &PeriodicOrbit,
+    meshes: Vec<Mesh>,
+    ncol: usize,
+) -> Result<Problem<'a>> {
+    collocation_problem_impl(system, orbit, meshes, ncol).map(|(p, _)| p)
+}
+
+fn collocation_problem_impl<'a, S: HybridJacobians + ?Sized>(
+    system: &'a S,
+    orbit: &PeriodicOrbit,
+    meshes: Vec<Mesh>,
+    ncol: usize,
+) -> Result<(Problem<'a>, usize)> {
+    let coll = Collocation::new(system, orbit.signature.clone(), meshes, ncol)?;
+    let first_param = coll.param_index(0);
+    let problem = crate::orbit::orbit_problem(system, Box::new(coll), first_param, &orbit.params)?;
+    Ok((problem, first_param))
+}
+
+fn pack_nodes(nodes: &[Vec<f64>], orbit: &PeriodicOrbit) -> Vec<f64> {
+    let mut u: Vec<f64> = nodes.iter().flatten().copied().collect();
+    u.extend_from_slice(&orbit.durations);
+    u.extend_from_slice(&orbit.params);
+    u
+}
+
+/// Splits the unknowns of a [`collocation_problem`] on `meshes` (degree `ncol`) into each
+/// segment's node states and the orbit (segment starts = first nodes, durations, parameters).
+#[must_use]
+pub fn collocation_unpack(
+    like: &PeriodicOrbit,
+    meshes: &[Mesh],
+    ncol: usize,
+    u: &[f64],
+) -> (Vec<Vec<f64>>, PeriodicOrbit) {
+    let sizes: Vec<usize> = meshes.iter().map(|m| (m.len() - 1) * ncol + 1).collect();
+    unpack_nodes(u, like, &sizes, like.starts[0].len())
+}
+
+/// Packs node states and an orbit's durations and parameters into collocation unknowns.
+#[must_use]
+pub fn collocation_pack(nodes: &[Vec<f64>], orbit: &PeriodicOrbit) -> Vec<f64> {
+    pack_nodes(nodes, orbit)
+}
+
+/// Floquet multipliers of a collocation solution from its condensed Jacobian (see
+/// [`CollocationSolution::floquet`]).
+///
+/// # Errors
+/// Singular blocks or eigenvalue failures.
+pub fn collocation_floquet<S: HybridJacobians + ?Sized>(
+    system: &S,
+    orbit: &PeriodicOrbit,
+    meshes: &[Mesh],
+    nodes: &[Vec<f64>],
+    ncol: usize,
+) -> Result<Floquet> {
+    condensed_floquet(system, orbit, meshes, nodes, ncol)
+}
+
+/// [`collocation_floquet`] from the condensation a factorisation of the problem's Jacobian at
+/// these nodes has already done (each interval's rows left after eliminating its interior
+/// nodes; see [`crate::linalg::SparsePattern::reduced_rows`]): no Jacobian evaluation and no
+/// elimination. `jacobian` must be factorised at the unknowns of `nodes` and `orbit`, with the
+/// collocation part's blocks first and its unknowns first (as [`collocation_problem`] and
+/// continuation build it). `Ok(None)` if the factorisation did not condense (a block was
+/// singular on its own) or has another layout.
+///
+/// # Errors
+/// Singular transfer blocks or eigenvalue failures.
+pub fn collocation_floquet_factorised<S: HybridJacobians + ?Sized>(
+    system: &S,
+    orbit: &PeriodicOrbit,
+    meshes: &[Mesh],
+    nodes: &[Vec<f64>],
+    ncol: usize,
+    jacobian: &crate::linalg::SparsePattern,
+) -> Result<Option<Floquet>> {
+    factorised_floquet(system, orbit, meshes, nodes, ncol, jacobian)
+}
+
+fn unpack_nodes(
+    u: &[f64],
+    like: &PeriodicOrbit,
+    sizes: &[usize],
+    n: usize,
+) -> (Vec<Vec<f64>>, PeriodicOrbit) {
+    let mut nodes = Vec::new();
+    let mut pos = 0;
+    for &m in sizes {
+        nodes.push(u[pos..pos + m * n].to_vec());
+        pos += m * n;
+    }
+    let kk = sizes.len();
+    let durations = u[pos..pos + kk].to_vec();
+    let params = u[pos + kk..pos + kk + like.params.len()].to_vec();
+    let starts = nodes.iter().map(|v| v[..n].to_vec()).collect();
+    (
+        nodes,
+        PeriodicOrbit {
+            signature: like.signature.clone(),
+            starts,
+            durations,
+            params,
+        },
+    )
+}
+
+/// Solves for the periodic orbit near `guess` by collocation (then `settings.adapt` mesh
+/// adaptations), with Floquet multipliers from the condensed collocation Jacobian.
+///
+/// # Errors
+/// As [`super::solve_shooting`]; invalid settings.
+pub fn solve_collocation<S: HybridJacobians + ?Sized>(
+    system: &S,
+    guess: &PeriodicOrbit,
+    settings: CollocationSettings,
+    newton_settings: &NewtonSettings,
+) -> Result<CollocationSolution> {
+    let sol = solve_collocation_unchecked(system, guess, settings, newton_settings)?;
+    crate::orbit::check_admissible(system, &sol.solution.orbit)?;
+    Ok(sol)
+}
+
+/// [`solve_collocation`] without the admissibility check (a continuation that watches
+/// admissibility itself, or has it switched off, starts from any solution).
+pub(crate) fn solve_collocation_unchecked<S: HybridJacobians + ?Sized>(
+    system: &S,
+    guess: &PeriodicOrbit,
+    settings: CollocationSettings,
+    newton_settings: &NewtonSettings,
+) -> Result<CollocationSolution> {
+    settings.validate()?;
+    guess.validate(system)?;
+    let n = system.state_dim();
+    let kk = guess.segment_count();
+    let mut meshes: Vec<Mesh> = (0..kk).map(|_| uniform_mesh(settings.ntst)).collect();
+    let mut nodes = initial_nodes(system, guess, &meshes, settings.ncol)?;
+    let mut orbit = guess.clone();
+    let basis = Basis::new(settings.ncol);
+    let sizes = vec![settings.ntst * settings.ncol + 1; kk];
+    let mut history = Vec::new();
+    let mut residual = 0.0;
+    for pass in 0..=settings.adapt {
+        if pass > 0 {
+            // Move to the adapted meshes, interpolating the current solution.
+            let new_meshes: Vec<Mesh> = (0..kk)
+                .map(|k| adapted_mesh(&nodes[k], &meshes[k], &basis, n))
+                .collect();
+            let bn = basis.nodes();
+            let mut new_nodes = Vec::new();
+            for k in 0..kk {
+                let mut vals = Vec::new();
+                let mut x = vec![0.0; n];
+                for w in new_meshes[k].windows(2) {
+                    for z in &bn[..settings.ncol] {
+                        eval_piecewise(
+                            &nodes[k],
+                            &meshes[k],
+                            settings.ncol,
+                            n,
+                            w[0] + z * (w[1] - w[0]),
+                            &mut x,
+                        );
+                        vals.extend_from_slice(&x);
+                    }
+                }
+                vals.extend_from_slice(&nodes[k][nodes[k].len() - n..]);
+                new_nodes.push(vals);
+            }
+            meshes = new_meshes;
+            nodes = new_nodes;
+        }
+        let (mut problem, _) =
+            collocation_problem_impl(system, &orbit, meshes.clone(), settings.ncol)?;
+        let sol = newton(&mut problem, &pack_nodes(&nodes, &orbit), newton_settings)?;
+        let (nd, ob) = unpack_nodes(&sol.u, &orbit, &sizes, n);
+        nodes = nd;
+        orbit = ob;
+        residual = sol.residual;
+        history.extend(sol.history);
+    }
+    let floquet = condensed_floquet(system, &orbit, &meshes, &nodes, settings.ncol)?;
+    Ok(CollocationSolution {
+        solution: OrbitSolution {
+            orbit,
+            floquet,
+            newton: history,
+            residual,
+        },
+        meshes,
+        nodes,
+        settings,
+    })
+}
