@@ -184,17 +184,11 @@ impl ReducedRows<'_> {
         self.columns
     }
 
-    /// Entry `(row, k)`, `k` indexing [`ReducedRows::columns`].
-    ///
-    /// # Panics
-    /// If `row` or `k` is out of range.
+    /// Entry `(row, k)`, `k` indexing [`ReducedRows::columns`]; `None` out of range.
     #[must_use]
-    pub fn value(&self, row: usize, k: usize) -> f64 {
-        assert!(
-            row < self.rows() && k < self.columns.len(),
-            "index out of range"
-        );
-        self.data[self.c + row + (self.c + k) * self.m]
+    pub fn value(&self, row: usize, k: usize) -> Option<f64> {
+        (row < self.rows() && k < self.columns.len())
+            .then(|| self.data[self.c + row + (self.c + k) * self.m])
     }
 }
 

@@ -122,7 +122,9 @@ pub(super) fn factorised_floquet<S: HybridJacobians + ?Sized>(
     }
     let transfer = |k: usize, j: usize, y: &mut [f64]| {
         let (rows, cols) = &found[offsets[k].0 + j];
-        small.solve(|i, col| rows.value(i, cols[col]), k, j, y)
+        // In range: `rows.rows() == n` and every column was found (a NaN would be refused).
+        let at = |i: usize, col: usize| rows.value(i, cols[col]).unwrap_or(f64::NAN);
+        small.solve(at, k, j, y)
     };
     floquet_from_transfers(system, orbit, meshes, nodes, transfer).map(Some)
 }
