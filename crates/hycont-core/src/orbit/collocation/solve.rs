@@ -238,7 +238,7 @@ fn unpack_nodes(
 /// adaptations), with Floquet multipliers from the condensed collocation Jacobian.
 ///
 /// # Errors
-/// As [`super::solve_shooting`]; invalid settings.
+/// As [`crate::orbit::solve_shooting`]; invalid settings.
 pub fn solve_collocation<S: HybridJacobians + ?Sized>(
     system: &S,
     guess: &PeriodicOrbit,
