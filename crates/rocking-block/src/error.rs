@@ -47,6 +47,14 @@ pub enum Error {
         /// What was kept and how to go on.
         detail: String,
     },
+    /// Reading an input file failed (missing, unreadable).
+    #[error("cannot read {path}: {source}")]
+    Read {
+        /// The file.
+        path: PathBuf,
+        /// The underlying error.
+        source: std::io::Error,
+    },
     /// Writing a file failed.
     #[error("cannot write {path}: {source}")]
     Io {
@@ -77,7 +85,8 @@ impl From<hycont_continuation::Error> for Error {
 }
 
 impl Error {
-    /// Whether the error is the user's input (exit code 2) rather than a failure (exit code 1).
+    /// Whether the error is the user's input (exit code 2: bad arguments, input files that
+    /// cannot be read or are invalid) rather than a failure (exit code 1).
     #[must_use]
     pub fn is_usage(&self) -> bool {
         use hycont_continuation::Error as C;
@@ -85,6 +94,7 @@ impl Error {
             self,
             Error::InvalidArgument { .. }
                 | Error::InvalidFile { .. }
+                | Error::Read { .. }
                 | Error::Continuation(
                     C::NoSuchLabel { .. }
                         | C::StartOutsideBounds { .. }

@@ -63,6 +63,36 @@ fn bad_arguments_give_one_line_and_exit_code_2() {
     assert_one_line_usage_error(&["simulate", "--periods", "nan"], "periods");
     assert_one_line_usage_error(&["simulate", "--r0", "1"], "--s0");
     assert_one_line_usage_error(&["frobnicate"], "frobnicate");
+    // Negative numbers are values of every numeric option (checked, not taken for flags).
+    assert_one_line_usage_error(&["simulate", "--xi", "-1"], "xi = -1");
+    assert_one_line_usage_error(&["simulate", "--theta-b", "-0.2"], "theta_b = -0.2");
+    assert_one_line_usage_error(&["simulate", "--periods", "-3"], "periods = -3");
+    assert_one_line_usage_error(&["simulate", "--rtol", "-1e-10"], "rtol = -0.0000000001");
+    assert_one_line_usage_error(&["figure", "7", "--trials", "-5"], "invalid value '-5'");
+    // Inputs that cannot be read say so (exit 2), naming the file.
+    let missing = "/nonexistent/run.json";
+    for args in [
+        &[
+            "continue",
+            "--free",
+            "omega",
+            "--restart",
+            missing,
+            "--label",
+            "1",
+        ][..],
+        &["merge", missing],
+        &["figure", "--resume", missing],
+        &[
+            "classify",
+            "--input",
+            missing,
+            "--output",
+            "/tmp/rocking-block-out.csv",
+        ],
+    ] {
+        assert_one_line_usage_error(args, &format!("cannot read {missing}"));
+    }
 }
 
 #[test]

@@ -39,19 +39,19 @@ pub enum Command {
 #[derive(Debug, Args)]
 pub struct ClassifyArgs {
     /// Forcing frequency (single trial).
-    #[arg(long, default_value_t = 1.3, allow_negative_numbers = true)]
+    #[arg(long, default_value_t = 1.3, allow_hyphen_values = true)]
     pub omega: f64,
     /// Forcing amplitude (single trial).
-    #[arg(long, default_value_t = 0.66, allow_negative_numbers = true)]
+    #[arg(long, default_value_t = 0.66, allow_hyphen_values = true)]
     pub alpha: f64,
     /// Forcing phase (single trial).
-    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
+    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
     pub beta: f64,
     /// Initial angle (single trial).
-    #[arg(long, default_value_t = 0.01, allow_negative_numbers = true)]
+    #[arg(long, default_value_t = 0.01, allow_hyphen_values = true)]
     pub phi0: f64,
     /// Initial angular velocity (single trial).
-    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
+    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
     pub psi0: f64,
     /// CSV file of trials (header omega,alpha,beta,phi0,psi0).
     #[arg(long, requires = "output")]
@@ -91,28 +91,28 @@ pub struct ContinueArgs {
     #[arg(long, value_enum)]
     pub free: FreeArg,
     /// Start: forcing frequency.
-    #[arg(long, default_value_t = 1.3, allow_negative_numbers = true)]
+    #[arg(long, default_value_t = 1.3, allow_hyphen_values = true)]
     pub omega: f64,
     /// Start: forcing amplitude.
-    #[arg(long, default_value_t = 0.66, allow_negative_numbers = true)]
+    #[arg(long, default_value_t = 0.66, allow_hyphen_values = true)]
     pub alpha: f64,
     /// Start: which orbit.
     #[arg(long, value_enum, default_value_t = KindArg::Symmetric)]
     pub kind: KindArg,
     /// Initial angle for --kind simulate.
-    #[arg(long, default_value_t = 0.01, allow_negative_numbers = true)]
+    #[arg(long, default_value_t = 0.01, allow_hyphen_values = true)]
     pub phi0: f64,
     /// Initial angular velocity for --kind simulate.
-    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
+    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
     pub psi0: f64,
     /// Forcing phase for --kind simulate.
-    #[arg(long, default_value_t = std::f64::consts::FRAC_PI_2, allow_negative_numbers = true)]
+    #[arg(long, default_value_t = std::f64::consts::FRAC_PI_2, allow_hyphen_values = true)]
     pub beta: f64,
     /// Smallest parameter value (default: 0.5 for omega, 0.01 for alpha).
-    #[arg(long, allow_negative_numbers = true)]
+    #[arg(long, allow_hyphen_values = true)]
     pub min: Option<f64>,
     /// Largest parameter value (default: 4.0 for omega, 1.06 for alpha).
-    #[arg(long, allow_negative_numbers = true)]
+    #[arg(long, allow_hyphen_values = true)]
     pub max: Option<f64>,
     /// Direction.
     #[arg(long, value_enum, default_value_t = DirectionArg::Both)]
@@ -121,33 +121,37 @@ pub struct ContinueArgs {
     #[arg(long, value_enum, default_value_t = MethodArg::Shooting)]
     pub method: MethodArg,
     /// First arclength step.
-    #[arg(long, default_value_t = 0.02, allow_negative_numbers = true)]
+    #[arg(long, default_value_t = 0.02, allow_hyphen_values = true)]
     pub h0: f64,
     /// Smallest arclength step before the run gives up.
-    #[arg(long = "h-min", default_value_t = 1e-8, allow_negative_numbers = true)]
+    #[arg(long = "h-min", default_value_t = 1e-8, allow_hyphen_values = true)]
     pub h_min: f64,
     /// Largest arclength step (smaller: denser branches).
-    #[arg(long = "h-max", default_value_t = 0.1, allow_negative_numbers = true)]
+    #[arg(long = "h-max", default_value_t = 0.1, allow_hyphen_values = true)]
     pub h_max: f64,
     /// Largest number of points of a run (each way).
-    #[arg(long = "max-points", default_value_t = 2000)]
+    #[arg(
+        long = "max-points",
+        default_value_t = 2000,
+        allow_negative_numbers = true
+    )]
     pub max_points: usize,
     /// Collocation: mesh intervals per segment (--method collocation; a restart by collocation
     /// keeps the saved mesh).
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub ntst: Option<usize>,
     /// Collocation: collocation points per interval, 1 to 7 (--method collocation).
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub ncol: Option<usize>,
     /// Newton tolerance of the corrector: the step relative to 1 + |u| (the residual must
     /// also be below 1e-10).
-    #[arg(long, default_value_t = 1e-10, allow_negative_numbers = true)]
+    #[arg(long, default_value_t = 1e-10, allow_hyphen_values = true)]
     pub tol: f64,
     /// Restart from this saved run (a file written by --out).
     #[arg(long, requires = "label")]
     pub restart: Option<PathBuf>,
     /// Label of the point of the saved run to restart from.
-    #[arg(long, requires = "restart")]
+    #[arg(long, requires = "restart", allow_negative_numbers = true)]
     pub label: Option<usize>,
     /// Write the run (branch with unknowns, for restarts) to this JSON file.
     #[arg(long)]
@@ -186,10 +190,10 @@ pub enum MethodArg {
 #[derive(Debug, Args)]
 pub struct OrbitArgs {
     /// Forcing frequency omega (> 0).
-    #[arg(long, default_value_t = 1.3, allow_negative_numbers = true)]
+    #[arg(long, default_value_t = 1.3, allow_hyphen_values = true)]
     pub omega: f64,
     /// Forcing amplitude alpha (>= 0).
-    #[arg(long, default_value_t = 0.66, allow_negative_numbers = true)]
+    #[arg(long, default_value_t = 0.66, allow_hyphen_values = true)]
     pub alpha: f64,
     /// Which orbit.
     #[arg(long, value_enum, default_value_t = KindArg::Symmetric)]
@@ -198,19 +202,19 @@ pub struct OrbitArgs {
     #[arg(long, value_enum, default_value_t = MethodArg::Collocation)]
     pub method: MethodArg,
     /// Collocation: mesh intervals per segment.
-    #[arg(long, default_value_t = 20)]
+    #[arg(long, default_value_t = 20, allow_negative_numbers = true)]
     pub ntst: usize,
     /// Collocation: points per interval.
-    #[arg(long, default_value_t = 4)]
+    #[arg(long, default_value_t = 4, allow_negative_numbers = true)]
     pub ncol: usize,
     /// Initial angle for --kind simulate.
-    #[arg(long, default_value_t = 0.01, allow_negative_numbers = true)]
+    #[arg(long, default_value_t = 0.01, allow_hyphen_values = true)]
     pub phi0: f64,
     /// Initial angular velocity for --kind simulate.
-    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
+    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
     pub psi0: f64,
     /// Forcing phase for --kind simulate.
-    #[arg(long, default_value_t = std::f64::consts::FRAC_PI_2, allow_negative_numbers = true)]
+    #[arg(long, default_value_t = std::f64::consts::FRAC_PI_2, allow_hyphen_values = true)]
     pub beta: f64,
     /// Print the orbit as JSON on stdout.
     #[arg(long)]
@@ -227,13 +231,13 @@ pub struct FigureArgs {
     #[arg(long, default_value = "results")]
     pub out: PathBuf,
     /// Sampling figures: trials per basin (the study: 20,000 for Fig. 7).
-    #[arg(long, default_value_t = 2000)]
+    #[arg(long, default_value_t = 2000, allow_negative_numbers = true)]
     pub trials: u64,
     /// Sampling figures: seed (results are identical for a seed whatever the threads).
-    #[arg(long, default_value_t = 1)]
+    #[arg(long, default_value_t = 1, allow_negative_numbers = true)]
     pub seed: u64,
     /// Worker threads (default: all cores).
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub threads: Option<usize>,
     /// Sampling figures 7, 9, 10: run only shard I of N (0-based, `I/N`) of the trials and write
     /// DIR/figN.shard-I-of-N.json, for `rocking-block merge` (cluster array jobs).
@@ -270,44 +274,44 @@ pub struct MergeArgs {
 #[derive(Debug, Args)]
 pub struct SimulateArgs {
     /// Forcing frequency omega (> 0).
-    #[arg(long, default_value_t = 1.3, allow_negative_numbers = true)]
+    #[arg(long, default_value_t = 1.3, allow_hyphen_values = true)]
     pub omega: f64,
     /// Forcing amplitude alpha (>= 0; the study's range is (0, 1.06]).
-    #[arg(long, default_value_t = 0.66, allow_negative_numbers = true)]
+    #[arg(long, default_value_t = 0.66, allow_hyphen_values = true)]
     pub alpha: f64,
     /// Initial angle phi0.
-    #[arg(long, default_value_t = 0.01, allow_negative_numbers = true)]
+    #[arg(long, default_value_t = 0.01, allow_hyphen_values = true)]
     pub phi0: f64,
     /// Initial angular velocity psi0.
-    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
+    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
     pub psi0: f64,
     /// Forcing phase beta: (r0, s0) = (sin beta, cos beta).
-    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
+    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
     pub beta: f64,
     /// Forcing-oscillator state r0 (with --s0; overrides --beta).
-    #[arg(long, requires = "s0", allow_negative_numbers = true)]
+    #[arg(long, requires = "s0", allow_hyphen_values = true)]
     pub r0: Option<f64>,
     /// Forcing-oscillator state s0 (with --r0; overrides --beta).
-    #[arg(long, requires = "r0", allow_negative_numbers = true)]
+    #[arg(long, requires = "r0", allow_hyphen_values = true)]
     pub s0: Option<f64>,
     /// Duration in forcing periods 2 pi / omega.
-    #[arg(long, default_value_t = 100.0)]
+    #[arg(long, default_value_t = 100.0, allow_hyphen_values = true)]
     pub periods: f64,
     /// Damping xi (>= 0).
-    #[arg(long, default_value_t = DEFAULT_XI)]
+    #[arg(long, default_value_t = DEFAULT_XI, allow_hyphen_values = true)]
     pub xi: f64,
     /// Slenderness angle theta_b (rad).
-    #[arg(long = "theta-b", default_value_t = DEFAULT_THETA_B)]
+    #[arg(long = "theta-b", default_value_t = DEFAULT_THETA_B, allow_hyphen_values = true)]
     pub theta_b: f64,
     /// Relative tolerance of the integrator.
-    #[arg(long, default_value_t = 1e-10)]
+    #[arg(long, default_value_t = 1e-10, allow_hyphen_values = true)]
     pub rtol: f64,
     /// Absolute tolerance of the integrator.
-    #[arg(long, default_value_t = 1e-12)]
+    #[arg(long, default_value_t = 1e-12, allow_hyphen_values = true)]
     pub atol: f64,
     /// Dense samples per forcing period for --csv, --svg and max_abs_phi (default 200 when a
     /// file is asked for, else 0).
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub points_per_period: Option<usize>,
     /// Print the result as JSON on stdout.
     #[arg(long)]

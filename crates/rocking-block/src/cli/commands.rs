@@ -1,6 +1,6 @@
 //! `simulate`, `orbit` and `classify`.
 
-use super::{ClassifyArgs, KindArg, MethodArg, OrbitArgs, SimulateArgs, io_err, stdout_err};
+use super::{ClassifyArgs, KindArg, MethodArg, OrbitArgs, SimulateArgs, read_err, stdout_err};
 use crate::error::{Error, Result};
 use crate::model::Parameters;
 use crate::plot;
@@ -80,7 +80,7 @@ pub(super) fn run_classify(args: &ClassifyArgs, out: &mut dyn Write) -> Result<(
             });
         }
         crate::output::check_file(output)?;
-        let text = std::fs::read_to_string(input).map_err(io_err(input))?;
+        let text = std::fs::read_to_string(input).map_err(read_err(input))?;
         let rows = crate::classes::parse_trials(&text).map_err(|reason| Error::InvalidFile {
             path: input.clone(),
             reason,

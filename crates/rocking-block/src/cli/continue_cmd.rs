@@ -1,6 +1,6 @@
 //! `continue`: one-parameter continuation from the command line, and restarts.
 
-use super::{ContinueArgs, DirectionArg, FreeArg, KindArg, MethodArg, io_err, stdout_err};
+use super::{ContinueArgs, DirectionArg, FreeArg, KindArg, MethodArg, read_err, stdout_err};
 use crate::error::{Error, Result};
 use crate::model::Parameters;
 use std::io::Write;
@@ -57,7 +57,7 @@ pub(super) fn run_continue(args: &ContinueArgs, out: &mut dyn Write) -> Result<(
         DirectionArg::Down => RunDirection::Down,
     };
     let branch = if let (Some(path), Some(label)) = (&args.restart, args.label) {
-        let text = std::fs::read_to_string(path).map_err(io_err(path))?;
+        let text = std::fs::read_to_string(path).map_err(read_err(path))?;
         let invalid = |reason: String| Error::InvalidFile {
             path: path.clone(),
             reason,

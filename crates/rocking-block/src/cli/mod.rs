@@ -23,8 +23,9 @@ fn stdout_err(source: std::io::Error) -> Error {
     }
 }
 
-fn io_err(path: &Path) -> impl FnOnce(std::io::Error) -> Error + '_ {
-    move |source| Error::Io {
+/// A failed read of an input file.
+fn read_err(path: &Path) -> impl FnOnce(std::io::Error) -> Error + '_ {
+    move |source| Error::Read {
         path: path.to_path_buf(),
         source,
     }

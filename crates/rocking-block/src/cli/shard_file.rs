@@ -42,7 +42,10 @@ impl ShardFile {
     /// # Errors
     /// [`Error::InvalidFile`] naming the file and what is wrong with it.
     pub fn read(path: &Path) -> Result<Self> {
-        let text = std::fs::read_to_string(path).map_err(|e| bad(path, e.to_string()))?;
+        let text = std::fs::read_to_string(path).map_err(|source| Error::Read {
+            path: path.to_path_buf(),
+            source,
+        })?;
         Self::parse(&text).map_err(|reason| bad(path, reason))
     }
 
