@@ -1,0 +1,177 @@
+//! The corrector: chord Newton on the augmented system, its factorisation (left for the
+//! tangent, the determinant and the analysis) and the charts built from it.
+
+use super::predict::{dot, max_abs};
+use super::{Chart, Palc};
+use crate::error::{Error, Result};
+use crate::{ContinuationProblem, PointInfo};
+use hycont_core::problem::JacobianUse;
+
+impl<'a, P: ContinuationProblem<'a> + ?Sized> Palc<'_, 'a, P> {
+    /// Assembles and factorises $[J(u); r^\top]$ and writes $[F(u); r \cdot (u - u_0) - s]$.
+    ///
+    /// `purpose` tells the problem whether the Jacobian must be exact (at a solution: tangent,
+    /// determinant, multipliers) or only gives chord directions (it may then be computed more
+    /// cheaply; the residual is exact either way).
+    pub(super) fn factor(
+        &mut self,
+        u: &[f64],
+        row: &[f64],
+        u0: &[f64],
+        s: f64,
+        purpose: JacobianUse,
+    ) -> Result<()> {
+        let n = self.n;
+        if self.locating {
+            self.stats.location_jacobians += 1;
+        } else {
+            self.stats.jacobians += 1;
+        }
+        let mut values = std::mem::take(&mut self.values);
+        self.p
+            .problem()
+            .evaluate_for(u, &mut self.res[..n - 1], &mut values, purpose)?;
+        values.truncate(self.k);
+        values.extend_from_slice(row);
+        self.res[n - 1] = dot(row, u) - dot(row, u0) - s;
+        let out = self.pattern.factorize(&values);
+        self.values = values;
+        Ok(out?)
+    }
+
+    /// Newton on the augmented system from `u_pred`; returns the solution and the iterations,
+    /// and leaves the augmented Jacobian at the solution factorised (with `row` as last row).
+    ///
+    /// Converged when the residual is below the tolerance after at least one step, or the step
+    /// is below the tolerance with a residual of the same order. The residual criterion matters
+    /// near branch points, where the augmented Jacobian is nearly singular and evaluation noise
+    /// is amplified along the (parameter-free) null direction.
+    ///
+    /// With `accurate_predictor` (location, where the predictor interpolates two nearby
+    /// solutions to high order) the residual is checked before anything is factorised: a
+    /// predictor that already solves the equations is accepted after one factorisation there.
+    pub(super) fn correct(
+        &mut self,
+        u_pred: &[f64],
+        row: &[f64],
+        u0: &[f64],
+        s: f64,
+        accurate_predictor: bool,
+    ) -> Result<(Vec<f64>, usize)> {
+        let ns = self.settings.newton;
+        let max_it = 2 * self.settings.target_iterations;
+        let n = self.n;
+        let mut u = u_pred.to_vec();
+        if accurate_predictor {
+            self.count_residual();
+            self.p
+                .problem()
+                .evaluate(&u, &mut self.res[..n - 1], None)?;
+            self.res[n - 1] = dot(row, &u) - dot(row, u0) - s;
+            if max_abs(&self.res) <= ns.residual_tol {
+                self.factor(&u, row, u0, s, JacobianUse::Exact)?;
+                return Ok((u, 0));
+            }
+        }
+        let mut du = vec![0.0; n];
+        let mut last_step = f64::INFINITY;
+        let mut last_res = f64::INFINITY;
+        // Chord iterations: the Jacobian is factorised at the predictor (and again only if the
+        // residual stops contracting fast); the other iterations evaluate the residual only.
+        let mut fresh = true;
+        self.factor(&u, row, u0, s, JacobianUse::NewtonDirection)?;
+        for it in 0..=max_it {
+            if !fresh {
+                self.count_residual();
+                self.p
+                    .problem()
+                    .evaluate(&u, &mut self.res[..n - 1], None)?;
+                self.res[n - 1] = dot(row, &u) - dot(row, u0) - s;
+            }
+            let res = max_abs(&self.res);
+            let scale = 1.0 + max_abs(&u);
+            if it > 0
+                && (res <= ns.residual_tol
+                    || (last_step <= ns.tol * scale && res <= 1e3 * last_step.max(ns.residual_tol)))
+            {
+                // Converged: factorise at the solution for the tangent and the determinant.
+                self.factor(&u, row, u0, s, JacobianUse::Exact)?;
+                return Ok((u, it));
+            }
+            if it == max_it || !res.is_finite() {
+                break;
+            }
+            if !fresh && res > 0.2 * last_res {
+                // Slow contraction: refresh the Jacobian.
+                self.factor(&u, row, u0, s, JacobianUse::NewtonDirection)?;
+            }
+            for (d, r) in du.iter_mut().zip(&self.res) {
+                *d = -r;
+            }
+            self.pattern.solve_in_place(&mut du)?;
+            last_step = max_abs(&du);
+            last_res = res;
+            if last_step > 1e3 * scale {
+                break;
+            }
+            for (x, d) in u.iter_mut().zip(&du) {
+                *x += d;
+            }
+            fresh = false;
+        }
+        Err(Error::Core(hycont_core::Error::NewtonFailed {
+            reason: format!(
+                "the corrector did not converge in {} iterations (last step {last_step:e}, residual {last_res:e})",
+                max_it + 1
+            ),
+            history: Vec::new(),
+        }))
+    }
+
+    pub(super) fn count_residual(&mut self) {
+        if self.locating {
+            self.stats.location_residuals += 1;
+        } else {
+            self.stats.residuals += 1;
+        }
+    }
+
+    pub(super) fn analyse(&mut self, u: &[f64]) -> Result<PointInfo> {
+        self.stats.analyses += 1;
+        Ok(self.p.analyse(u)?)
+    }
+
+    /// Tangent at `u` with the current factorisation of $[J(u); row]$ (left by
+    /// [`Palc::correct`]), and the determinant of that matrix.
+    pub(super) fn tangent_from_factorization(&mut self) -> Result<(Vec<f64>, (f64, f64))> {
+        let det = self.pattern.determinant()?;
+        let mut x = vec![0.0; self.n];
+        x[self.n - 1] = 1.0;
+        self.pattern.solve_in_place(&mut x)?;
+        self.wnormalize(&mut x);
+        Ok((x, det))
+    }
+
+    /// Tangent at a corrected `u` (reference row `row`, orientation `t·row > 0`), with the
+    /// determinant of $[J(u); row]$ (factorises afresh).
+    pub(super) fn tangent(&mut self, u: &[f64], row: &[f64]) -> Result<(Vec<f64>, (f64, f64))> {
+        let zero = vec![0.0; self.n];
+        self.factor(u, row, &zero, dot(row, u), JacobianUse::Exact)?;
+        self.tangent_from_factorization()
+    }
+
+    /// The chart at a corrected `u`, using the factorisation the corrector left (also for the
+    /// analysis, see [`ContinuationProblem::analyse_factorised`]).
+    pub(super) fn chart(&mut self, u: Vec<f64>, _row: &[f64], iterations: usize) -> Result<Chart> {
+        let (t, det) = self.tangent_from_factorization()?;
+        self.stats.analyses += 1;
+        let info = self.p.analyse_factorised(&u, &self.pattern)?;
+        Ok(Chart {
+            u,
+            t,
+            info,
+            iterations,
+            det,
+        })
+    }
+}
