@@ -384,3 +384,59 @@ fn continue_takes_steps_meshes_and_tolerances() {
         assert_one_line_usage_error(&all, needle);
     }
 }
+
+/// `--xi` and `--theta-b` reach `continue`, `orbit` and `classify` (as `simulate`): another
+/// block has other special points and orbits; bad values exit 2 naming the parameter; a restart
+/// keeps the saved run's block and refuses them.
+#[test]
+fn another_block_on_every_command() {
+    let json = |args: &[&str]| -> serde_json::Value {
+        serde_json::from_slice(&bin().args(args).run_ok().stdout).unwrap()
+    };
+    let fold = |v: &serde_json::Value| {
+        v["special_points"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|s| s["kind"] == "SN")
+            .unwrap()["omega"]
+            .as_f64()
+            .unwrap()
+    };
+    let study = json(&["continue", "--free", "omega", "--json"]);
+    let other = json(&["continue", "--free", "omega", "--theta-b", "0.85", "--json"]);
+    assert!(
+        (fold(&study) - fold(&other)).abs() > 0.05,
+        "{} vs {}",
+        fold(&study),
+        fold(&other)
+    );
+    let amp = |extra: &[&str]| {
+        let mut args = vec!["orbit", "--json"];
+        args.extend_from_slice(extra);
+        json(&args)["amp"].as_f64().unwrap()
+    };
+    assert!((amp(&[]) - amp(&["--theta-b", "0.85"])).abs() > 1e-3);
+    let trial = json(&["classify", "--xi", "0.001", "--theta-b", "0.9", "--json"]);
+    assert_eq!(trial["xi"], 0.001);
+    assert_eq!(trial["theta_b"], 0.9);
+    assert_one_line_usage_error(
+        &["continue", "--free", "omega", "--xi", "-0.1"],
+        "xi = -0.1",
+    );
+    assert_one_line_usage_error(&["orbit", "--theta-b", "1.7"], "theta_b = 1.7");
+    assert_one_line_usage_error(
+        &[
+            "continue",
+            "--free",
+            "omega",
+            "--restart",
+            "run.json",
+            "--label",
+            "2",
+            "--xi",
+            "0.1",
+        ],
+        "a restart continues the saved run's block",
+    );
+}

@@ -53,6 +53,9 @@ pub struct ClassifyArgs {
     /// Initial angular velocity (single trial).
     #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
     pub psi0: f64,
+    /// The block (every trial).
+    #[command(flatten)]
+    pub block: BlockArgs,
     /// CSV file of trials (header omega,alpha,beta,phi0,psi0).
     #[arg(long, requires = "output")]
     pub input: Option<PathBuf>,
@@ -96,6 +99,9 @@ pub struct ContinueArgs {
     /// Start: forcing amplitude.
     #[arg(long, default_value_t = 0.66, allow_hyphen_values = true)]
     pub alpha: f64,
+    /// The block (fresh starts; a restart continues the saved run's block).
+    #[command(flatten)]
+    pub block: BlockArgs,
     /// Start: which orbit.
     #[arg(long, value_enum, default_value_t = KindArg::Symmetric)]
     pub kind: KindArg,
@@ -195,6 +201,9 @@ pub struct OrbitArgs {
     /// Forcing amplitude alpha (>= 0).
     #[arg(long, default_value_t = 0.66, allow_hyphen_values = true)]
     pub alpha: f64,
+    /// The block.
+    #[command(flatten)]
+    pub block: BlockArgs,
     /// Which orbit.
     #[arg(long, value_enum, default_value_t = KindArg::Symmetric)]
     pub kind: KindArg,
@@ -270,6 +279,37 @@ pub struct MergeArgs {
     pub json: bool,
 }
 
+/// The block: damping and slenderness (the study's unless given).
+#[derive(Debug, Clone, Copy, Args)]
+pub struct BlockArgs {
+    /// Damping xi (>= 0) [default: the study's 0.00022].
+    #[arg(long, allow_hyphen_values = true)]
+    pub xi: Option<f64>,
+    /// Slenderness angle theta_b in rad, in (acos(sqrt(2/3)), pi/2) [default: the study's
+    /// 0.8795].
+    #[arg(long = "theta-b", allow_hyphen_values = true)]
+    pub theta_b: Option<f64>,
+}
+
+impl BlockArgs {
+    /// Whether either was given.
+    #[must_use]
+    pub fn given(&self) -> bool {
+        self.xi.is_some() || self.theta_b.is_some()
+    }
+
+    /// The parameters at forcing `(omega, alpha)` for this block (not yet validated).
+    #[must_use]
+    pub fn parameters(&self, omega: f64, alpha: f64) -> crate::model::Parameters {
+        crate::model::Parameters {
+            omega,
+            alpha,
+            xi: self.xi.unwrap_or(DEFAULT_XI),
+            theta_b: self.theta_b.unwrap_or(DEFAULT_THETA_B),
+        }
+    }
+}
+
 /// Arguments of `rocking-block simulate`.
 #[derive(Debug, Args)]
 pub struct SimulateArgs {
@@ -297,12 +337,9 @@ pub struct SimulateArgs {
     /// Duration in forcing periods 2 pi / omega.
     #[arg(long, default_value_t = 100.0, allow_hyphen_values = true)]
     pub periods: f64,
-    /// Damping xi (>= 0).
-    #[arg(long, default_value_t = DEFAULT_XI, allow_hyphen_values = true)]
-    pub xi: f64,
-    /// Slenderness angle theta_b (rad).
-    #[arg(long = "theta-b", default_value_t = DEFAULT_THETA_B, allow_hyphen_values = true)]
-    pub theta_b: f64,
+    /// The block.
+    #[command(flatten)]
+    pub block: BlockArgs,
     /// Relative tolerance of the integrator.
     #[arg(long, default_value_t = 1e-10, allow_hyphen_values = true)]
     pub rtol: f64,

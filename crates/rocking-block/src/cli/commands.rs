@@ -2,7 +2,6 @@
 
 use super::{ClassifyArgs, KindArg, MethodArg, OrbitArgs, SimulateArgs, read_err, stdout_err};
 use crate::error::{Error, Result};
-use crate::model::Parameters;
 use crate::plot;
 use crate::simulation::{SimulationRequest, simulate};
 use hycont_core::HybridSystem;
@@ -10,7 +9,7 @@ use std::io::Write;
 
 pub(super) fn run_orbit(args: &OrbitArgs, out: &mut dyn Write) -> Result<()> {
     use crate::orbits::{OrbitKind, orbit};
-    let params = Parameters::new(args.omega, args.alpha);
+    let params = args.block.parameters(args.omega, args.alpha);
     params.validate()?;
     crate::simulation::check_start(args.phi0, args.psi0, args.beta)?;
     let settings = hycont_core::orbit::CollocationSettings {
@@ -87,8 +86,14 @@ pub(super) fn run_classify(args: &ClassifyArgs, out: &mut dyn Write) -> Result<(
         })?;
         let results: Vec<String> = rows
             .par_iter()
-            .map(
-                |v| match classify(&Parameters::new(v[0], v[1]), v[2], v[3], v[4], &settings) {
+            .map(|v| {
+                match classify(
+                    &args.block.parameters(v[0], v[1]),
+                    v[2],
+                    v[3],
+                    v[4],
+                    &settings,
+                ) {
                     Ok(c) => format!(
                         "{},{},{},{},{},{},{:?},{},{}",
                         v[0],
@@ -105,8 +110,8 @@ pub(super) fn run_classify(args: &ClassifyArgs, out: &mut dyn Write) -> Result<(
                         "{},{},{},{},{},error,\"{e}\",0,false",
                         v[0], v[1], v[2], v[3], v[4]
                     ),
-                },
-            )
+                }
+            })
             .collect();
         let mut text =
             String::from("omega,alpha,beta,phi0,psi0,class,decision,periods,with_rest\n");
@@ -124,11 +129,12 @@ pub(super) fn run_classify(args: &ClassifyArgs, out: &mut dyn Write) -> Result<(
         .map_err(stdout_err)?;
         return Ok(());
     }
-    let params = Parameters::new(args.omega, args.alpha);
+    let params = args.block.parameters(args.omega, args.alpha);
     let c = classify(&params, args.beta, args.phi0, args.psi0, &settings)?;
     if args.json {
         let v = serde_json::json!({
-            "omega": args.omega, "alpha": args.alpha, "beta": args.beta,
+            "omega": args.omega, "alpha": args.alpha, "xi": params.xi, "theta_b": params.theta_b,
+            "beta": args.beta,
             "phi0": args.phi0, "psi0": args.psi0,
             "class": c.class.name(), "decision": c.decision, "periods": c.periods,
             "with_rest": c.with_rest,
@@ -158,12 +164,7 @@ pub(super) fn run_classify(args: &ClassifyArgs, out: &mut dyn Write) -> Result<(
 }
 
 pub(super) fn run_simulate(args: &SimulateArgs, out: &mut dyn Write) -> Result<()> {
-    let params = Parameters {
-        omega: args.omega,
-        alpha: args.alpha,
-        xi: args.xi,
-        theta_b: args.theta_b,
-    };
+    let params = args.block.parameters(args.omega, args.alpha);
     let wants_files = args.csv.is_some() || args.svg.is_some();
     let req = SimulationRequest {
         params,

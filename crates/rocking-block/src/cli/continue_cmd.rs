@@ -56,6 +56,13 @@ pub(super) fn run_continue(args: &ContinueArgs, out: &mut dyn Write) -> Result<(
         DirectionArg::Up => RunDirection::Up,
         DirectionArg::Down => RunDirection::Down,
     };
+    if args.restart.is_some() && args.block.given() {
+        return Err(Error::InvalidArgument {
+            name: "--xi/--theta-b",
+            value: "given with --restart".into(),
+            reason: "a restart continues the saved run's block; give them for fresh starts only",
+        });
+    }
     let branch = if let (Some(path), Some(label)) = (&args.restart, args.label) {
         let text = std::fs::read_to_string(path).map_err(read_err(path))?;
         let invalid = |reason: String| Error::InvalidFile {
@@ -80,7 +87,7 @@ pub(super) fn run_continue(args: &ContinueArgs, out: &mut dyn Write) -> Result<(
         let way = (args.direction != DirectionArg::Both).then_some(direction);
         run.restart("branch", &saved, label, way)?
     } else {
-        let params = Parameters::new(args.omega, args.alpha);
+        let params = args.block.parameters(args.omega, args.alpha);
         params.validate()?;
         crate::simulation::check_start(args.phi0, args.psi0, args.beta)?;
         let kind = match args.kind {
