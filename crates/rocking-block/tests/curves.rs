@@ -3,6 +3,7 @@
 //! special points of Figs. 3 and 4 there, to 1e-9; a curve meets a separate one-parameter run.
 
 use approx::assert_abs_diff_eq;
+mod common;
 use hycont_continuation::observe::Silent;
 use hycont_continuation::{CurveSpec, MeasureId, OrbitMethod, RunDirection, SpecialKind};
 use hycont_core::orbit::CollocationSettings;
@@ -124,4 +125,100 @@ fn a_collocation_curve_agrees_with_shooting() {
         .unwrap()
         .point[ALPHA];
     assert_abs_diff_eq!(bp3, shooting, epsilon = 1e-7);
+}
+
+/// `rocking-block curve` from PD1 of a saved asymmetric run in alpha (omega = 1.3): the PD curve
+/// of Fig. 6. Every point has a multiplier at -1 (to 1e-6), the user point at omega = 1.3 is
+/// PD1, alpha = 0.73653017 (to 1e-6), the curve file and its picture are written; a start
+/// that is not a special point of a curve's kind, or the saved run's own parameter as second,
+/// exit 2.
+#[test]
+fn the_curve_command_continues_pd1_in_omega() {
+    use common::{RunOk, bin};
+    let dir = std::env::temp_dir().join(format!("rocking-block-curve-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let run = dir.join("run.json");
+    let out = bin()
+        .args([
+            "continue",
+            "--free",
+            "alpha",
+            "--omega",
+            "1.3",
+            "--kind",
+            "asymmetric-pos",
+        ])
+        .args(["--json", "--out"])
+        .arg(&run)
+        .run_ok();
+    let branch: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let label_of = |kind: &str| {
+        branch["special_points"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|s| s["kind"] == kind)
+            .unwrap()["label"]
+            .as_u64()
+            .unwrap()
+            .to_string()
+    };
+    let (pd, end) = (label_of("PD"), label_of("EP"));
+    let (file, svg) = (dir.join("pd.json"), dir.join("pd.svg"));
+    let curve = |label: &str, second: &str| {
+        let mut cmd = bin();
+        cmd.arg("curve").arg("--restart").arg(&run).args([
+            "--label",
+            label,
+            "--second",
+            second,
+            "--uz-omega",
+            "1.3",
+            "--json",
+        ]);
+        cmd
+    };
+    let out = curve(&pd, "omega")
+        .arg("--out")
+        .arg(&file)
+        .arg("--svg")
+        .arg(&svg)
+        .run_ok();
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(v["kind"], "PD");
+    assert_eq!(v["free"], serde_json::json!(["alpha", "omega"]));
+    let points = v["points"].as_array().unwrap();
+    assert!(points.len() > 20);
+    for p in points {
+        let closest = p["multipliers"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|m| (m[0].as_f64().unwrap() + 1.0).hypot(m[1].as_f64().unwrap()))
+            .fold(f64::INFINITY, f64::min);
+        assert!(closest < 1e-6, "label {}: {closest:e}", p["label"]);
+    }
+    let uz = v["special_points"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|s| s["kind"] == "UZ" && (s["omega"].as_f64().unwrap() - 1.3).abs() < 1e-9)
+        .expect("a user point at omega = 1.3");
+    assert_abs_diff_eq!(uz["alpha"].as_f64().unwrap(), 0.736_530_17, epsilon = 1e-6);
+    assert!(
+        std::fs::read_to_string(&file)
+            .unwrap()
+            .contains("\"second\"")
+    );
+    assert!(std::fs::read_to_string(&svg).unwrap().contains("PD curve"));
+    for (label, second, needle) in [
+        (end.as_str(), "omega", "cannot continue a curve at label"),
+        (pd.as_str(), "alpha", "must differ from the saved run's"),
+    ] {
+        let out = curve(label, second).output().unwrap();
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{err}");
+        assert!(err.contains(needle), "{err}");
+    }
+    std::fs::remove_dir_all(&dir).ok();
 }

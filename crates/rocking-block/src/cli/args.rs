@@ -27,6 +27,9 @@ pub enum Command {
     /// Continue a periodic orbit in omega or alpha (pseudo-arclength), detecting and locating
     /// SN, BP, PD, TR, SB and GR; or restart from a labelled point of a saved run.
     Continue(ContinueArgs),
+    /// Continue a two-parameter curve (SN, PD, BP, SB or GR) from a labelled special point of a
+    /// run saved by `continue --out`.
+    Curve(CurveArgs),
     /// Classify trials (the study's solution classes): one trial with --json, or a CSV batch
     /// (columns omega, alpha, beta, phi0, psi0) with --input/--output.
     Classify(ClassifyArgs),
@@ -190,6 +193,45 @@ pub enum MethodArg {
     Collocation,
     /// Multiple shooting.
     Shooting,
+}
+
+/// Arguments of `rocking-block curve`.
+#[derive(Debug, Args)]
+pub struct CurveArgs {
+    /// The saved run (a file written by `continue --out`).
+    #[arg(long)]
+    pub restart: PathBuf,
+    /// Label of the special point (SN, PD, BP, SB or GR) of the saved run to start from.
+    #[arg(long, allow_negative_numbers = true)]
+    pub label: usize,
+    /// The second parameter (the other is the saved run's).
+    #[arg(long, value_enum)]
+    pub second: FreeArg,
+    /// Smallest value of the second parameter (default: the study's range, 0.5 for omega, 0 for
+    /// alpha).
+    #[arg(long, allow_hyphen_values = true)]
+    pub min: Option<f64>,
+    /// Largest value of the second parameter (default: 4 for omega, 1.06 for alpha).
+    #[arg(long, allow_hyphen_values = true)]
+    pub max: Option<f64>,
+    /// Which way(s) from the special point.
+    #[arg(long, value_enum, default_value_t = DirectionArg::Both)]
+    pub direction: DirectionArg,
+    /// User points (UZ): where the curve crosses omega = X (repeatable).
+    #[arg(long = "uz-omega", allow_hyphen_values = true)]
+    pub uz_omega: Vec<f64>,
+    /// User points (UZ): where the curve crosses alpha = Y (repeatable).
+    #[arg(long = "uz-alpha", allow_hyphen_values = true)]
+    pub uz_alpha: Vec<f64>,
+    /// Write the curve (both parameters at every point, with unknowns) to this JSON file.
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+    /// Draw the curve in the (omega, alpha) plane to this SVG file.
+    #[arg(long)]
+    pub svg: Option<PathBuf>,
+    /// Print the curve (study format, both parameters per point) as JSON on stdout.
+    #[arg(long)]
+    pub json: bool,
 }
 
 /// Arguments of `rocking-block orbit`.

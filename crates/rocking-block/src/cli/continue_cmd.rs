@@ -10,7 +10,7 @@ pub(super) fn run_continue(args: &ContinueArgs, out: &mut dyn Write) -> Result<(
     use crate::figures::branches::study_labels;
     use crate::orbits::{OrbitKind, orbit};
     use crate::report::branch_json;
-    use hycont_continuation::{OrbitBranch, OrbitMethod, RunDirection};
+    use hycont_continuation::{OrbitMethod, RunDirection};
     let free = match args.free {
         FreeArg::Omega => Free::Omega,
         FreeArg::Alpha => Free::Alpha,
@@ -64,22 +64,11 @@ pub(super) fn run_continue(args: &ContinueArgs, out: &mut dyn Write) -> Result<(
         });
     }
     let branch = if let (Some(path), Some(label)) = (&args.restart, args.label) {
-        let text = std::fs::read_to_string(path).map_err(read_err(path))?;
-        let invalid = |reason: String| Error::InvalidFile {
+        let saved = read_saved_run(path)?;
+        saved.point(label).map_err(|e| Error::InvalidFile {
             path: path.clone(),
-            reason,
-        };
-        let saved = OrbitBranch::from_json(&text).map_err(|e| {
-            invalid(if e.is_syntax() {
-                format!("not JSON ({e})")
-            } else {
-                format!("not a run saved by `continue --out` ({e})")
-            })
+            reason: e.to_string(),
         })?;
-        saved
-            .validate(&crate::model::RockingBlock)
-            .map_err(|e| invalid(format!("not a run of the rocking block: {e}")))?;
-        saved.point(label).map_err(|e| invalid(e.to_string()))?;
         let params = Parameters::from_vec(&saved.template.params);
         let mut run = study_run(free, &params, (min, max), method)?;
         tune(&mut run);
@@ -143,4 +132,27 @@ pub(super) fn run_continue(args: &ContinueArgs, out: &mut dyn Write) -> Result<(
         }
     }
     Ok(())
+}
+
+/// A run saved by `continue --out`, read and checked against the model.
+///
+/// # Errors
+/// [`Error::Read`] if the file cannot be read, [`Error::InvalidFile`] if it is not such a run.
+pub(super) fn read_saved_run(path: &std::path::Path) -> Result<hycont_continuation::OrbitBranch> {
+    let text = std::fs::read_to_string(path).map_err(read_err(path))?;
+    let invalid = |reason: String| Error::InvalidFile {
+        path: path.to_path_buf(),
+        reason,
+    };
+    let saved = hycont_continuation::OrbitBranch::from_json(&text).map_err(|e| {
+        invalid(if e.is_syntax() {
+            format!("not JSON ({e})")
+        } else {
+            format!("not a run saved by `continue --out` ({e})")
+        })
+    })?;
+    saved
+        .validate(&crate::model::RockingBlock)
+        .map_err(|e| invalid(format!("not a run of the rocking block: {e}")))?;
+    Ok(saved)
 }

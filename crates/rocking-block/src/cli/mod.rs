@@ -4,6 +4,7 @@
 mod args;
 mod commands;
 mod continue_cmd;
+mod curve_cmd;
 mod sampling;
 mod shard_file;
 
@@ -41,6 +42,7 @@ pub fn run(cli: Cli, out: &mut dyn Write) -> Result<()> {
         Command::Orbit(args) => commands::run_orbit(&args, out),
         Command::Figure(args) => sampling::run_figure(&args, out),
         Command::Continue(args) => continue_cmd::run_continue(&args, out),
+        Command::Curve(args) => curve_cmd::run_curve(&args, out),
         Command::Classify(args) => commands::run_classify(&args, out),
         Command::Merge(args) => sampling::run_merge(&args, out),
     }

@@ -173,6 +173,36 @@ pub fn curves_svg(
     tests: &[crate::figures::fig6::TestPoint],
     params: &Parameters,
 ) -> Result<()> {
+    draw_curves(
+        path,
+        "Fig. 6: two-parameter curves (omega, alpha)",
+        curves,
+        tests,
+        params,
+    )
+}
+
+/// One two-parameter curve (`rocking-block curve`) in the (omega, alpha) plane, as Fig. 6 draws
+/// its curves, titled `title`.
+///
+/// # Errors
+/// [`crate::Error::Plot`] if the file cannot be written.
+pub fn curve_svg(
+    path: &Path,
+    title: &str,
+    curve: &crate::continuation::Curve,
+    params: &Parameters,
+) -> Result<()> {
+    draw_curves(path, title, std::slice::from_ref(curve), &[], params)
+}
+
+fn draw_curves(
+    path: &Path,
+    title: &str,
+    curves: &[crate::continuation::Curve],
+    tests: &[crate::figures::fig6::TestPoint],
+    params: &Parameters,
+) -> Result<()> {
     use hycont_continuation::SpecialKind;
     let colour = |k: SpecialKind| match k {
         SpecialKind::Fold => RGBColor(255, 127, 14),
@@ -184,10 +214,7 @@ pub fn curves_svg(
     let root = SVGBackend::new(path, (1000, 750)).into_drawing_area();
     root.fill(&WHITE).map_err(|e| plot_err(path, e))?;
     let mut chart = ChartBuilder::on(&root)
-        .caption(
-            "Fig. 6: two-parameter curves (omega, alpha)",
-            ("sans-serif", 18),
-        )
+        .caption(title, ("sans-serif", 18))
         .margin(15)
         .x_label_area_size(40)
         .y_label_area_size(55)
@@ -226,6 +253,9 @@ pub fn curves_svg(
         ),
     ] {
         let band = region(lower, upper);
+        if band.is_empty() {
+            continue; // no legend for a region not drawn (a single curve)
+        }
         for w in band.windows(2) {
             let ((w0, a0, b0), (w1, a1, b1)) = (w[0], w[1]);
             if w1 - w0 > 0.02 {

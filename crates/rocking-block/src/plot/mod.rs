@@ -6,7 +6,7 @@ mod branches;
 mod orbits;
 mod sampling;
 
-pub use branches::{branches_svg, curves_svg, test_points_svg};
+pub use branches::{branches_svg, curve_svg, curves_svg, test_points_svg};
 pub use orbits::{orbits_svg, trajectory_svg};
 pub use sampling::{
     basins_svg, brute_force_svg, class_grid_svg, marginals_svg, probability_grid_svg,

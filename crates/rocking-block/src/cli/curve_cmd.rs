@@ -1,0 +1,102 @@
+//! `curve`: two-parameter continuation from a labelled special point of a saved run.
+
+use super::continue_cmd::read_saved_run;
+use super::{CurveArgs, DirectionArg, FreeArg, stdout_err};
+use crate::continuation::{AMP, Curve, Free, default_method, study_run};
+use crate::error::{Error, Result};
+use crate::model::Parameters;
+use hycont_continuation::{CurveSpec, RunDirection};
+use std::io::Write;
+
+pub(super) fn run_curve(args: &CurveArgs, out: &mut dyn Write) -> Result<()> {
+    let saved = read_saved_run(&args.restart)?;
+    let free = Free::of(saved.free).ok_or_else(|| Error::InvalidFile {
+        path: args.restart.clone(),
+        reason: "the saved run continues neither omega nor alpha".into(),
+    })?;
+    let second = match args.second {
+        FreeArg::Omega => Free::Omega,
+        FreeArg::Alpha => Free::Alpha,
+    };
+    if second == free {
+        return Err(Error::InvalidArgument {
+            name: "second",
+            value: second.name().into(),
+            reason: "the second parameter must differ from the saved run's",
+        });
+    }
+    let (lo, hi) = second.range();
+    let (min, max) = (args.min.unwrap_or(lo), args.max.unwrap_or(hi));
+    if !(min < max) {
+        return Err(Error::InvalidArgument {
+            name: "min/max",
+            value: format!("{min}/{max}"),
+            reason: "min must be below max",
+        });
+    }
+    let kind = saved.special_at(args.label)?.kind;
+    let params = Parameters::from_vec(&saved.template.params);
+    let mut run = study_run(free, &params, free.range(), default_method())?;
+    let direction = match args.direction {
+        DirectionArg::Both => RunDirection::Both,
+        DirectionArg::Up => RunDirection::Up,
+        DirectionArg::Down => RunDirection::Down,
+    };
+    let spec = CurveSpec::new(second.id())
+        .bounds(min, max)
+        .direction(direction)
+        .user_points(Free::Omega.id(), args.uz_omega.iter().copied())
+        .user_points(Free::Alpha.id(), args.uz_alpha.iter().copied());
+    let branch = run.curve_at(kind.label(), &saved, args.label, &spec)?;
+    if let Some(path) = &args.out {
+        let text = branch
+            .to_json()
+            .expect("a curve of finite values serialises");
+        crate::output::write_atomic(path, text)?;
+    }
+    let curve = Curve { kind, branch };
+    if let Some(path) = &args.svg {
+        let title = format!(
+            "{} curve from label {} of {}",
+            kind.label(),
+            args.label,
+            args.restart.display()
+        );
+        crate::output::write_with(path, |p| crate::plot::curve_svg(p, &title, &curve, &params))?;
+    }
+    report(&curve, free, second, args.json, out)
+}
+
+/// Prints the curve: the study's JSON with both parameters named, or a summary.
+fn report(curve: &Curve, free: Free, second: Free, json: bool, out: &mut dyn Write) -> Result<()> {
+    let b = &curve.branch.branch;
+    if json {
+        let mut v = crate::report::branch_json(&curve.branch, free);
+        v["free"] = serde_json::json!([free.name(), second.name()]);
+        v["kind"] = serde_json::json!(curve.kind.label());
+        let text = serde_json::to_string_pretty(&v).expect("curve serialises");
+        return writeln!(out, "{text}").map_err(stdout_err);
+    }
+    writeln!(
+        out,
+        "{} curve: {} points, ended: {:?}",
+        curve.kind.label(),
+        b.points.len(),
+        b.end
+    )
+    .map_err(stdout_err)?;
+    for s in &b.special_points {
+        writeln!(
+            out,
+            "  {} label {} omega = {:.10} alpha = {:.10} amp {:.8}{}",
+            s.kind.label(),
+            s.point.label,
+            s.point[Free::Omega.id()],
+            s.point[Free::Alpha.id()],
+            s.point[AMP],
+            if s.located { "" } else { " (not located)" }
+        )
+        .map_err(stdout_err)?;
+    }
+    Ok(())
+}
