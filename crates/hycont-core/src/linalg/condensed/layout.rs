@@ -101,53 +101,15 @@ impl Condensed {
         for (k, &i) in free.iter().enumerate() {
             red_row[i] = schur_row + k;
         }
-        // Kept columns each block reads; block columns each free row reads.
-        let mut borders: Vec<Vec<usize>> = vec![Vec::new(); specs.len()];
-        let mut read = vec![false; n];
-        for &(r, c) in entries {
-            let (rb, cb) = (row_owner[r], col_owner[c]);
-            if rb != NONE && cb == NONE && red_col[c] != NONE {
-                blocks[rb].other.push(red_col[c]);
-            } else if rb != NONE && cb == rb {
-                read[c] = true;
-            } else if rb != NONE && cb != NONE {
-                return Err(bad(
-                    specs,
-                    "a block's unknowns appear in another block's equations",
-                ));
-            } else if rb == NONE && cb != NONE {
-                borders[cb].push(r);
-            }
-        }
-        let mut red_entries: Vec<(usize, usize)> = Vec::new();
-        let mut dense_len = 0;
-        let mut border_len = 0;
-        for (blk, rows) in blocks.iter_mut().zip(&mut borders) {
-            if blk.cols.iter().any(|&j| !read[j]) {
-                return Err(bad(specs, "a block's unknown is not read by its equations"));
-            }
-            blk.other.sort_unstable();
-            blk.other.dedup();
-            blk.other_cols = blk.other.iter().map(|&rc| kept[rc]).collect();
-            blk.at = dense_len;
-            dense_len += blk.m() * blk.w();
-            blk.schur_entries = red_entries.len();
-            for s in 0..blk.m() - blk.c() {
-                red_entries.extend(blk.other.iter().map(|&rc| (blk.schur_row + s, rc)));
-            }
-            rows.sort_unstable();
-            rows.dedup();
-            for &r in rows.iter() {
-                blk.borders.push(Border {
-                    row: r,
-                    red_row: red_row[r],
-                    at: border_len,
-                    entries: red_entries.len(),
-                });
-                border_len += blk.c();
-                red_entries.extend(blk.other.iter().map(|&rc| (red_row[r], rc)));
-            }
-        }
+        let mut borders = block_reads(
+            entries,
+            specs,
+            (&row_owner, &col_owner),
+            &red_col,
+            &mut blocks,
+        )?;
+        let (mut red_entries, dense_len, border_len) =
+            place_blocks(&mut blocks, &mut borders, &kept, &red_row);
         if u32::try_from(entries.len()).is_err() {
             return Err(bad(specs, "condensation handles at most 2^32 entries"));
         }
@@ -242,6 +204,75 @@ impl Condensed {
         }
         out
     }
+}
+
+/// The kept columns each block's rows read (into `blocks[b].other`) and, per block, the free
+/// rows that read its columns (its border rows); checks that no block's columns appear in
+/// another block's rows and that each block's rows read all its columns.
+fn block_reads(
+    entries: &[(usize, usize)],
+    specs: &[EliminationBlock],
+    (row_owner, col_owner): (&[usize], &[usize]),
+    red_col: &[usize],
+    blocks: &mut [Block],
+) -> Result<Vec<Vec<usize>>> {
+    let mut borders: Vec<Vec<usize>> = vec![Vec::new(); specs.len()];
+    let mut read = vec![false; col_owner.len()];
+    for &(r, c) in entries {
+        let (rb, cb) = (row_owner[r], col_owner[c]);
+        if rb != NONE && cb == NONE && red_col[c] != NONE {
+            blocks[rb].other.push(red_col[c]);
+        } else if rb != NONE && cb == rb {
+            read[c] = true;
+        } else if rb != NONE && cb != NONE {
+            return Err(bad(
+                specs,
+                "a block's unknowns appear in another block's equations",
+            ));
+        } else if rb == NONE && cb != NONE {
+            borders[cb].push(r);
+        }
+    }
+    if blocks.iter().any(|blk| blk.cols.iter().any(|&j| !read[j])) {
+        return Err(bad(specs, "a block's unknown is not read by its equations"));
+    }
+    Ok(borders)
+}
+
+/// Places each block's dense storage, its remaining rows and its border rows in the reduced
+/// system; returns the reduced entries so far and the dense and border storage sizes.
+fn place_blocks(
+    blocks: &mut [Block],
+    borders: &mut [Vec<usize>],
+    kept: &[usize],
+    red_row: &[usize],
+) -> (Vec<(usize, usize)>, usize, usize) {
+    let mut red_entries: Vec<(usize, usize)> = Vec::new();
+    let (mut dense_len, mut border_len) = (0, 0);
+    for (blk, rows) in blocks.iter_mut().zip(borders) {
+        blk.other.sort_unstable();
+        blk.other.dedup();
+        blk.other_cols = blk.other.iter().map(|&rc| kept[rc]).collect();
+        blk.at = dense_len;
+        dense_len += blk.m() * blk.w();
+        blk.schur_entries = red_entries.len();
+        for s in 0..blk.m() - blk.c() {
+            red_entries.extend(blk.other.iter().map(|&rc| (blk.schur_row + s, rc)));
+        }
+        rows.sort_unstable();
+        rows.dedup();
+        for &r in rows.iter() {
+            blk.borders.push(Border {
+                row: r,
+                red_row: red_row[r],
+                at: border_len,
+                entries: red_entries.len(),
+            });
+            border_len += blk.c();
+            red_entries.extend(blk.other.iter().map(|&rc| (red_row[r], rc)));
+        }
+    }
+    (red_entries, dense_len, border_len)
 }
 
 /// The numbering maps [`Condensed::route`] needs.
