@@ -25,7 +25,8 @@ mod model;
 
 use approx::assert_abs_diff_eq;
 use hycont::hycont_continuation::{
-    CurveSpec, Error as ContError, Label, OrbitBranch, OrbitRun, RunDirection, SpecialKind,
+    CurveCondition, CurveSpec, Error as ContError, Label, OrbitBranch, OrbitRun, RunDirection,
+    SpecialKind,
 };
 use hycont::orbit::{
     CollocationSettings, OrbitMethod, PeriodicOrbit, SegmentEnd, SegmentSpec, SegmentValue,
@@ -319,6 +320,56 @@ fn fold_and_period_doubling_curves_follow_a_omega_squared() {
                 assert_abs_diff_eq!(p[A], closed_form(p[OMEGA]), epsilon = 1e-8);
             }
         }
+    }
+}
+
+/// A curve saved (and read back from JSON) continues from its end point with wider bounds,
+/// on the same closed form `a = c / omega^2`, with its condition recorded; a branch, or another
+/// second parameter, is refused.
+#[test]
+fn a_saved_curve_continues_from_its_end() {
+    for method in [
+        OrbitMethod::Shooting(ShootingSettings::default()),
+        OrbitMethod::Collocation(CollocationSettings::default()),
+    ] {
+        let (mut run, b) = amplitude_run(method);
+        let pd = b
+            .special(SpecialKind::PeriodDoubling)
+            .next()
+            .unwrap()
+            .point
+            .label;
+        let short = run
+            .curve_at("pd", &b, pd, &CurveSpec::new(OMEGA).bounds(0.9, 1.1))
+            .unwrap();
+        let short = OrbitBranch::from_json(&short.to_json().unwrap()).unwrap();
+        assert_eq!(short.condition, Some(CurveCondition::PeriodDoubling));
+        let top = short
+            .special(SpecialKind::EndPoint)
+            .max_by(|x, y| x.point[OMEGA].total_cmp(&y.point[OMEGA]))
+            .unwrap();
+        assert_abs_diff_eq!(top.point[OMEGA], 1.1, epsilon = 1e-9);
+        let spec = CurveSpec::new(OMEGA).bounds(0.8, 1.25);
+        let longer = run
+            .curve_from("pd", &short, top.point.label, &spec)
+            .unwrap();
+        assert_eq!(longer.condition, Some(CurveCondition::PeriodDoubling));
+        let reach = longer
+            .branch
+            .points
+            .iter()
+            .map(|p| p[OMEGA])
+            .fold(f64::NEG_INFINITY, f64::max);
+        assert_abs_diff_eq!(reach, 1.25, epsilon = 1e-9);
+        for p in &longer.branch.points {
+            assert_abs_diff_eq!(p[A], a_pd(p[OMEGA]), epsilon = 1e-8);
+        }
+        assert!(run.curve_from("x", &b, pd, &spec).is_err(), "a branch");
+        let other = CurveSpec::new(ParamId(2));
+        assert!(
+            run.curve_from("x", &short, top.point.label, &other)
+                .is_err()
+        );
     }
 }
 

@@ -211,6 +211,47 @@ fn the_curve_command_continues_pd1_in_omega() {
             .contains("\"second\"")
     );
     assert!(std::fs::read_to_string(&svg).unwrap().contains("PD curve"));
+    // A saved curve continues from its end: bounded at omega = 2, then on to omega = 4.
+    let short = dir.join("short.json");
+    let out = curve(&pd, "omega")
+        .args(["--max", "2", "--out"])
+        .arg(&short)
+        .run_ok();
+    let saved: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let top = saved["special_points"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|s| s["kind"] == "EP" && (s["omega"].as_f64().unwrap() - 2.0).abs() < 1e-9)
+        .map(|s| s["label"].as_u64().unwrap().to_string())
+        .expect("the end at omega = 2");
+    let out = bin()
+        .arg("curve")
+        .arg("--restart")
+        .arg(&short)
+        .args([
+            "--label",
+            &top,
+            "--second",
+            "omega",
+            "--uz-omega",
+            "3",
+            "--json",
+        ])
+        .run_ok();
+    let longer: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let uz3 = longer["special_points"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|s| s["kind"] == "UZ")
+        .expect("the user point at omega = 3 beyond the saved curve's end");
+    assert_abs_diff_eq!(uz3["omega"].as_f64().unwrap(), 3.0, epsilon = 1e-9);
+    let mu = uz3["multipliers"].as_array().unwrap();
+    assert!(
+        mu.iter()
+            .any(|m| (m[0].as_f64().unwrap() + 1.0).abs() < 1e-6)
+    );
     for (label, second, needle) in [
         (end.as_str(), "omega", "cannot continue a curve at label"),
         (pd.as_str(), "alpha", "must differ from the saved run's"),

@@ -141,6 +141,71 @@ impl<'a, S: HybridJacobians + ?Sized> OrbitRun<'a, S> {
             },
             _ => return Err(wrong("curves start at SN, BP, PD and events on measures")),
         };
+        self.continue_curve(name, branch, orbit, condition, special.kind, spec, &wrong)
+    }
+
+    /// Continues the curve saved as `curve` (by [`OrbitRun::curve_at`] or this) further from its
+    /// point labelled `label` (e.g. one of its ends, with wider bounds), in the same parameters
+    /// and with the same defining condition; `spec.second` must be the curve's.
+    ///
+    /// # Errors
+    /// A curve that does not fit the system, a branch or a curve saved without its condition,
+    /// another second parameter, an unknown label; as [`OrbitRun::curve_at`].
+    pub fn curve_from(
+        &mut self,
+        name: &str,
+        curve: &OrbitBranch,
+        label: usize,
+        spec: &CurveSpec,
+    ) -> Result<OrbitBranch> {
+        curve.validate(self.system)?;
+        let point = curve.point(label)?;
+        let (Some(second), Some(condition)) = (curve.second, curve.condition) else {
+            return Err(Error::InvalidSetting {
+                name: "curve",
+                value: label as f64,
+                reason: "not a two-parameter curve saved with its condition",
+            });
+        };
+        if spec.second != second {
+            return Err(Error::InvalidSetting {
+                name: "second parameter",
+                value: spec.second.index() as f64,
+                reason: "a curve continues in its own second parameter",
+            });
+        }
+        let mut orbit = curve.orbit_of(point)?;
+        if matches!(condition, CurveCondition::Collapse { .. }) {
+            for d in &mut orbit.durations {
+                if d.abs() < 1e-8 {
+                    *d = 0.0;
+                }
+            }
+        }
+        let wrong = |reason| Error::WrongSpecialPoint {
+            operation: "continue a curve",
+            label,
+            branch: curve.branch.name.clone(),
+            kind: condition.kind().label().to_string(),
+            reason,
+        };
+        let kind = condition.kind();
+        self.continue_curve(name, curve, orbit, condition, kind, spec, &wrong)
+    }
+
+    /// The curve with `condition` through `orbit` (a point of `branch`, whose layout it uses).
+    #[allow(clippy::too_many_arguments)]
+    fn continue_curve(
+        &mut self,
+        name: &str,
+        branch: &OrbitBranch,
+        orbit: hycont_core::orbit::PeriodicOrbit,
+        condition: CurveCondition,
+        kind: SpecialKind,
+        spec: &CurveSpec,
+        wrong: &dyn Fn(&'static str) -> Error,
+    ) -> Result<OrbitBranch> {
+        let symmetric = self.half_orbits && orbit.is_symmetric(self.system, self.symmetry_tol);
         let half = symmetric && condition != CurveCondition::PeriodDoubling;
         let (start, disc) = if half {
             let h = orbit.half_of_symmetric(self.system, self.symmetry_tol)?;
@@ -195,7 +260,7 @@ impl<'a, S: HybridJacobians + ?Sized> OrbitRun<'a, S> {
             spec.second,
             condition,
             self.measures.clone(),
-            self.curve_events(condition, special.kind, spec)?,
+            self.curve_events(condition, kind, spec)?,
         )?;
         let mut settings = self.curve_settings.clone();
         settings.bounds.extend(self.settings.bounds.iter().copied());
@@ -204,7 +269,7 @@ impl<'a, S: HybridJacobians + ?Sized> OrbitRun<'a, S> {
         }
         let b = self.continue_in(&mut cp, name, &u0, None, spec.direction, &settings)?;
         let inner = cp.orbit_problem();
-        self.saved(inner, inner.full_branch(&b), Some(spec.second))
+        self.saved(inner, inner.full_branch(&b), Some((spec.second, condition)))
     }
 
     /// The events along a curve: `spec`'s user points and the run's terminal events except

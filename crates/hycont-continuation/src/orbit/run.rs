@@ -462,13 +462,14 @@ impl<'a, S: HybridJacobians + ?Sized> OrbitRun<'a, S> {
         &self,
         cp: &OrbitContinuation<'a, S>,
         branch: Branch,
-        second: Option<ParamId>,
+        curve: Option<(ParamId, crate::codim2::CurveCondition)>,
     ) -> Result<OrbitBranch> {
         let (template, discretisation) = cp.full_layout()?;
         Ok(OrbitBranch {
             branch,
             free: cp.parameter(),
-            second,
+            second: curve.map(|c| c.0),
+            condition: curve.map(|c| c.1),
             template,
             discretisation,
         })

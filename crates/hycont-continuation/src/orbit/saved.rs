@@ -4,6 +4,7 @@
 
 use super::run::RunDirection;
 use crate::branch::{Branch, BranchPoint, SpecialKind, SpecialPoint};
+use crate::codim2::CurveCondition;
 use crate::error::{Error, Result};
 use hycont_core::orbit::{Discretisation, PeriodicOrbit};
 use hycont_core::{HybridSystem, ParamId};
@@ -21,6 +22,10 @@ pub struct OrbitBranch {
     /// The second parameter of a two-parameter curve.
     #[serde(default)]
     pub second: Option<ParamId>,
+    /// The defining condition of a two-parameter curve (what [`crate::OrbitRun::curve_from`]
+    /// continues it with); `None` for a branch, and for curves saved before it was recorded.
+    #[serde(default)]
+    pub condition: Option<CurveCondition>,
     /// An orbit with the branch's signature (the first point's, as started).
     pub template: PeriodicOrbit,
     /// The discretisation of every point.

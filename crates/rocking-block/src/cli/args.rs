@@ -28,7 +28,7 @@ pub enum Command {
     /// SN, BP, PD, TR, SB and GR; or restart from a labelled point of a saved run.
     Continue(ContinueArgs),
     /// Continue a two-parameter curve (SN, PD, BP, SB or GR) from a labelled special point of a
-    /// run saved by `continue --out`.
+    /// run saved by `continue --out`, or a saved curve further from one of its points.
     Curve(CurveArgs),
     /// Classify trials (the study's solution classes): one trial with --json, or a CSV batch
     /// (columns omega, alpha, beta, phi0, psi0) with --input/--output.
@@ -198,10 +198,12 @@ pub enum MethodArg {
 /// Arguments of `rocking-block curve`.
 #[derive(Debug, Args)]
 pub struct CurveArgs {
-    /// The saved run (a file written by `continue --out`).
+    /// The saved run (a file written by `continue --out`), or a curve written by `curve --out`
+    /// to continue further.
     #[arg(long)]
     pub restart: PathBuf,
-    /// Label of the special point (SN, PD, BP, SB or GR) of the saved run to start from.
+    /// Label of the special point (SN, PD, BP, SB or GR) of the saved run to start from; of any
+    /// point of a saved curve.
     #[arg(long, allow_negative_numbers = true)]
     pub label: usize,
     /// The second parameter (the other is the saved run's).

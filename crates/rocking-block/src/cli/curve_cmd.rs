@@ -34,7 +34,11 @@ pub(super) fn run_curve(args: &CurveArgs, out: &mut dyn Write) -> Result<()> {
             reason: "min must be below max",
         });
     }
-    let kind = saved.special_at(args.label)?.kind;
+    // A saved curve continues from any of its points; a branch from a special point.
+    let kind = match saved.condition {
+        Some(condition) => condition.kind(),
+        None => saved.special_at(args.label)?.kind,
+    };
     let params = Parameters::from_vec(&saved.template.params);
     let mut run = study_run(free, &params, free.range(), default_method())?;
     let direction = match args.direction {
@@ -47,7 +51,11 @@ pub(super) fn run_curve(args: &CurveArgs, out: &mut dyn Write) -> Result<()> {
         .direction(direction)
         .user_points(Free::Omega.id(), args.uz_omega.iter().copied())
         .user_points(Free::Alpha.id(), args.uz_alpha.iter().copied());
-    let branch = run.curve_at(kind.label(), &saved, args.label, &spec)?;
+    let branch = if saved.second.is_some() {
+        run.curve_from(kind.label(), &saved, args.label, &spec)?
+    } else {
+        run.curve_at(kind.label(), &saved, args.label, &spec)?
+    };
     if let Some(path) = &args.out {
         let text = branch
             .to_json()
