@@ -307,6 +307,27 @@ fn figures_8_to_10_write_their_json() {
             900
         );
     }
+    // Fig. 9 reads on its own: axes, a probability scale with ticks, the curves named, every
+    // group's panel at both betas.
+    let svg9 = std::fs::read_to_string(dir.join("fig9.svg")).unwrap();
+    for needle in [
+        "omega",
+        "alpha",
+        "probability",
+        "0.00",
+        "1.00",
+        "SN curve",
+        "BP curve",
+        "PD curve",
+        "symmetric_p1, beta = 0.0000",
+        "other, beta = 1.5708",
+    ] {
+        // Each text element's content is a line of its own in the SVG.
+        assert!(
+            svg9.lines().any(|l| l.trim() == needle),
+            "fig9.svg lacks the text {needle:?}"
+        );
+    }
     let v10: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(dir.join("fig10.json")).unwrap()).unwrap();
     for m in ["phi0", "psi0", "beta"] {

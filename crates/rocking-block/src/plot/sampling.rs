@@ -131,13 +131,9 @@ fn overlay_curves<DB: DrawingBackend>(
     >,
     curves: &[crate::continuation::Curve],
 ) -> std::result::Result<(), String> {
-    use hycont_continuation::SpecialKind;
     for c in curves {
-        let col = match c.kind {
-            SpecialKind::Fold => RGBColor(255, 127, 14),
-            SpecialKind::PeriodDoubling => RGBColor(44, 160, 44),
-            SpecialKind::BranchPoint => RGBColor(148, 103, 189),
-            _ => continue,
+        let Some((_, col)) = curve_styles().into_iter().find(|(k, _)| *k == c.kind) else {
+            continue;
         };
         chart
             .draw_series(LineSeries::new(c.points(), col.stroke_width(2)))
@@ -198,7 +194,9 @@ pub fn class_grid_svg(
 /// Probabilities per group (name, one value per cell) for one beta.
 pub type GroupPanel<'a> = (f64, Vec<(&'a str, Vec<f64>)>);
 
-/// Fig. 9: probability heat maps per group and beta (rows: groups; columns: beta).
+/// Fig. 9: probability heat maps per group and beta (rows: groups; columns: beta) over the
+/// (omega, alpha) grid, with the SN, BP and PD curves; a colour scale and the curves' legend
+/// in a column on the right.
 ///
 /// # Errors
 /// [`crate::Error::Plot`] if the file cannot be written.
@@ -208,43 +206,124 @@ pub fn probability_grid_svg(
     curves: &[crate::continuation::Curve],
 ) -> Result<()> {
     let groups = panels.first().map_or(0, |p| p.1.len());
-    let root = SVGBackend::new(path, (900, 300 * groups as u32)).into_drawing_area();
+    let root = SVGBackend::new(path, (1040, 50 + 300 * groups as u32)).into_drawing_area();
     root.fill(&WHITE).map_err(|e| plot_err(path, e))?;
-    let areas = root.split_evenly((groups, panels.len()));
+    let root = root
+        .titled(
+            "Fig. 9: probability of each solution group on the (omega, alpha) grid, 30 x 30 cells",
+            ("sans-serif", 18),
+        )
+        .map_err(|e| plot_err(path, e))?;
+    let (maps, key) = root.split_horizontally(900);
+    let areas = maps.split_evenly((groups, panels.len()));
     for (g, row) in (0..groups).map(|g| (g, &areas[g * panels.len()..(g + 1) * panels.len()])) {
         for (area, (beta, probs)) in row.iter().zip(panels) {
             let (name, p) = &probs[g];
             let mut chart = ChartBuilder::on(area)
                 .caption(format!("{name}, beta = {beta:.4}"), ("sans-serif", 13))
                 .margin(6)
-                .x_label_area_size(25)
-                .y_label_area_size(35)
+                .x_label_area_size(35)
+                .y_label_area_size(45)
                 .build_cartesian_2d(0.5..4.0, 0.1..0.9)
                 .map_err(|e| plot_err(path, e))?;
             chart
                 .configure_mesh()
                 .disable_mesh()
+                .x_desc("omega")
+                .y_desc("alpha")
                 .draw()
                 .map_err(|e| plot_err(path, e))?;
+            let side = (p.len() as f64).sqrt().round().max(1.0) as usize;
+            let (dw, da) = (3.5 / side as f64, 0.8 / side as f64);
             for (cell, v) in p.iter().enumerate() {
                 if v.is_nan() {
                     continue;
                 }
-                let (i, j) = (cell / 30, cell % 30);
-                let (x0, y0) = (0.5 + 3.5 * i as f64 / 30.0, 0.1 + 0.8 * j as f64 / 30.0);
-                let shade = (255.0 * (1.0 - v)) as u8;
+                let (i, j) = (cell / side, cell % side);
+                let (x0, y0) = (0.5 + dw * i as f64, 0.1 + da * j as f64);
                 chart
                     .draw_series(std::iter::once(Rectangle::new(
-                        [(x0, y0), (x0 + 3.5 / 30.0, y0 + 0.8 / 30.0)],
-                        RGBColor(shade, shade, 255).filled(),
+                        [(x0, y0), (x0 + dw, y0 + da)],
+                        probability_colour(*v).filled(),
                     )))
                     .map_err(|e| plot_err(path, e))?;
             }
             overlay_curves(&mut chart, curves).map_err(|e| plot_err(path, e))?;
         }
     }
+    probability_key(&key, curves).map_err(|e| plot_err(path, e))?;
     root.present().map_err(|e| plot_err(path, e))?;
     Ok(())
+}
+
+/// White (0) to blue (1).
+fn probability_colour(v: f64) -> RGBColor {
+    let shade = (255.0 * (1.0 - v.clamp(0.0, 1.0))) as u8;
+    RGBColor(shade, shade, 255)
+}
+
+/// The colour scale (probability 0 to 1, ticked) and the legend of the curves drawn.
+fn probability_key<DB: DrawingBackend>(
+    area: &DrawingArea<DB, plotters::coord::Shift>,
+    curves: &[crate::continuation::Curve],
+) -> std::result::Result<(), String> {
+    let (scale, legend) = area.split_vertically(320);
+    let mut bar = ChartBuilder::on(&scale)
+        .caption("probability", ("sans-serif", 14))
+        .margin(10)
+        .margin_right(70)
+        .y_label_area_size(40)
+        .build_cartesian_2d(0.0..1.0, 0.0..1.0)
+        .map_err(|e| e.to_string())?;
+    bar.configure_mesh()
+        .disable_mesh()
+        .disable_x_axis()
+        .y_labels(5)
+        .y_label_style(("sans-serif", 13))
+        .y_label_formatter(&|v| format!("{v:.2}"))
+        .draw()
+        .map_err(|e| e.to_string())?;
+    let steps = 50;
+    bar.draw_series((0..steps).map(|k| {
+        let (lo, hi) = (
+            f64::from(k) / f64::from(steps),
+            f64::from(k + 1) / f64::from(steps),
+        );
+        Rectangle::new([(0.0, lo), (1.0, hi)], probability_colour(lo).filled())
+    }))
+    .map_err(|e| e.to_string())?;
+    let style = ("sans-serif", 14).into_font();
+    for (k, (kind, colour)) in curve_styles()
+        .into_iter()
+        .filter(|(kind, _)| curves.iter().any(|c| c.kind == *kind))
+        .enumerate()
+    {
+        let y = 20 + 24 * k as i32;
+        legend
+            .draw(&PathElement::new(
+                vec![(10, y), (40, y)],
+                colour.stroke_width(2),
+            ))
+            .map_err(|e| e.to_string())?;
+        legend
+            .draw(&Text::new(
+                format!("{} curve", kind.label()),
+                (48, y - 7),
+                style.clone(),
+            ))
+            .map_err(|e| e.to_string())?;
+    }
+    Ok(())
+}
+
+/// The curves the sampling figures overlay, with their colours.
+fn curve_styles() -> [(hycont_continuation::SpecialKind, RGBColor); 3] {
+    use hycont_continuation::SpecialKind;
+    [
+        (SpecialKind::Fold, RGBColor(255, 127, 14)),
+        (SpecialKind::BranchPoint, RGBColor(148, 103, 189)),
+        (SpecialKind::PeriodDoubling, RGBColor(44, 160, 44)),
+    ]
 }
 
 /// Fig. 10: group probabilities against each binned variable.
