@@ -143,6 +143,27 @@ fn basin_counts_do_not_depend_on_threads() {
     assert_eq!((class, with_rest), (Class::AsymmetricP1Pos, true));
 }
 
+/// The texts of an SVG written by plotters (each text element's content is a line of its own).
+fn svg_texts(path: &std::path::Path) -> Vec<String> {
+    std::fs::read_to_string(path)
+        .unwrap()
+        .lines()
+        .map(|l| l.trim().to_string())
+        .filter(|l| !l.starts_with('<'))
+        .collect()
+}
+
+/// Every class named in a key: some text ends with `(name)`.
+fn key_names(texts: &[String], classes: &[&str]) {
+    for class in classes {
+        let tag = format!("({class})");
+        assert!(
+            texts.iter().any(|t| t.ends_with(&tag)),
+            "no key entry for {class}"
+        );
+    }
+}
+
 #[test]
 fn figure_7_reference_behaviour() {
     let dir = std::env::temp_dir().join(format!("rocking-block-fig7-{}", std::process::id()));
@@ -168,6 +189,18 @@ fn figure_7_reference_behaviour() {
             .clone()
     };
     let f = |b: &serde_json::Value, c: &str| b["fractions"][c].as_f64().unwrap();
+    // The key names every class a cell is coloured with (the dominant ones).
+    let texts = svg_texts(&dir.join("fig7.svg"));
+    assert!(texts.iter().any(|t| t == "dominant class"));
+    key_names(
+        &texts,
+        &[
+            "symmetric_p1",
+            "equilibrium",
+            "overturn_pos",
+            "overturn_neg",
+        ],
+    );
     // omega = 1.0: symmetric period 1, equilibrium and both overturns coexist.
     let b = basin(1.0);
     for c in [
@@ -397,5 +430,20 @@ fn figure_8_grid_matches_the_studys_description() {
     let asym = |g| count(g, "asymmetric_p1_pos") + count(g, "asymmetric_p1_neg");
     assert!(asym(&grids[1]) > 3 * asym(&grids[0]));
     assert_eq!(v["curves"].as_array().unwrap().len(), 5);
+    // The key names every class drawn and the three curves.
+    let drawn: Vec<String> = grids
+        .iter()
+        .flat_map(|g| g["classes"].as_array().unwrap().iter())
+        .flat_map(|c| c.as_array().unwrap().iter())
+        .map(|x| x.as_str().unwrap().to_string())
+        .collect();
+    let mut drawn: Vec<&str> = drawn.iter().map(String::as_str).collect();
+    drawn.sort_unstable();
+    drawn.dedup();
+    let texts = svg_texts(&dir.join("fig8.svg"));
+    key_names(&texts, &drawn);
+    for curve in ["SN curve", "BP curve", "PD curve", "final class"] {
+        assert!(texts.iter().any(|t| t == curve), "{curve}");
+    }
     std::fs::remove_dir_all(&dir).ok();
 }

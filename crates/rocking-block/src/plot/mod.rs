@@ -3,6 +3,7 @@
 //! [`curves_svg`], [`test_points_svg`]), sampling maps ([`basins_svg`] and the others).
 
 mod branches;
+mod key;
 mod orbits;
 mod sampling;
 

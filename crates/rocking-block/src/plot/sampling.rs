@@ -1,5 +1,6 @@
 //! Brute-force diagrams, basins, class grids, probability maps and marginals.
 
+use super::key::{Mark, class_colour, class_entries, draw_key};
 use super::{plot_err, range};
 use crate::error::Result;
 use plotters::prelude::*;
@@ -64,20 +65,6 @@ pub fn brute_force_svg(
     Ok(())
 }
 
-fn class_colour(name: &str) -> RGBColor {
-    match name {
-        "equilibrium" => RGBColor(0, 0, 0),
-        "symmetric_p1" => RGBColor(255, 200, 0),
-        "asymmetric_p1_pos" => RGBColor(31, 119, 180),
-        "asymmetric_p1_neg" => RGBColor(214, 39, 40),
-        "period2" => RGBColor(44, 160, 44),
-        "other" => RGBColor(148, 103, 189),
-        "overturn_pos" => RGBColor(140, 200, 140),
-        "overturn_neg" => RGBColor(200, 140, 200),
-        _ => RGBColor(255, 255, 255),
-    }
-}
-
 /// Fig. 7: one raster of the dominant class per (phi0, psi0) cell for each omega.
 ///
 /// # Errors
@@ -87,9 +74,16 @@ pub fn basins_svg(
     rasters: &[(f64, Vec<Vec<Option<&str>>>)],
     boundary: f64,
 ) -> Result<()> {
-    let root = SVGBackend::new(path, (1050, 760)).into_drawing_area();
+    let root = SVGBackend::new(path, (1390, 760)).into_drawing_area();
     root.fill(&WHITE).map_err(|e| plot_err(path, e))?;
-    let panels = root.split_evenly((2, 3));
+    let (maps, key) = root.split_horizontally(1050);
+    let panels = maps.split_evenly((2, 3));
+    let drawn = rasters
+        .iter()
+        .flat_map(|(_, r)| r.iter().flatten().flatten().copied());
+    let mut entries = class_entries(drawn);
+    entries.push(("no trials in the cell".into(), Mark::Swatch(WHITE)));
+    draw_key(&key, "dominant class", &entries).map_err(|e| plot_err(path, e))?;
     for (panel, (omega, raster)) in panels.iter().zip(rasters) {
         let n = raster.len().max(1);
         let mut chart = ChartBuilder::on(panel)
@@ -153,9 +147,14 @@ pub fn class_grid_svg(
     grids: &[(f64, Vec<Vec<&str>>)],
     curves: &[crate::continuation::Curve],
 ) -> Result<()> {
-    let root = SVGBackend::new(path, (1100, 520)).into_drawing_area();
+    let root = SVGBackend::new(path, (1440, 520)).into_drawing_area();
     root.fill(&WHITE).map_err(|e| plot_err(path, e))?;
-    let panels = root.split_evenly((1, 2));
+    let (maps, key) = root.split_horizontally(1100);
+    let panels = maps.split_evenly((1, 2));
+    let drawn = grids.iter().flat_map(|(_, g)| g.iter().flatten().copied());
+    let mut entries = class_entries(drawn);
+    entries.extend(curve_entries(curves));
+    draw_key(&key, "final class", &entries).map_err(|e| plot_err(path, e))?;
     let (dw, da) = (3.5 / omegas.len() as f64, 0.8 / alphas.len() as f64);
     for (panel, (beta, grid)) in panels.iter().zip(grids) {
         let mut chart = ChartBuilder::on(panel)
@@ -268,6 +267,7 @@ fn probability_key<DB: DrawingBackend>(
     curves: &[crate::continuation::Curve],
 ) -> std::result::Result<(), String> {
     let (scale, legend) = area.split_vertically(320);
+    let legend = &legend;
     let mut bar = ChartBuilder::on(&scale)
         .caption("probability", ("sans-serif", 14))
         .margin(10)
@@ -292,28 +292,16 @@ fn probability_key<DB: DrawingBackend>(
         Rectangle::new([(0.0, lo), (1.0, hi)], probability_colour(lo).filled())
     }))
     .map_err(|e| e.to_string())?;
-    let style = ("sans-serif", 14).into_font();
-    for (k, (kind, colour)) in curve_styles()
+    draw_key(legend, "curves", &curve_entries(curves))
+}
+
+/// Key entries for the curves drawn.
+fn curve_entries(curves: &[crate::continuation::Curve]) -> Vec<(String, Mark)> {
+    curve_styles()
         .into_iter()
         .filter(|(kind, _)| curves.iter().any(|c| c.kind == *kind))
-        .enumerate()
-    {
-        let y = 20 + 24 * k as i32;
-        legend
-            .draw(&PathElement::new(
-                vec![(10, y), (40, y)],
-                colour.stroke_width(2),
-            ))
-            .map_err(|e| e.to_string())?;
-        legend
-            .draw(&Text::new(
-                format!("{} curve", kind.label()),
-                (48, y - 7),
-                style.clone(),
-            ))
-            .map_err(|e| e.to_string())?;
-    }
-    Ok(())
+        .map(|(kind, colour)| (format!("{} curve", kind.label()), Mark::Line(colour)))
+        .collect()
 }
 
 /// The curves the sampling figures overlay, with their colours.

@@ -1,0 +1,93 @@
+//! Keys drawn beside the sampling figures: a swatch per solution class drawn, a line per curve.
+
+use plotters::coord::Shift;
+use plotters::prelude::*;
+
+/// How an entry of a key is marked.
+#[derive(Debug, Clone, Copy)]
+pub(super) enum Mark {
+    /// A filled square (a class's colour).
+    Swatch(RGBColor),
+    /// A line (a curve's colour).
+    Line(RGBColor),
+}
+
+/// The solution classes in the order keys list them, with their colours.
+const CLASSES: [(&str, RGBColor); 8] = [
+    ("symmetric_p1", RGBColor(255, 200, 0)),
+    ("asymmetric_p1_pos", RGBColor(31, 119, 180)),
+    ("asymmetric_p1_neg", RGBColor(214, 39, 40)),
+    ("period2", RGBColor(44, 160, 44)),
+    ("other", RGBColor(148, 103, 189)),
+    ("equilibrium", RGBColor(0, 0, 0)),
+    ("overturn_pos", RGBColor(140, 200, 140)),
+    ("overturn_neg", RGBColor(200, 140, 200)),
+];
+
+/// The colour of a class (white for an unknown name).
+pub(super) fn class_colour(name: &str) -> RGBColor {
+    CLASSES
+        .iter()
+        .find(|(n, _)| *n == name)
+        .map_or(RGBColor(255, 255, 255), |(_, c)| *c)
+}
+
+/// The study's description of a class, with its name in the JSON.
+fn class_label(name: &str) -> String {
+    let words = match name {
+        "symmetric_p1" => "symmetric period 1",
+        "asymmetric_p1_pos" => "asymmetric period 1, phi > 0",
+        "asymmetric_p1_neg" => "asymmetric period 1, phi < 0",
+        "period2" => "period 2",
+        "other" => "other (longer period, chaotic)",
+        "equilibrium" => "rest on the ground",
+        "overturn_pos" => "overturn, phi > 0",
+        "overturn_neg" => "overturn, phi < 0",
+        _ => return name.to_string(),
+    };
+    format!("{words} ({name})")
+}
+
+/// Key entries for the classes among `drawn`, in the study's order.
+pub(super) fn class_entries<'a>(drawn: impl IntoIterator<Item = &'a str>) -> Vec<(String, Mark)> {
+    let drawn: Vec<&str> = drawn.into_iter().collect();
+    CLASSES
+        .iter()
+        .filter(|(n, _)| drawn.contains(n))
+        .map(|(n, c)| (class_label(n), Mark::Swatch(*c)))
+        .collect()
+}
+
+/// Draws `title` and the entries, one per row, from the top of `area`.
+pub(super) fn draw_key<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    title: &str,
+    entries: &[(String, Mark)],
+) -> Result<(), String> {
+    let font = ("sans-serif", 13).into_font();
+    let err = |e: DrawingAreaErrorKind<DB::ErrorType>| e.to_string();
+    area.draw(&Text::new(
+        title.to_string(),
+        (8, 10),
+        font.clone().style(FontStyle::Bold),
+    ))
+    .map_err(err)?;
+    for (k, (label, mark)) in entries.iter().enumerate() {
+        let y = 40 + 22 * k as i32;
+        match *mark {
+            Mark::Swatch(c) => area
+                .draw(&Rectangle::new([(8, y - 7), (24, y + 7)], c.filled()))
+                .and_then(|()| {
+                    area.draw(&Rectangle::new(
+                        [(8, y - 7), (24, y + 7)],
+                        BLACK.mix(0.4).stroke_width(1),
+                    ))
+                }),
+            Mark::Line(c) => area.draw(&PathElement::new(vec![(6, y), (26, y)], c.stroke_width(2))),
+        }
+        .map_err(err)?;
+        area.draw(&Text::new(label.clone(), (32, y - 7), font.clone()))
+            .map_err(err)?;
+    }
+    Ok(())
+}
