@@ -242,6 +242,21 @@ fn figure_5_shows_the_period_doubling_cascade() {
     figure5(&dir).unwrap();
     let v: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(dir.join("fig5.json")).unwrap()).unwrap();
+    // The picture marks the study's special points and says what every mark is.
+    let texts = svg_texts(&dir.join("fig5.svg"));
+    for needle in [
+        "BP3",
+        "PD1",
+        "PD2",
+        "sweep up (alpha increasing)",
+        "sweep down (alpha decreasing)",
+        "sweep down overturned (no samples)",
+    ] {
+        assert!(
+            texts.iter().any(|t| t == needle),
+            "fig5.svg lacks {needle:?}"
+        );
+    }
     let distinct = |alpha: f64| {
         let p = v["diagram"]
             .as_array()

@@ -2,6 +2,7 @@
 
 pub mod branches;
 mod fig2;
+mod fig5;
 pub mod fig6;
 pub mod sampling;
 pub mod tables;

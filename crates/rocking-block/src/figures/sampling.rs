@@ -1,16 +1,15 @@
 //! Sample-based figures: Fig. 5 (brute-force diagram), Figs. 7, 9, 10 (basin stability,
 //! rendered from the count tables of [`super::tables`]) and Fig. 8 (final classes).
 
+pub use super::fig5::figure5;
 pub use super::tables::{counts_for, empty_tables, fill, tables_share_trials};
 
 use super::{FigureFiles, write_json};
 use crate::classes::{Class, base_class};
 use crate::error::{Error, Result};
-use crate::model::{ALPHA, Parameters, RockingBlock, initial_mode, initial_state};
+use crate::model::Parameters;
 use crate::plot;
-use hycont_core::{SimulationSettings, StopReason};
 use hycont_sample::basin::{Axis, Counts, Distribution, Progress, Study};
-use hycont_sample::sweep::{Sweep, SweepPoint, brute_force};
 use serde_json::{Value, json};
 use std::path::Path;
 
@@ -29,74 +28,6 @@ pub(crate) fn sample_err(e: hycont_sample::Error) -> Error {
         value: e.to_string(),
         reason: "invalid sampling study",
     }
-}
-
-fn outcome(p: &SweepPoint) -> &'static str {
-    match p.stop {
-        StopReason::TerminalEvent { event, .. } if event == crate::OVERTURN_POS => "overturn_pos",
-        StopReason::TerminalEvent { .. } => "overturn_neg",
-        _ if p.modes.iter().all(|m| *m == crate::REST) => "rest",
-        _ => "running",
-    }
-}
-
-/// Fig. 5: stroboscopic brute-force diagram in alpha at omega = 1.3 (the study's 300 transient
-/// and 100 recorded periods per value, 301 values in [0.5, 0.8], continuing from the last
-/// state), swept up and down (hysteresis), from phi0 = 0.01, psi0 = 0, beta = pi/2.
-///
-/// # Errors
-/// Numerical or I/O failures.
-pub fn figure5(out: &Path) -> Result<FigureFiles> {
-    let params = Parameters::new(1.3, 0.66);
-    let values: Vec<f64> = (0..=300)
-        .map(|i| 0.5 + 0.3 * f64::from(i) / 300.0)
-        .collect();
-    let x0 = initial_state(0.01, 0.0, std::f64::consts::FRAC_PI_2);
-    let mode = initial_mode(&x0, &params);
-    let settings = SimulationSettings::default().rtol(1e-10).atol(1e-12);
-    let sweep_of = |vals: Vec<f64>| Sweep {
-        values: vals,
-        parameter: ALPHA.index(),
-        period: params.forcing_period(),
-        transient: 300,
-        recorded: 100,
-    };
-    let up = sweep_of(values.clone());
-    let down = sweep_of(values.iter().rev().copied().collect());
-    let (a, b) = rayon::join(
-        || brute_force(&RockingBlock, mode, &x0, &params.to_vec(), &up, &settings),
-        || brute_force(&RockingBlock, mode, &x0, &params.to_vec(), &down, &settings),
-    );
-    let (a, b) = (a?, b?);
-    let diagram = |pts: &[SweepPoint]| -> Vec<Value> {
-        pts.iter()
-            .map(|p| {
-                json!({
-                    "alpha": p.value,
-                    "phi": p.samples.iter().map(|s| s[0]).collect::<Vec<_>>(),
-                    "psi": p.samples.iter().map(|s| s[1]).collect::<Vec<_>>(),
-                    "outcome": outcome(p),
-                })
-            })
-            .collect()
-    };
-    let json = json!({
-        "figure": 5,
-        "parameters": {"omega": params.omega, "alpha": params.alpha, "xi": params.xi, "theta_b": params.theta_b},
-        "transient_periods": 300,
-        "recorded_periods": 100,
-        "initial": {"phi0": 0.01, "psi0": 0.0, "beta": std::f64::consts::FRAC_PI_2},
-        "diagram": diagram(&a),
-        "diagram_down": diagram(&b),
-    });
-    let json_path = out.join("fig5.json");
-    write_json(&json_path, &json)?;
-    let svg_path = out.join("fig5.svg");
-    crate::output::write_with(&svg_path, |p| plot::brute_force_svg(p, &a, &b))?;
-    Ok(FigureFiles {
-        figure: 5,
-        files: vec![json_path, svg_path],
-    })
 }
 
 /// The omega values of Fig. 7.

@@ -6,8 +6,10 @@ use crate::error::Result;
 use plotters::prelude::*;
 use std::path::Path;
 
-/// Fig. 5: psi at the stroboscopic samples against alpha (sweep up: dark, down: light), with a
-/// blow-up of [0.73, 0.79].
+/// Fig. 5: psi at the stroboscopic samples against alpha (sweep up: dark, down: red), with a
+/// blow-up of [0.73, 0.79]; dashed vertical lines at the special points `markers` (name,
+/// alpha) and crosses under the axis where a sweep overturned (`overturned(point)`: no
+/// samples there).
 ///
 /// # Errors
 /// [`crate::Error::Plot`] if the file cannot be written.
@@ -15,6 +17,8 @@ pub fn brute_force_svg(
     path: &Path,
     up: &[hycont_sample::sweep::SweepPoint],
     down: &[hycont_sample::sweep::SweepPoint],
+    markers: &[(&str, f64)],
+    overturned: &dyn Fn(&hycont_sample::sweep::SweepPoint) -> bool,
 ) -> Result<()> {
     let root = SVGBackend::new(path, (1000, 900)).into_drawing_area();
     root.fill(&WHITE).map_err(|e| plot_err(path, e))?;
@@ -60,9 +64,103 @@ pub fn brute_force_svg(
                 )
                 .map_err(|e| plot_err(path, e))?;
         }
+        annotate_sweeps(
+            &mut chart,
+            (lo, hi),
+            (y_lo, y_hi),
+            up,
+            down,
+            markers,
+            overturned,
+        )
+        .map_err(|e| plot_err(path, e))?;
     }
     root.present().map_err(|e| plot_err(path, e))?;
     Ok(())
+}
+
+type Chart2d<'a, DB> = ChartContext<
+    'a,
+    DB,
+    Cartesian2d<plotters::coord::types::RangedCoordf64, plotters::coord::types::RangedCoordf64>,
+>;
+
+/// Fig. 5's annotations: the special points' lines and names, the overturned values, and the
+/// legend of the two sweeps.
+#[allow(clippy::too_many_arguments)]
+fn annotate_sweeps<'a, DB: DrawingBackend + 'a>(
+    chart: &mut Chart2d<'a, DB>,
+    (lo, hi): (f64, f64),
+    (y_lo, y_hi): (f64, f64),
+    up: &[hycont_sample::sweep::SweepPoint],
+    down: &[hycont_sample::sweep::SweepPoint],
+    markers: &[(&str, f64)],
+    overturned: &dyn Fn(&hycont_sample::sweep::SweepPoint) -> bool,
+) -> std::result::Result<(), String> {
+    let err = |e: DrawingAreaErrorKind<DB::ErrorType>| e.to_string();
+    let grey = RGBColor(90, 90, 90);
+    let shown = markers.iter().filter(|m| m.1 > lo && m.1 < hi);
+    for (k, &(name, alpha)) in shown.enumerate() {
+        chart
+            .draw_series(DashedLineSeries::new(
+                vec![(alpha, y_lo), (alpha, y_hi)],
+                6,
+                4,
+                grey.stroke_width(1),
+            ))
+            .map_err(err)?;
+        // Names alternate in height so that close lines stay readable.
+        let y = y_hi - (y_hi - y_lo) * if k % 2 == 0 { 0.0 } else { 0.05 };
+        chart
+            .draw_series(std::iter::once(Text::new(
+                format!(" {name}"),
+                (alpha, y),
+                ("sans-serif", 13).into_font().color(&grey),
+            )))
+            .map_err(err)?;
+    }
+    for (sweep, what, colour) in [
+        (up, "sweep up overturned (no samples)", RGBColor(40, 40, 40)),
+        (
+            down,
+            "sweep down overturned (no samples)",
+            RGBColor(214, 39, 40),
+        ),
+    ] {
+        let gone: Vec<f64> = sweep
+            .iter()
+            .filter(|p| overturned(p) && p.value >= lo && p.value <= hi)
+            .map(|p| p.value)
+            .collect();
+        chart
+            .draw_series(
+                gone.iter()
+                    .map(|&a| Cross::new((a, y_lo), 3, colour.stroke_width(1))),
+            )
+            .map_err(err)?
+            .label(what)
+            .legend(move |(x, y)| Cross::new((x + 10, y), 3, colour.stroke_width(1)));
+    }
+    for (label, colour) in [
+        ("sweep up (alpha increasing)", BLACK.mix(0.8)),
+        (
+            "sweep down (alpha decreasing)",
+            RGBColor(214, 39, 40).mix(0.5),
+        ),
+    ] {
+        chart
+            .draw_series(std::iter::empty::<Circle<(f64, f64), i32>>())
+            .map_err(err)?
+            .label(label)
+            .legend(move |(x, y)| Circle::new((x + 10, y), 3, colour.filled()));
+    }
+    chart
+        .configure_series_labels()
+        .position(SeriesLabelPosition::MiddleLeft)
+        .border_style(BLACK)
+        .background_style(WHITE.mix(0.9))
+        .draw()
+        .map_err(err)
 }
 
 /// Fig. 7: one raster of the dominant class per (phi0, psi0) cell for each omega.

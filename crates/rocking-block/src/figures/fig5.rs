@@ -1,0 +1,103 @@
+//! Fig. 5: the stroboscopic brute-force diagram in alpha, swept up and down, with the study's
+//! special points marked.
+
+use super::{FigureFiles, write_json};
+use crate::error::Result;
+use crate::model::{ALPHA, Parameters, RockingBlock, initial_mode, initial_state};
+use crate::plot;
+use hycont_core::{SimulationSettings, StopReason};
+use hycont_sample::sweep::{Sweep, SweepPoint, brute_force};
+use serde_json::{Value, json};
+use std::path::Path;
+
+fn outcome(p: &SweepPoint) -> &'static str {
+    match p.stop {
+        StopReason::TerminalEvent { event, .. } if event == crate::OVERTURN_POS => "overturn_pos",
+        StopReason::TerminalEvent { .. } => "overturn_neg",
+        _ if p.modes.iter().all(|m| *m == crate::REST) => "rest",
+        _ => "running",
+    }
+}
+
+/// Fig. 5: stroboscopic brute-force diagram in alpha at omega = 1.3 (the study's 300 transient
+/// and 100 recorded periods per value, 301 values in [0.5, 0.8], continuing from the last
+/// state), swept up and down (hysteresis), from phi0 = 0.01, psi0 = 0, beta = pi/2.
+///
+/// # Errors
+/// Numerical or I/O failures.
+pub fn figure5(out: &Path) -> Result<FigureFiles> {
+    let params = Parameters::new(1.3, 0.66);
+    let values: Vec<f64> = (0..=300)
+        .map(|i| 0.5 + 0.3 * f64::from(i) / 300.0)
+        .collect();
+    let x0 = initial_state(0.01, 0.0, std::f64::consts::FRAC_PI_2);
+    let mode = initial_mode(&x0, &params);
+    let settings = SimulationSettings::default().rtol(1e-10).atol(1e-12);
+    let sweep_of = |vals: Vec<f64>| Sweep {
+        values: vals,
+        parameter: ALPHA.index(),
+        period: params.forcing_period(),
+        transient: 300,
+        recorded: 100,
+    };
+    let up = sweep_of(values.clone());
+    let down = sweep_of(values.iter().rev().copied().collect());
+    let (a, b) = rayon::join(
+        || brute_force(&RockingBlock, mode, &x0, &params.to_vec(), &up, &settings),
+        || brute_force(&RockingBlock, mode, &x0, &params.to_vec(), &down, &settings),
+    );
+    let (a, b) = (a?, b?);
+    let diagram = |pts: &[SweepPoint]| -> Vec<Value> {
+        pts.iter()
+            .map(|p| {
+                json!({
+                    "alpha": p.value,
+                    "phi": p.samples.iter().map(|s| s[0]).collect::<Vec<_>>(),
+                    "psi": p.samples.iter().map(|s| s[1]).collect::<Vec<_>>(),
+                    "outcome": outcome(p),
+                })
+            })
+            .collect()
+    };
+    let json = json!({
+        "figure": 5,
+        "parameters": {"omega": params.omega, "alpha": params.alpha, "xi": params.xi, "theta_b": params.theta_b},
+        "transient_periods": 300,
+        "recorded_periods": 100,
+        "initial": {"phi0": 0.01, "psi0": 0.0, "beta": std::f64::consts::FRAC_PI_2},
+        "diagram": diagram(&a),
+        "diagram_down": diagram(&b),
+    });
+    let json_path = out.join("fig5.json");
+    write_json(&json_path, &json)?;
+    let svg_path = out.join("fig5.svg");
+    // The study's special points on the line omega = 1.3, from the continuation of Fig. 4:
+    // BP3 on the symmetric branch, PD1 on the asymmetric one, PD2 on the period-2 one.
+    let fig4 = crate::continuation::study_branches(
+        crate::continuation::Free::Alpha,
+        &mut hycont_continuation::observe::Silent,
+    )?;
+    let first = |b: usize, kind: hycont_continuation::SpecialKind| {
+        fig4.get(b)
+            .and_then(|b| b.special(kind).next())
+            .map(|s| s.point[ALPHA])
+    };
+    use hycont_continuation::SpecialKind::{BranchPoint, PeriodDoubling};
+    let markers: Vec<(&str, f64)> = [
+        ("BP3", first(0, BranchPoint)),
+        ("PD1", first(1, PeriodDoubling)),
+        ("PD2", first(2, PeriodDoubling)),
+    ]
+    .into_iter()
+    .filter_map(|(n, a)| Some((n, a?)))
+    .collect();
+    let overturned = |p: &SweepPoint| outcome(p).starts_with("overturn");
+    crate::output::write_with(&svg_path, |p| {
+        plot::brute_force_svg(p, &a, &b, &markers, &overturned)
+    })?;
+    Ok(FigureFiles {
+        figure: 5,
+        files: vec![json_path, svg_path],
+    })
+}
+
