@@ -79,13 +79,17 @@ pub(super) fn run_figure(args: &FigureArgs, out: &mut dyn Write) -> Result<()> {
             });
         }
     };
-    if !(1..=MAX_TRIALS).contains(&args.trials) {
+    if let Some(t) = args.trials.filter(|t| !(1..=MAX_TRIALS).contains(t)) {
         return Err(Error::InvalidArgument {
             name: "trials",
-            value: args.trials.to_string(),
+            value: t.to_string(),
             reason: "must be in 1..=10^12 (shard larger studies into separate runs)",
         });
     }
+    let trials = |n: u32| {
+        args.trials
+            .unwrap_or_else(|| crate::figures::sampling::default_trials(n))
+    };
     if let Some(n) = args.threads {
         if n == 0 {
             return Err(Error::InvalidArgument {
@@ -123,7 +127,7 @@ pub(super) fn run_figure(args: &FigureArgs, out: &mut dyn Write) -> Result<()> {
         if SAMPLING.contains(&n) {
             let file = ShardFile {
                 figure: n,
-                trials: args.trials,
+                trials: trials(n),
                 seed: args.seed,
                 shard: shard.unwrap_or((0, 1)),
                 counts: empty_tables(n, args.seed)?,
@@ -131,7 +135,7 @@ pub(super) fn run_figure(args: &FigureArgs, out: &mut dyn Write) -> Result<()> {
             written.extend(sample(file, &args.out, args.force, &progress)?);
         } else {
             let options = SampleOptions {
-                trials: args.trials,
+                trials: trials(n),
                 seed: args.seed,
             };
             let files = crate::figures::figure_with(n, &args.out, options, &progress)?;

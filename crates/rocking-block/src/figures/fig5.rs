@@ -100,4 +100,3 @@ pub fn figure5(out: &Path) -> Result<FigureFiles> {
         files: vec![json_path, svg_path],
     })
 }
-

@@ -26,7 +26,8 @@ pub struct FigureFiles {
     pub files: Vec<PathBuf>,
 }
 
-/// Writes figure `n` into `out` (sampling figures with default trial counts and seed).
+/// Writes figure `n` into `out` (sampling figures with their default trial counts,
+/// [`sampling::default_trials`], and seed 1).
 ///
 /// # Errors
 /// [`Error::InvalidArgument`] for a figure that does not exist or is not available yet; numerical
@@ -36,7 +37,7 @@ pub fn figure(n: u32, out: &Path) -> Result<FigureFiles> {
         n,
         out,
         sampling::SampleOptions {
-            trials: 2000,
+            trials: sampling::default_trials(n),
             seed: 1,
         },
         &hycont_sample::basin::Progress::default(),

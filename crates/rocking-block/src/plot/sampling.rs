@@ -421,9 +421,10 @@ pub fn marginals_svg(
     path: &Path,
     panels: &[(&str, f64, f64, Vec<(&str, Vec<f64>)>)],
 ) -> Result<()> {
-    let root = SVGBackend::new(path, (1200, 420)).into_drawing_area();
+    let root = SVGBackend::new(path, (1420, 420)).into_drawing_area();
     root.fill(&WHITE).map_err(|e| plot_err(path, e))?;
-    let areas = root.split_evenly((1, panels.len()));
+    let (plots, key) = root.split_horizontally(1200);
+    let areas = plots.split_evenly((1, panels.len()));
     let colours = [
         RGBColor(255, 200, 0),
         RGBColor(31, 119, 180),
@@ -445,9 +446,10 @@ pub fn marginals_svg(
         chart
             .configure_mesh()
             .x_desc(*name)
+            .y_desc("probability")
             .draw()
             .map_err(|e| plot_err(path, e))?;
-        for ((group, p), col) in probs.iter().zip(colours) {
+        for ((_, p), col) in probs.iter().zip(colours) {
             let n = p.len().max(1);
             let pts: Vec<(f64, f64)> = p
                 .iter()
@@ -457,19 +459,17 @@ pub fn marginals_svg(
                 .collect();
             chart
                 .draw_series(LineSeries::new(pts, col.stroke_width(2)))
-                .map_err(|e| plot_err(path, e))?
-                .label(*group)
-                .legend(move |(x, y)| {
-                    PathElement::new(vec![(x, y), (x + 20, y)], col.stroke_width(2))
-                });
+                .map_err(|e| plot_err(path, e))?;
         }
-        chart
-            .configure_series_labels()
-            .border_style(BLACK)
-            .background_style(WHITE.mix(0.85))
-            .draw()
-            .map_err(|e| plot_err(path, e))?;
     }
+    // The key beside the panels (inside, it would cover the curves).
+    let groups = panels.first().map(|p| &p.3[..]).unwrap_or_default();
+    let entries: Vec<(String, Mark)> = groups
+        .iter()
+        .zip(colours)
+        .map(|((group, _), col)| ((*group).to_string(), Mark::Line(col)))
+        .collect();
+    draw_key(&key, "solution group", &entries).map_err(|e| plot_err(path, e))?;
     root.present().map_err(|e| plot_err(path, e))?;
     Ok(())
 }
