@@ -1,5 +1,6 @@
 //! Branches with their special points, two-parameter curves and test points.
 
+use super::key::{Mark, draw_key, over_white};
 use super::{mode_colour, pieces, plot_err, range};
 use crate::error::Result;
 use crate::model::Parameters;
@@ -211,9 +212,11 @@ fn draw_curves(
         SpecialKind::BoundaryTouch => RGBColor(214, 39, 40),
         _ => RGBColor(140, 86, 75),
     };
-    let root = SVGBackend::new(path, (1000, 750)).into_drawing_area();
+    let root = SVGBackend::new(path, (1240, 750)).into_drawing_area();
     root.fill(&WHITE).map_err(|e| plot_err(path, e))?;
-    let mut chart = ChartBuilder::on(&root)
+    let (plot_area, key) = root.split_horizontally(1000);
+    let mut entries: Vec<(String, Mark)> = Vec::new();
+    let mut chart = ChartBuilder::on(&plot_area)
         .caption(title, ("sans-serif", 18))
         .margin(15)
         .x_label_area_size(40)
@@ -268,34 +271,35 @@ fn draw_curves(
                 )))
                 .map_err(|e| plot_err(path, e))?;
         }
-        chart
-            .draw_series(std::iter::empty::<PathElement<(f64, f64)>>())
-            .map_err(|e| plot_err(path, e))?
-            .label(label)
-            .legend(move |(x, y)| {
-                Rectangle::new([(x, y - 5), (x + 20, y + 5)], fill.mix(0.6).filled())
-            });
+        entries.push((label.to_string(), Mark::Swatch(over_white(fill, 0.6))));
     }
     for c in curves {
         let col = colour(c.kind);
         chart
             .draw_series(LineSeries::new(c.points(), col.stroke_width(2)))
-            .map_err(|e| plot_err(path, e))?
-            .label(format!("{} curve", c.kind.label()))
-            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], col.stroke_width(2)));
+            .map_err(|e| plot_err(path, e))?;
+        entries.push((format!("{} curve", c.kind.label()), Mark::Line(col)));
     }
-    for line in [
-        vec![(0.5, params.alpha), (4.0, params.alpha)],
-        vec![(params.omega, 0.0), (params.omega, 1.06)],
+    // The one-parameter lines through the start (the study's: Fig. 3 at alpha = 0.66, Fig. 4
+    // at omega = 1.3).
+    let dashed = BLACK.mix(0.6);
+    for (line, label) in [
+        (
+            vec![(0.5, params.alpha), (4.0, params.alpha)],
+            format!("line alpha = {}", params.alpha),
+        ),
+        (
+            vec![(params.omega, 0.0), (params.omega, 1.06)],
+            format!("line omega = {}", params.omega),
+        ),
     ] {
         chart
-            .draw_series(DashedLineSeries::new(
-                line,
-                5,
-                5,
-                BLACK.mix(0.6).stroke_width(1),
-            ))
+            .draw_series(DashedLineSeries::new(line, 5, 5, dashed.stroke_width(1)))
             .map_err(|e| plot_err(path, e))?;
+        entries.push((label, Mark::Dashed(RGBColor(102, 102, 102))));
+    }
+    if !tests.is_empty() {
+        entries.push(("test point (its outcome)".into(), Mark::Cross(BLACK)));
     }
     for t in tests {
         chart
@@ -313,13 +317,7 @@ fn draw_curves(
             )))
             .map_err(|e| plot_err(path, e))?;
     }
-    chart
-        .configure_series_labels()
-        .border_style(BLACK)
-        .background_style(WHITE.mix(0.85))
-        .position(SeriesLabelPosition::UpperRight)
-        .draw()
-        .map_err(|e| plot_err(path, e))?;
+    draw_key(&key, "key", &entries).map_err(|e| plot_err(path, e))?;
     root.present().map_err(|e| plot_err(path, e))?;
     Ok(())
 }

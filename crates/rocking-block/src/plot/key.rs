@@ -10,6 +10,16 @@ pub(super) enum Mark {
     Swatch(RGBColor),
     /// A line (a curve's colour).
     Line(RGBColor),
+    /// A dashed line.
+    Dashed(RGBColor),
+    /// A cross (a marked point).
+    Cross(RGBColor),
+}
+
+/// `c` over white at opacity `a` (as drawn with `c.mix(a)`).
+pub(super) fn over_white(c: RGBColor, a: f64) -> RGBColor {
+    let f = |v: u8| (a * f64::from(v) + (1.0 - a) * 255.0).round() as u8;
+    RGBColor(f(c.0), f(c.1), f(c.2))
 }
 
 /// The solution classes in the order keys list them, with their colours.
@@ -84,6 +94,12 @@ pub(super) fn draw_key<DB: DrawingBackend>(
                     ))
                 }),
             Mark::Line(c) => area.draw(&PathElement::new(vec![(6, y), (26, y)], c.stroke_width(2))),
+            Mark::Dashed(c) => area
+                .draw(&PathElement::new(vec![(6, y), (12, y)], c.stroke_width(1)))
+                .and_then(|()| {
+                    area.draw(&PathElement::new(vec![(17, y), (23, y)], c.stroke_width(1)))
+                }),
+            Mark::Cross(c) => area.draw(&Cross::new((16, y), 5, c.stroke_width(2))),
         }
         .map_err(err)?;
         area.draw(&Text::new(label.clone(), (32, y - 7), font.clone()))
