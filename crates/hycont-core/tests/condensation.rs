@@ -8,28 +8,8 @@
 
 mod common;
 
+use common::Rng;
 use hycont_core::linalg::{EliminationBlock, SparsePattern};
-
-/// A small deterministic generator (xorshift64*), so that the tests are reproducible.
-struct Rng(u64);
-impl Rng {
-    fn next(&mut self) -> f64 {
-        self.0 ^= self.0 >> 12;
-        self.0 ^= self.0 << 25;
-        self.0 ^= self.0 >> 27;
-        (self.0.wrapping_mul(0x2545_F491_4F6C_DD1D) >> 11) as f64 / (1u64 << 53) as f64
-    }
-    fn below(&mut self, n: usize) -> usize {
-        ((self.next() * n as f64) as usize).min(n - 1)
-    }
-    fn shuffle(&mut self, n: usize) -> Vec<usize> {
-        let mut p: Vec<usize> = (0..n).collect();
-        for i in (1..n).rev() {
-            p.swap(i, self.below(i + 1));
-        }
-        p
-    }
-}
 
 /// A random square matrix with `nb` elimination blocks (`c` unknowns, `c + s` rows, reading
 /// `links` random kept columns) and `borders` free rows that read every unknown of a few

@@ -1,19 +1,11 @@
 //! Sparse LU: residuals of solves and the determinant's sign against a dense reference, on
 //! seeded random matrices of several sizes, with the factorisation reused across value changes.
 
-use approx::assert_abs_diff_eq;
-use hycont_core::linalg::{SparsePattern, eigenvalues};
+mod common;
 
-/// A small deterministic generator (xorshift64*), so that the tests are reproducible.
-struct Rng(u64);
-impl Rng {
-    fn next(&mut self) -> f64 {
-        self.0 ^= self.0 >> 12;
-        self.0 ^= self.0 << 25;
-        self.0 ^= self.0 >> 27;
-        (self.0.wrapping_mul(0x2545_F491_4F6C_DD1D) >> 11) as f64 / (1u64 << 53) as f64
-    }
-}
+use approx::assert_abs_diff_eq;
+use common::Rng;
+use hycont_core::linalg::{SparsePattern, eigenvalues};
 
 /// A random sparse matrix: a random row permutation of a diagonally weighted matrix with a few
 /// random off-diagonal entries per column (non-singular, determinant of either sign).

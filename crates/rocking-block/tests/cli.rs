@@ -54,6 +54,18 @@ fn assert_one_line_usage_error(args: &[&str], needle: &str) {
     assert!(!err.contains("panicked") && !err.contains("backtrace"));
 }
 
+/// Omega of the first SN of a branch printed by `continue --json`.
+fn sn_omega(v: &serde_json::Value) -> f64 {
+    v["special_points"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|s| s["kind"] == "SN")
+        .unwrap()["omega"]
+        .as_f64()
+        .unwrap()
+}
+
 #[test]
 fn bad_arguments_give_one_line_and_exit_code_2() {
     assert_one_line_usage_error(&["simulate", "--omega", "abc"], "--omega");
@@ -353,16 +365,7 @@ fn continue_takes_steps_meshes_and_tolerances() {
         serde_json::from_slice(&out.stdout).unwrap()
     };
     let points = |v: &serde_json::Value| v["points"].as_array().unwrap().len();
-    let fold = |v: &serde_json::Value| {
-        v["special_points"]
-            .as_array()
-            .unwrap()
-            .iter()
-            .find(|s| s["kind"] == "SN")
-            .unwrap()["omega"]
-            .as_f64()
-            .unwrap()
-    };
+    let fold = sn_omega;
     let default = run(&[]);
     let dense = run(&["--h-max", "0.02", "--tol", "1e-11"]);
     assert!(
@@ -410,16 +413,7 @@ fn another_block_on_every_command() {
     let json = |args: &[&str]| -> serde_json::Value {
         serde_json::from_slice(&bin().args(args).run_ok().stdout).unwrap()
     };
-    let fold = |v: &serde_json::Value| {
-        v["special_points"]
-            .as_array()
-            .unwrap()
-            .iter()
-            .find(|s| s["kind"] == "SN")
-            .unwrap()["omega"]
-            .as_f64()
-            .unwrap()
-    };
+    let fold = sn_omega;
     let study = json(&["continue", "--free", "omega", "--json"]);
     let other = json(&["continue", "--free", "omega", "--theta-b", "0.85", "--json"]);
     assert!(

@@ -406,3 +406,44 @@ pub struct SimulateArgs {
     #[arg(long)]
     pub svg: Option<PathBuf>,
 }
+
+impl From<FreeArg> for crate::continuation::Free {
+    fn from(f: FreeArg) -> Self {
+        match f {
+            FreeArg::Omega => Self::Omega,
+            FreeArg::Alpha => Self::Alpha,
+        }
+    }
+}
+
+impl From<DirectionArg> for hycont_continuation::RunDirection {
+    fn from(d: DirectionArg) -> Self {
+        match d {
+            DirectionArg::Both => Self::Both,
+            DirectionArg::Up => Self::Up,
+            DirectionArg::Down => Self::Down,
+        }
+    }
+}
+
+/// `[min, max]` of a parameter: the given ends or the study's range.
+///
+/// # Errors
+/// [`crate::Error::InvalidArgument`] unless `min < max`.
+pub fn window(
+    free: crate::continuation::Free,
+    min: Option<f64>,
+    max: Option<f64>,
+) -> crate::Result<(f64, f64)> {
+    let (lo, hi) = free.range();
+    let (min, max) = (min.unwrap_or(lo), max.unwrap_or(hi));
+    if min < max {
+        Ok((min, max))
+    } else {
+        Err(crate::Error::InvalidArgument {
+            name: "min/max",
+            value: format!("{min}/{max}"),
+            reason: "min must be below max",
+        })
+    }
+}

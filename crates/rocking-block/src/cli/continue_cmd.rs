@@ -1,6 +1,6 @@
 //! `continue`: one-parameter continuation from the command line, and restarts.
 
-use super::{ContinueArgs, DirectionArg, FreeArg, KindArg, MethodArg, read_err, stdout_err};
+use super::{ContinueArgs, DirectionArg, KindArg, MethodArg, read_err, stdout_err};
 use crate::error::{Error, Result};
 use crate::model::Parameters;
 use std::io::Write;
@@ -11,19 +11,8 @@ pub(super) fn run_continue(args: &ContinueArgs, out: &mut dyn Write) -> Result<(
     use crate::orbits::{OrbitKind, orbit};
     use crate::report::branch_json;
     use hycont_continuation::{OrbitMethod, RunDirection};
-    let free = match args.free {
-        FreeArg::Omega => Free::Omega,
-        FreeArg::Alpha => Free::Alpha,
-    };
-    let (lo, hi) = free.range();
-    let (min, max) = (args.min.unwrap_or(lo), args.max.unwrap_or(hi));
-    if !(min < max) {
-        return Err(Error::InvalidArgument {
-            name: "min/max",
-            value: format!("{min}/{max}"),
-            reason: "min must be below max",
-        });
-    }
+    let free = Free::from(args.free);
+    let (min, max) = super::window(free, args.min, args.max)?;
     let method = match args.method {
         MethodArg::Shooting if args.ntst.is_some() || args.ncol.is_some() => {
             return Err(Error::InvalidArgument {
@@ -51,11 +40,7 @@ pub(super) fn run_continue(args: &ContinueArgs, out: &mut dyn Write) -> Result<(
             .max_points(args.max_points);
         run.settings_mut().newton.tol = args.tol;
     };
-    let direction = match args.direction {
-        DirectionArg::Both => RunDirection::Both,
-        DirectionArg::Up => RunDirection::Up,
-        DirectionArg::Down => RunDirection::Down,
-    };
+    let direction = RunDirection::from(args.direction);
     if args.restart.is_some() && args.block.given() {
         return Err(Error::InvalidArgument {
             name: "--xi/--theta-b",

@@ -1,7 +1,7 @@
 //! `curve`: two-parameter continuation from a labelled special point of a saved run.
 
 use super::continue_cmd::read_saved_run;
-use super::{CurveArgs, DirectionArg, FreeArg, stdout_err};
+use super::{CurveArgs, stdout_err};
 use crate::continuation::{AMP, Curve, Free, default_method, study_run};
 use crate::error::{Error, Result};
 use crate::model::Parameters;
@@ -14,10 +14,7 @@ pub(super) fn run_curve(args: &CurveArgs, out: &mut dyn Write) -> Result<()> {
         path: args.restart.clone(),
         reason: "the saved run continues neither omega nor alpha".into(),
     })?;
-    let second = match args.second {
-        FreeArg::Omega => Free::Omega,
-        FreeArg::Alpha => Free::Alpha,
-    };
+    let second = Free::from(args.second);
     if second == free {
         return Err(Error::InvalidArgument {
             name: "second",
@@ -25,15 +22,7 @@ pub(super) fn run_curve(args: &CurveArgs, out: &mut dyn Write) -> Result<()> {
             reason: "the second parameter must differ from the saved run's",
         });
     }
-    let (lo, hi) = second.range();
-    let (min, max) = (args.min.unwrap_or(lo), args.max.unwrap_or(hi));
-    if !(min < max) {
-        return Err(Error::InvalidArgument {
-            name: "min/max",
-            value: format!("{min}/{max}"),
-            reason: "min must be below max",
-        });
-    }
+    let (min, max) = super::window(second, args.min, args.max)?;
     // A saved curve continues from any of its points; a branch from a special point.
     let kind = match saved.condition {
         Some(condition) => condition.kind(),
@@ -41,11 +30,7 @@ pub(super) fn run_curve(args: &CurveArgs, out: &mut dyn Write) -> Result<()> {
     };
     let params = Parameters::from_vec(&saved.template.params);
     let mut run = study_run(free, &params, free.range(), default_method())?;
-    let direction = match args.direction {
-        DirectionArg::Both => RunDirection::Both,
-        DirectionArg::Up => RunDirection::Up,
-        DirectionArg::Down => RunDirection::Down,
-    };
+    let direction = RunDirection::from(args.direction);
     let spec = CurveSpec::new(second.id())
         .bounds(min, max)
         .direction(direction)

@@ -1,6 +1,6 @@
 //! Branches with their special points, two-parameter curves and test points.
 
-use super::key::{Mark, draw_key, over_white};
+use super::key::{Mark, curve_colour, draw_key, over_white};
 use super::{mode_colour, pieces, plot_err, range};
 use crate::error::Result;
 use crate::model::Parameters;
@@ -205,13 +205,6 @@ fn draw_curves(
     params: &Parameters,
 ) -> Result<()> {
     use hycont_continuation::SpecialKind;
-    let colour = |k: SpecialKind| match k {
-        SpecialKind::Fold => RGBColor(255, 127, 14),
-        SpecialKind::PeriodDoubling => RGBColor(44, 160, 44),
-        SpecialKind::BranchPoint => RGBColor(148, 103, 189),
-        SpecialKind::BoundaryTouch => RGBColor(214, 39, 40),
-        _ => RGBColor(140, 86, 75),
-    };
     let root = SVGBackend::new(path, (1240, 750)).into_drawing_area();
     root.fill(&WHITE).map_err(|e| plot_err(path, e))?;
     let (plot_area, key) = root.split_horizontally(1000);
@@ -274,7 +267,7 @@ fn draw_curves(
         entries.push((label.to_string(), Mark::Swatch(over_white(fill, 0.6))));
     }
     for c in curves {
-        let col = colour(c.kind);
+        let col = curve_colour(c.kind);
         chart
             .draw_series(LineSeries::new(c.points(), col.stroke_width(2)))
             .map_err(|e| plot_err(path, e))?;

@@ -34,6 +34,18 @@ const CLASSES: [(&str, RGBColor); 8] = [
     ("overturn_neg", RGBColor(200, 140, 200)),
 ];
 
+/// The colour every figure draws a two-parameter curve of `kind` in.
+pub(super) fn curve_colour(kind: hycont_continuation::SpecialKind) -> RGBColor {
+    use hycont_continuation::SpecialKind;
+    match kind {
+        SpecialKind::Fold => RGBColor(255, 127, 14),
+        SpecialKind::PeriodDoubling => RGBColor(44, 160, 44),
+        SpecialKind::BranchPoint => RGBColor(148, 103, 189),
+        SpecialKind::BoundaryTouch => RGBColor(214, 39, 40),
+        _ => RGBColor(140, 86, 75),
+    }
+}
+
 /// The colour of a class (white for an unknown name).
 pub(super) fn class_colour(name: &str) -> RGBColor {
     CLASSES

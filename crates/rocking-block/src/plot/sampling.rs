@@ -1,6 +1,6 @@
 //! Brute-force diagrams, basins, class grids, probability maps and marginals.
 
-use super::key::{Mark, class_colour, class_entries, draw_key};
+use super::key::{Mark, class_colour, class_entries, curve_colour, draw_key};
 use super::{plot_err, range};
 use crate::error::Result;
 use plotters::prelude::*;
@@ -404,12 +404,8 @@ fn curve_entries(curves: &[crate::continuation::Curve]) -> Vec<(String, Mark)> {
 
 /// The curves the sampling figures overlay, with their colours.
 fn curve_styles() -> [(hycont_continuation::SpecialKind, RGBColor); 3] {
-    use hycont_continuation::SpecialKind;
-    [
-        (SpecialKind::Fold, RGBColor(255, 127, 14)),
-        (SpecialKind::BranchPoint, RGBColor(148, 103, 189)),
-        (SpecialKind::PeriodDoubling, RGBColor(44, 160, 44)),
-    ]
+    use hycont_continuation::SpecialKind::{BranchPoint, Fold, PeriodDoubling};
+    [Fold, BranchPoint, PeriodDoubling].map(|k| (k, curve_colour(k)))
 }
 
 /// Fig. 10: group probabilities against each binned variable.
