@@ -7,13 +7,14 @@
 use criterion::{Criterion, criterion_group, criterion_main};
 use hycont_continuation::RunStatistics;
 use hycont_continuation::observe::Silent;
+use rocking_block::block::Block;
 use rocking_block::continuation::{Free, study_branches, study_curves};
 use std::hint::black_box;
 
 fn figures_3_and_4(c: &mut Criterion) {
     for free in [Free::Omega, Free::Alpha] {
         let t = std::time::Instant::now();
-        let branches = study_branches(free, &mut Silent).unwrap();
+        let branches = study_branches(free, &Block::default(), &mut Silent).unwrap();
         let elapsed = t.elapsed();
         let branches: Vec<_> = branches.into_iter().map(|b| b.branch).collect();
         let points: usize = branches
@@ -37,8 +38,8 @@ fn figures_3_and_4(c: &mut Criterion) {
     }
     c.bench_function("continuation/figure_3_and_4_branches", |b| {
         b.iter(|| {
-            black_box(study_branches(Free::Omega, &mut Silent).unwrap());
-            black_box(study_branches(Free::Alpha, &mut Silent).unwrap());
+            black_box(study_branches(Free::Omega, &Block::default(), &mut Silent).unwrap());
+            black_box(study_branches(Free::Alpha, &Block::default(), &mut Silent).unwrap());
         });
     });
 }
@@ -166,7 +167,7 @@ fn per_point(c: &mut Criterion) {
 
 fn figure_6_curves(c: &mut Criterion) {
     let t = std::time::Instant::now();
-    let curves = study_curves(&mut Silent).unwrap();
+    let curves = study_curves(&Block::default(), &mut Silent).unwrap();
     let elapsed = t.elapsed();
     for cv in &curves {
         eprintln!(
@@ -180,7 +181,7 @@ fn figure_6_curves(c: &mut Criterion) {
         "all curves (with the Fig. 3/4 branches they start from): {points} points in {elapsed:?}"
     );
     c.bench_function("continuation/figure_6_curves", |b| {
-        b.iter(|| black_box(study_curves(&mut Silent).unwrap()));
+        b.iter(|| black_box(study_curves(&Block::default(), &mut Silent).unwrap()));
     });
 }
 

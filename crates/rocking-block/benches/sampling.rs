@@ -8,8 +8,10 @@
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use hycont_sample::basin::{Progress, run};
+use rocking_block::block::Block;
 use rocking_block::classes::RockingClassifier;
 use rocking_block::figures::sampling::{fig7_study, figure5};
+use rocking_block::provenance::Provenance;
 use std::hint::black_box;
 
 fn sampling(c: &mut Criterion) {
@@ -18,11 +20,11 @@ fn sampling(c: &mut Criterion) {
     let mut g = c.benchmark_group("sampling");
     g.sample_size(10);
     g.bench_function("figure5_study_settings_both_sweeps", |b| {
-        b.iter(|| black_box(figure5(&dir).unwrap()));
+        b.iter(|| black_box(figure5(&dir, &Provenance::default()).unwrap()));
     });
     let classifier = RockingClassifier::default();
     for omega in [1.16, 4.0] {
-        let study = fig7_study(omega, 1);
+        let study = fig7_study(omega, 1, &Block::default());
         g.bench_function(format!("fig7_basin_omega_{omega}_2000_trials"), |b| {
             b.iter(|| black_box(run(&study, &classifier, 0..2000, &Progress::default()).unwrap()));
         });

@@ -195,6 +195,8 @@ pub fn classify(
 pub struct RockingClassifier {
     /// Classifier settings.
     pub settings: ClassifierSettings,
+    /// The block (the trials give the forcing).
+    pub block: crate::block::Block,
 }
 
 /// Classes that can carry rest phases (counted separately with `_with_rest`).
@@ -225,14 +227,8 @@ impl hycont_sample::basin::Classifier for RockingClassifier {
             .collect()
     }
     fn classify(&self, v: &[f64]) -> std::result::Result<usize, String> {
-        let c = classify(
-            &Parameters::new(v[0], v[1]),
-            v[2],
-            v[3],
-            v[4],
-            &self.settings,
-        )
-        .map_err(|e| e.to_string())?;
+        let c = classify(&self.block.at(v[0], v[1]), v[2], v[3], v[4], &self.settings)
+            .map_err(|e| e.to_string())?;
         Ok(match WITH_REST.iter().position(|x| *x == c.class) {
             Some(i) if c.with_rest => Class::ALL.len() + i,
             _ => c.class.index(),

@@ -3,6 +3,7 @@
 //! and 4 (symmetric, switched to asymmetric at the first branch point, to period 2 at the first
 //! period doubling), their labels, and the curves of Fig. 6.
 
+use crate::block::Block;
 use crate::error::{Error, Result};
 pub use crate::model::Free;
 use crate::model::{ALPHA, OMEGA, Parameters, RockingBlock};
@@ -70,8 +71,12 @@ pub fn study_run<'a>(
 ///
 /// # Errors
 /// Numerical failures at the start or at a branch switch.
-pub fn study_branches(free: Free, observer: &mut dyn Observer) -> Result<Vec<OrbitBranch>> {
-    let params = Parameters::new(1.3, 0.66);
+pub fn study_branches(
+    free: Free,
+    block: &Block,
+    observer: &mut dyn Observer,
+) -> Result<Vec<OrbitBranch>> {
+    let params = block.at(1.3, 0.66);
     let sym = orbit(&params, OrbitKind::Symmetric, None)?.solution.orbit;
     let mut run = study_run(free, &params, free.range(), default_method())?;
     run.observer(Box::new(observer));
@@ -106,10 +111,10 @@ pub struct Curve {
 ///
 /// # Errors
 /// Numerical failures.
-pub fn study_curves(observer: &mut dyn Observer) -> Result<Vec<Curve>> {
-    let params = Parameters::new(1.3, 0.66);
-    let fig3 = study_branches(Free::Omega, observer)?;
-    let fig4 = study_branches(Free::Alpha, observer)?;
+pub fn study_curves(block: &Block, observer: &mut dyn Observer) -> Result<Vec<Curve>> {
+    let params = block.at(1.3, 0.66);
+    let fig3 = study_branches(Free::Omega, block, observer)?;
+    let fig4 = study_branches(Free::Alpha, block, observer)?;
     let label = |b: &OrbitBranch, k: SpecialKind, last: bool| -> Result<usize> {
         let mut it = b.special(k);
         let s = if last { it.last() } else { it.next() };

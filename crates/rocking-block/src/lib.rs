@@ -16,6 +16,7 @@
 #![deny(missing_docs)]
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
+pub mod block;
 pub mod classes;
 pub mod cli;
 pub mod continuation;
@@ -25,6 +26,7 @@ pub mod model;
 pub mod orbits;
 pub mod output;
 pub mod plot;
+pub mod provenance;
 pub mod report;
 pub mod simulation;
 

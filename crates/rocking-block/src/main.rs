@@ -18,7 +18,12 @@ fn main() -> ExitCode {
             .unwrap_or_default();
         eprintln!("rocking-block: internal error{place}: {msg}");
     }));
-    let cli = match rocking_block::cli::Cli::try_parse() {
+    let args: Vec<std::ffi::OsString> = std::env::args_os().collect();
+    let command_line: Vec<String> = args
+        .iter()
+        .map(|a| a.to_string_lossy().into_owned())
+        .collect();
+    let cli = match rocking_block::cli::Cli::try_parse_from(&args) {
         Ok(cli) => cli,
         Err(e) => {
             if !e.use_stderr() {
@@ -38,7 +43,7 @@ fn main() -> ExitCode {
         }
     };
     let mut stdout = std::io::stdout().lock();
-    match rocking_block::cli::run(cli, &mut stdout) {
+    match rocking_block::cli::run(cli, &command_line, &mut stdout) {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
             eprintln!("rocking-block: {e}");

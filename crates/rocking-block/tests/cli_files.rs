@@ -46,6 +46,13 @@ fn json(path: &Path) -> serde_json::Value {
     serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()
 }
 
+/// A result file without its provenance (which names the command that wrote it).
+fn without_provenance(v: &serde_json::Value) -> serde_json::Value {
+    let mut v = v.clone();
+    v.as_object_mut().unwrap().remove("provenance");
+    v
+}
+
 /// Ctrl-C during a shard: the partial shard holds whole chunks of trials with exact ranges;
 /// `--resume` runs the rest, and the shard equals the uninterrupted one byte for byte.
 #[test]
@@ -87,9 +94,14 @@ fn an_interrupted_shard_resumes_to_the_uninterrupted_shard() {
     let whole: Vec<String> = args(&b);
     bin().args(&whole).run_ok();
     let name = "fig10.shard-0-of-2.json";
-    assert_eq!(
-        std::fs::read(a.join(name)).unwrap(),
-        std::fs::read(b.join(name)).unwrap()
+    // The same counts; the provenance is the command line that started each (the resumed one's
+    // ran on one thread).
+    let (resumed, whole) = (json(&a.join(name)), json(&b.join(name)));
+    assert_eq!(without_provenance(&resumed), without_provenance(&whole));
+    let started = &resumed["provenance"]["command_line"];
+    assert!(
+        started.as_array().unwrap().iter().any(|a| a == "--threads"),
+        "{started}"
     );
     std::fs::remove_dir_all(&dir).ok();
 }
@@ -207,6 +219,10 @@ fn merge_checks_every_shard() {
         v["seed"] = serde_json::json!(9)
     });
     fails(&merge(&[&s0, &seed], &out), 2, "seed");
+    let block = corrupt(&s1, &dir.join("block.json"), |v| {
+        v["block"]["theta_b"] = serde_json::json!(0.85)
+    });
+    fails(&merge(&[&s0, &block], &out), 2, "block");
     assert!(!out.join("fig10.json").exists(), "nothing was written");
     // One shard of two: a partial file, no figure; the other completes it.
     fails(&merge(&[&s0], &out), 1, "300 of 600 trials");
@@ -223,10 +239,13 @@ fn merge_checks_every_shard() {
         .args(["figure", "10", "--trials", "600", "--out"])
         .arg(&whole)
         .run_ok();
-    assert_eq!(
-        std::fs::read(dir.join("both/fig10.json")).unwrap(),
-        std::fs::read(whole.join("fig10.json")).unwrap()
+    let (merged, whole) = (
+        json(&dir.join("both/fig10.json")),
+        json(&whole.join("fig10.json")),
     );
+    assert_eq!(without_provenance(&merged), without_provenance(&whole));
+    assert_eq!(merged["provenance"]["command_line"][1], "merge");
+    assert_eq!(merged["provenance"]["trials"], 600);
     std::fs::remove_dir_all(&dir).ok();
 }
 

@@ -11,6 +11,7 @@ use hycont_continuation::{
     SpecialKind, continue_branch,
 };
 use hycont_core::orbit::{CollocationSettings, PeriodicOrbit};
+use rocking_block::block::Block;
 use rocking_block::continuation::{AMP, Free, default_method, study_branches, study_run};
 use rocking_block::figures::branches::study_labels;
 use rocking_block::orbits::{OrbitKind, orbit};
@@ -34,7 +35,7 @@ fn label_value(labels: &[(SpecialKind, f64, f64, String)], name: &str) -> f64 {
 
 #[test]
 fn figure_3_special_points_match_the_study() {
-    let runs = study_branches(Free::Omega, &mut Silent).unwrap();
+    let runs = study_branches(Free::Omega, &Block::default(), &mut Silent).unwrap();
     let labels = study_labels(&runs, Free::Omega, &[]);
     let branches: Vec<Branch> = runs.into_iter().map(|b| b.branch).collect();
     let names: Vec<&str> = labels.iter().map(|l| l.3.as_str()).collect();
@@ -137,7 +138,7 @@ fn figure_3_special_points_match_the_study() {
 
 #[test]
 fn figure_4_special_points_match_the_study() {
-    let runs = study_branches(Free::Alpha, &mut Silent).unwrap();
+    let runs = study_branches(Free::Alpha, &Block::default(), &mut Silent).unwrap();
     let offsets = [
         (SpecialKind::BranchPoint, 2),
         (SpecialKind::BoundaryTouch, 2),

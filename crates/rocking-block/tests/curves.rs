@@ -7,6 +7,7 @@ mod common;
 use hycont_continuation::observe::Silent;
 use hycont_continuation::{CurveSpec, MeasureId, OrbitMethod, RunDirection, SpecialKind};
 use hycont_core::orbit::CollocationSettings;
+use rocking_block::block::Block;
 use rocking_block::continuation::{Free, default_method, study_branches, study_curves, study_run};
 use rocking_block::orbits::{OrbitKind, orbit};
 use rocking_block::{ALPHA, OMEGA, Parameters};
@@ -14,8 +15,8 @@ use std::f64::consts::PI;
 
 #[test]
 fn the_curves_meet_the_special_points_of_figures_3_and_4() {
-    let fig3 = study_branches(Free::Omega, &mut Silent).unwrap();
-    let fig4 = study_branches(Free::Alpha, &mut Silent).unwrap();
+    let fig3 = study_branches(Free::Omega, &Block::default(), &mut Silent).unwrap();
+    let fig4 = study_branches(Free::Alpha, &Block::default(), &mut Silent).unwrap();
     let specials = |branches: &[hycont_continuation::OrbitBranch], k: SpecialKind, q| {
         branches
             .iter()
@@ -23,7 +24,7 @@ fn the_curves_meet_the_special_points_of_figures_3_and_4() {
             .map(|s| s.point[q])
             .collect::<Vec<f64>>()
     };
-    let curves = study_curves(&mut Silent).unwrap();
+    let curves = study_curves(&Block::default(), &mut Silent).unwrap();
     let kinds: Vec<SpecialKind> = curves.iter().map(|c| c.kind).collect();
     use SpecialKind::{BoundaryTouch as SB, BranchPoint as BP, Fold as SN, Grazing as GR};
     assert_eq!(kinds, [SN, BP, SB, GR, SpecialKind::PeriodDoubling]);
@@ -77,7 +78,7 @@ fn the_period_doubling_curve_meets_a_separate_alpha_continuation() {
     // The PD curve from PD1 (omega = 1.3), with a user point at omega = 2, against the PD
     // found by an alpha continuation of the asymmetric orbit at omega = 2.
     let params = Parameters::new(1.3, 0.66);
-    let fig4 = study_branches(Free::Alpha, &mut Silent).unwrap();
+    let fig4 = study_branches(Free::Alpha, &Block::default(), &mut Silent).unwrap();
     let pd1 = fig4[1].special(SpecialKind::PeriodDoubling).next().unwrap();
     let mut run = study_run(Free::Alpha, &params, Free::Alpha.range(), default_method()).unwrap();
     let spec = CurveSpec::new(OMEGA)
@@ -118,7 +119,7 @@ fn a_collocation_curve_agrees_with_shooting() {
         .direction(RunDirection::Up);
     let c = run.curve_at("BP", &b, bp1.point.label, &spec).unwrap();
     let bp3 = c.special(SpecialKind::UserPoint).next().unwrap().point[ALPHA];
-    let fig4 = study_branches(Free::Alpha, &mut Silent).unwrap();
+    let fig4 = study_branches(Free::Alpha, &Block::default(), &mut Silent).unwrap();
     let shooting = fig4[0]
         .special(SpecialKind::BranchPoint)
         .next()

@@ -6,10 +6,12 @@ mod common;
 use common::{RunOk, bin};
 
 use hycont_sample::basin::{Progress, run};
+use rocking_block::block::Block;
 use rocking_block::classes::{
     Class, ClassifierSettings, Decision, RockingClassifier, base_class, classify,
 };
 use rocking_block::figures::sampling::{SampleOptions, fig7_study, figure5, figure7};
+use rocking_block::provenance::Provenance;
 use rocking_block::{Parameters, SimulationRequest, simulate};
 use std::f64::consts::FRAC_PI_2;
 
@@ -126,7 +128,7 @@ fn classified_asymmetric_orbits_are_the_orbit_solvers() {
 
 #[test]
 fn basin_counts_do_not_depend_on_threads() {
-    let study = fig7_study(1.5, 11);
+    let study = fig7_study(1.5, 11, &Block::default());
     let classifier = RockingClassifier::default();
     let one = rayon::ThreadPoolBuilder::new()
         .num_threads(1)
@@ -173,7 +175,9 @@ fn figure_7_reference_behaviour() {
         SampleOptions {
             trials: 1500,
             seed: 3,
+            block: Block::default(),
         },
+        &Provenance::default(),
         &Progress::default(),
     )
     .unwrap();
@@ -239,7 +243,7 @@ fn figure_7_reference_behaviour() {
 fn figure_5_shows_the_period_doubling_cascade() {
     let dir = std::env::temp_dir().join(format!("rocking-block-fig5-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
-    figure5(&dir).unwrap();
+    figure5(&dir, &Provenance::default()).unwrap();
     let v: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(dir.join("fig5.json")).unwrap()).unwrap();
     // The picture marks the study's special points and says what every mark is.
@@ -342,9 +346,10 @@ fn figures_8_to_10_write_their_json() {
     let opts = SampleOptions {
         trials: 600,
         seed: 5,
+        block: Block::default(),
     };
-    figure9(&dir, opts, &Progress::default()).unwrap();
-    figure10(&dir, opts, &Progress::default()).unwrap();
+    figure9(&dir, opts, &Provenance::default(), &Progress::default()).unwrap();
+    figure10(&dir, opts, &Provenance::default(), &Progress::default()).unwrap();
     let v9: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(dir.join("fig9.json")).unwrap()).unwrap();
     assert_eq!(v9["basins"].as_array().unwrap().len(), 2);
@@ -413,7 +418,7 @@ fn figure_8_grid_matches_the_studys_description() {
     use rocking_block::figures::sampling::{FIG8_GRID, figure8};
     let dir = std::env::temp_dir().join(format!("rocking-block-fig8-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
-    figure8(&dir).unwrap();
+    figure8(&dir, &Provenance::default()).unwrap();
     let v: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(dir.join("fig8.json")).unwrap()).unwrap();
     let grids = v["grids"].as_array().unwrap();

@@ -1,6 +1,6 @@
 //! The command line's arguments (clap).
 
-use crate::model::{DEFAULT_THETA_B, DEFAULT_XI};
+pub use super::block_args::{BlockArgs, ForcingArgs};
 use clap::{Args, Parser, Subcommand};
 use std::path::PathBuf;
 
@@ -41,12 +41,9 @@ pub enum Command {
 /// Arguments of `rocking-block classify`.
 #[derive(Debug, Args)]
 pub struct ClassifyArgs {
-    /// Forcing frequency (single trial).
-    #[arg(long, default_value_t = 1.3, allow_hyphen_values = true)]
-    pub omega: f64,
-    /// Forcing amplitude (single trial).
-    #[arg(long, default_value_t = 0.66, allow_hyphen_values = true)]
-    pub alpha: f64,
+    /// The forcing (single trial).
+    #[command(flatten)]
+    pub forcing: ForcingArgs,
     /// Forcing phase (single trial).
     #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
     pub beta: f64,
@@ -96,12 +93,10 @@ pub struct ContinueArgs {
     /// The parameter to continue in.
     #[arg(long, value_enum)]
     pub free: FreeArg,
-    /// Start: forcing frequency.
-    #[arg(long, default_value_t = 1.3, allow_hyphen_values = true)]
-    pub omega: f64,
-    /// Start: forcing amplitude.
-    #[arg(long, default_value_t = 0.66, allow_hyphen_values = true)]
-    pub alpha: f64,
+    /// The forcing at the start (the continued parameter's start value and the other's fixed
+    /// value).
+    #[command(flatten)]
+    pub forcing: ForcingArgs,
     /// The block (fresh starts; a restart continues the saved run's block).
     #[command(flatten)]
     pub block: BlockArgs,
@@ -239,12 +234,9 @@ pub struct CurveArgs {
 /// Arguments of `rocking-block orbit`.
 #[derive(Debug, Args)]
 pub struct OrbitArgs {
-    /// Forcing frequency omega (> 0).
-    #[arg(long, default_value_t = 1.3, allow_hyphen_values = true)]
-    pub omega: f64,
-    /// Forcing amplitude alpha (>= 0).
-    #[arg(long, default_value_t = 0.66, allow_hyphen_values = true)]
-    pub alpha: f64,
+    /// The forcing.
+    #[command(flatten)]
+    pub forcing: ForcingArgs,
     /// The block.
     #[command(flatten)]
     pub block: BlockArgs,
@@ -309,6 +301,9 @@ pub struct FigureArgs {
     /// Print the files written as JSON (`{"files": [...]}`).
     #[arg(long)]
     pub json: bool,
+    /// The block (the figures of the study for another block; a resumed run keeps its block).
+    #[command(flatten)]
+    pub block: BlockArgs,
 }
 
 /// Arguments of `rocking-block merge`.
@@ -325,46 +320,12 @@ pub struct MergeArgs {
     pub json: bool,
 }
 
-/// The block: damping and slenderness (the study's unless given).
-#[derive(Debug, Clone, Copy, Args)]
-pub struct BlockArgs {
-    /// Damping xi (>= 0) [default: the study's 0.00022].
-    #[arg(long, allow_hyphen_values = true)]
-    pub xi: Option<f64>,
-    /// Slenderness angle theta_b in rad, in (acos(sqrt(2/3)), pi/2) [default: the study's
-    /// 0.8795].
-    #[arg(long = "theta-b", allow_hyphen_values = true)]
-    pub theta_b: Option<f64>,
-}
-
-impl BlockArgs {
-    /// Whether either was given.
-    #[must_use]
-    pub fn given(&self) -> bool {
-        self.xi.is_some() || self.theta_b.is_some()
-    }
-
-    /// The parameters at forcing `(omega, alpha)` for this block (not yet validated).
-    #[must_use]
-    pub fn parameters(&self, omega: f64, alpha: f64) -> crate::model::Parameters {
-        crate::model::Parameters {
-            omega,
-            alpha,
-            xi: self.xi.unwrap_or(DEFAULT_XI),
-            theta_b: self.theta_b.unwrap_or(DEFAULT_THETA_B),
-        }
-    }
-}
-
 /// Arguments of `rocking-block simulate`.
 #[derive(Debug, Args)]
 pub struct SimulateArgs {
-    /// Forcing frequency omega (> 0).
-    #[arg(long, default_value_t = 1.3, allow_hyphen_values = true)]
-    pub omega: f64,
-    /// Forcing amplitude alpha (>= 0; the study's range is (0, 1.06]).
-    #[arg(long, default_value_t = 0.66, allow_hyphen_values = true)]
-    pub alpha: f64,
+    /// The forcing.
+    #[command(flatten)]
+    pub forcing: ForcingArgs,
     /// Initial angle phi0.
     #[arg(long, default_value_t = 0.01, allow_hyphen_values = true)]
     pub phi0: f64,

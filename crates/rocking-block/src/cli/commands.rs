@@ -3,14 +3,18 @@
 use super::{ClassifyArgs, KindArg, MethodArg, OrbitArgs, SimulateArgs, read_err, stdout_err};
 use crate::error::{Error, Result};
 use crate::plot;
+use crate::provenance::Provenance;
 use crate::simulation::{SimulationRequest, simulate};
 use hycont_core::HybridSystem;
 use std::io::Write;
 
-pub(super) fn run_orbit(args: &OrbitArgs, out: &mut dyn Write) -> Result<()> {
+pub(super) fn run_orbit(
+    args: &OrbitArgs,
+    invocation: &Provenance,
+    out: &mut dyn Write,
+) -> Result<()> {
     use crate::orbits::{OrbitKind, orbit};
-    let params = args.block.parameters(args.omega, args.alpha);
-    params.validate()?;
+    let (params, dims) = super::block_args::resolve(&args.block, &args.forcing)?;
     crate::simulation::check_start(args.phi0, args.psi0, args.beta)?;
     let settings = hycont_core::orbit::CollocationSettings {
         ntst: args.ntst,
@@ -30,14 +34,20 @@ pub(super) fn run_orbit(args: &OrbitArgs, out: &mut dyn Write) -> Result<()> {
     }
     let report = found.report(name)?;
     if args.json {
-        let text = serde_json::to_string_pretty(&report).expect("report serialises");
+        let value = serde_json::to_value(&report).expect("report serialises");
+        let value = invocation
+            .clone()
+            .with_parameters(params)
+            .with_dimensional(dims)
+            .insert_into(value);
+        let text = serde_json::to_string_pretty(&value).expect("report serialises");
         writeln!(out, "{text}").map_err(stdout_err)?;
     } else {
         writeln!(
             out,
             "{name} orbit at omega = {}, alpha = {} ({:?}): period {:.10}, amp {:.10}, {}",
-            args.omega,
-            args.alpha,
+            params.omega,
+            params.alpha,
             args.method,
             report.period,
             report.amp,
@@ -66,7 +76,11 @@ pub(super) fn run_orbit(args: &OrbitArgs, out: &mut dyn Write) -> Result<()> {
     Ok(())
 }
 
-pub(super) fn run_classify(args: &ClassifyArgs, out: &mut dyn Write) -> Result<()> {
+pub(super) fn run_classify(
+    args: &ClassifyArgs,
+    invocation: &Provenance,
+    out: &mut dyn Write,
+) -> Result<()> {
     use crate::classes::{ClassifierSettings, classify};
     use rayon::prelude::*;
     let settings = ClassifierSettings::default();
@@ -84,16 +98,11 @@ pub(super) fn run_classify(args: &ClassifyArgs, out: &mut dyn Write) -> Result<(
             path: input.clone(),
             reason,
         })?;
+        let block = args.block.block()?;
         let results: Vec<String> = rows
             .par_iter()
-            .map(|v| {
-                match classify(
-                    &args.block.parameters(v[0], v[1]),
-                    v[2],
-                    v[3],
-                    v[4],
-                    &settings,
-                ) {
+            .map(
+                |v| match classify(&block.at(v[0], v[1]), v[2], v[3], v[4], &settings) {
                     Ok(c) => format!(
                         "{},{},{},{},{},{},{:?},{},{}",
                         v[0],
@@ -110,8 +119,8 @@ pub(super) fn run_classify(args: &ClassifyArgs, out: &mut dyn Write) -> Result<(
                         "{},{},{},{},{},error,\"{e}\",0,false",
                         v[0], v[1], v[2], v[3], v[4]
                     ),
-                }
-            })
+                },
+            )
             .collect();
         let mut text =
             String::from("omega,alpha,beta,phi0,psi0,class,decision,periods,with_rest\n");
@@ -129,16 +138,22 @@ pub(super) fn run_classify(args: &ClassifyArgs, out: &mut dyn Write) -> Result<(
         .map_err(stdout_err)?;
         return Ok(());
     }
-    let params = args.block.parameters(args.omega, args.alpha);
+    let (params, dims) = super::block_args::resolve(&args.block, &args.forcing)?;
     let c = classify(&params, args.beta, args.phi0, args.psi0, &settings)?;
     if args.json {
         let v = serde_json::json!({
-            "omega": args.omega, "alpha": args.alpha, "xi": params.xi, "theta_b": params.theta_b,
+            "omega": params.omega, "alpha": params.alpha, "xi": params.xi, "theta_b": params.theta_b,
+            "dimensional": dims,
             "beta": args.beta,
             "phi0": args.phi0, "psi0": args.psi0,
             "class": c.class.name(), "decision": c.decision, "periods": c.periods,
             "with_rest": c.with_rest,
         });
+        let v = invocation
+            .clone()
+            .with_parameters(params)
+            .with_dimensional(dims)
+            .insert_into(v);
         writeln!(
             out,
             "{}",
@@ -163,8 +178,12 @@ pub(super) fn run_classify(args: &ClassifyArgs, out: &mut dyn Write) -> Result<(
     Ok(())
 }
 
-pub(super) fn run_simulate(args: &SimulateArgs, out: &mut dyn Write) -> Result<()> {
-    let params = args.block.parameters(args.omega, args.alpha);
+pub(super) fn run_simulate(
+    args: &SimulateArgs,
+    invocation: &Provenance,
+    out: &mut dyn Write,
+) -> Result<()> {
+    let (params, dims) = super::block_args::resolve(&args.block, &args.forcing)?;
     let wants_files = args.csv.is_some() || args.svg.is_some();
     let req = SimulationRequest {
         params,
@@ -199,7 +218,13 @@ pub(super) fn run_simulate(args: &SimulateArgs, out: &mut dyn Write) -> Result<(
         crate::output::write_with(path, |p| plot::trajectory_svg(p, &title, &traj, &params))?;
     }
     if args.json {
-        let text = serde_json::to_string_pretty(&report).expect("report serialises");
+        let value = serde_json::to_value(&report).expect("report serialises");
+        let value = invocation
+            .clone()
+            .with_parameters(params)
+            .with_dimensional(dims)
+            .insert_into(value);
+        let text = serde_json::to_string_pretty(&value).expect("report serialises");
         writeln!(out, "{text}").map_err(stdout_err)?;
     } else {
         writeln!(

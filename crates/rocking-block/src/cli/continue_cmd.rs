@@ -3,9 +3,14 @@
 use super::{ContinueArgs, DirectionArg, KindArg, MethodArg, read_err, stdout_err};
 use crate::error::{Error, Result};
 use crate::model::Parameters;
+use crate::provenance::Provenance;
 use std::io::Write;
 
-pub(super) fn run_continue(args: &ContinueArgs, out: &mut dyn Write) -> Result<()> {
+pub(super) fn run_continue(
+    args: &ContinueArgs,
+    invocation: &Provenance,
+    out: &mut dyn Write,
+) -> Result<()> {
     use crate::continuation::{AMP, Free, default_method, study_run};
     use crate::figures::branches::study_labels;
     use crate::orbits::{OrbitKind, orbit};
@@ -41,13 +46,14 @@ pub(super) fn run_continue(args: &ContinueArgs, out: &mut dyn Write) -> Result<(
         run.settings_mut().newton.tol = args.tol;
     };
     let direction = RunDirection::from(args.direction);
-    if args.restart.is_some() && args.block.given() {
+    if args.restart.is_some() && (args.block.given() || args.forcing.dimensional_given()) {
         return Err(Error::InvalidArgument {
-            name: "--xi/--theta-b",
+            name: "block options",
             value: "given with --restart".into(),
-            reason: "a restart continues the saved run's block; give them for fresh starts only",
+            reason: "a restart continues the saved run's block and forcing; give them for fresh starts only",
         });
     }
+    let mut dimensional = None;
     let branch = if let (Some(path), Some(label)) = (&args.restart, args.label) {
         let saved = read_saved_run(path)?;
         saved.point(label).map_err(|e| Error::InvalidFile {
@@ -61,8 +67,8 @@ pub(super) fn run_continue(args: &ContinueArgs, out: &mut dyn Write) -> Result<(
         let way = (args.direction != DirectionArg::Both).then_some(direction);
         run.restart("branch", &saved, label, way)?
     } else {
-        let params = args.block.parameters(args.omega, args.alpha);
-        params.validate()?;
+        let (params, dims) = super::block_args::resolve(&args.block, &args.forcing)?;
+        dimensional = dims;
         crate::simulation::check_start(args.phi0, args.psi0, args.beta)?;
         let kind = match args.kind {
             KindArg::Symmetric => OrbitKind::Symmetric,
@@ -75,11 +81,12 @@ pub(super) fn run_continue(args: &ContinueArgs, out: &mut dyn Write) -> Result<(
         tune(&mut run);
         run.run("branch", &start.solution.orbit, direction)?
     };
+    let record = invocation
+        .clone()
+        .with_parameters(Parameters::from_vec(&branch.template.params))
+        .with_dimensional(dimensional);
     if let Some(path) = &args.out {
-        let text = branch
-            .to_json()
-            .expect("a branch of finite values serialises");
-        crate::output::write_atomic(path, text)?;
+        write_saved(path, &branch, &record)?;
     }
     if let Some(path) = &args.svg {
         let labels = study_labels(std::slice::from_ref(&branch), free, &[]);
@@ -96,8 +103,8 @@ pub(super) fn run_continue(args: &ContinueArgs, out: &mut dyn Write) -> Result<(
         })?;
     }
     if args.json {
-        let text =
-            serde_json::to_string_pretty(&branch_json(&branch, free)).expect("branch serialises");
+        let value = record.insert_into(branch_json(&branch, free));
+        let text = serde_json::to_string_pretty(&value).expect("branch serialises");
         writeln!(out, "{text}").map_err(stdout_err)?;
     } else {
         let b = &branch.branch;
@@ -117,6 +124,20 @@ pub(super) fn run_continue(args: &ContinueArgs, out: &mut dyn Write) -> Result<(
         }
     }
     Ok(())
+}
+
+/// Writes a run or curve for restarts, with its provenance (which restarts ignore).
+///
+/// # Errors
+/// [`Error::Io`] naming the file.
+pub(super) fn write_saved(
+    path: &std::path::Path,
+    branch: &hycont_continuation::OrbitBranch,
+    provenance: &Provenance,
+) -> Result<()> {
+    let value = serde_json::to_value(branch).expect("a branch of finite values serialises");
+    let text = serde_json::to_string(&provenance.insert_into(value)).expect("serialises");
+    crate::output::write_atomic(path, text)
 }
 
 /// A run saved by `continue --out`, read and checked against the model.

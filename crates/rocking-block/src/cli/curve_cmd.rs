@@ -5,10 +5,15 @@ use super::{CurveArgs, stdout_err};
 use crate::continuation::{AMP, Curve, Free, default_method, study_run};
 use crate::error::{Error, Result};
 use crate::model::Parameters;
+use crate::provenance::Provenance;
 use hycont_continuation::{CurveSpec, RunDirection};
 use std::io::Write;
 
-pub(super) fn run_curve(args: &CurveArgs, out: &mut dyn Write) -> Result<()> {
+pub(super) fn run_curve(
+    args: &CurveArgs,
+    invocation: &Provenance,
+    out: &mut dyn Write,
+) -> Result<()> {
     let saved = read_saved_run(&args.restart)?;
     let free = Free::of(saved.free).ok_or_else(|| Error::InvalidFile {
         path: args.restart.clone(),
@@ -41,11 +46,9 @@ pub(super) fn run_curve(args: &CurveArgs, out: &mut dyn Write) -> Result<()> {
     } else {
         run.curve_at(kind.label(), &saved, args.label, &spec)?
     };
+    let record = invocation.clone().with_parameters(params);
     if let Some(path) = &args.out {
-        let text = branch
-            .to_json()
-            .expect("a curve of finite values serialises");
-        crate::output::write_atomic(path, text)?;
+        super::continue_cmd::write_saved(path, &branch, &record)?;
     }
     let curve = Curve { kind, branch };
     if let Some(path) = &args.svg {
@@ -57,17 +60,23 @@ pub(super) fn run_curve(args: &CurveArgs, out: &mut dyn Write) -> Result<()> {
         );
         crate::output::write_with(path, |p| crate::plot::curve_svg(p, &title, &curve, &params))?;
     }
-    report(&curve, free, second, args.json, out)
+    report(&curve, (free, second), args.json.then_some(&record), out)
 }
 
 /// Prints the curve: the study's JSON with both parameters named, or a summary.
-fn report(curve: &Curve, free: Free, second: Free, json: bool, out: &mut dyn Write) -> Result<()> {
+fn report(
+    curve: &Curve,
+    (free, second): (Free, Free),
+    json: Option<&Provenance>,
+    out: &mut dyn Write,
+) -> Result<()> {
     let b = &curve.branch.branch;
-    if json {
+    if let Some(provenance) = json {
         let mut v = crate::report::branch_json(&curve.branch, free);
         v["free"] = serde_json::json!([free.name(), second.name()]);
         v["kind"] = serde_json::json!(curve.kind.label());
-        let text = serde_json::to_string_pretty(&v).expect("curve serialises");
+        let text =
+            serde_json::to_string_pretty(&provenance.insert_into(v)).expect("curve serialises");
         return writeln!(out, "{text}").map_err(stdout_err);
     }
     writeln!(

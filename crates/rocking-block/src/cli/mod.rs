@@ -2,6 +2,7 @@
 //! files ([`crate::output`]).
 
 mod args;
+mod block_args;
 mod commands;
 mod continue_cmd;
 mod curve_cmd;
@@ -11,8 +12,10 @@ mod shard_file;
 pub use shard_file::{MAX_TRIALS, SAMPLING, ShardFile};
 
 pub use args::*;
+pub use block_args::{describe, parameters};
 
 use crate::error::{Error, Result};
+use crate::provenance::Provenance;
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
@@ -36,15 +39,18 @@ fn read_err(path: &Path) -> impl FnOnce(std::io::Error) -> Error + '_ {
 ///
 /// # Errors
 /// Invalid arguments, numerical failures, or files that cannot be written.
-pub fn run(cli: Cli, out: &mut dyn Write) -> Result<()> {
+/// Every JSON it writes records `command_line` (program first) in its provenance
+/// ([`crate::provenance`]).
+pub fn run(cli: Cli, command_line: &[String], out: &mut dyn Write) -> Result<()> {
+    let invocation = &Provenance::from_command_line(command_line);
     match cli.command {
-        Command::Simulate(args) => commands::run_simulate(&args, out),
-        Command::Orbit(args) => commands::run_orbit(&args, out),
-        Command::Figure(args) => sampling::run_figure(&args, out),
-        Command::Continue(args) => continue_cmd::run_continue(&args, out),
-        Command::Curve(args) => curve_cmd::run_curve(&args, out),
-        Command::Classify(args) => commands::run_classify(&args, out),
-        Command::Merge(args) => sampling::run_merge(&args, out),
+        Command::Simulate(args) => commands::run_simulate(&args, invocation, out),
+        Command::Orbit(args) => commands::run_orbit(&args, invocation, out),
+        Command::Figure(args) => sampling::run_figure(&args, invocation, out),
+        Command::Continue(args) => continue_cmd::run_continue(&args, invocation, out),
+        Command::Curve(args) => curve_cmd::run_curve(&args, invocation, out),
+        Command::Classify(args) => commands::run_classify(&args, invocation, out),
+        Command::Merge(args) => sampling::run_merge(&args, invocation, out),
     }
 }
 

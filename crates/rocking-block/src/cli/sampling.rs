@@ -10,6 +10,7 @@ use super::shard_file::{MAX_TRIALS, SAMPLING, ShardFile};
 use super::{FigureArgs, MergeArgs, print_written};
 use crate::error::{Error, Result};
 use crate::figures::sampling::{SampleOptions, empty_tables, fill, render};
+use crate::provenance::Provenance;
 use hycont_sample::basin::Progress;
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -59,8 +60,24 @@ fn stop_on_signals(progress: &Arc<Progress>) {
     let _ = ctrlc::set_handler(move || p.stop.store(true, Ordering::Relaxed));
 }
 
-pub(super) fn run_figure(args: &FigureArgs, out: &mut dyn Write) -> Result<()> {
+pub(super) fn run_figure(
+    args: &FigureArgs,
+    invocation: &Provenance,
+    out: &mut dyn Write,
+) -> Result<()> {
     let resume = args.resume.as_deref().map(ShardFile::read).transpose()?;
+    if resume.is_some() && args.block.given() {
+        return Err(Error::InvalidArgument {
+            name: "block options",
+            value: "given with --resume".into(),
+            reason: "a resumed run keeps the block it was started for",
+        });
+    }
+    let block = args.block.block()?;
+    let invocation = &invocation
+        .clone()
+        .with_block(block)
+        .with_dimensional(super::block_args::figure_dimensional(&args.block)?);
     let which = match (&resume, args.which.as_deref()) {
         (Some(file), Some(w)) if parse_which(w)? != [file.figure] => {
             return Err(Error::InvalidArgument {
@@ -130,15 +147,18 @@ pub(super) fn run_figure(args: &FigureArgs, out: &mut dyn Write) -> Result<()> {
                 trials: trials(n),
                 seed: args.seed,
                 shard: shard.unwrap_or((0, 1)),
-                counts: empty_tables(n, args.seed)?,
+                counts: empty_tables(n)?,
+                block,
+                provenance: Some(invocation.clone()),
             };
             written.extend(sample(file, &args.out, args.force, &progress)?);
         } else {
             let options = SampleOptions {
                 trials: trials(n),
                 seed: args.seed,
+                block,
             };
-            let files = crate::figures::figure_with(n, &args.out, options, &progress)?;
+            let files = crate::figures::figure_with(n, &args.out, options, invocation, &progress)?;
             written.extend(files.files);
         }
         if progress.stop.load(Ordering::Relaxed) {
@@ -163,7 +183,9 @@ fn sample(
     let options = SampleOptions {
         trials: file.trials,
         seed: file.seed,
+        block: file.block,
     };
+    let invocation = file.provenance.clone().unwrap_or_default();
     let (done, total) = file.progress();
     progress.done.store(done, Ordering::Relaxed);
     let bar = indicatif::ProgressBar::new(total);
@@ -193,14 +215,14 @@ fn sample(
     let whole = file.shard.1 == 1;
     if file.is_complete() {
         if whole {
-            return Ok(render(file.figure, dir, options, &file.counts)?.files);
+            return Ok(render(file.figure, dir, options, &invocation, &file.counts)?.files);
         }
         file.write(&complete)?;
         return Ok(vec![complete]);
     }
     file.write(&partial)?;
     if force && whole {
-        render(file.figure, dir, options, &file.counts)?;
+        render(file.figure, dir, options, &invocation, &file.counts)?;
     }
     let (done, total) = file.progress();
     Err(Error::Interrupted {
@@ -212,7 +234,11 @@ fn sample(
     })
 }
 
-pub(super) fn run_merge(args: &MergeArgs, out: &mut dyn Write) -> Result<()> {
+pub(super) fn run_merge(
+    args: &MergeArgs,
+    invocation: &Provenance,
+    out: &mut dyn Write,
+) -> Result<()> {
     crate::output::check_dir(&args.out)?;
     let mut merged: Option<ShardFile> = None;
     for path in &args.shards {
@@ -228,6 +254,12 @@ pub(super) fn run_merge(args: &MergeArgs, out: &mut dyn Write) -> Result<()> {
             path: path.clone(),
             reason,
         };
+        if m.block != shard.block {
+            return Err(invalid(format!(
+                "block {:?} differs from the files before ({:?})",
+                shard.block, m.block
+            )));
+        }
         if (m.figure, m.trials, m.seed) != (shard.figure, shard.trials, shard.seed) {
             return Err(invalid(format!(
                 "figure {}, {} trials, seed {} differ from the files before (figure {}, {} trials, seed {})",
@@ -248,9 +280,10 @@ pub(super) fn run_merge(args: &MergeArgs, out: &mut dyn Write) -> Result<()> {
     let options = SampleOptions {
         trials: m.trials,
         seed: m.seed,
+        block: m.block,
     };
     if m.is_complete() {
-        let files = render(m.figure, &args.out, options, &m.counts)?;
+        let files = render(m.figure, &args.out, options, invocation, &m.counts)?;
         return print_written(out, &files.files, args.json);
     }
     let (_, partial) = m.paths(&args.out);

@@ -2,8 +2,10 @@
 //! partial run (`*.partial.json`, written on an interrupt or by an incomplete merge) or both.
 //! Every file read is checked against the figure's tables before it is used.
 
+use crate::block::Block;
 use crate::error::{Error, Result};
 use crate::figures::sampling::empty_tables;
+use crate::provenance::Provenance;
 use hycont_sample::basin::Counts;
 use std::path::{Path, PathBuf};
 
@@ -27,6 +29,13 @@ pub struct ShardFile {
     pub shard: (u64, u64),
     /// One table per study of the figure.
     pub counts: Vec<Counts>,
+    /// The block the trials are classified for (the study's in files written before it was
+    /// recorded).
+    #[serde(default)]
+    pub block: Block,
+    /// The invocation that started the run (kept when it is resumed or merged).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub provenance: Option<Provenance>,
 }
 
 fn bad(path: &Path, reason: String) -> Error {
@@ -77,7 +86,8 @@ impl ShardFile {
         if n == 0 || i >= n {
             return Err(format!("shard {i}/{n} is not I/N with 0 <= I < N"));
         }
-        let expected = empty_tables(self.figure, self.seed).map_err(|e| e.to_string())?;
+        self.block.validate().map_err(|e| e.to_string())?;
+        let expected = empty_tables(self.figure).map_err(|e| e.to_string())?;
         if self.counts.len() != expected.len() {
             return Err(format!(
                 "{} count tables; figure {} has {}",
@@ -170,6 +180,7 @@ impl ShardFile {
     /// # Errors
     /// [`Error::Io`] naming the file.
     pub fn write(&self, path: &Path) -> Result<()> {
+        debug_assert!(self.block.validate().is_ok());
         let text = serde_json::to_string(self).expect("count tables serialise");
         crate::output::write_atomic(path, text)
     }

@@ -4,8 +4,8 @@
 use super::{FigureFiles, write_json};
 use crate::continuation::{AMP, Free, study_branches};
 use crate::error::Result;
-use crate::model::Parameters;
 use crate::plot;
+use crate::provenance::Provenance;
 use crate::report::branch_json;
 use hycont_continuation::OrbitBranch;
 use hycont_continuation::SpecialKind;
@@ -18,9 +18,14 @@ use std::path::Path;
 ///
 /// # Errors
 /// Numerical or I/O failures.
-pub fn branches_figure(free: Free, out: &Path, observer: &mut dyn Observer) -> Result<FigureFiles> {
-    let params = Parameters::new(1.3, 0.66);
-    let branches = study_branches(free, observer)?;
+pub fn branches_figure(
+    free: Free,
+    out: &Path,
+    provenance: &Provenance,
+    observer: &mut dyn Observer,
+) -> Result<FigureFiles> {
+    let params = provenance.block.at(1.3, 0.66);
+    let branches = study_branches(free, &provenance.block, observer)?;
     let (n, offsets, title) = match free {
         Free::Omega => (3, vec![], "Fig. 3: continuation in omega at alpha = 0.66"),
         Free::Alpha => (
@@ -45,7 +50,7 @@ pub fn branches_figure(free: Free, out: &Path, observer: &mut dyn Observer) -> R
         "labels": labels.iter().map(|(k, p, a, l)| json!({"label": l, "kind": k.label(), free.name(): p, "amp": a})).collect::<Vec<_>>(),
     });
     let json_path = out.join(format!("fig{n}.json"));
-    write_json(&json_path, &json)?;
+    write_json(&json_path, &provenance.insert_into(json))?;
     let svg_path = out.join(format!("fig{n}.svg"));
     let plain: Vec<_> = branches.iter().map(|b| b.branch.clone()).collect();
     crate::output::write_with(&svg_path, |p| {

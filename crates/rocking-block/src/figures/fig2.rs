@@ -2,10 +2,10 @@
 //! orbits at the same parameters.
 
 use super::{FigureFiles, write_json};
-use crate::error::Result;
-use crate::model::Parameters;
+use crate::error::{Error, Result};
 use crate::orbits::{OrbitKind, orbit};
 use crate::plot;
+use crate::provenance::Provenance;
 use serde_json::json;
 use std::path::Path;
 
@@ -15,18 +15,37 @@ use std::path::Path;
 ///
 /// # Errors
 /// Numerical or I/O failures.
-pub fn figure2(out: &Path) -> Result<FigureFiles> {
-    let params = Parameters::new(1.3, 0.66);
+pub fn figure2(out: &Path, provenance: &Provenance) -> Result<FigureFiles> {
+    let params = provenance.block.at(1.3, 0.66);
     let mut reports = Vec::new();
     let mut orbits = Vec::new();
+    let mut missing = Vec::new();
     for (name, kind) in [
         ("symmetric", OrbitKind::Symmetric),
         ("asymmetric-pos", OrbitKind::AsymmetricPos),
         ("asymmetric-neg", OrbitKind::AsymmetricNeg),
     ] {
-        let o = orbit(&params, kind, None)?;
-        reports.push(o.report(name)?);
-        orbits.push((name, o.solution.orbit));
+        match orbit(&params, kind, None) {
+            Ok(o) => {
+                reports.push(o.report(name)?);
+                orbits.push((name, o.solution.orbit));
+            }
+            // Another block may have no asymmetric pair at the study's forcing: say so.
+            Err(Error::NoOrbit(reason)) if kind != OrbitKind::Symmetric => {
+                missing.push(json!({"name": name, "reason": reason}));
+            }
+            Err(e) => return Err(e),
+        }
+    }
+    let stability = |stable: bool| if stable { "stable" } else { "unstable" };
+    let mut title = format!(
+        "Fig. 2: omega = 1.3, alpha = 0.66; thick: symmetric orbit ({})",
+        stability(reports[0].stable)
+    );
+    if let Some(r) = reports.get(1) {
+        title += &format!(", thin: asymmetric pair ({})", stability(r.stable));
+    } else {
+        title += ", no asymmetric orbits";
     }
     let json = json!({
         "figure": 2,
@@ -37,18 +56,12 @@ pub fn figure2(out: &Path) -> Result<FigureFiles> {
             "theta_b": params.theta_b,
         },
         "orbits": reports,
+        "not_found": missing,
     });
     let json_path = out.join("fig2.json");
-    write_json(&json_path, &json)?;
+    write_json(&json_path, &provenance.insert_into(json))?;
     let svg_path = out.join("fig2.svg");
-    crate::output::write_with(&svg_path, |p| {
-        plot::orbits_svg(
-            p,
-            "Fig. 2: omega = 1.3, alpha = 0.66; thick: symmetric orbit (unstable), thin: asymmetric pair (stable)",
-            &orbits,
-            &params,
-        )
-    })?;
+    crate::output::write_with(&svg_path, |p| plot::orbits_svg(p, &title, &orbits, &params))?;
     Ok(FigureFiles {
         figure: 2,
         files: vec![json_path, svg_path],

@@ -3,8 +3,9 @@
 
 use super::{FigureFiles, write_json};
 use crate::error::Result;
-use crate::model::{ALPHA, Parameters, RockingBlock, initial_mode, initial_state};
+use crate::model::{ALPHA, RockingBlock, initial_mode, initial_state};
 use crate::plot;
+use crate::provenance::Provenance;
 use hycont_core::{SimulationSettings, StopReason};
 use hycont_sample::sweep::{Sweep, SweepPoint, brute_force};
 use serde_json::{Value, json};
@@ -25,8 +26,8 @@ fn outcome(p: &SweepPoint) -> &'static str {
 ///
 /// # Errors
 /// Numerical or I/O failures.
-pub fn figure5(out: &Path) -> Result<FigureFiles> {
-    let params = Parameters::new(1.3, 0.66);
+pub fn figure5(out: &Path, provenance: &Provenance) -> Result<FigureFiles> {
+    let params = provenance.block.at(1.3, 0.66);
     let values: Vec<f64> = (0..=300)
         .map(|i| 0.5 + 0.3 * f64::from(i) / 300.0)
         .collect();
@@ -69,12 +70,13 @@ pub fn figure5(out: &Path) -> Result<FigureFiles> {
         "diagram_down": diagram(&b),
     });
     let json_path = out.join("fig5.json");
-    write_json(&json_path, &json)?;
+    write_json(&json_path, &provenance.insert_into(json))?;
     let svg_path = out.join("fig5.svg");
     // The study's special points on the line omega = 1.3, from the continuation of Fig. 4:
     // BP3 on the symmetric branch, PD1 on the asymmetric one, PD2 on the period-2 one.
     let fig4 = crate::continuation::study_branches(
         crate::continuation::Free::Alpha,
+        &provenance.block,
         &mut hycont_continuation::observe::Silent,
     )?;
     let first = |b: usize, kind: hycont_continuation::SpecialKind| {

@@ -2,10 +2,11 @@
 //! below the fold curve.
 
 use super::{FigureFiles, write_json};
+use crate::block::Block;
 use crate::continuation::{Curve, study_curves};
 use crate::error::Result;
-use crate::model::Parameters;
 use crate::plot;
+use crate::provenance::Provenance;
 use crate::simulation::{Outcome, SimulationRequest, simulate};
 use hycont_continuation::SpecialKind;
 use hycont_continuation::observe::Observer;
@@ -42,14 +43,17 @@ pub struct TestPoint {
 ///
 /// # Errors
 /// If a simulation fails.
-pub fn test_points(sn: &Curve) -> Result<(Vec<TestPoint>, Vec<hycont_core::Trajectory>)> {
+pub fn test_points(
+    sn: &Curve,
+    block: &Block,
+) -> Result<(Vec<TestPoint>, Vec<hycont_core::Trajectory>)> {
     let mut points = Vec::new();
     let mut trajectories = Vec::new();
     for (i, &omega) in TEST_OMEGAS.iter().enumerate() {
         let Some(alpha_sn) = sn.alpha_at(omega) else {
             continue;
         };
-        let params = Parameters::new(omega, (alpha_sn - 0.05).max(0.01));
+        let params = block.at(omega, (alpha_sn - 0.05).max(0.01));
         let req = SimulationRequest {
             params,
             phi0: TEST_STATE[0],
@@ -102,14 +106,19 @@ fn curve_json(c: &Curve) -> serde_json::Value {
 ///
 /// # Errors
 /// Numerical or I/O failures.
-pub fn figure6(out: &Path, observer: &mut dyn Observer) -> Result<FigureFiles> {
-    let params = Parameters::new(1.3, 0.66);
-    let curves = study_curves(observer)?;
-    let sn = curves
-        .iter()
-        .find(|c| c.kind == SpecialKind::Fold)
-        .expect("the SN curve is computed");
-    let (tests, trajectories) = test_points(sn)?;
+pub fn figure6(
+    out: &Path,
+    provenance: &Provenance,
+    observer: &mut dyn Observer,
+) -> Result<FigureFiles> {
+    let block = provenance.block;
+    let params = block.at(1.3, 0.66);
+    let curves = study_curves(&block, observer)?;
+    // Another block may have no fold on the study's lines: then there are no test points.
+    let (tests, trajectories) = match curves.iter().find(|c| c.kind == SpecialKind::Fold) {
+        Some(sn) => test_points(sn, &block)?,
+        None => (Vec::new(), Vec::new()),
+    };
     let json = json!({
         "figure": 6,
         "parameters": {"omega": params.omega, "alpha": params.alpha, "xi": params.xi, "theta_b": params.theta_b},
@@ -121,7 +130,7 @@ pub fn figure6(out: &Path, observer: &mut dyn Observer) -> Result<FigureFiles> {
                  never lift off again.",
     });
     let json_path = out.join("fig6.json");
-    write_json(&json_path, &json)?;
+    write_json(&json_path, &provenance.insert_into(json))?;
     let svg_path = out.join("fig6.svg");
     crate::output::write_with(&svg_path, |p| plot::curves_svg(p, &curves, &tests, &params))?;
     let tests_path = out.join("fig6_tests.svg");

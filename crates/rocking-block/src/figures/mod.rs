@@ -11,7 +11,9 @@ pub use branches::branches_figure;
 pub use fig2::figure2;
 pub use fig6::figure6;
 
+use crate::block::Block;
 use crate::error::{Error, Result};
+use crate::provenance::Provenance;
 use std::path::{Path, PathBuf};
 
 /// Figures `rocking-block figure` knows; the others need capabilities still to come.
@@ -26,8 +28,8 @@ pub struct FigureFiles {
     pub files: Vec<PathBuf>,
 }
 
-/// Writes figure `n` into `out` (sampling figures with their default trial counts,
-/// [`sampling::default_trials`], and seed 1).
+/// Writes figure `n` of the study's block into `out` (sampling figures with their default
+/// trial counts, [`sampling::default_trials`], and seed 1).
 ///
 /// # Errors
 /// [`Error::InvalidArgument`] for a figure that does not exist or is not available yet; numerical
@@ -39,43 +41,43 @@ pub fn figure(n: u32, out: &Path) -> Result<FigureFiles> {
         sampling::SampleOptions {
             trials: sampling::default_trials(n),
             seed: 1,
+            block: Block::default(),
         },
+        &Provenance::default(),
         &hycont_sample::basin::Progress::default(),
     )
 }
 
-/// Writes figure `n` into `out` with the given sampling options and progress.
+/// Writes figure `n` into `out` for `options.block` with the given sampling options (used by
+/// the sampling figures) and progress; every JSON records `provenance` (with the block, and
+/// the seed and trials of a sampling figure).
 ///
 /// # Errors
-/// As [`figure`].
+/// As [`figure`]; an invalid block.
 pub fn figure_with(
     n: u32,
     out: &Path,
     options: sampling::SampleOptions,
+    provenance: &Provenance,
     progress: &hycont_sample::basin::Progress,
 ) -> Result<FigureFiles> {
+    options.block.validate()?;
     std::fs::create_dir_all(out).map_err(|source| Error::Io {
         path: out.to_path_buf(),
         source,
     })?;
+    let record = provenance.clone().with_block(options.block);
+    let silent = &mut hycont_continuation::observe::Silent;
     match n {
-        2 => figure2(out),
-        3 => branches_figure(
-            crate::continuation::Free::Omega,
-            out,
-            &mut hycont_continuation::observe::Silent,
-        ),
-        4 => branches_figure(
-            crate::continuation::Free::Alpha,
-            out,
-            &mut hycont_continuation::observe::Silent,
-        ),
-        5 => sampling::figure5(out),
-        6 => figure6(out, &mut hycont_continuation::observe::Silent),
-        7 => sampling::figure7(out, options, progress),
-        8 => sampling::figure8(out),
-        9 => sampling::figure9(out, options, progress),
-        10 => sampling::figure10(out, options, progress),
+        2 => figure2(out, &record),
+        3 => branches_figure(crate::continuation::Free::Omega, out, &record, silent),
+        4 => branches_figure(crate::continuation::Free::Alpha, out, &record, silent),
+        5 => sampling::figure5(out, &record),
+        6 => figure6(out, &record, silent),
+        7 => sampling::figure7(out, options, &record, progress),
+        8 => sampling::figure8(out, &record),
+        9 => sampling::figure9(out, options, &record, progress),
+        10 => sampling::figure10(out, options, &record, progress),
         _ => Err(Error::InvalidArgument {
             name: "figure",
             value: n.to_string(),

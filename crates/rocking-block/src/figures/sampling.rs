@@ -5,10 +5,11 @@ pub use super::fig5::figure5;
 pub use super::tables::{counts_for, empty_tables, fill, tables_share_trials};
 
 use super::{FigureFiles, write_json};
+use crate::block::Block;
 use crate::classes::{Class, base_class};
 use crate::error::{Error, Result};
-use crate::model::Parameters;
 use crate::plot;
+use crate::provenance::Provenance;
 use hycont_sample::basin::{Axis, Counts, Distribution, Progress, Study};
 use serde_json::{Value, json};
 use std::path::Path;
@@ -27,6 +28,8 @@ pub struct SampleOptions {
     pub trials: u64,
     /// Seed.
     pub seed: u64,
+    /// The block.
+    pub block: Block,
 }
 
 pub(crate) fn sample_err(e: hycont_sample::Error) -> Error {
@@ -45,8 +48,8 @@ pub const RASTER: usize = 40;
 
 /// The basin study of Fig. 7 at one omega.
 #[must_use]
-pub fn fig7_study(omega: f64, seed: u64) -> Study {
-    let b = Parameters::default().static_boundary();
+pub fn fig7_study(omega: f64, seed: u64, block: &Block) -> Study {
+    let b = block.static_boundary();
     Study {
         names: ["omega", "alpha", "beta", "phi0", "psi0"]
             .iter()
@@ -155,9 +158,14 @@ pub fn raster(counts: &Counts) -> Vec<Vec<Option<&'static str>>> {
 ///
 /// # Errors
 /// Numerical or I/O failures.
-pub fn figure7(out: &Path, options: SampleOptions, progress: &Progress) -> Result<FigureFiles> {
+pub fn figure7(
+    out: &Path,
+    options: SampleOptions,
+    provenance: &Provenance,
+    progress: &Progress,
+) -> Result<FigureFiles> {
     let counts = counts_for(7, options, 0..options.trials, progress)?;
-    render(7, out, options, &counts)
+    render(7, out, options, provenance, &counts)
 }
 
 /// Writes sampling figure `n` (7, 9 or 10) from its count tables (e.g. merged shards).
@@ -168,12 +176,18 @@ pub fn render(
     n: u32,
     out: &Path,
     options: SampleOptions,
+    provenance: &Provenance,
     counts: &[Counts],
 ) -> Result<FigureFiles> {
+    let provenance = &provenance
+        .clone()
+        .with_block(options.block)
+        .with_seed(options.seed)
+        .with_trials(options.trials);
     match n {
-        7 => render7(out, options, counts),
-        9 => render9(out, options, counts),
-        10 => render10(out, options, counts),
+        7 => render7(out, options, provenance, counts),
+        9 => render9(out, options, provenance, counts),
+        10 => render10(out, options, provenance, counts),
         _ => Err(Error::InvalidArgument {
             name: "figure",
             value: n.to_string(),
@@ -182,7 +196,12 @@ pub fn render(
     }
 }
 
-fn render7(out: &Path, options: SampleOptions, all: &[Counts]) -> Result<FigureFiles> {
+fn render7(
+    out: &Path,
+    options: SampleOptions,
+    provenance: &Provenance,
+    all: &[Counts],
+) -> Result<FigureFiles> {
     if all.len() != FIG7_OMEGAS.len() {
         return Err(Error::InvalidArgument {
             name: "counts",
@@ -193,7 +212,7 @@ fn render7(out: &Path, options: SampleOptions, all: &[Counts]) -> Result<FigureF
     let mut basins = Vec::new();
     let mut rasters = Vec::new();
     for (k, (&omega, counts)) in FIG7_OMEGAS.iter().zip(all).enumerate() {
-        let study = fig7_study(omega, options.seed.wrapping_add(k as u64));
+        let study = fig7_study(omega, options.seed.wrapping_add(k as u64), &options.block);
         let (fractions, intervals, with_rest) = fractions_json(counts);
         let trials: u64 = (0..counts.counts.len()).map(|c| counts.trials(c)).sum();
         let r = raster(counts);
@@ -214,15 +233,15 @@ fn render7(out: &Path, options: SampleOptions, all: &[Counts]) -> Result<FigureF
     }
     let json = json!({
         "figure": 7,
-        "parameters": {"alpha": 0.66, "beta": 0.0, "xi": Parameters::default().xi, "theta_b": Parameters::default().theta_b},
+        "parameters": {"alpha": 0.66, "beta": 0.0, "xi": options.block.xi, "theta_b": options.block.theta_b},
         "classifier": crate::classes::ClassifierSettings::default(),
         "basins": basins,
     });
     let json_path = out.join("fig7.json");
-    write_json(&json_path, &json)?;
+    write_json(&json_path, &provenance.insert_into(json))?;
     let svg_path = out.join("fig7.svg");
     crate::output::write_with(&svg_path, |p| {
-        plot::basins_svg(p, &rasters, Parameters::default().static_boundary())
+        plot::basins_svg(p, &rasters, options.block.static_boundary())
     })?;
     Ok(FigureFiles {
         figure: 7,
@@ -276,7 +295,8 @@ pub const FIG8_GRID: (usize, usize) = (70, 40);
 ///
 /// # Errors
 /// Numerical or I/O failures.
-pub fn figure8(out: &Path) -> Result<FigureFiles> {
+pub fn figure8(out: &Path, provenance: &Provenance) -> Result<FigureFiles> {
+    let block = provenance.block;
     use rayon::prelude::*;
     let (nw, na) = FIG8_GRID;
     let omegas: Vec<f64> = (0..nw)
@@ -294,7 +314,7 @@ pub fn figure8(out: &Path) -> Result<FigureFiles> {
             .par_iter()
             .map(|&(i, j)| {
                 crate::classes::classify(
-                    &Parameters::new(omegas[i], alphas[j]),
+                    &block.at(omegas[i], alphas[j]),
                     beta,
                     0.01,
                     0.0,
@@ -308,7 +328,8 @@ pub fn figure8(out: &Path) -> Result<FigureFiles> {
             .collect();
         grids.push((beta, grid));
     }
-    let curves = crate::continuation::study_curves(&mut hycont_continuation::observe::Silent)?;
+    let curves =
+        crate::continuation::study_curves(&block, &mut hycont_continuation::observe::Silent)?;
     let json = json!({
         "figure": 8,
         "initial": {"phi0": 0.01, "psi0": 0.0},
@@ -318,7 +339,7 @@ pub fn figure8(out: &Path) -> Result<FigureFiles> {
         "curves": curves_json(&curves),
     });
     let json_path = out.join("fig8.json");
-    write_json(&json_path, &json)?;
+    write_json(&json_path, &provenance.insert_into(json))?;
     let svg_path = out.join("fig8.svg");
     crate::output::write_with(&svg_path, |p| {
         plot::class_grid_svg(p, &omegas, &alphas, &grids, &curves)
@@ -344,8 +365,8 @@ fn curves_json(curves: &[crate::continuation::Curve]) -> Value {
 }
 
 /// The random variables of Figs. 9 and 10: omega, alpha, beta, phi0, psi0.
-fn plane_study(beta: Distribution, seed: u64) -> Study {
-    let b = Parameters::default().static_boundary();
+fn plane_study(beta: Distribution, seed: u64, block: &Block) -> Study {
+    let b = block.static_boundary();
     Study {
         names: ["omega", "alpha", "beta", "phi0", "psi0"]
             .iter()
@@ -368,12 +389,17 @@ fn plane_study(beta: Distribution, seed: u64) -> Study {
 ///
 /// # Errors
 /// Numerical or I/O failures.
-pub fn figure9(out: &Path, options: SampleOptions, progress: &Progress) -> Result<FigureFiles> {
+pub fn figure9(
+    out: &Path,
+    options: SampleOptions,
+    provenance: &Provenance,
+    progress: &Progress,
+) -> Result<FigureFiles> {
     let counts = counts_for(9, options, 0..options.trials, progress)?;
-    render(9, out, options, &counts)
+    render(9, out, options, provenance, &counts)
 }
 
-pub(crate) fn fig9_study(beta: f64, seed: u64) -> Study {
+pub(crate) fn fig9_study(beta: f64, seed: u64, block: &Block) -> Study {
     Study {
         axes: vec![
             Axis {
@@ -389,11 +415,16 @@ pub(crate) fn fig9_study(beta: f64, seed: u64) -> Study {
                 bins: 30,
             },
         ],
-        ..plane_study(Distribution::Fixed(beta), seed)
+        ..plane_study(Distribution::Fixed(beta), seed, block)
     }
 }
 
-fn render9(out: &Path, options: SampleOptions, all: &[Counts]) -> Result<FigureFiles> {
+fn render9(
+    out: &Path,
+    options: SampleOptions,
+    provenance: &Provenance,
+    all: &[Counts],
+) -> Result<FigureFiles> {
     if all.len() != 2 {
         return Err(Error::InvalidArgument {
             name: "counts",
@@ -418,7 +449,10 @@ fn render9(out: &Path, options: SampleOptions, all: &[Counts]) -> Result<FigureF
         }));
         panels.push((beta, probs));
     }
-    let curves = crate::continuation::study_curves(&mut hycont_continuation::observe::Silent)?;
+    let curves = crate::continuation::study_curves(
+        &options.block,
+        &mut hycont_continuation::observe::Silent,
+    )?;
     let json = json!({
         "figure": 9,
         "grid": {"omega": [0.5, 4.0, 30], "alpha": [0.1, 0.9, 30], "cell_order": "omega-major"},
@@ -426,7 +460,7 @@ fn render9(out: &Path, options: SampleOptions, all: &[Counts]) -> Result<FigureF
         "curves": curves_json(&curves),
     });
     let json_path = out.join("fig9.json");
-    write_json(&json_path, &json)?;
+    write_json(&json_path, &provenance.insert_into(json))?;
     let svg_path = out.join("fig9.svg");
     crate::output::write_with(&svg_path, |p| {
         plot::probability_grid_svg(p, &panels, &curves)
@@ -442,19 +476,25 @@ fn render9(out: &Path, options: SampleOptions, all: &[Counts]) -> Result<FigureF
 ///
 /// # Errors
 /// Numerical or I/O failures.
-pub fn figure10(out: &Path, options: SampleOptions, progress: &Progress) -> Result<FigureFiles> {
+pub fn figure10(
+    out: &Path,
+    options: SampleOptions,
+    provenance: &Provenance,
+    progress: &Progress,
+) -> Result<FigureFiles> {
     let counts = counts_for(10, options, 0..options.trials, progress)?;
-    render(10, out, options, &counts)
+    render(10, out, options, provenance, &counts)
 }
 
-pub(crate) fn fig10_study(seed: u64) -> (Study, Vec<Vec<Axis>>) {
-    let b = Parameters::default().static_boundary();
+pub(crate) fn fig10_study(seed: u64, block: &Block) -> (Study, Vec<Vec<Axis>>) {
+    let b = block.static_boundary();
     let study = plane_study(
         Distribution::Uniform {
             lo: 0.0,
             hi: std::f64::consts::TAU,
         },
         seed,
+        block,
     );
     let binnings = vec![
         vec![Axis {
@@ -479,8 +519,13 @@ pub(crate) fn fig10_study(seed: u64) -> (Study, Vec<Vec<Axis>>) {
     (study, binnings)
 }
 
-fn render10(out: &Path, options: SampleOptions, counts: &[Counts]) -> Result<FigureFiles> {
-    let (_, binnings) = fig10_study(options.seed);
+fn render10(
+    out: &Path,
+    options: SampleOptions,
+    provenance: &Provenance,
+    counts: &[Counts],
+) -> Result<FigureFiles> {
+    let (_, binnings) = fig10_study(options.seed, &options.block);
     if counts.len() != binnings.len() {
         return Err(Error::InvalidArgument {
             name: "counts",
@@ -509,7 +554,7 @@ fn render10(out: &Path, options: SampleOptions, counts: &[Counts]) -> Result<Fig
         "marginals": marginals,
     });
     let json_path = out.join("fig10.json");
-    write_json(&json_path, &json)?;
+    write_json(&json_path, &provenance.insert_into(json))?;
     let svg_path = out.join("fig10.svg");
     crate::output::write_with(&svg_path, |p| plot::marginals_svg(p, &panels))?;
     Ok(FigureFiles {

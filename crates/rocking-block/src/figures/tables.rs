@@ -4,6 +4,7 @@
 use super::sampling::{
     FIG7_OMEGAS, SampleOptions, fig7_study, fig9_study, fig10_study, sample_err,
 };
+use crate::block::Block;
 use crate::classes::RockingClassifier;
 use crate::error::{Error, Result};
 use hycont_sample::basin::{Axis, Counts, Progress, Study, run};
@@ -19,20 +20,20 @@ pub fn counts_for(
     range: std::ops::Range<u64>,
     progress: &Progress,
 ) -> Result<Vec<Counts>> {
-    let mut tables = empty_tables(n, options.seed)?;
+    let mut tables = empty_tables(n)?;
     fill(n, options, &mut tables, range, progress)?;
     Ok(tables)
 }
 
 /// The studies of sampling figure `n` and how their trials are binned (Fig. 10: one study,
 /// three binnings; Figs. 7 and 9: one study per table).
-fn studies(n: u32, seed: u64) -> Result<(Vec<Study>, Vec<Vec<Axis>>)> {
+fn studies(n: u32, seed: u64, block: &Block) -> Result<(Vec<Study>, Vec<Vec<Axis>>)> {
     match n {
         7 => Ok((
             FIG7_OMEGAS
                 .iter()
                 .enumerate()
-                .map(|(k, &omega)| fig7_study(omega, seed.wrapping_add(k as u64)))
+                .map(|(k, &omega)| fig7_study(omega, seed.wrapping_add(k as u64), block))
                 .collect(),
             Vec::new(),
         )),
@@ -40,12 +41,12 @@ fn studies(n: u32, seed: u64) -> Result<(Vec<Study>, Vec<Vec<Axis>>)> {
             [0.0, std::f64::consts::FRAC_PI_2]
                 .into_iter()
                 .enumerate()
-                .map(|(k, beta)| fig9_study(beta, seed.wrapping_add(k as u64)))
+                .map(|(k, beta)| fig9_study(beta, seed.wrapping_add(k as u64), block))
                 .collect(),
             Vec::new(),
         )),
         10 => {
-            let (study, binnings) = fig10_study(seed);
+            let (study, binnings) = fig10_study(seed, block);
             Ok((vec![study], binnings))
         }
         _ => Err(Error::InvalidArgument {
@@ -67,9 +68,9 @@ pub fn tables_share_trials(n: u32) -> bool {
 ///
 /// # Errors
 /// [`Error::InvalidArgument`] for another figure.
-pub fn empty_tables(n: u32, seed: u64) -> Result<Vec<Counts>> {
+pub fn empty_tables(n: u32) -> Result<Vec<Counts>> {
     let classes = hycont_sample::basin::Classifier::classes(&RockingClassifier::default());
-    let (studies, binnings) = studies(n, seed)?;
+    let (studies, binnings) = studies(n, 0, &Block::default())?;
     let cells: Vec<usize> = if binnings.is_empty() {
         studies.iter().map(Study::cells).collect()
     } else {
@@ -97,8 +98,11 @@ pub fn fill(
     range: std::ops::Range<u64>,
     progress: &Progress,
 ) -> Result<()> {
-    let classifier = RockingClassifier::default();
-    let (studies, binnings) = studies(n, options.seed)?;
+    let classifier = RockingClassifier {
+        block: options.block,
+        ..RockingClassifier::default()
+    };
+    let (studies, binnings) = studies(n, options.seed, &options.block)?;
     let merge = |t: &mut Counts, c: &Counts| t.merge(c).map_err(sample_err);
     if binnings.is_empty() {
         if tables.len() != studies.len() {
