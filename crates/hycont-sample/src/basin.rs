@@ -361,13 +361,43 @@ impl Counts {
         let (Some(&k), true) = (k, n > 0.0) else {
             return (0.0, 0.0, 1.0);
         };
-        let p = k as f64 / n;
-        let z: f64 = 1.959_963_984_540_054;
-        let denom = 1.0 + z * z / n;
-        let centre = (p + z * z / (2.0 * n)) / denom;
-        let half = z * (p * (1.0 - p) / n + z * z / (4.0 * n * n)).sqrt() / denom;
-        (p, (centre - half).max(0.0), (centre + half).min(1.0))
+        let (lo, hi) = wilson(k, self.trials(cell));
+        (k as f64 / n, lo, hi)
     }
+}
+
+/// The 95 % Wilson score interval of a fraction `k` of `n` trials,
+/// $\frac{\hat p + z^2/2n \pm z\sqrt{\hat p(1-\hat p)/n + z^2/4n^2}}{1 + z^2/n}$ with
+/// $z = 1.96$; exactly 0 (1) at its lower (upper) end when `k = 0` (`k = n`); `(0, 1)` for
+/// no trials.
+///
+/// ```
+/// let (lo, hi) = hycont_sample::basin::wilson(0, 2000);
+/// assert_eq!(lo, 0.0);
+/// assert!((hi - 0.001917).abs() < 1e-6);
+/// ```
+#[must_use]
+pub fn wilson(k: u64, n: u64) -> (f64, f64) {
+    if n == 0 {
+        return (0.0, 1.0);
+    }
+    let (kf, nf) = (k as f64, n as f64);
+    let p = kf / nf;
+    let z: f64 = 1.959_963_984_540_054;
+    let denom = 1.0 + z * z / nf;
+    let centre = (p + z * z / (2.0 * nf)) / denom;
+    let half = z * (p * (1.0 - p) / nf + z * z / (4.0 * nf * nf)).sqrt() / denom;
+    let lo = if k == 0 {
+        0.0
+    } else {
+        (centre - half).max(0.0)
+    };
+    let hi = if k >= n {
+        1.0
+    } else {
+        (centre + half).min(1.0)
+    };
+    (lo, hi)
 }
 
 /// Progress and interruption of a running study.

@@ -16,6 +16,7 @@
 #![deny(missing_docs)]
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
+pub mod basin;
 pub mod block;
 pub mod classes;
 pub mod cli;

@@ -36,6 +36,10 @@ pub enum Command {
     /// Merge shard files of a sampling figure (written with `figure N --shard I/N`) and write
     /// the figure.
     Merge(MergeArgs),
+    /// Basin stability for your ranges: each of omega, alpha, beta, phi0, psi0 fixed or
+    /// uniform (LO:HI), binned on up to two (--bin NAME:BINS); writes DIR/basin.json,
+    /// basin.csv (counts per cell with 95 % Wilson intervals) and basin.svg.
+    Basin(super::BasinArgs),
 }
 
 /// Arguments of `rocking-block classify`.
@@ -309,7 +313,8 @@ pub struct FigureArgs {
 /// Arguments of `rocking-block merge`.
 #[derive(Debug, Args)]
 pub struct MergeArgs {
-    /// Shard files written by `figure N --shard I/N` (complete or `*.partial.json`).
+    /// Shard files written by `figure N --shard I/N` or `basin --shard I/N` (complete or
+    /// `*.partial.json`).
     #[arg(required = true)]
     pub shards: Vec<PathBuf>,
     /// Output directory for figN.json and figN.svg.

@@ -2,6 +2,7 @@
 //! files ([`crate::output`]).
 
 mod args;
+mod basin_cmd;
 mod block_args;
 mod commands;
 mod continue_cmd;
@@ -12,6 +13,7 @@ mod shard_file;
 pub use shard_file::{MAX_TRIALS, SAMPLING, ShardFile};
 
 pub use args::*;
+pub use basin_cmd::{BasinArgs, BasinFile};
 pub use block_args::{describe, parameters};
 
 use crate::error::{Error, Result};
@@ -51,6 +53,7 @@ pub fn run(cli: Cli, command_line: &[String], out: &mut dyn Write) -> Result<()>
         Command::Curve(args) => curve_cmd::run_curve(&args, invocation, out),
         Command::Classify(args) => commands::run_classify(&args, invocation, out),
         Command::Merge(args) => sampling::run_merge(&args, invocation, out),
+        Command::Basin(args) => basin_cmd::run_basin(&args, invocation, out),
     }
 }
 

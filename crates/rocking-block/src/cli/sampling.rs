@@ -17,7 +17,7 @@ use std::path::{Path, PathBuf};
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 
-fn parse_shard(text: &str) -> Result<(u64, u64)> {
+pub(super) fn parse_shard(text: &str) -> Result<(u64, u64)> {
     let bad = || Error::InvalidArgument {
         name: "shard",
         value: text.to_string(),
@@ -53,8 +53,35 @@ fn parse_which(which: &str) -> Result<Vec<u32>> {
     Ok(vec![n])
 }
 
+/// Sizes rayon's pool (only the first call of a process does; results do not depend on it).
+///
+/// # Errors
+/// [`Error::InvalidArgument`] for zero threads.
+pub(super) fn set_threads(threads: Option<usize>) -> Result<()> {
+    if let Some(n) = threads {
+        if n == 0 {
+            return Err(Error::InvalidArgument {
+                name: "threads",
+                value: "0".into(),
+                reason: "must be at least 1",
+            });
+        }
+        let _ = rayon::ThreadPoolBuilder::new()
+            .num_threads(n)
+            .build_global();
+    }
+    Ok(())
+}
+
+/// Removes the partial file a resumed run completed (unless it was rewritten).
+pub(super) fn use_up(from: &Path, written: &[PathBuf]) {
+    if from.to_string_lossy().ends_with(".partial.json") && !written.iter().any(|w| w == from) {
+        let _ = std::fs::remove_file(from);
+    }
+}
+
 /// Stops sampling runs on SIGINT, SIGTERM and SIGHUP (their counts so far are kept).
-fn stop_on_signals(progress: &Arc<Progress>) {
+pub(super) fn stop_on_signals(progress: &Arc<Progress>) {
     let p = Arc::clone(progress);
     // Only the first handler of the process is installed (tests call `run` repeatedly).
     let _ = ctrlc::set_handler(move || p.stop.store(true, Ordering::Relaxed));
@@ -107,19 +134,7 @@ pub(super) fn run_figure(
         args.trials
             .unwrap_or_else(|| crate::figures::sampling::default_trials(n))
     };
-    if let Some(n) = args.threads {
-        if n == 0 {
-            return Err(Error::InvalidArgument {
-                name: "threads",
-                value: "0".into(),
-                reason: "must be at least 1",
-            });
-        }
-        // Only the first call configures the global pool; results do not depend on it.
-        let _ = rayon::ThreadPoolBuilder::new()
-            .num_threads(n)
-            .build_global();
-    }
+    set_threads(args.threads)?;
     let shard = args.shard.as_deref().map(parse_shard).transpose()?;
     if shard.is_some() && !matches!(which.as_slice(), [n] if SAMPLING.contains(n)) {
         return Err(Error::InvalidArgument {
@@ -134,9 +149,7 @@ pub(super) fn run_figure(
     if let Some(file) = resume {
         let from = args.resume.clone().unwrap_or_default();
         let files = sample(file, &args.out, args.force, &progress)?;
-        if from.to_string_lossy().ends_with(".partial.json") && !files.contains(&from) {
-            let _ = std::fs::remove_file(&from);
-        }
+        use_up(&from, &files);
         return print_written(out, &files, args.json);
     }
     let mut written: Vec<PathBuf> = Vec::new();
@@ -171,33 +184,54 @@ pub(super) fn run_figure(
     print_written(out, &written, args.json)
 }
 
+/// A file of count tables over one shard of a sampling run's trials (a sampling figure's, or a
+/// basin's), complete or not: what `sample` and `merge` need of it.
+pub(super) trait CountFile: Sized {
+    /// What is sampled, for messages (`figure 7`, `basin`).
+    fn what(&self) -> String;
+    /// Trials counted and trials of the shard.
+    fn progress(&self) -> (u64, u64);
+    /// `(i, n)`: shard `i` of `n`.
+    fn shard(&self) -> (u64, u64);
+    /// Where the complete shard (or, for a whole run, the result) goes, and the partial file.
+    fn paths(&self, dir: &Path) -> (PathBuf, PathBuf);
+    /// Counts the trials of the shard not counted yet.
+    fn fill(&mut self, progress: &Progress) -> Result<()>;
+    /// Writes the result of the counted trials into `dir`.
+    fn render(&self, dir: &Path) -> Result<Vec<PathBuf>>;
+    /// Writes the file itself.
+    fn write(&self, path: &Path) -> Result<()>;
+    /// Merges another shard's counts of the same run in (the same study, trials and seed).
+    fn merge(&mut self, other: &Self) -> std::result::Result<(), String>;
+    /// The file as a whole run (shard 0 of 1), for a merge.
+    fn whole(self) -> Self;
+    /// Whether every table has counted every trial of the shard.
+    fn is_complete(&self) -> bool {
+        let (done, total) = self.progress();
+        done == total
+    }
+}
+
 /// Counts the trials `file` lacks (with a progress bar on stderr) and writes the result: the
-/// figure or the shard when complete; otherwise the partial file (and, with `force`, the figure
+/// figure or the shard when complete; otherwise the partial file (and, with `force`, the result
 /// of the trials counted so far) and [`Error::Interrupted`].
-fn sample(
-    mut file: ShardFile,
+pub(super) fn sample<F: CountFile>(
+    mut file: F,
     dir: &Path,
     force: bool,
     progress: &Progress,
 ) -> Result<Vec<PathBuf>> {
-    let options = SampleOptions {
-        trials: file.trials,
-        seed: file.seed,
-        block: file.block,
-    };
-    let invocation = file.provenance.clone().unwrap_or_default();
     let (done, total) = file.progress();
     progress.done.store(done, Ordering::Relaxed);
     let bar = indicatif::ProgressBar::new(total);
     bar.set_style(
         indicatif::ProgressStyle::with_template(
-            "figure {msg} [{bar:40}] {pos}/{len} trials ({per_sec}, eta {eta})",
+            "{msg} [{bar:40}] {pos}/{len} trials ({per_sec}, eta {eta})",
         )
         .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
     );
-    bar.set_message(file.figure.to_string());
+    bar.set_message(file.what());
     let finished = AtomicBool::new(false);
-    let range = file.range();
     let result = std::thread::scope(|scope| {
         scope.spawn(|| {
             while !finished.load(Ordering::Relaxed) {
@@ -205,30 +239,130 @@ fn sample(
                 std::thread::sleep(std::time::Duration::from_millis(100));
             }
         });
-        let r = fill(file.figure, options, &mut file.counts, range, progress);
+        let r = file.fill(progress);
         finished.store(true, Ordering::Relaxed);
         r
     });
     bar.finish_and_clear();
     result?;
     let (complete, partial) = file.paths(dir);
-    let whole = file.shard.1 == 1;
+    let whole = file.shard().1 == 1;
     if file.is_complete() {
         if whole {
-            return Ok(render(file.figure, dir, options, &invocation, &file.counts)?.files);
+            return file.render(dir);
         }
         file.write(&complete)?;
         return Ok(vec![complete]);
     }
     file.write(&partial)?;
     if force && whole {
-        render(file.figure, dir, options, &invocation, &file.counts)?;
+        file.render(dir)?;
     }
     let (done, total) = file.progress();
     Err(Error::Interrupted {
         detail: format!(
-            "{done} of {total} trials counted, kept in {}; complete them with `rocking-block figure --resume {}`",
+            "{done} of {total} trials counted, kept in {}; complete them with `rocking-block {} --resume {}`",
             partial.display(),
+            if file.what() == "basin" {
+                "basin"
+            } else {
+                "figure"
+            },
+            partial.display()
+        ),
+    })
+}
+
+impl CountFile for ShardFile {
+    fn what(&self) -> String {
+        format!("figure {}", self.figure)
+    }
+    fn progress(&self) -> (u64, u64) {
+        ShardFile::progress(self)
+    }
+    fn shard(&self) -> (u64, u64) {
+        self.shard
+    }
+    fn paths(&self, dir: &Path) -> (PathBuf, PathBuf) {
+        ShardFile::paths(self, dir)
+    }
+    fn fill(&mut self, progress: &Progress) -> Result<()> {
+        let options = self.options();
+        let range = self.range();
+        fill(self.figure, options, &mut self.counts, range, progress)
+    }
+    fn render(&self, dir: &Path) -> Result<Vec<PathBuf>> {
+        let invocation = self.provenance.clone().unwrap_or_default();
+        Ok(render(self.figure, dir, self.options(), &invocation, &self.counts)?.files)
+    }
+    fn write(&self, path: &Path) -> Result<()> {
+        ShardFile::write(self, path)
+    }
+    fn merge(&mut self, other: &Self) -> std::result::Result<(), String> {
+        if self.block != other.block {
+            return Err(format!(
+                "block {:?} differs from the files before ({:?})",
+                other.block, self.block
+            ));
+        }
+        if (self.figure, self.trials, self.seed) != (other.figure, other.trials, other.seed) {
+            return Err(format!(
+                "figure {}, {} trials, seed {} differ from the files before (figure {}, {} trials, seed {})",
+                other.figure, other.trials, other.seed, self.figure, self.trials, self.seed
+            ));
+        }
+        for (a, b) in self.counts.iter_mut().zip(&other.counts) {
+            a.merge(b).map_err(|e| e.to_string())?;
+        }
+        Ok(())
+    }
+    fn whole(self) -> Self {
+        ShardFile {
+            shard: (0, 1),
+            ..self
+        }
+    }
+}
+
+/// Merges count files of one run: the result when complete, a partial file otherwise.
+pub(super) fn merge_files<F: CountFile>(
+    files: Vec<(PathBuf, F)>,
+    dir: &Path,
+    invocation: &Provenance,
+    set_invocation: impl FnOnce(&mut F, Provenance),
+) -> Result<Vec<PathBuf>> {
+    let mut merged: Option<F> = None;
+    for (path, file) in files {
+        let Some(m) = merged.as_mut() else {
+            merged = Some(file.whole());
+            continue;
+        };
+        m.merge(&file)
+            .map_err(|reason| Error::InvalidFile { path, reason })?;
+    }
+    let Some(mut m) = merged else {
+        return Err(Error::InvalidArgument {
+            name: "shards",
+            value: String::new(),
+            reason: "name at least one shard file",
+        });
+    };
+    set_invocation(&mut m, invocation.clone());
+    if m.is_complete() {
+        return m.render(dir);
+    }
+    let (_, partial) = m.paths(dir);
+    m.write(&partial)?;
+    let (done, total) = m.progress();
+    Err(Error::Incomplete {
+        detail: format!(
+            "the files hold {done} of {total} trials: wrote {} (the result needs them all); run the missing trials with `rocking-block {} --resume {}`",
+            partial.display(),
+            if m.what() == "basin" {
+                "basin"
+            } else {
+                "figure"
+            },
             partial.display()
         ),
     })
@@ -240,60 +374,26 @@ pub(super) fn run_merge(
     out: &mut dyn Write,
 ) -> Result<()> {
     crate::output::check_dir(&args.out)?;
-    let mut merged: Option<ShardFile> = None;
-    for path in &args.shards {
-        let shard = ShardFile::read(path)?;
-        let Some(m) = merged.as_mut() else {
-            merged = Some(ShardFile {
-                shard: (0, 1),
-                ..shard
-            });
-            continue;
-        };
-        let invalid = |reason: String| Error::InvalidFile {
-            path: path.clone(),
-            reason,
-        };
-        if m.block != shard.block {
-            return Err(invalid(format!(
-                "block {:?} differs from the files before ({:?})",
-                shard.block, m.block
-            )));
-        }
-        if (m.figure, m.trials, m.seed) != (shard.figure, shard.trials, shard.seed) {
-            return Err(invalid(format!(
-                "figure {}, {} trials, seed {} differ from the files before (figure {}, {} trials, seed {})",
-                shard.figure, shard.trials, shard.seed, m.figure, m.trials, m.seed
-            )));
-        }
-        for (a, b) in m.counts.iter_mut().zip(&shard.counts) {
-            a.merge(b).map_err(|e| invalid(e.to_string()))?;
-        }
-    }
-    let Some(m) = merged else {
-        return Err(Error::InvalidArgument {
-            name: "shards",
-            value: String::new(),
-            reason: "name at least one shard file",
-        });
+    let basins = args
+        .shards
+        .first()
+        .is_some_and(|p| super::basin_cmd::is_basin_file(p));
+    let files = if basins {
+        let files = args
+            .shards
+            .iter()
+            .map(|p| Ok((p.clone(), super::basin_cmd::BasinFile::read(p)?)))
+            .collect::<Result<Vec<_>>>()?;
+        merge_files(files, &args.out, invocation, |f, p| f.provenance = Some(p))?
+    } else {
+        let files = args
+            .shards
+            .iter()
+            .map(|p| Ok((p.clone(), ShardFile::read(p)?)))
+            .collect::<Result<Vec<_>>>()?;
+        merge_files(files, &args.out, invocation, |f, p| {
+            f.provenance = Some(p.with_block(f.block));
+        })?
     };
-    let options = SampleOptions {
-        trials: m.trials,
-        seed: m.seed,
-        block: m.block,
-    };
-    if m.is_complete() {
-        let files = render(m.figure, &args.out, options, invocation, &m.counts)?;
-        return print_written(out, &files.files, args.json);
-    }
-    let (_, partial) = m.paths(&args.out);
-    m.write(&partial)?;
-    let (done, total) = m.progress();
-    Err(Error::Incomplete {
-        detail: format!(
-            "the files hold {done} of {total} trials: wrote {} (the figure needs them all); run the missing trials with `rocking-block figure --resume {}`",
-            partial.display(),
-            partial.display()
-        ),
-    })
+    print_written(out, &files, args.json)
 }

@@ -123,6 +123,15 @@ impl ShardFile {
         Ok(())
     }
 
+    /// The sampling options of the run.
+    pub fn options(&self) -> crate::figures::sampling::SampleOptions {
+        crate::figures::sampling::SampleOptions {
+            trials: self.trials,
+            seed: self.seed,
+            block: self.block,
+        }
+    }
+
     /// The trials of the shard.
     pub fn range(&self) -> std::ops::Range<u64> {
         let (i, n) = self.shard;

@@ -105,16 +105,8 @@ pub fn fractions_json(counts: &Counts) -> (Value, Value, Value) {
     };
     // Wilson interval on the pooled counts.
     let wilson = |n: u64| {
-        let nn = total as f64;
-        if nn == 0.0 {
-            return [0.0, 1.0];
-        }
-        let p = n as f64 / nn;
-        let z: f64 = 1.959_963_984_540_054;
-        let d = 1.0 + z * z / nn;
-        let c = (p + z * z / (2.0 * nn)) / d;
-        let h = z * (p * (1.0 - p) / nn + z * z / (4.0 * nn * nn)).sqrt() / d;
-        [(c - h).max(0.0), (c + h).min(1.0)]
+        let (lo, hi) = hycont_sample::basin::wilson(n, total);
+        [lo, hi]
     };
     let mut fr = serde_json::Map::new();
     let mut ci = serde_json::Map::new();

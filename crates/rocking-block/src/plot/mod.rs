@@ -2,11 +2,13 @@
 //! orbits ([`trajectory_svg`], [`orbits_svg`]), branches and curves ([`branches_svg`],
 //! [`curves_svg`], [`test_points_svg`]), sampling maps ([`basins_svg`] and the others).
 
+mod basin;
 mod branches;
 mod key;
 mod orbits;
 mod sampling;
 
+pub use basin::basin_svg;
 pub use branches::{branches_svg, curve_svg, curves_svg, test_points_svg};
 pub use orbits::{orbits_svg, trajectory_svg};
 pub use sampling::{
