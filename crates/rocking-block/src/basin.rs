@@ -12,25 +12,6 @@ use serde_json::{Value, json};
 /// The trial variables in the order the classifier reads them.
 pub const VARIABLES: [&str; 5] = ["omega", "alpha", "beta", "phi0", "psi0"];
 
-/// The study of Fig. 7 at `omega`: alpha 0.66, beta 0, phi0 uniform within the block's static
-/// boundary, psi0 uniform in (-1, 1), unbinned. (Fig. 7 bins phi0 and psi0 40 x 40.)
-#[must_use]
-pub fn fig7_like(omega: f64, block: &Block, seed: u64) -> Study {
-    let b = block.static_boundary();
-    Study {
-        names: VARIABLES.iter().map(ToString::to_string).collect(),
-        variables: vec![
-            Distribution::Fixed(omega),
-            Distribution::Fixed(0.66),
-            Distribution::Fixed(0.0),
-            Distribution::Uniform { lo: -b, hi: b },
-            Distribution::Uniform { lo: -1.0, hi: 1.0 },
-        ],
-        axes: Vec::new(),
-        seed,
-    }
-}
-
 /// Checks a user's study: the five variables in order, valid distributions and axes, and a
 /// block that lets every drawn trial be classified (omega > 0, alpha >= 0 over the ranges).
 ///

@@ -3,25 +3,8 @@
 
 mod common;
 
-use common::{RunOk, bin};
-use serde_json::Value;
-use std::path::{Path, PathBuf};
-
-fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("rb-basin-{name}-{}", std::process::id()));
-    std::fs::remove_dir_all(&dir).ok();
-    dir
-}
-
-fn json(path: &Path) -> Value {
-    serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()
-}
-
-fn without_provenance(v: &Value) -> Value {
-    let mut v = v.clone();
-    v.as_object_mut().unwrap().remove("provenance");
-    v
-}
+use common::{RunOk, bin, json, scratch, without_provenance};
+use std::path::Path;
 
 const CLASSES: [&str; 8] = [
     "symmetric_p1",
@@ -41,7 +24,7 @@ const CLASSES: [&str; 8] = [
 /// probability below 0.6 %.
 #[test]
 fn basin_reproduces_figure_7c() {
-    let dir = scratch("fig7");
+    let dir = scratch("basin-fig7");
     let fig = dir.join("fig");
     bin()
         .args(["figure", "7", "--trials", "2000", "--out"])
@@ -86,7 +69,7 @@ fn basin_reproduces_figure_7c() {
 /// up to its trials, and fractions inside their intervals.
 #[test]
 fn basin_shards_merge_resume_and_csv() {
-    let dir = scratch("shards");
+    let dir = scratch("basin-shards");
     let args = |extra: &[&str], out: &Path| {
         let mut c = bin();
         c.args([

@@ -4,32 +4,15 @@
 mod common;
 
 use approx::assert_relative_eq;
-use common::{RunOk, bin};
+use common::{RunOk, bin, json, scratch, without_provenance};
 use serde_json::Value;
-use std::path::{Path, PathBuf};
-
-fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("rb-block-{name}-{}", std::process::id()));
-    std::fs::remove_dir_all(&dir).ok();
-    dir
-}
-
-fn json(path: &Path) -> Value {
-    serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()
-}
-
-fn without_provenance(v: &Value) -> Value {
-    let mut v = v.clone();
-    v.as_object_mut().unwrap().remove("provenance");
-    v
-}
 
 /// `figure all --theta-b 0.85` runs every figure for the other block: each JSON records the
 /// block and the command line, and Figs. 3, 4 and 6 differ from the study's (its fold SN1 moves
 /// from omega 0.9096 to about 0.99: a more slender block, another branch).
 #[test]
 fn figure_all_for_another_block() {
-    let dir = scratch("all");
+    let dir = scratch("block-all");
     let (other, study) = (dir.join("other"), dir.join("study"));
     bin()
         .args([
@@ -176,7 +159,7 @@ fn conflicting_or_bad_dimensional_inputs_are_refused() {
 /// ignored) and refuses block or forcing options (it keeps the saved run's).
 #[test]
 fn saved_runs_carry_provenance_and_restart() {
-    let dir = scratch("saved");
+    let dir = scratch("block-saved");
     std::fs::create_dir_all(&dir).unwrap();
     let run = dir.join("run.json");
     bin()

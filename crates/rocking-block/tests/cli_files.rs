@@ -6,7 +6,7 @@
 
 mod common;
 
-use common::{RunOk, bin};
+use common::{RunOk, bin, json, without_provenance};
 use std::path::{Path, PathBuf};
 use std::process::Output;
 
@@ -40,17 +40,6 @@ fn interrupted(args: &[&str], signal: &str, after: f64) -> Output {
         .unwrap();
     assert!(status.success());
     child.wait_with_output().unwrap()
-}
-
-fn json(path: &Path) -> serde_json::Value {
-    serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()
-}
-
-/// A result file without its provenance (which names the command that wrote it).
-fn without_provenance(v: &serde_json::Value) -> serde_json::Value {
-    let mut v = v.clone();
-    v.as_object_mut().unwrap().remove("provenance");
-    v
 }
 
 /// Ctrl-C during a shard: the partial shard holds whole chunks of trials with exact ranges;

@@ -8,6 +8,21 @@ use crate::simulation::{SimulationRequest, simulate};
 use hycont_core::HybridSystem;
 use std::io::Write;
 
+/// A one-point result with its provenance: the invocation, the parameters and the dimensional
+/// inputs they came from.
+fn stamp(
+    invocation: &Provenance,
+    params: crate::model::Parameters,
+    dims: Option<crate::block::DimensionalInputs>,
+    value: serde_json::Value,
+) -> serde_json::Value {
+    invocation
+        .clone()
+        .with_parameters(params)
+        .with_dimensional(dims)
+        .insert_into(value)
+}
+
 pub(super) fn run_orbit(
     args: &OrbitArgs,
     invocation: &Provenance,
@@ -35,11 +50,7 @@ pub(super) fn run_orbit(
     let report = found.report(name)?;
     if args.json {
         let value = serde_json::to_value(&report).expect("report serialises");
-        let value = invocation
-            .clone()
-            .with_parameters(params)
-            .with_dimensional(dims)
-            .insert_into(value);
+        let value = stamp(invocation, params, dims, value);
         let text = serde_json::to_string_pretty(&value).expect("report serialises");
         writeln!(out, "{text}").map_err(stdout_err)?;
     } else {
@@ -149,11 +160,7 @@ pub(super) fn run_classify(
             "class": c.class.name(), "decision": c.decision, "periods": c.periods,
             "with_rest": c.with_rest,
         });
-        let v = invocation
-            .clone()
-            .with_parameters(params)
-            .with_dimensional(dims)
-            .insert_into(v);
+        let v = stamp(invocation, params, dims, v);
         writeln!(
             out,
             "{}",
@@ -219,11 +226,7 @@ pub(super) fn run_simulate(
     }
     if args.json {
         let value = serde_json::to_value(&report).expect("report serialises");
-        let value = invocation
-            .clone()
-            .with_parameters(params)
-            .with_dimensional(dims)
-            .insert_into(value);
+        let value = stamp(invocation, params, dims, value);
         let text = serde_json::to_string_pretty(&value).expect("report serialises");
         writeln!(out, "{text}").map_err(stdout_err)?;
     } else {

@@ -24,3 +24,25 @@ impl RunOk for Command {
         out
     }
 }
+
+/// The JSON of a result file.
+#[allow(dead_code)]
+pub fn json(path: &std::path::Path) -> serde_json::Value {
+    serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()
+}
+
+/// A result without its provenance (which names the command line that wrote it).
+#[allow(dead_code)]
+pub fn without_provenance(v: &serde_json::Value) -> serde_json::Value {
+    let mut v = v.clone();
+    v.as_object_mut().unwrap().remove("provenance");
+    v
+}
+
+/// An empty scratch directory for test `name` of this process (not created).
+#[allow(dead_code)]
+pub fn scratch(name: &str) -> std::path::PathBuf {
+    let dir = std::env::temp_dir().join(format!("rb-{name}-{}", std::process::id()));
+    std::fs::remove_dir_all(&dir).ok();
+    dir
+}
