@@ -4,7 +4,7 @@
 mod common;
 
 use approx::assert_relative_eq;
-use common::{RunOk, bin, json, scratch, without_provenance};
+use common::{RunOk, bin, fails, json, scratch, without_provenance};
 use serde_json::Value;
 
 /// `figure all --theta-b 0.85` runs every figure for the other block: each JSON records the
@@ -144,14 +144,7 @@ fn conflicting_or_bad_dimensional_inputs_are_refused() {
         (&["--radius", "0"], "radius"),
         (&["--width", "4", "--height", "1"], "theta_b"),
     ] {
-        let out = bin().arg("orbit").args(args).output().unwrap();
-        let err = String::from_utf8_lossy(&out.stderr);
-        assert_eq!(out.status.code(), Some(2), "{args:?}: {err}");
-        assert_eq!(err.trim_end().lines().count(), 1, "{err}");
-        assert!(
-            err.contains(needle),
-            "{args:?}: expected {needle:?} in {err}"
-        );
+        fails(&bin().arg("orbit").args(args).output().unwrap(), 2, needle);
     }
 }
 

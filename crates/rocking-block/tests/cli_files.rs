@@ -6,7 +6,7 @@
 
 mod common;
 
-use common::{RunOk, bin, json, without_provenance};
+use common::{RunOk, bin, fails, json, without_provenance};
 use std::path::{Path, PathBuf};
 use std::process::Output;
 
@@ -15,14 +15,6 @@ fn scratch(name: &str) -> PathBuf {
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
     dir
-}
-
-fn fails(out: &Output, code: i32, needle: &str) {
-    let err = String::from_utf8_lossy(&out.stderr);
-    assert_eq!(out.status.code(), Some(code), "{err}");
-    assert_eq!(err.trim_end().lines().count(), 1, "{err}");
-    assert!(err.contains(needle), "expected {needle:?} in {err}");
-    assert!(!err.contains("panicked"), "{err}");
 }
 
 /// Starts `args`, sends `signal` after `after` seconds, and returns the output.

@@ -17,11 +17,18 @@ pub fn basin_svg(path: &Path, title: &str, study: &Study, counts: &Counts) -> Re
     let root = SVGBackend::new(path, (1160, 640)).into_drawing_area();
     root.fill(&WHITE).map_err(|e| plot_err(path, e))?;
     let (plot, key) = root.split_horizontally(860);
+    // A map shows each cell's dominant class only; bars and profiles show every class counted.
+    let shown = |k: usize| {
+        counts
+            .counts
+            .iter()
+            .any(|row| row[k] > 0 && (study.axes.len() < 2 || dominant_class(row) == Some(k)))
+    };
     let drawn: Vec<&str> = counts
         .classes
         .iter()
         .enumerate()
-        .filter(|(k, _)| counts.counts.iter().any(|row| row[*k] > 0))
+        .filter(|(k, _)| shown(*k))
         .map(|(_, c)| c.as_str())
         .collect();
     let mut entries = class_entries(drawn.iter().copied());
@@ -104,6 +111,36 @@ fn fractions(area: &Area<'_>, title: &str, counts: &Counts) -> std::result::Resu
     Ok(())
 }
 
+type Chart<'a, 'b> = ChartContext<
+    'a,
+    SVGBackend<'b>,
+    Cartesian2d<plotters::coord::types::RangedCoordf64, plotters::coord::types::RangedCoordf64>,
+>;
+
+/// A titled chart over `x` and `y` (`(lo, hi, label)` each), its mesh drawn.
+fn chart<'a, 'b>(
+    area: &'a Area<'b>,
+    title: &str,
+    (x_lo, x_hi, x_name): (f64, f64, &str),
+    (y_lo, y_hi, y_name): (f64, f64, &str),
+) -> std::result::Result<Chart<'a, 'b>, String> {
+    let err = |e: DrawingAreaErrorKind<_>| e.to_string();
+    let mut chart = ChartBuilder::on(area)
+        .caption(title, ("sans-serif", 16))
+        .margin(12)
+        .x_label_area_size(40)
+        .y_label_area_size(55)
+        .build_cartesian_2d(x_lo..x_hi, y_lo..y_hi)
+        .map_err(err)?;
+    chart
+        .configure_mesh()
+        .x_desc(x_name)
+        .y_desc(y_name)
+        .draw()
+        .map_err(err)?;
+    Ok(chart)
+}
+
 /// One binned variable: each class's fraction per bin, at the bins' centres.
 fn profile(
     area: &Area<'_>,
@@ -113,19 +150,8 @@ fn profile(
 ) -> std::result::Result<(), String> {
     let err = |e: DrawingAreaErrorKind<_>| e.to_string();
     let axis = study.axes[0];
-    let mut chart = ChartBuilder::on(area)
-        .caption(title, ("sans-serif", 16))
-        .margin(12)
-        .x_label_area_size(40)
-        .y_label_area_size(55)
-        .build_cartesian_2d(axis.lo..axis.hi, 0.0..1.0)
-        .map_err(err)?;
-    chart
-        .configure_mesh()
-        .x_desc(study.names[axis.variable].as_str())
-        .y_desc("fraction of trials")
-        .draw()
-        .map_err(err)?;
+    let x = (axis.lo, axis.hi, study.names[axis.variable].as_str());
+    let mut chart = chart(area, title, x, (0.0, 1.0, "fraction of trials"))?;
     let w = (axis.hi - axis.lo) / axis.bins as f64;
     for (k, class) in counts.classes.iter().enumerate() {
         if counts.counts.iter().all(|row| row[k] == 0) {
@@ -151,19 +177,12 @@ fn dominant(
 ) -> std::result::Result<(), String> {
     let err = |e: DrawingAreaErrorKind<_>| e.to_string();
     let (ax, ay) = (study.axes[0], study.axes[1]);
-    let mut chart = ChartBuilder::on(area)
-        .caption(title, ("sans-serif", 16))
-        .margin(12)
-        .x_label_area_size(40)
-        .y_label_area_size(55)
-        .build_cartesian_2d(ax.lo..ax.hi, ay.lo..ay.hi)
-        .map_err(err)?;
-    chart
-        .configure_mesh()
-        .x_desc(study.names[ax.variable].as_str())
-        .y_desc(study.names[ay.variable].as_str())
-        .draw()
-        .map_err(err)?;
+    let mut chart = chart(
+        area,
+        title,
+        (ax.lo, ax.hi, study.names[ax.variable].as_str()),
+        (ay.lo, ay.hi, study.names[ay.variable].as_str()),
+    )?;
     let (dx, dy) = (
         (ax.hi - ax.lo) / ax.bins as f64,
         (ay.hi - ay.lo) / ay.bins as f64,
@@ -171,12 +190,7 @@ fn dominant(
     for i in 0..ax.bins {
         for j in 0..ay.bins {
             let row = &counts.counts[i * ay.bins + j];
-            let Some((k, _)) = row
-                .iter()
-                .enumerate()
-                .filter(|(_, n)| **n > 0)
-                .max_by_key(|(_, n)| **n)
-            else {
+            let Some(k) = dominant_class(row) else {
                 continue;
             };
             let (x0, y0) = (ax.lo + i as f64 * dx, ay.lo + j as f64 * dy);
@@ -189,4 +203,13 @@ fn dominant(
         }
     }
     Ok(())
+}
+
+/// The class with the most trials in a cell (the last of equals, as Fig. 7), if any.
+fn dominant_class(row: &[u64]) -> Option<usize> {
+    row.iter()
+        .enumerate()
+        .filter(|(_, n)| **n > 0)
+        .max_by_key(|(_, n)| **n)
+        .map(|(k, _)| k)
 }

@@ -46,3 +46,14 @@ pub fn scratch(name: &str) -> std::path::PathBuf {
     std::fs::remove_dir_all(&dir).ok();
     dir
 }
+
+/// Checks that a run failed with exit `code` and one line on stderr containing `needle` (no
+/// panic).
+#[allow(dead_code)]
+pub fn fails(out: &Output, code: i32, needle: &str) {
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(code), "{err}");
+    assert_eq!(err.trim_end().lines().count(), 1, "{err}");
+    assert!(err.contains(needle), "expected {needle:?} in {err}");
+    assert!(!err.contains("panicked"), "{err}");
+}
