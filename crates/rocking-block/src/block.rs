@@ -203,8 +203,24 @@ impl Dimensional {
     /// # Errors
     /// Invalid values, a frequency that is not positive or an amplitude below zero.
     pub fn forcing(&self, frequency: f64, amplitude: f64) -> Result<(f64, f64)> {
+        Ok((self.omega(frequency)?, self.alpha(amplitude)?))
+    }
+
+    /// The dimensionless frequency $\omega = \Omega/\Omega_0$ of `frequency` rad/s.
+    ///
+    /// # Errors
+    /// Invalid values, or a frequency that is not positive and finite.
+    pub fn omega(&self, frequency: f64) -> Result<f64> {
         self.validate()?;
-        positive("frequency", frequency)?;
+        Ok(positive("frequency", frequency)? / self.omega0())
+    }
+
+    /// The dimensionless amplitude $\alpha = A/R$ of `amplitude` m.
+    ///
+    /// # Errors
+    /// Invalid values, or an amplitude below zero or not finite.
+    pub fn alpha(&self, amplitude: f64) -> Result<f64> {
+        self.validate()?;
         if !(amplitude >= 0.0 && amplitude.is_finite()) {
             return Err(Error::InvalidArgument {
                 name: "amplitude",
@@ -212,7 +228,7 @@ impl Dimensional {
                 reason: "must be >= 0 and finite",
             });
         }
-        Ok((frequency / self.omega0(), amplitude / self.radius))
+        Ok(amplitude / self.radius)
     }
 }
 

@@ -169,11 +169,11 @@ pub fn parameters(
         (None, None) => None,
     };
     let omega = match frequency {
-        Some(f) => d.forcing(f, 0.0)?.0,
+        Some(f) => d.omega(f)?,
         None => forcing.omega,
     };
     let alpha = match forcing.amplitude {
-        Some(a) => d.forcing(1.0, a)?.1,
+        Some(a) => d.alpha(a)?,
         None => forcing.alpha,
     };
     let params = b.at(omega, alpha);
