@@ -11,6 +11,7 @@ use hycont_sample::basin::{Progress, run};
 use rocking_block::block::Block;
 use rocking_block::classes::RockingClassifier;
 use rocking_block::figures::sampling::{fig7_study, figure5};
+use rocking_block::output::OutDir;
 use rocking_block::provenance::Provenance;
 use std::hint::black_box;
 
@@ -20,7 +21,7 @@ fn sampling(c: &mut Criterion) {
     let mut g = c.benchmark_group("sampling");
     g.sample_size(10);
     g.bench_function("figure5_study_settings_both_sweeps", |b| {
-        b.iter(|| black_box(figure5(&dir, &Provenance::default()).unwrap()));
+        b.iter(|| black_box(figure5(&OutDir::new(&dir), &Provenance::default()).unwrap()));
     });
     let classifier = RockingClassifier::default();
     for omega in [1.16, 4.0] {

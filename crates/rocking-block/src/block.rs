@@ -71,6 +71,24 @@ impl Block {
         *self == Self::default()
     }
 
+    /// What figure titles append to name this block: nothing for the study's block, else
+    /// ` (block theta_b = .., xi = ..)`.
+    ///
+    /// ```
+    /// use rocking_block::block::Block;
+    /// assert_eq!(Block::default().note(), "");
+    /// let other = Block { theta_b: 0.85, ..Block::default() };
+    /// assert_eq!(other.note(), " (block theta_b = 0.85, xi = 0.00022)");
+    /// ```
+    #[must_use]
+    pub fn note(&self) -> String {
+        if self.is_study() {
+            String::new()
+        } else {
+            format!(" (block theta_b = {}, xi = {})", self.theta_b, self.xi)
+        }
+    }
+
     /// Checks damping and slenderness (as [`Parameters::validate`]).
     ///
     /// # Errors

@@ -69,6 +69,126 @@ pub fn write_atomic(path: &Path, bytes: impl AsRef<[u8]>) -> Result<()> {
     })
 }
 
+/// The file formats of a picture.
+#[derive(
+    Debug,
+    Clone,
+    Copy,
+    PartialEq,
+    Eq,
+    Default,
+    clap::ValueEnum,
+    serde::Serialize,
+    serde::Deserialize,
+)]
+#[serde(rename_all = "lowercase")]
+pub enum Format {
+    /// SVG only (scalable; what plotters draws).
+    #[default]
+    Svg,
+    /// PNG only (the SVG rendered with the bundled font, one pixel per SVG unit).
+    Png,
+    /// Both, side by side (`figN.svg` and `figN.png`).
+    Both,
+}
+
+impl Format {
+    /// Whether an SVG file is written.
+    #[must_use]
+    pub fn svg(self) -> bool {
+        matches!(self, Format::Svg | Format::Both)
+    }
+
+    /// Whether a PNG file is written.
+    #[must_use]
+    pub fn png(self) -> bool {
+        matches!(self, Format::Png | Format::Both)
+    }
+}
+
+/// Writes a picture drawn by `draw` (which writes an SVG file at the path it receives) as SVG at
+/// `svg` and as PNG at `png`, each when given, atomically (see [`write_with`]); returns the
+/// files written.
+///
+/// # Errors
+/// The error of `draw`; [`Error::Plot`] if the SVG cannot be rendered; [`Error::Io`].
+pub fn write_picture(
+    svg: Option<&Path>,
+    png: Option<&Path>,
+    draw: impl FnOnce(&Path) -> Result<()>,
+) -> Result<Vec<PathBuf>> {
+    let Some(first) = svg.or(png) else {
+        return Ok(Vec::new());
+    };
+    // The SVG is drawn next to the first target, under a temporary name.
+    let drawn = temp_path(&first.with_extension("svg"));
+    ensure_parent(first)?;
+    let result = draw(&drawn).and_then(|()| {
+        if let Some(png) = png {
+            let text = std::fs::read_to_string(&drawn).map_err(io_error(&drawn))?;
+            write_atomic(png, crate::plot::svg_to_png(&text, png)?)?;
+        }
+        match svg {
+            Some(svg) => std::fs::rename(&drawn, svg).map_err(io_error(svg)),
+            None => Ok(()),
+        }
+    });
+    let _ = std::fs::remove_file(&drawn);
+    result?;
+    Ok(svg.into_iter().chain(png).map(Path::to_path_buf).collect())
+}
+
+/// An output directory and the format of the pictures written into it.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct OutDir {
+    /// The directory.
+    pub dir: PathBuf,
+    /// The pictures' format.
+    pub format: Format,
+}
+
+impl OutDir {
+    /// `dir`, pictures as SVG.
+    #[must_use]
+    pub fn new(dir: impl Into<PathBuf>) -> Self {
+        OutDir {
+            dir: dir.into(),
+            format: Format::default(),
+        }
+    }
+
+    /// The same directory, pictures in `format`.
+    #[must_use]
+    pub fn with_format(self, format: Format) -> Self {
+        OutDir { format, ..self }
+    }
+
+    /// The path of the file `name` in the directory.
+    #[must_use]
+    pub fn join(&self, name: impl AsRef<Path>) -> PathBuf {
+        self.dir.join(name)
+    }
+
+    /// Writes the picture `stem.svg` and/or `stem.png` (as the format says) drawn by `draw` (see
+    /// [`write_picture`]); returns the files written.
+    ///
+    /// # Errors
+    /// As [`write_picture`].
+    pub fn picture(
+        &self,
+        stem: &str,
+        draw: impl FnOnce(&Path) -> Result<()>,
+    ) -> Result<Vec<PathBuf>> {
+        let svg = self.join(format!("{stem}.svg"));
+        let png = self.join(format!("{stem}.png"));
+        write_picture(
+            self.format.svg().then_some(svg.as_path()),
+            self.format.png().then_some(png.as_path()),
+            draw,
+        )
+    }
+}
+
 /// Checks that files can be created in `dir` (creating it if needed), before any work.
 ///
 /// # Errors

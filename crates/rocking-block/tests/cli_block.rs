@@ -8,8 +8,9 @@ use common::{RunOk, bin, fails, json, scratch, without_provenance};
 use serde_json::Value;
 
 /// `figure all --theta-b 0.85` runs every figure for the other block: each JSON records the
-/// block and the command line, and Figs. 3, 4 and 6 differ from the study's (its fold SN1 moves
-/// from omega 0.9096 to about 0.99: a more slender block, another branch).
+/// block and the command line, each picture's title names the block (the study's do not), and
+/// Figs. 3, 4 and 6 differ from the study's (its fold SN1 moves from omega 0.9096 to about
+/// 0.99: a more slender block, another branch).
 #[test]
 fn figure_all_for_another_block() {
     let dir = scratch("block-all");
@@ -22,6 +23,8 @@ fn figure_all_for_another_block() {
             "0.85",
             "--trials",
             "60",
+            "--format",
+            "both",
             "--out",
         ])
         .arg(&other)
@@ -37,6 +40,31 @@ fn figure_all_for_another_block() {
         );
         assert_ne!(without_provenance(&a), without_provenance(&b), "fig{n}");
         assert_eq!(b["provenance"]["block"]["theta_b"], 0.8795);
+        let title = std::fs::read_to_string(study.join(format!("fig{n}.svg"))).unwrap();
+        assert!(
+            !title.contains("(block"),
+            "fig{n} of the study names no block"
+        );
+    }
+    // Every picture, SVG and PNG, and its title names the block.
+    for name in [
+        "fig2",
+        "fig3",
+        "fig4",
+        "fig5",
+        "fig6",
+        "fig6_tests",
+        "fig7",
+        "fig8",
+        "fig9",
+        "fig10",
+    ] {
+        let svg = std::fs::read_to_string(other.join(format!("{name}.svg"))).unwrap();
+        assert!(
+            svg.contains("(block theta_b = 0.85, xi = 0.00022)"),
+            "{name}'s title names the block"
+        );
+        assert!(other.join(format!("{name}.png")).exists(), "{name}.png");
     }
     for n in 2..=10 {
         let v = json(&other.join(format!("fig{n}.json")));

@@ -11,6 +11,7 @@ use rocking_block::classes::{
     Class, ClassifierSettings, Decision, RockingClassifier, base_class, classify,
 };
 use rocking_block::figures::sampling::{SampleOptions, fig7_study, figure5, figure7};
+use rocking_block::output::OutDir;
 use rocking_block::provenance::Provenance;
 use rocking_block::{Parameters, SimulationRequest, simulate};
 use std::f64::consts::FRAC_PI_2;
@@ -171,7 +172,7 @@ fn figure_7_reference_behaviour() {
     let dir = std::env::temp_dir().join(format!("rocking-block-fig7-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     figure7(
-        &dir,
+        &OutDir::new(&dir),
         SampleOptions {
             trials: 1500,
             seed: 3,
@@ -243,7 +244,7 @@ fn figure_7_reference_behaviour() {
 fn figure_5_shows_the_period_doubling_cascade() {
     let dir = std::env::temp_dir().join(format!("rocking-block-fig5-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
-    figure5(&dir, &Provenance::default()).unwrap();
+    figure5(&OutDir::new(&dir), &Provenance::default()).unwrap();
     let v: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(dir.join("fig5.json")).unwrap()).unwrap();
     // The picture marks the study's special points and says what every mark is.
@@ -348,8 +349,20 @@ fn figures_8_to_10_write_their_json() {
         seed: 5,
         block: Block::default(),
     };
-    figure9(&dir, opts, &Provenance::default(), &Progress::default()).unwrap();
-    figure10(&dir, opts, &Provenance::default(), &Progress::default()).unwrap();
+    figure9(
+        &OutDir::new(&dir),
+        opts,
+        &Provenance::default(),
+        &Progress::default(),
+    )
+    .unwrap();
+    figure10(
+        &OutDir::new(&dir),
+        opts,
+        &Provenance::default(),
+        &Progress::default(),
+    )
+    .unwrap();
     let v9: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(dir.join("fig9.json")).unwrap()).unwrap();
     assert_eq!(v9["basins"].as_array().unwrap().len(), 2);
@@ -418,7 +431,7 @@ fn figure_8_grid_matches_the_studys_description() {
     use rocking_block::figures::sampling::{FIG8_GRID, figure8};
     let dir = std::env::temp_dir().join(format!("rocking-block-fig8-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
-    figure8(&dir, &Provenance::default()).unwrap();
+    figure8(&OutDir::new(&dir), &Provenance::default()).unwrap();
     let v: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(dir.join("fig8.json")).unwrap()).unwrap();
     let grids = v["grids"].as_array().unwrap();

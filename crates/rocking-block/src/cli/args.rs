@@ -1,6 +1,7 @@
 //! The command line's arguments (clap).
 
 pub use super::block_args::{BlockArgs, ForcingArgs};
+use crate::output::Format;
 use clap::{Args, Parser, Subcommand};
 use std::path::PathBuf;
 
@@ -167,6 +168,9 @@ pub struct ContinueArgs {
     /// Draw the branch to this SVG file.
     #[arg(long)]
     pub svg: Option<PathBuf>,
+    /// Draw the branch to this PNG file (rendered with a bundled font; with --svg, the same picture).
+    #[arg(long)]
+    pub png: Option<PathBuf>,
     /// Print the branch (study format) as JSON on stdout.
     #[arg(long)]
     pub json: bool,
@@ -230,6 +234,9 @@ pub struct CurveArgs {
     /// Draw the curve in the (omega, alpha) plane to this SVG file.
     #[arg(long)]
     pub svg: Option<PathBuf>,
+    /// Draw the curve to this PNG file (rendered with a bundled font; with --svg, the same picture).
+    #[arg(long)]
+    pub png: Option<PathBuf>,
     /// Print the curve (study format, both parameters per point) as JSON on stdout.
     #[arg(long)]
     pub json: bool,
@@ -302,6 +309,9 @@ pub struct FigureArgs {
     /// counted so far (otherwise only the partial file is written).
     #[arg(long)]
     pub force: bool,
+    /// Picture format: figN.svg, figN.png (rendered with a bundled font) or both.
+    #[arg(long, value_enum, default_value_t = Format::Svg)]
+    pub format: Format,
     /// Print the files written as JSON (`{"files": [...]}`).
     #[arg(long)]
     pub json: bool,
@@ -320,6 +330,9 @@ pub struct MergeArgs {
     /// Output directory for figN.json and figN.svg.
     #[arg(long, default_value = "results")]
     pub out: PathBuf,
+    /// Picture format of the merged figure: SVG, PNG or both.
+    #[arg(long, value_enum, default_value_t = Format::Svg)]
+    pub format: Format,
     /// Print the files written as JSON (`{"files": [...]}`).
     #[arg(long)]
     pub json: bool,
@@ -371,6 +384,9 @@ pub struct SimulateArgs {
     /// Draw the time series and phase portrait to this SVG file.
     #[arg(long)]
     pub svg: Option<PathBuf>,
+    /// Draw the same picture to this PNG file (rendered with a bundled font; with --svg, the same picture).
+    #[arg(long)]
+    pub png: Option<PathBuf>,
 }
 
 impl From<FreeArg> for crate::continuation::Free {

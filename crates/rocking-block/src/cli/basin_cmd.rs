@@ -8,6 +8,7 @@ use super::{print_written, read_err};
 use crate::basin::{VARIABLES, classifier, folded, result_csv, result_json, validate};
 use crate::block::Block;
 use crate::error::{Error, Result};
+use crate::output::{Format, OutDir};
 use crate::provenance::Provenance;
 use clap::Args;
 use hycont_sample::basin::{Axis, Counts, Distribution, Progress, Study, run};
@@ -59,6 +60,9 @@ pub struct BasinArgs {
     /// Output directory: basin.json, basin.csv and basin.svg.
     #[arg(long, default_value = "results")]
     pub out: PathBuf,
+    /// Picture format: basin.svg, basin.png or both.
+    #[arg(long, value_enum, default_value_t = Format::Svg)]
+    pub format: Format,
     /// Print the files written as JSON (`{"files": [...]}`).
     #[arg(long)]
     pub json: bool,
@@ -284,7 +288,7 @@ impl CountFile for BasinFile {
         }
         Ok(())
     }
-    fn render(&self, dir: &Path) -> Result<Vec<PathBuf>> {
+    fn render(&self, out: &OutDir) -> Result<Vec<PathBuf>> {
         let provenance = self
             .provenance
             .clone()
@@ -292,17 +296,16 @@ impl CountFile for BasinFile {
             .with_block(self.block)
             .with_seed(self.study.seed)
             .with_trials(self.trials);
-        let json_path = dir.join("basin.json");
+        let json_path = out.join("basin.json");
         let value = provenance.insert_into(result_json(&self.study, &self.counts));
         crate::figures::write_json(&json_path, &value)?;
-        let csv_path = dir.join("basin.csv");
+        let csv_path = out.join("basin.csv");
         crate::output::write_atomic(&csv_path, result_csv(&self.study, &self.counts))?;
-        let svg_path = dir.join("basin.svg");
         let title = title(&self.study, &self.block, &self.counts);
-        crate::output::write_with(&svg_path, |p| {
+        let pictures = out.picture("basin", |p| {
             crate::plot::basin_svg(p, &title, &self.study, &folded(&self.counts))
         })?;
-        Ok(vec![json_path, csv_path, svg_path])
+        Ok([vec![json_path, csv_path], pictures].concat())
     }
     fn write(&self, path: &Path) -> Result<()> {
         let text = serde_json::to_string(self).expect("basin counts serialise");
@@ -393,7 +396,8 @@ pub(super) fn run_basin(
     };
     let progress = Arc::new(Progress::default());
     stop_on_signals(&progress);
-    let files = sample(file, &args.out, args.force, &progress)?;
+    let dir = OutDir::new(&args.out).with_format(args.format);
+    let files = sample(file, &dir, args.force, &progress)?;
     if let Some(from) = &args.resume {
         use_up(from, &files);
     }

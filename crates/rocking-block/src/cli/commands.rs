@@ -191,7 +191,7 @@ pub(super) fn run_simulate(
     out: &mut dyn Write,
 ) -> Result<()> {
     let (params, dims) = super::block_args::resolve(&args.block, &args.forcing)?;
-    let wants_files = args.csv.is_some() || args.svg.is_some();
+    let wants_files = args.csv.is_some() || args.svg.is_some() || args.png.is_some();
     let req = SimulationRequest {
         params,
         phi0: args.phi0,
@@ -205,7 +205,7 @@ pub(super) fn run_simulate(
             .points_per_period
             .unwrap_or(if wants_files { 200 } else { 0 }),
     };
-    for path in args.csv.iter().chain(&args.svg) {
+    for path in args.csv.iter().chain(&args.svg).chain(&args.png) {
         crate::output::check_file(path)?;
     }
     let (report, traj) = simulate(&req)?;
@@ -217,13 +217,13 @@ pub(super) fn run_simulate(
         }
         crate::output::write_atomic(path, text)?;
     }
-    if let Some(path) = &args.svg {
-        let title = format!(
-            "rocking block: omega = {}, alpha = {}, phi0 = {}, psi0 = {} ({:?})",
-            params.omega, params.alpha, args.phi0, args.psi0, report.outcome
-        );
-        crate::output::write_with(path, |p| plot::trajectory_svg(p, &title, &traj, &params))?;
-    }
+    let title = format!(
+        "rocking block: omega = {}, alpha = {}, phi0 = {}, psi0 = {} ({:?})",
+        params.omega, params.alpha, args.phi0, args.psi0, report.outcome
+    );
+    crate::output::write_picture(args.svg.as_deref(), args.png.as_deref(), |p| {
+        plot::trajectory_svg(p, &title, &traj, &params)
+    })?;
     if args.json {
         let value = serde_json::to_value(&report).expect("report serialises");
         let value = stamp(invocation, params, dims, value);

@@ -88,10 +88,10 @@ pub(super) fn run_continue(
     if let Some(path) = &args.out {
         write_saved(path, &branch, &record)?;
     }
-    if let Some(path) = &args.svg {
+    if args.svg.is_some() || args.png.is_some() {
         let labels = study_labels(std::slice::from_ref(&branch), free, &[]);
         let params = Parameters::from_vec(&branch.template.params);
-        crate::output::write_with(path, |p| {
+        crate::output::write_picture(args.svg.as_deref(), args.png.as_deref(), |p| {
             crate::plot::branches_svg(
                 p,
                 &format!("continuation in {}", free.name()),

@@ -51,15 +51,15 @@ pub(super) fn run_curve(
         super::continue_cmd::write_saved(path, &branch, &record)?;
     }
     let curve = Curve { kind, branch };
-    if let Some(path) = &args.svg {
-        let title = format!(
-            "{} curve from label {} of {}",
-            kind.label(),
-            args.label,
-            args.restart.display()
-        );
-        crate::output::write_with(path, |p| crate::plot::curve_svg(p, &title, &curve, &params))?;
-    }
+    let title = format!(
+        "{} curve from label {} of {}",
+        kind.label(),
+        args.label,
+        args.restart.display()
+    );
+    crate::output::write_picture(args.svg.as_deref(), args.png.as_deref(), |p| {
+        crate::plot::curve_svg(p, &title, &curve, &params)
+    })?;
     report(&curve, (free, second), args.json.then_some(&record), out)
 }
 

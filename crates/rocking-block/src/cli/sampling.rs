@@ -10,6 +10,7 @@ use super::shard_file::{MAX_TRIALS, SAMPLING, ShardFile};
 use super::{FigureArgs, MergeArgs, print_written};
 use crate::error::{Error, Result};
 use crate::figures::sampling::{SampleOptions, empty_tables, fill, render};
+use crate::output::OutDir;
 use crate::provenance::Provenance;
 use hycont_sample::basin::Progress;
 use std::io::Write;
@@ -144,11 +145,12 @@ pub(super) fn run_figure(
         });
     }
     crate::output::check_dir(&args.out)?;
+    let dir = OutDir::new(&args.out).with_format(args.format);
     let progress = Arc::new(Progress::default());
     stop_on_signals(&progress);
     if let Some(file) = resume {
         let from = args.resume.clone().unwrap_or_default();
-        let files = sample(file, &args.out, args.force, &progress)?;
+        let files = sample(file, &dir, args.force, &progress)?;
         use_up(&from, &files);
         return print_written(out, &files, args.json);
     }
@@ -164,14 +166,14 @@ pub(super) fn run_figure(
                 block,
                 provenance: Some(invocation.clone()),
             };
-            written.extend(sample(file, &args.out, args.force, &progress)?);
+            written.extend(sample(file, &dir, args.force, &progress)?);
         } else {
             let options = SampleOptions {
                 trials: trials(n),
                 seed: args.seed,
                 block,
             };
-            let files = crate::figures::figure_with(n, &args.out, options, invocation, &progress)?;
+            let files = crate::figures::figure_with(n, &dir, options, invocation, &progress)?;
             written.extend(files.files);
         }
         if progress.stop.load(Ordering::Relaxed) {
@@ -197,8 +199,8 @@ pub(super) trait CountFile: Sized {
     fn paths(&self, dir: &Path) -> (PathBuf, PathBuf);
     /// Counts the trials of the shard not counted yet.
     fn fill(&mut self, progress: &Progress) -> Result<()>;
-    /// Writes the result of the counted trials into `dir`.
-    fn render(&self, dir: &Path) -> Result<Vec<PathBuf>>;
+    /// Writes the result of the counted trials into `out`.
+    fn render(&self, out: &OutDir) -> Result<Vec<PathBuf>>;
     /// Writes the file itself.
     fn write(&self, path: &Path) -> Result<()>;
     /// Merges another shard's counts of the same run in (the same study, trials and seed).
@@ -217,7 +219,7 @@ pub(super) trait CountFile: Sized {
 /// of the trials counted so far) and [`Error::Interrupted`].
 pub(super) fn sample<F: CountFile>(
     mut file: F,
-    dir: &Path,
+    out: &OutDir,
     force: bool,
     progress: &Progress,
 ) -> Result<Vec<PathBuf>> {
@@ -245,18 +247,18 @@ pub(super) fn sample<F: CountFile>(
     });
     bar.finish_and_clear();
     result?;
-    let (complete, partial) = file.paths(dir);
+    let (complete, partial) = file.paths(&out.dir);
     let whole = file.shard().1 == 1;
     if file.is_complete() {
         if whole {
-            return file.render(dir);
+            return file.render(out);
         }
         file.write(&complete)?;
         return Ok(vec![complete]);
     }
     file.write(&partial)?;
     if force && whole {
-        file.render(dir)?;
+        file.render(out)?;
     }
     let (done, total) = file.progress();
     Err(Error::Interrupted {
@@ -291,9 +293,9 @@ impl CountFile for ShardFile {
         let range = self.range();
         fill(self.figure, options, &mut self.counts, range, progress)
     }
-    fn render(&self, dir: &Path) -> Result<Vec<PathBuf>> {
+    fn render(&self, out: &OutDir) -> Result<Vec<PathBuf>> {
         let invocation = self.provenance.clone().unwrap_or_default();
-        Ok(render(self.figure, dir, self.options(), &invocation, &self.counts)?.files)
+        Ok(render(self.figure, out, self.options(), &invocation, &self.counts)?.files)
     }
     fn write(&self, path: &Path) -> Result<()> {
         ShardFile::write(self, path)
@@ -327,7 +329,7 @@ impl CountFile for ShardFile {
 /// Merges count files of one run: the result when complete, a partial file otherwise.
 pub(super) fn merge_files<F: CountFile>(
     files: Vec<(PathBuf, F)>,
-    dir: &Path,
+    out: &OutDir,
     invocation: &Provenance,
     set_invocation: impl FnOnce(&mut F, Provenance),
 ) -> Result<Vec<PathBuf>> {
@@ -349,9 +351,9 @@ pub(super) fn merge_files<F: CountFile>(
     };
     set_invocation(&mut m, invocation.clone());
     if m.is_complete() {
-        return m.render(dir);
+        return m.render(out);
     }
-    let (_, partial) = m.paths(dir);
+    let (_, partial) = m.paths(&out.dir);
     m.write(&partial)?;
     let (done, total) = m.progress();
     Err(Error::Incomplete {
@@ -374,6 +376,7 @@ pub(super) fn run_merge(
     out: &mut dyn Write,
 ) -> Result<()> {
     crate::output::check_dir(&args.out)?;
+    let dir = OutDir::new(&args.out).with_format(args.format);
     let basins = args
         .shards
         .first()
@@ -384,14 +387,14 @@ pub(super) fn run_merge(
             .iter()
             .map(|p| Ok((p.clone(), super::basin_cmd::BasinFile::read(p)?)))
             .collect::<Result<Vec<_>>>()?;
-        merge_files(files, &args.out, invocation, |f, p| f.provenance = Some(p))?
+        merge_files(files, &dir, invocation, |f, p| f.provenance = Some(p))?
     } else {
         let files = args
             .shards
             .iter()
             .map(|p| Ok((p.clone(), ShardFile::read(p)?)))
             .collect::<Result<Vec<_>>>()?;
-        merge_files(files, &args.out, invocation, |f, p| {
+        merge_files(files, &dir, invocation, |f, p| {
             f.provenance = Some(p.with_block(f.block));
         })?
     };

@@ -4,6 +4,7 @@
 use super::{FigureFiles, write_json};
 use crate::continuation::{AMP, Free, study_branches};
 use crate::error::Result;
+use crate::output::OutDir;
 use crate::plot;
 use crate::provenance::Provenance;
 use crate::report::branch_json;
@@ -11,7 +12,6 @@ use hycont_continuation::OrbitBranch;
 use hycont_continuation::SpecialKind;
 use hycont_continuation::observe::Observer;
 use serde_json::json;
-use std::path::Path;
 
 /// Writes `fig3.json`/`fig3.svg` (free = omega at alpha = 0.66) or `fig4.json`/`fig4.svg`
 /// (free = alpha at omega = 1.3).
@@ -20,7 +20,7 @@ use std::path::Path;
 /// Numerical or I/O failures.
 pub fn branches_figure(
     free: Free,
-    out: &Path,
+    out: &OutDir,
     provenance: &Provenance,
     observer: &mut dyn Observer,
 ) -> Result<FigureFiles> {
@@ -51,14 +51,14 @@ pub fn branches_figure(
     });
     let json_path = out.join(format!("fig{n}.json"));
     write_json(&json_path, &provenance.insert_into(json))?;
-    let svg_path = out.join(format!("fig{n}.svg"));
     let plain: Vec<_> = branches.iter().map(|b| b.branch.clone()).collect();
-    crate::output::write_with(&svg_path, |p| {
-        plot::branches_svg(p, title, &plain, free, &labels, params.static_boundary())
+    let pictures = out.picture(&format!("fig{n}"), |p| {
+        let title = format!("{title}{}", provenance.block.note());
+        plot::branches_svg(p, &title, &plain, free, &labels, params.static_boundary())
     })?;
     Ok(FigureFiles {
         figure: n,
-        files: vec![json_path, svg_path],
+        files: [vec![json_path], pictures].concat(),
     })
 }
 

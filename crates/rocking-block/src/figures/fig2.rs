@@ -4,10 +4,10 @@
 use super::{FigureFiles, write_json};
 use crate::error::{Error, Result};
 use crate::orbits::{OrbitKind, orbit};
+use crate::output::OutDir;
 use crate::plot;
 use crate::provenance::Provenance;
 use serde_json::json;
-use std::path::Path;
 
 /// Writes `fig2.json` (`"orbits"`: name, omega, alpha, amp, period, stable, multipliers,
 /// segments) and `fig2.svg` (phase portraits coloured by mode with impacts as jumps, and the time
@@ -15,7 +15,7 @@ use std::path::Path;
 ///
 /// # Errors
 /// Numerical or I/O failures.
-pub fn figure2(out: &Path, provenance: &Provenance) -> Result<FigureFiles> {
+pub fn figure2(out: &OutDir, provenance: &Provenance) -> Result<FigureFiles> {
     let params = provenance.block.at(1.3, 0.66);
     let mut reports = Vec::new();
     let mut orbits = Vec::new();
@@ -47,6 +47,7 @@ pub fn figure2(out: &Path, provenance: &Provenance) -> Result<FigureFiles> {
     } else {
         title += ", no asymmetric orbits";
     }
+    title += &provenance.block.note();
     let json = json!({
         "figure": 2,
         "parameters": {
@@ -60,10 +61,9 @@ pub fn figure2(out: &Path, provenance: &Provenance) -> Result<FigureFiles> {
     });
     let json_path = out.join("fig2.json");
     write_json(&json_path, &provenance.insert_into(json))?;
-    let svg_path = out.join("fig2.svg");
-    crate::output::write_with(&svg_path, |p| plot::orbits_svg(p, &title, &orbits, &params))?;
+    let pictures = out.picture("fig2", |p| plot::orbits_svg(p, &title, &orbits, &params))?;
     Ok(FigureFiles {
         figure: 2,
-        files: vec![json_path, svg_path],
+        files: [vec![json_path], pictures].concat(),
     })
 }

@@ -4,12 +4,12 @@
 use super::{FigureFiles, write_json};
 use crate::error::Result;
 use crate::model::{ALPHA, RockingBlock, initial_mode, initial_state};
+use crate::output::OutDir;
 use crate::plot;
 use crate::provenance::Provenance;
 use hycont_core::{SimulationSettings, StopReason};
 use hycont_sample::sweep::{Sweep, SweepPoint, brute_force};
 use serde_json::{Value, json};
-use std::path::Path;
 
 fn outcome(p: &SweepPoint) -> &'static str {
     match p.stop {
@@ -26,7 +26,7 @@ fn outcome(p: &SweepPoint) -> &'static str {
 ///
 /// # Errors
 /// Numerical or I/O failures.
-pub fn figure5(out: &Path, provenance: &Provenance) -> Result<FigureFiles> {
+pub fn figure5(out: &OutDir, provenance: &Provenance) -> Result<FigureFiles> {
     let params = provenance.block.at(1.3, 0.66);
     let values: Vec<f64> = (0..=300)
         .map(|i| 0.5 + 0.3 * f64::from(i) / 300.0)
@@ -71,7 +71,6 @@ pub fn figure5(out: &Path, provenance: &Provenance) -> Result<FigureFiles> {
     });
     let json_path = out.join("fig5.json");
     write_json(&json_path, &provenance.insert_into(json))?;
-    let svg_path = out.join("fig5.svg");
     // The study's special points on the line omega = 1.3, from the continuation of Fig. 4:
     // BP3 on the symmetric branch, PD1 on the asymmetric one, PD2 on the period-2 one.
     let fig4 = crate::continuation::study_branches(
@@ -94,11 +93,15 @@ pub fn figure5(out: &Path, provenance: &Provenance) -> Result<FigureFiles> {
     .filter_map(|(n, a)| Some((n, a?)))
     .collect();
     let overturned = |p: &SweepPoint| outcome(p).starts_with("overturn");
-    crate::output::write_with(&svg_path, |p| {
-        plot::brute_force_svg(p, &a, &b, &markers, &overturned)
+    let title = format!(
+        "Fig. 5: brute-force diagram, omega = 1.3 (psi at t = 2 pi k / omega){}",
+        provenance.block.note()
+    );
+    let pictures = out.picture("fig5", |p| {
+        plot::brute_force_svg(p, &title, &a, &b, &markers, &overturned)
     })?;
     Ok(FigureFiles {
         figure: 5,
-        files: vec![json_path, svg_path],
+        files: [vec![json_path], pictures].concat(),
     })
 }

@@ -5,13 +5,13 @@ use super::{FigureFiles, write_json};
 use crate::block::Block;
 use crate::continuation::{Curve, study_curves};
 use crate::error::Result;
+use crate::output::OutDir;
 use crate::plot;
 use crate::provenance::Provenance;
 use crate::simulation::{Outcome, SimulationRequest, simulate};
 use hycont_continuation::SpecialKind;
 use hycont_continuation::observe::Observer;
 use serde_json::json;
-use std::path::Path;
 
 /// The initial state of the study's test points: $(\varphi, \psi, r, s)$.
 pub const TEST_STATE: [f64; 4] = [-0.2254, -0.1597, -0.7778, 0.6284];
@@ -107,7 +107,7 @@ fn curve_json(c: &Curve) -> serde_json::Value {
 /// # Errors
 /// Numerical or I/O failures.
 pub fn figure6(
-    out: &Path,
+    out: &OutDir,
     provenance: &Provenance,
     observer: &mut dyn Observer,
 ) -> Result<FigureFiles> {
@@ -131,15 +131,18 @@ pub fn figure6(
     });
     let json_path = out.join("fig6.json");
     write_json(&json_path, &provenance.insert_into(json))?;
-    let svg_path = out.join("fig6.svg");
-    crate::output::write_with(&svg_path, |p| plot::curves_svg(p, &curves, &tests, &params))?;
-    let tests_path = out.join("fig6_tests.svg");
-    crate::output::write_with(&tests_path, |p| {
-        plot::test_points_svg(p, &tests, &trajectories)
+    let note = provenance.block.note();
+    let title = format!("Fig. 6: two-parameter curves (omega, alpha){note}");
+    let pictures = out.picture("fig6", |p| {
+        plot::curves_svg(p, &title, &curves, &tests, &params)
+    })?;
+    let title = format!("Fig. 6: the test points' phi(t) from their initial states{note}");
+    let tests = out.picture("fig6_tests", |p| {
+        plot::test_points_svg(p, &title, &tests, &trajectories)
     })?;
     Ok(FigureFiles {
         figure: 6,
-        files: vec![json_path, svg_path, tests_path],
+        files: [vec![json_path], pictures, tests].concat(),
     })
 }
 

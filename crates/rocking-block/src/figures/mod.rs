@@ -13,6 +13,7 @@ pub use fig6::figure6;
 
 use crate::block::Block;
 use crate::error::{Error, Result};
+use crate::output::OutDir;
 use crate::provenance::Provenance;
 use std::path::{Path, PathBuf};
 
@@ -37,7 +38,7 @@ pub struct FigureFiles {
 pub fn figure(n: u32, out: &Path) -> Result<FigureFiles> {
     figure_with(
         n,
-        out,
+        &OutDir::new(out),
         sampling::SampleOptions {
             trials: sampling::default_trials(n),
             seed: 1,
@@ -56,14 +57,14 @@ pub fn figure(n: u32, out: &Path) -> Result<FigureFiles> {
 /// As [`figure`]; an invalid block.
 pub fn figure_with(
     n: u32,
-    out: &Path,
+    out: &OutDir,
     options: sampling::SampleOptions,
     provenance: &Provenance,
     progress: &hycont_sample::basin::Progress,
 ) -> Result<FigureFiles> {
     options.block.validate()?;
-    std::fs::create_dir_all(out).map_err(|source| Error::Io {
-        path: out.to_path_buf(),
+    std::fs::create_dir_all(&out.dir).map_err(|source| Error::Io {
+        path: out.dir.clone(),
         source,
     })?;
     let record = provenance.clone().with_block(options.block);

@@ -8,11 +8,11 @@ use super::{FigureFiles, write_json};
 use crate::block::Block;
 use crate::classes::{Class, base_class};
 use crate::error::{Error, Result};
+use crate::output::OutDir;
 use crate::plot;
 use crate::provenance::Provenance;
 use hycont_sample::basin::{Axis, Counts, Distribution, Progress, Study};
 use serde_json::{Value, json};
-use std::path::Path;
 
 /// The default trial count of sampling figure `n` (7, 9 or 10): enough to show the study's
 /// trends (Fig. 10's marginals are noise at 2,000 trials and clear at 100,000).
@@ -151,7 +151,7 @@ pub fn raster(counts: &Counts) -> Vec<Vec<Option<&'static str>>> {
 /// # Errors
 /// Numerical or I/O failures.
 pub fn figure7(
-    out: &Path,
+    out: &OutDir,
     options: SampleOptions,
     provenance: &Provenance,
     progress: &Progress,
@@ -166,7 +166,7 @@ pub fn figure7(
 /// [`Error::InvalidArgument`] for another figure or tables that do not fit; I/O failures.
 pub fn render(
     n: u32,
-    out: &Path,
+    out: &OutDir,
     options: SampleOptions,
     provenance: &Provenance,
     counts: &[Counts],
@@ -189,7 +189,7 @@ pub fn render(
 }
 
 fn render7(
-    out: &Path,
+    out: &OutDir,
     options: SampleOptions,
     provenance: &Provenance,
     all: &[Counts],
@@ -231,13 +231,19 @@ fn render7(
     });
     let json_path = out.join("fig7.json");
     write_json(&json_path, &provenance.insert_into(json))?;
-    let svg_path = out.join("fig7.svg");
-    crate::output::write_with(&svg_path, |p| {
-        plot::basins_svg(p, &rasters, options.block.static_boundary())
+    let per_omega = all
+        .first()
+        .map_or(0, |c| (0..c.counts.len()).map(|i| c.trials(i)).sum());
+    let title = format!(
+        "Fig. 7: dominant class per cell of initial (phi0, psi0), alpha = 0.66, beta = 0, {per_omega} trials per omega{}",
+        options.block.note()
+    );
+    let pictures = out.picture("fig7", |p| {
+        plot::basins_svg(p, &title, &rasters, options.block.static_boundary())
     })?;
     Ok(FigureFiles {
         figure: 7,
-        files: vec![json_path, svg_path],
+        files: [vec![json_path], pictures].concat(),
     })
 }
 
@@ -287,7 +293,7 @@ pub const FIG8_GRID: (usize, usize) = (70, 40);
 ///
 /// # Errors
 /// Numerical or I/O failures.
-pub fn figure8(out: &Path, provenance: &Provenance) -> Result<FigureFiles> {
+pub fn figure8(out: &OutDir, provenance: &Provenance) -> Result<FigureFiles> {
     let block = provenance.block;
     use rayon::prelude::*;
     let (nw, na) = FIG8_GRID;
@@ -332,13 +338,16 @@ pub fn figure8(out: &Path, provenance: &Provenance) -> Result<FigureFiles> {
     });
     let json_path = out.join("fig8.json");
     write_json(&json_path, &provenance.insert_into(json))?;
-    let svg_path = out.join("fig8.svg");
-    crate::output::write_with(&svg_path, |p| {
-        plot::class_grid_svg(p, &omegas, &alphas, &grids, &curves)
+    let title = format!(
+        "Fig. 8: final class from phi0 = 0.01, psi0 = 0 on the (omega, alpha) grid{}",
+        provenance.block.note()
+    );
+    let pictures = out.picture("fig8", |p| {
+        plot::class_grid_svg(p, &title, &omegas, &alphas, &grids, &curves)
     })?;
     Ok(FigureFiles {
         figure: 8,
-        files: vec![json_path, svg_path],
+        files: [vec![json_path], pictures].concat(),
     })
 }
 
@@ -382,7 +391,7 @@ fn plane_study(beta: Distribution, seed: u64, block: &Block) -> Study {
 /// # Errors
 /// Numerical or I/O failures.
 pub fn figure9(
-    out: &Path,
+    out: &OutDir,
     options: SampleOptions,
     provenance: &Provenance,
     progress: &Progress,
@@ -412,7 +421,7 @@ pub(crate) fn fig9_study(beta: f64, seed: u64, block: &Block) -> Study {
 }
 
 fn render9(
-    out: &Path,
+    out: &OutDir,
     options: SampleOptions,
     provenance: &Provenance,
     all: &[Counts],
@@ -453,13 +462,16 @@ fn render9(
     });
     let json_path = out.join("fig9.json");
     write_json(&json_path, &provenance.insert_into(json))?;
-    let svg_path = out.join("fig9.svg");
-    crate::output::write_with(&svg_path, |p| {
-        plot::probability_grid_svg(p, &panels, &curves)
+    let title = format!(
+        "Fig. 9: probability of each solution group on the (omega, alpha) grid, 30 x 30 cells{}",
+        options.block.note()
+    );
+    let pictures = out.picture("fig9", |p| {
+        plot::probability_grid_svg(p, &title, &panels, &curves)
     })?;
     Ok(FigureFiles {
         figure: 9,
-        files: vec![json_path, svg_path],
+        files: [vec![json_path], pictures].concat(),
     })
 }
 
@@ -469,7 +481,7 @@ fn render9(
 /// # Errors
 /// Numerical or I/O failures.
 pub fn figure10(
-    out: &Path,
+    out: &OutDir,
     options: SampleOptions,
     provenance: &Provenance,
     progress: &Progress,
@@ -512,7 +524,7 @@ pub(crate) fn fig10_study(seed: u64, block: &Block) -> (Study, Vec<Vec<Axis>>) {
 }
 
 fn render10(
-    out: &Path,
+    out: &OutDir,
     options: SampleOptions,
     provenance: &Provenance,
     counts: &[Counts],
@@ -545,12 +557,16 @@ fn render10(
         "trial_ranges": counts[0].ranges,
         "marginals": marginals,
     });
+    let title = format!(
+        "Fig. 10: probability of each solution group against phi0, psi0 and beta, {} trials{}",
+        json["trials"],
+        options.block.note()
+    );
     let json_path = out.join("fig10.json");
     write_json(&json_path, &provenance.insert_into(json))?;
-    let svg_path = out.join("fig10.svg");
-    crate::output::write_with(&svg_path, |p| plot::marginals_svg(p, &panels))?;
+    let pictures = out.picture("fig10", |p| plot::marginals_svg(p, &title, &panels))?;
     Ok(FigureFiles {
         figure: 10,
-        files: vec![json_path, svg_path],
+        files: [vec![json_path], pictures].concat(),
     })
 }

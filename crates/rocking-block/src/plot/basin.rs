@@ -2,8 +2,9 @@
 //! (unbinned), fractions against the binned variable (1-D), or the dominant class per cell
 //! (2-D); a key beside the plot names every class drawn.
 
+use super::fine::{Fine, Pen};
 use super::key::{Mark, class_colour, class_entries, draw_key};
-use super::plot_err;
+use super::{Area, plot_err};
 use crate::error::Result;
 use hycont_sample::basin::{Counts, Study};
 use plotters::prelude::*;
@@ -14,56 +15,53 @@ use std::path::Path;
 /// # Errors
 /// [`crate::Error::Plot`] if the file cannot be written.
 pub fn basin_svg(path: &Path, title: &str, study: &Study, counts: &Counts) -> Result<()> {
-    let root = SVGBackend::new(path, (1160, 640)).into_drawing_area();
-    root.fill(&WHITE).map_err(|e| plot_err(path, e))?;
-    let (plot, key) = root.split_horizontally(860);
-    // A map shows each cell's dominant class only; bars and profiles show every class counted.
-    let shown = |k: usize| {
-        counts
-            .counts
+    super::picture(path, (1220, 640), |root, fine| {
+        let (plot, key) = root.split_horizontally(860);
+        // A map shows each cell's dominant class only; bars and profiles show every class counted.
+        let shown = |k: usize| {
+            counts
+                .counts
+                .iter()
+                .any(|row| row[k] > 0 && (study.axes.len() < 2 || dominant_class(row) == Some(k)))
+        };
+        let drawn: Vec<&str> = counts
+            .classes
             .iter()
-            .any(|row| row[k] > 0 && (study.axes.len() < 2 || dominant_class(row) == Some(k)))
-    };
-    let drawn: Vec<&str> = counts
-        .classes
-        .iter()
-        .enumerate()
-        .filter(|(k, _)| shown(*k))
-        .map(|(_, c)| c.as_str())
-        .collect();
-    let mut entries = class_entries(drawn.iter().copied());
-    let r = match study.axes.len() {
-        0 => {
-            entries.push(("95 % interval".into(), Mark::Line(BLACK)));
-            fractions(&plot, title, counts)
-        }
-        1 => {
-            entries = entries
-                .into_iter()
-                .map(|(l, m)| match m {
-                    Mark::Swatch(c) => (l, Mark::Line(c)),
-                    m => (l, m),
-                })
-                .collect();
-            profile(&plot, title, study, counts)
-        }
-        _ => {
-            entries.push(("no trials in the cell".into(), Mark::Swatch(WHITE)));
-            dominant(&plot, title, study, counts)
-        }
-    };
-    r.map_err(|e| plot_err(path, e))?;
-    let heading = if study.axes.len() == 2 {
-        "dominant class"
-    } else {
-        "class"
-    };
-    draw_key(&key, heading, &entries).map_err(|e| plot_err(path, e))?;
-    root.present().map_err(|e| plot_err(path, e))?;
-    Ok(())
+            .enumerate()
+            .filter(|(k, _)| shown(*k))
+            .map(|(_, c)| c.as_str())
+            .collect();
+        let mut entries = class_entries(drawn.iter().copied());
+        let r = match study.axes.len() {
+            0 => {
+                entries.push(("95 % interval".into(), Mark::Line(BLACK)));
+                fractions(&plot, title, counts)
+            }
+            1 => {
+                entries = entries
+                    .into_iter()
+                    .map(|(l, m)| match m {
+                        Mark::Swatch(c) => (l, Mark::Line(c)),
+                        m => (l, m),
+                    })
+                    .collect();
+                profile(&plot, fine, title, study, counts)
+            }
+            _ => {
+                entries.push(("no trials in the cell".into(), Mark::Swatch(WHITE)));
+                dominant(&plot, title, study, counts)
+            }
+        };
+        r.map_err(|e| plot_err(path, e))?;
+        let heading = if study.axes.len() == 2 {
+            "dominant class"
+        } else {
+            "class"
+        };
+        draw_key(&key, heading, &entries).map_err(|e| plot_err(path, e))?;
+        Ok(())
+    })
 }
-
-type Area<'a> = DrawingArea<SVGBackend<'a>, plotters::coord::Shift>;
 
 /// Unbinned: one bar per class with its 95 % Wilson interval, named above the bar with its
 /// fraction and interval.
@@ -144,14 +142,15 @@ fn chart<'a, 'b>(
 /// One binned variable: each class's fraction per bin, at the bins' centres.
 fn profile(
     area: &Area<'_>,
+    fine: &mut Fine,
     title: &str,
     study: &Study,
     counts: &Counts,
 ) -> std::result::Result<(), String> {
-    let err = |e: DrawingAreaErrorKind<_>| e.to_string();
     let axis = study.axes[0];
     let x = (axis.lo, axis.hi, study.names[axis.variable].as_str());
-    let mut chart = chart(area, title, x, (0.0, 1.0, "fraction of trials"))?;
+    let chart = chart(area, title, x, (0.0, 1.0, "fraction of trials"))?;
+    let frame = fine.frame(&chart);
     let w = (axis.hi - axis.lo) / axis.bins as f64;
     for (k, class) in counts.classes.iter().enumerate() {
         if counts.counts.iter().all(|row| row[k] == 0) {
@@ -161,9 +160,7 @@ fn profile(
             .filter(|&c| counts.trials(c) > 0)
             .map(|c| (axis.lo + w * (c as f64 + 0.5), counts.fraction(c, k).0))
             .collect();
-        chart
-            .draw_series(LineSeries::new(pts, class_colour(class).stroke_width(2)))
-            .map_err(err)?;
+        fine.line(&frame, pts, Pen::new(class_colour(class), 2.0));
     }
     Ok(())
 }

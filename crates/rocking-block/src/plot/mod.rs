@@ -4,22 +4,47 @@
 
 mod basin;
 mod branches;
+mod fine;
 mod key;
 mod orbits;
+mod png;
 mod sampling;
 
 pub use basin::basin_svg;
 pub use branches::{branches_svg, curve_svg, curves_svg, test_points_svg};
 pub use orbits::{orbits_svg, trajectory_svg};
+pub use png::svg_to_png;
 pub use sampling::{
     basins_svg, brute_force_svg, class_grid_svg, marginals_svg, probability_grid_svg,
 };
 
 use crate::error::Error;
 use crate::model::{MINUS, PLUS};
+use fine::Fine;
 use hycont_core::{Mode, Trajectory};
 use plotters::prelude::*;
 use std::path::Path;
+
+/// The whole picture plotters draws on.
+type Area<'a> = DrawingArea<SVGBackend<'a>, plotters::coord::Shift>;
+
+/// Draws a picture of `size` px on white with `draw` (plotters' SVG backend, and curves with
+/// sub-pixel coordinates added to `fine`) and writes it to `path` as SVG.
+fn picture(
+    path: &Path,
+    size: (u32, u32),
+    draw: impl FnOnce(&Area<'_>, &mut Fine) -> crate::error::Result<()>,
+) -> crate::error::Result<()> {
+    let mut svg = String::new();
+    let mut fine = Fine::default();
+    {
+        let root = SVGBackend::with_string(&mut svg, size).into_drawing_area();
+        root.fill(&WHITE).map_err(|e| plot_err(path, e))?;
+        draw(&root, &mut fine)?;
+        root.present().map_err(|e| plot_err(path, e))?;
+    }
+    fine.write(path, svg)
+}
 
 /// Colour of a mode: `+` blue, `-` red, rest grey.
 fn mode_colour(mode: Mode) -> RGBColor {
@@ -109,4 +134,64 @@ fn range(values: impl Iterator<Item = f64>) -> (f64, f64) {
     }
     let pad = 0.05 * (hi - lo).max(1e-3);
     (lo - pad, hi + pad)
+}
+
+/// The corner of the plot area whose quarter (the outer 45 % in x, 30 % in y) holds the fewest
+/// data points, for the legend (so that it does not hide the branches).
+fn emptiest_corner(
+    points: &[(f64, f64)],
+    (x_lo, x_hi): (f64, f64),
+    (y_lo, y_hi): (f64, f64),
+) -> SeriesLabelPosition {
+    let (wx, wy) = (0.45 * (x_hi - x_lo), 0.3 * (y_hi - y_lo));
+    let count = |right: bool, upper: bool| {
+        points
+            .iter()
+            .filter(|(x, y)| {
+                let in_x = if right {
+                    *x >= x_hi - wx
+                } else {
+                    *x <= x_lo + wx
+                };
+                let in_y = if upper {
+                    *y >= y_hi - wy
+                } else {
+                    *y <= y_lo + wy
+                };
+                in_x && in_y
+            })
+            .count()
+    };
+    [
+        (SeriesLabelPosition::UpperRight, count(true, true)),
+        (SeriesLabelPosition::UpperLeft, count(false, true)),
+        (SeriesLabelPosition::LowerRight, count(true, false)),
+        (SeriesLabelPosition::LowerLeft, count(false, false)),
+    ]
+    .into_iter()
+    .min_by_key(|(_, c)| *c)
+    .map_or(SeriesLabelPosition::UpperRight, |(p, _)| p)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_legend_goes_to_the_emptiest_corner() {
+        // A branch rising to the upper right (Fig. 4): the legend must not cover it.
+        let rising: Vec<(f64, f64)> = (0..50).map(|i| (f64::from(i), f64::from(i))).collect();
+        let corner = emptiest_corner(&rising, (0.0, 49.0), (0.0, 49.0));
+        assert!(matches!(
+            corner,
+            SeriesLabelPosition::UpperLeft | SeriesLabelPosition::LowerRight
+        ));
+        // Data everywhere but the lower left.
+        let mut others: Vec<(f64, f64)> = Vec::new();
+        for (x, y) in [(45.0, 45.0), (5.0, 45.0), (45.0, 5.0)] {
+            others.extend(std::iter::repeat_n((x, y), 3));
+        }
+        let corner = emptiest_corner(&others, (0.0, 50.0), (0.0, 50.0));
+        assert!(matches!(corner, SeriesLabelPosition::LowerLeft));
+    }
 }

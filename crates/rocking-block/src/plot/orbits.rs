@@ -1,6 +1,7 @@
 //! Time series, phase portraits and orbits.
 
-use super::{mode_colour, pieces, plot_err, range};
+use super::fine::Pen;
+use super::{emptiest_corner, mode_colour, pieces, plot_err, range};
 use crate::error::Result;
 use crate::model::{MINUS, PLUS, Parameters};
 use hycont_core::orbit::PeriodicOrbit;
@@ -21,83 +22,71 @@ pub fn trajectory_svg(
     params: &Parameters,
 ) -> Result<()> {
     let (pieces, jumps) = pieces(traj);
-    let root = SVGBackend::new(path, (1000, 900)).into_drawing_area();
-    root.fill(&WHITE).map_err(|e| plot_err(path, e))?;
-    let (upper, lower) = root.split_vertically(420);
-    let boundary = params.static_boundary();
+    super::picture(path, (1000, 900), |root, fine| {
+        let (upper, lower) = root.split_vertically(420);
+        let boundary = params.static_boundary();
 
-    let t0 = pieces
-        .first()
-        .and_then(|p| p.points.first())
-        .map_or(0.0, |p| p.0);
-    let t1 = traj.t_final.max(t0 + 1e-9);
-    let (phi_lo, phi_hi) = range(
-        pieces
-            .iter()
-            .flat_map(|p| p.points.iter().map(|q| q.1))
-            .chain([boundary, -boundary]),
-    );
-    let mut chart = ChartBuilder::on(&upper)
-        .caption(title, ("sans-serif", 20))
-        .margin(12)
-        .x_label_area_size(35)
-        .y_label_area_size(55)
-        .build_cartesian_2d(t0..t1, phi_lo..phi_hi)
-        .map_err(|e| plot_err(path, e))?;
-    chart
-        .configure_mesh()
-        .x_desc("t")
-        .y_desc("phi")
-        .draw()
-        .map_err(|e| plot_err(path, e))?;
-    for b in [boundary, -boundary] {
-        chart
-            .draw_series(LineSeries::new(
-                [(t0, b), (t1, b)],
-                ShapeStyle::from(&BLACK.mix(0.4)).stroke_width(1),
-            ))
+        let t0 = pieces
+            .first()
+            .and_then(|p| p.points.first())
+            .map_or(0.0, |p| p.0);
+        let t1 = traj.t_final.max(t0 + 1e-9);
+        let (phi_lo, phi_hi) = range(
+            pieces
+                .iter()
+                .flat_map(|p| p.points.iter().map(|q| q.1))
+                .chain([boundary, -boundary]),
+        );
+        let mut chart = ChartBuilder::on(&upper)
+            .caption(title, ("sans-serif", 20))
+            .margin(12)
+            .x_label_area_size(35)
+            .y_label_area_size(55)
+            .build_cartesian_2d(t0..t1, phi_lo..phi_hi)
             .map_err(|e| plot_err(path, e))?;
-    }
-    for piece in &pieces {
         chart
-            .draw_series(LineSeries::new(
-                piece.points.iter().map(|q| (q.0, q.1)),
-                mode_colour(piece.mode).stroke_width(2),
-            ))
+            .configure_mesh()
+            .x_desc("t")
+            .y_desc("phi")
+            .draw()
             .map_err(|e| plot_err(path, e))?;
-    }
+        for b in [boundary, -boundary] {
+            chart
+                .draw_series(LineSeries::new(
+                    [(t0, b), (t1, b)],
+                    ShapeStyle::from(&BLACK.mix(0.4)).stroke_width(1),
+                ))
+                .map_err(|e| plot_err(path, e))?;
+        }
+        let frame = fine.frame(&chart);
+        for piece in &pieces {
+            let pen = Pen::new(mode_colour(piece.mode), 2.0);
+            fine.line(&frame, piece.points.iter().map(|q| (q.0, q.1)), pen);
+        }
 
-    let (psi_lo, psi_hi) = range(pieces.iter().flat_map(|p| p.points.iter().map(|q| q.2)));
-    let mut phase = ChartBuilder::on(&lower)
-        .margin(12)
-        .x_label_area_size(35)
-        .y_label_area_size(55)
-        .build_cartesian_2d(phi_lo..phi_hi, psi_lo..psi_hi)
-        .map_err(|e| plot_err(path, e))?;
-    phase
-        .configure_mesh()
-        .x_desc("phi")
-        .y_desc("psi")
-        .draw()
-        .map_err(|e| plot_err(path, e))?;
-    for piece in &pieces {
-        phase
-            .draw_series(LineSeries::new(
-                piece.points.iter().map(|q| (q.1, q.2)),
-                mode_colour(piece.mode).stroke_width(2),
-            ))
+        let (psi_lo, psi_hi) = range(pieces.iter().flat_map(|p| p.points.iter().map(|q| q.2)));
+        let mut phase = ChartBuilder::on(&lower)
+            .margin(12)
+            .x_label_area_size(35)
+            .y_label_area_size(55)
+            .build_cartesian_2d(phi_lo..phi_hi, psi_lo..psi_hi)
             .map_err(|e| plot_err(path, e))?;
-    }
-    for (pre, post) in &jumps {
         phase
-            .draw_series(LineSeries::new(
-                [*pre, *post],
-                ShapeStyle::from(&BLACK.mix(0.5)).stroke_width(1),
-            ))
+            .configure_mesh()
+            .x_desc("phi")
+            .y_desc("psi")
+            .draw()
             .map_err(|e| plot_err(path, e))?;
-    }
-    root.present().map_err(|e| plot_err(path, e))?;
-    Ok(())
+        let frame = fine.frame(&phase);
+        for piece in &pieces {
+            let pen = Pen::new(mode_colour(piece.mode), 2.0);
+            fine.line(&frame, piece.points.iter().map(|q| (q.1, q.2)), pen);
+        }
+        for (pre, post) in &jumps {
+            fine.line(&frame, [*pre, *post], Pen::new(BLACK.mix(0.5), 1.0));
+        }
+        Ok(())
+    })
 }
 
 /// Draws periodic orbits: phase portraits $(\varphi, \psi)$ (top, segments coloured by mode,
@@ -128,96 +117,91 @@ pub fn orbits_svg(
     let (psi_lo, psi_hi) = range(all().map(|(_, _, x)| x[1]));
     let t_hi = all().map(|(t, _, _)| t).fold(0.0, f64::max);
 
-    let root = SVGBackend::new(path, (1000, 1000)).into_drawing_area();
-    root.fill(&WHITE).map_err(|e| plot_err(path, e))?;
-    let (upper, lower) = root.split_vertically(560);
-    let mut phase = ChartBuilder::on(&upper)
-        .caption(title, ("sans-serif", 18))
-        .margin(12)
-        .x_label_area_size(35)
-        .y_label_area_size(55)
-        .build_cartesian_2d(phi_lo..phi_hi, psi_lo..psi_hi)
-        .map_err(|e| plot_err(path, e))?;
-    phase
-        .configure_mesh()
-        .x_desc("phi")
-        .y_desc("psi")
-        .draw()
-        .map_err(|e| plot_err(path, e))?;
-    for b in [boundary, -boundary] {
-        phase
-            .draw_series(LineSeries::new(
-                [(b, psi_lo), (b, psi_hi)],
-                ShapeStyle::from(&BLACK.mix(0.4)).stroke_width(1),
-            ))
+    super::picture(path, (1000, 1000), |root, fine| {
+        let (upper, lower) = root.split_vertically(560);
+        let mut phase = ChartBuilder::on(&upper)
+            .caption(title, ("sans-serif", 18))
+            .margin(12)
+            .x_label_area_size(35)
+            .y_label_area_size(55)
+            .build_cartesian_2d(phi_lo..phi_hi, psi_lo..psi_hi)
             .map_err(|e| plot_err(path, e))?;
-    }
-    for (mode, label) in [
-        (PLUS, "mode + (right corner)"),
-        (MINUS, "mode - (left corner)"),
-    ] {
-        let colour = mode_colour(mode);
         phase
-            .draw_series(std::iter::empty::<PathElement<(f64, f64)>>())
-            .map_err(|e| plot_err(path, e))?
-            .label(label)
-            .legend(move |(x, y)| {
-                PathElement::new(vec![(x, y), (x + 20, y)], colour.stroke_width(2))
-            });
-    }
-    for (idx, (_, segments)) in sampled.iter().enumerate() {
-        let width = if idx == 0 { 3 } else { 1 };
-        for (k, ts) in segments.iter().enumerate() {
-            let colour = mode_colour(ts.mode.first().copied().unwrap_or(PLUS));
+            .configure_mesh()
+            .x_desc("phi")
+            .y_desc("psi")
+            .draw()
+            .map_err(|e| plot_err(path, e))?;
+        for b in [boundary, -boundary] {
             phase
                 .draw_series(LineSeries::new(
-                    ts.iter().map(|(_, _, x)| (x[0], x[1])),
-                    colour.stroke_width(width),
+                    [(b, psi_lo), (b, psi_hi)],
+                    ShapeStyle::from(&BLACK.mix(0.4)).stroke_width(1),
                 ))
                 .map_err(|e| plot_err(path, e))?;
-            // The jump at the end of the segment, to the next segment's start.
-            let next = &segments[(k + 1) % segments.len()];
-            if let (Some(end), Some(start)) = (ts.iter().last(), next.iter().next()) {
-                phase
-                    .draw_series(LineSeries::new(
-                        [(end.2[0], end.2[1]), (start.2[0], start.2[1])],
-                        ShapeStyle::from(&BLACK.mix(0.5)).stroke_width(1),
-                    ))
-                    .map_err(|e| plot_err(path, e))?;
+        }
+        for (mode, label) in [
+            (PLUS, "mode + (right corner)"),
+            (MINUS, "mode - (left corner)"),
+        ] {
+            let colour = mode_colour(mode);
+            phase
+                .draw_series(std::iter::empty::<PathElement<(f64, f64)>>())
+                .map_err(|e| plot_err(path, e))?
+                .label(label)
+                .legend(move |(x, y)| {
+                    PathElement::new(vec![(x, y), (x + 20, y)], colour.stroke_width(2))
+                });
+        }
+        let frame = fine.frame(&phase);
+        for (idx, (_, segments)) in sampled.iter().enumerate() {
+            let width = if idx == 0 { 3.0 } else { 1.0 };
+            for (k, ts) in segments.iter().enumerate() {
+                let colour = mode_colour(ts.mode.first().copied().unwrap_or(PLUS));
+                let points = ts.iter().map(|(_, _, x)| (x[0], x[1]));
+                fine.line(&frame, points, Pen::new(colour, width));
+                // The jump at the end of the segment, to the next segment's start.
+                let next = &segments[(k + 1) % segments.len()];
+                if let (Some(end), Some(start)) = (ts.iter().last(), next.iter().next()) {
+                    let jump = [(end.2[0], end.2[1]), (start.2[0], start.2[1])];
+                    fine.line(&frame, jump, Pen::new(BLACK.mix(0.5), 1.0));
+                }
             }
         }
-    }
-    phase
-        .configure_series_labels()
-        .border_style(BLACK)
-        .background_style(WHITE.mix(0.8))
-        .draw()
-        .map_err(|e| plot_err(path, e))?;
+        fine.here(root, path)?;
+        phase
+            .configure_series_labels()
+            .border_style(BLACK)
+            .background_style(WHITE.mix(0.8))
+            .position(emptiest_corner(
+                &all().map(|(_, _, x)| (x[0], x[1])).collect::<Vec<_>>(),
+                (phi_lo, phi_hi),
+                (psi_lo, psi_hi),
+            ))
+            .draw()
+            .map_err(|e| plot_err(path, e))?;
 
-    let mut series = ChartBuilder::on(&lower)
-        .margin(12)
-        .x_label_area_size(35)
-        .y_label_area_size(55)
-        .build_cartesian_2d(0.0..t_hi.max(1e-9), phi_lo..phi_hi)
-        .map_err(|e| plot_err(path, e))?;
-    series
-        .configure_mesh()
-        .x_desc("t (one period)")
-        .y_desc("phi")
-        .draw()
-        .map_err(|e| plot_err(path, e))?;
-    for (idx, (_, segments)) in sampled.iter().enumerate() {
-        let width = if idx == 0 { 3 } else { 1 };
-        for ts in segments {
-            let colour = mode_colour(ts.mode.first().copied().unwrap_or(PLUS));
-            series
-                .draw_series(LineSeries::new(
-                    ts.iter().map(|(t, _, x)| (t, x[0])),
-                    colour.stroke_width(width),
-                ))
-                .map_err(|e| plot_err(path, e))?;
+        let mut series = ChartBuilder::on(&lower)
+            .margin(12)
+            .x_label_area_size(35)
+            .y_label_area_size(55)
+            .build_cartesian_2d(0.0..t_hi.max(1e-9), phi_lo..phi_hi)
+            .map_err(|e| plot_err(path, e))?;
+        series
+            .configure_mesh()
+            .x_desc("t (one period)")
+            .y_desc("phi")
+            .draw()
+            .map_err(|e| plot_err(path, e))?;
+        let frame = fine.frame(&series);
+        for (idx, (_, segments)) in sampled.iter().enumerate() {
+            let width = if idx == 0 { 3.0 } else { 1.0 };
+            for ts in segments {
+                let colour = mode_colour(ts.mode.first().copied().unwrap_or(PLUS));
+                let points = ts.iter().map(|(t, _, x)| (t, x[0]));
+                fine.line(&frame, points, Pen::new(colour, width));
+            }
         }
-    }
-    root.present().map_err(|e| plot_err(path, e))?;
-    Ok(())
+        Ok(())
+    })
 }

@@ -1,5 +1,6 @@
 //! Brute-force diagrams, basins, class grids, probability maps and marginals.
 
+use super::fine::{Chart, Fine, Pen};
 use super::key::{Mark, class_colour, class_entries, curve_colour, draw_key};
 use super::{plot_err, range};
 use crate::error::Result;
@@ -15,68 +16,64 @@ use std::path::Path;
 /// [`crate::Error::Plot`] if the file cannot be written.
 pub fn brute_force_svg(
     path: &Path,
+    title: &str,
     up: &[hycont_sample::sweep::SweepPoint],
     down: &[hycont_sample::sweep::SweepPoint],
     markers: &[(&str, f64)],
     overturned: &dyn Fn(&hycont_sample::sweep::SweepPoint) -> bool,
 ) -> Result<()> {
-    let root = SVGBackend::new(path, (1000, 900)).into_drawing_area();
-    root.fill(&WHITE).map_err(|e| plot_err(path, e))?;
-    let (top, bottom) = root.split_vertically(450);
-    for (area, (lo, hi), title) in [
-        (
-            &top,
-            (0.5, 0.8),
-            "Fig. 5: brute-force diagram, omega = 1.3 (psi at t = 2 pi k / omega)",
-        ),
-        (
-            &bottom,
-            (0.73, 0.79),
-            "blow-up of [0.73, 0.79]: period doubling to chaos",
-        ),
-    ] {
-        let pts = || {
-            up.iter()
-                .map(|p| (p, BLACK.mix(0.8)))
-                .chain(down.iter().map(|p| (p, RGBColor(214, 39, 40).mix(0.5))))
-                .filter(move |(p, _)| p.value >= lo && p.value <= hi)
-        };
-        let (y_lo, y_hi) = range(pts().flat_map(|(p, _)| p.samples.iter().map(|s| s[1])));
-        let mut chart = ChartBuilder::on(area)
-            .caption(title, ("sans-serif", 16))
-            .margin(10)
-            .x_label_area_size(35)
-            .y_label_area_size(55)
-            .build_cartesian_2d(lo..hi, y_lo..y_hi)
-            .map_err(|e| plot_err(path, e))?;
-        chart
-            .configure_mesh()
-            .x_desc("alpha")
-            .y_desc("psi")
-            .draw()
-            .map_err(|e| plot_err(path, e))?;
-        for (p, colour) in pts() {
-            chart
-                .draw_series(
-                    p.samples
-                        .iter()
-                        .map(|s| Circle::new((p.value, s[1]), 1, colour.filled())),
-                )
+    super::picture(path, (1000, 900), |root, _| {
+        let (top, bottom) = root.split_vertically(450);
+        for (area, (lo, hi), title) in [
+            (&top, (0.5, 0.8), title),
+            (
+                &bottom,
+                (0.73, 0.79),
+                "blow-up of [0.73, 0.79]: period doubling to chaos",
+            ),
+        ] {
+            let pts = || {
+                up.iter()
+                    .map(|p| (p, BLACK.mix(0.8)))
+                    .chain(down.iter().map(|p| (p, RGBColor(214, 39, 40).mix(0.5))))
+                    .filter(move |(p, _)| p.value >= lo && p.value <= hi)
+            };
+            let (y_lo, y_hi) = range(pts().flat_map(|(p, _)| p.samples.iter().map(|s| s[1])));
+            let mut chart = ChartBuilder::on(area)
+                .caption(title, ("sans-serif", 16))
+                .margin(10)
+                .x_label_area_size(35)
+                .y_label_area_size(55)
+                .build_cartesian_2d(lo..hi, y_lo..y_hi)
                 .map_err(|e| plot_err(path, e))?;
+            chart
+                .configure_mesh()
+                .x_desc("alpha")
+                .y_desc("psi")
+                .draw()
+                .map_err(|e| plot_err(path, e))?;
+            for (p, colour) in pts() {
+                chart
+                    .draw_series(
+                        p.samples
+                            .iter()
+                            .map(|s| Circle::new((p.value, s[1]), 1, colour.filled())),
+                    )
+                    .map_err(|e| plot_err(path, e))?;
+            }
+            annotate_sweeps(
+                &mut chart,
+                (lo, hi),
+                (y_lo, y_hi),
+                up,
+                down,
+                markers,
+                overturned,
+            )
+            .map_err(|e| plot_err(path, e))?;
         }
-        annotate_sweeps(
-            &mut chart,
-            (lo, hi),
-            (y_lo, y_hi),
-            up,
-            down,
-            markers,
-            overturned,
-        )
-        .map_err(|e| plot_err(path, e))?;
-    }
-    root.present().map_err(|e| plot_err(path, e))?;
-    Ok(())
+        Ok(())
+    })
 }
 
 type Chart2d<'a, DB> = ChartContext<
@@ -163,129 +160,129 @@ fn annotate_sweeps<'a, DB: DrawingBackend + 'a>(
         .map_err(err)
 }
 
-/// Fig. 7: one raster of the dominant class per (phi0, psi0) cell for each omega.
+/// Fig. 7: one raster of the dominant class per (phi0, psi0) cell for each omega, under
+/// `title`.
 ///
 /// # Errors
 /// [`crate::Error::Plot`] if the file cannot be written.
 pub fn basins_svg(
     path: &Path,
+    title: &str,
     rasters: &[(f64, Vec<Vec<Option<&str>>>)],
     boundary: f64,
 ) -> Result<()> {
-    let root = SVGBackend::new(path, (1390, 760)).into_drawing_area();
-    root.fill(&WHITE).map_err(|e| plot_err(path, e))?;
-    let (maps, key) = root.split_horizontally(1050);
-    let panels = maps.split_evenly((2, 3));
-    let drawn = rasters
-        .iter()
-        .flat_map(|(_, r)| r.iter().flatten().flatten().copied());
-    let mut entries = class_entries(drawn);
-    entries.push(("no trials in the cell".into(), Mark::Swatch(WHITE)));
-    draw_key(&key, "dominant class", &entries).map_err(|e| plot_err(path, e))?;
-    for (panel, (omega, raster)) in panels.iter().zip(rasters) {
-        let n = raster.len().max(1);
-        let mut chart = ChartBuilder::on(panel)
-            .caption(format!("omega = {omega}"), ("sans-serif", 14))
-            .margin(8)
-            .x_label_area_size(28)
-            .y_label_area_size(40)
-            .build_cartesian_2d(-boundary..boundary, -1.0..1.0)
+    super::picture(path, (1390, 790), |root, _| {
+        let root = root
+            .titled(title, ("sans-serif", 18))
             .map_err(|e| plot_err(path, e))?;
-        chart
-            .configure_mesh()
-            .x_desc("phi0")
-            .y_desc("psi0")
-            .draw()
-            .map_err(|e| plot_err(path, e))?;
-        let (dx, dy) = (2.0 * boundary / n as f64, 2.0 / n as f64);
-        for (i, row) in raster.iter().enumerate() {
-            for (j, c) in row.iter().enumerate() {
-                let Some(c) = c else { continue };
-                let (x0, y0) = (-boundary + i as f64 * dx, -1.0 + j as f64 * dy);
-                chart
-                    .draw_series(std::iter::once(Rectangle::new(
-                        [(x0, y0), (x0 + dx, y0 + dy)],
-                        class_colour(c).filled(),
-                    )))
-                    .map_err(|e| plot_err(path, e))?;
+        let (maps, key) = root.split_horizontally(1050);
+        let panels = maps.split_evenly((2, 3));
+        let drawn = rasters
+            .iter()
+            .flat_map(|(_, r)| r.iter().flatten().flatten().copied());
+        let mut entries = class_entries(drawn);
+        entries.push(("no trials in the cell".into(), Mark::Swatch(WHITE)));
+        draw_key(&key, "dominant class", &entries).map_err(|e| plot_err(path, e))?;
+        for (panel, (omega, raster)) in panels.iter().zip(rasters) {
+            let n = raster.len().max(1);
+            let mut chart = ChartBuilder::on(panel)
+                .caption(format!("omega = {omega}"), ("sans-serif", 14))
+                .margin(8)
+                .x_label_area_size(28)
+                .y_label_area_size(40)
+                .build_cartesian_2d(-boundary..boundary, -1.0..1.0)
+                .map_err(|e| plot_err(path, e))?;
+            chart
+                .configure_mesh()
+                .x_desc("phi0")
+                .y_desc("psi0")
+                .draw()
+                .map_err(|e| plot_err(path, e))?;
+            let (dx, dy) = (2.0 * boundary / n as f64, 2.0 / n as f64);
+            for (i, row) in raster.iter().enumerate() {
+                for (j, c) in row.iter().enumerate() {
+                    let Some(c) = c else { continue };
+                    let (x0, y0) = (-boundary + i as f64 * dx, -1.0 + j as f64 * dy);
+                    chart
+                        .draw_series(std::iter::once(Rectangle::new(
+                            [(x0, y0), (x0 + dx, y0 + dy)],
+                            class_colour(c).filled(),
+                        )))
+                        .map_err(|e| plot_err(path, e))?;
+                }
             }
         }
-    }
-    root.present().map_err(|e| plot_err(path, e))?;
-    Ok(())
+        Ok(())
+    })
 }
 
+/// Draws the two-parameter curves on a chart of the (omega, alpha) plane.
 fn overlay_curves<DB: DrawingBackend>(
-    chart: &mut ChartContext<
-        '_,
-        DB,
-        Cartesian2d<plotters::coord::types::RangedCoordf64, plotters::coord::types::RangedCoordf64>,
-    >,
+    fine: &mut Fine,
+    chart: &Chart<'_, DB>,
     curves: &[crate::continuation::Curve],
-) -> std::result::Result<(), String> {
+) {
+    let frame = fine.frame(chart);
     for c in curves {
-        let Some((_, col)) = curve_styles().into_iter().find(|(k, _)| *k == c.kind) else {
-            continue;
-        };
-        chart
-            .draw_series(LineSeries::new(c.points(), col.stroke_width(2)))
-            .map_err(|e| e.to_string())?;
+        if let Some((_, col)) = curve_styles().into_iter().find(|(k, _)| *k == c.kind) {
+            fine.line(&frame, c.points(), Pen::new(col, 2.0));
+        }
     }
-    Ok(())
 }
 
-/// Fig. 8: the class of each grid cell, one panel per beta, with the SN, BP and PD curves.
+/// Fig. 8: the class of each grid cell, one panel per beta, with the SN, BP and PD curves, under
+/// `title`.
 ///
 /// # Errors
 /// [`crate::Error::Plot`] if the file cannot be written.
 pub fn class_grid_svg(
     path: &Path,
+    title: &str,
     omegas: &[f64],
     alphas: &[f64],
     grids: &[(f64, Vec<Vec<&str>>)],
     curves: &[crate::continuation::Curve],
 ) -> Result<()> {
-    let root = SVGBackend::new(path, (1440, 520)).into_drawing_area();
-    root.fill(&WHITE).map_err(|e| plot_err(path, e))?;
-    let (maps, key) = root.split_horizontally(1100);
-    let panels = maps.split_evenly((1, 2));
-    let drawn = grids.iter().flat_map(|(_, g)| g.iter().flatten().copied());
-    let mut entries = class_entries(drawn);
-    entries.extend(curve_entries(curves));
-    draw_key(&key, "final class", &entries).map_err(|e| plot_err(path, e))?;
-    let (dw, da) = (3.5 / omegas.len() as f64, 0.8 / alphas.len() as f64);
-    for (panel, (beta, grid)) in panels.iter().zip(grids) {
-        let mut chart = ChartBuilder::on(panel)
-            .caption(
-                format!("Fig. 8: final class from phi0 = 0.01, beta = {beta:.4}"),
-                ("sans-serif", 14),
-            )
-            .margin(8)
-            .x_label_area_size(30)
-            .y_label_area_size(40)
-            .build_cartesian_2d(0.5..4.0, 0.1..0.9)
+    super::picture(path, (1440, 550), |root, fine| {
+        let root = root
+            .titled(title, ("sans-serif", 18))
             .map_err(|e| plot_err(path, e))?;
-        chart
-            .configure_mesh()
-            .x_desc("omega")
-            .y_desc("alpha")
-            .draw()
-            .map_err(|e| plot_err(path, e))?;
-        for (i, col) in grid.iter().enumerate() {
-            for (j, c) in col.iter().enumerate() {
-                let (x0, y0) = (omegas[i] - 0.5 * dw, alphas[j] - 0.5 * da);
-                chart
-                    .draw_series(std::iter::once(Rectangle::new(
-                        [(x0, y0), (x0 + dw, y0 + da)],
-                        class_colour(c).filled(),
-                    )))
-                    .map_err(|e| plot_err(path, e))?;
+        let (maps, key) = root.split_horizontally(1100);
+        let panels = maps.split_evenly((1, 2));
+        let drawn = grids.iter().flat_map(|(_, g)| g.iter().flatten().copied());
+        let mut entries = class_entries(drawn);
+        entries.extend(curve_entries(curves));
+        draw_key(&key, "final class", &entries).map_err(|e| plot_err(path, e))?;
+        let (dw, da) = (3.5 / omegas.len() as f64, 0.8 / alphas.len() as f64);
+        for (panel, (beta, grid)) in panels.iter().zip(grids) {
+            let mut chart = ChartBuilder::on(panel)
+                .caption(format!("beta = {beta:.4}"), ("sans-serif", 14))
+                .margin(8)
+                .x_label_area_size(30)
+                .y_label_area_size(40)
+                .build_cartesian_2d(0.5..4.0, 0.1..0.9)
+                .map_err(|e| plot_err(path, e))?;
+            chart
+                .configure_mesh()
+                .x_desc("omega")
+                .y_desc("alpha")
+                .draw()
+                .map_err(|e| plot_err(path, e))?;
+            for (i, col) in grid.iter().enumerate() {
+                for (j, c) in col.iter().enumerate() {
+                    let (x0, y0) = (omegas[i] - 0.5 * dw, alphas[j] - 0.5 * da);
+                    chart
+                        .draw_series(std::iter::once(Rectangle::new(
+                            [(x0, y0), (x0 + dw, y0 + da)],
+                            class_colour(c).filled(),
+                        )))
+                        .map_err(|e| plot_err(path, e))?;
+                }
             }
+            overlay_curves(fine, &chart, curves);
         }
-        overlay_curves(&mut chart, curves).map_err(|e| plot_err(path, e))?;
-    }
-    root.present().map_err(|e| plot_err(path, e))?;
-    Ok(())
+        Ok(())
+    })
 }
 
 /// Probabilities per group (name, one value per cell) for one beta.
@@ -293,64 +290,61 @@ pub type GroupPanel<'a> = (f64, Vec<(&'a str, Vec<f64>)>);
 
 /// Fig. 9: probability heat maps per group and beta (rows: groups; columns: beta) over the
 /// (omega, alpha) grid, with the SN, BP and PD curves; a colour scale and the curves' legend
-/// in a column on the right.
+/// in a column on the right; `title` above.
 ///
 /// # Errors
 /// [`crate::Error::Plot`] if the file cannot be written.
 pub fn probability_grid_svg(
     path: &Path,
+    title: &str,
     panels: &[GroupPanel<'_>],
     curves: &[crate::continuation::Curve],
 ) -> Result<()> {
     let groups = panels.first().map_or(0, |p| p.1.len());
-    let root = SVGBackend::new(path, (1040, 50 + 300 * groups as u32)).into_drawing_area();
-    root.fill(&WHITE).map_err(|e| plot_err(path, e))?;
-    let root = root
-        .titled(
-            "Fig. 9: probability of each solution group on the (omega, alpha) grid, 30 x 30 cells",
-            ("sans-serif", 18),
-        )
-        .map_err(|e| plot_err(path, e))?;
-    let (maps, key) = root.split_horizontally(900);
-    let areas = maps.split_evenly((groups, panels.len()));
-    for (g, row) in (0..groups).map(|g| (g, &areas[g * panels.len()..(g + 1) * panels.len()])) {
-        for (area, (beta, probs)) in row.iter().zip(panels) {
-            let (name, p) = &probs[g];
-            let mut chart = ChartBuilder::on(area)
-                .caption(format!("{name}, beta = {beta:.4}"), ("sans-serif", 13))
-                .margin(6)
-                .x_label_area_size(35)
-                .y_label_area_size(45)
-                .build_cartesian_2d(0.5..4.0, 0.1..0.9)
-                .map_err(|e| plot_err(path, e))?;
-            chart
-                .configure_mesh()
-                .disable_mesh()
-                .x_desc("omega")
-                .y_desc("alpha")
-                .draw()
-                .map_err(|e| plot_err(path, e))?;
-            let side = (p.len() as f64).sqrt().round().max(1.0) as usize;
-            let (dw, da) = (3.5 / side as f64, 0.8 / side as f64);
-            for (cell, v) in p.iter().enumerate() {
-                if v.is_nan() {
-                    continue;
-                }
-                let (i, j) = (cell / side, cell % side);
-                let (x0, y0) = (0.5 + dw * i as f64, 0.1 + da * j as f64);
-                chart
-                    .draw_series(std::iter::once(Rectangle::new(
-                        [(x0, y0), (x0 + dw, y0 + da)],
-                        probability_colour(*v).filled(),
-                    )))
+    super::picture(path, (1040, 50 + 300 * groups as u32), |root, fine| {
+        let root = root
+            .titled(title, ("sans-serif", 18))
+            .map_err(|e| plot_err(path, e))?;
+        let (maps, key) = root.split_horizontally(900);
+        let areas = maps.split_evenly((groups, panels.len()));
+        for (g, row) in (0..groups).map(|g| (g, &areas[g * panels.len()..(g + 1) * panels.len()])) {
+            for (area, (beta, probs)) in row.iter().zip(panels) {
+                let (name, p) = &probs[g];
+                let mut chart = ChartBuilder::on(area)
+                    .caption(format!("{name}, beta = {beta:.4}"), ("sans-serif", 13))
+                    .margin(6)
+                    .x_label_area_size(35)
+                    .y_label_area_size(45)
+                    .build_cartesian_2d(0.5..4.0, 0.1..0.9)
                     .map_err(|e| plot_err(path, e))?;
+                chart
+                    .configure_mesh()
+                    .disable_mesh()
+                    .x_desc("omega")
+                    .y_desc("alpha")
+                    .draw()
+                    .map_err(|e| plot_err(path, e))?;
+                let side = (p.len() as f64).sqrt().round().max(1.0) as usize;
+                let (dw, da) = (3.5 / side as f64, 0.8 / side as f64);
+                for (cell, v) in p.iter().enumerate() {
+                    if v.is_nan() {
+                        continue;
+                    }
+                    let (i, j) = (cell / side, cell % side);
+                    let (x0, y0) = (0.5 + dw * i as f64, 0.1 + da * j as f64);
+                    chart
+                        .draw_series(std::iter::once(Rectangle::new(
+                            [(x0, y0), (x0 + dw, y0 + da)],
+                            probability_colour(*v).filled(),
+                        )))
+                        .map_err(|e| plot_err(path, e))?;
+                }
+                overlay_curves(fine, &chart, curves);
             }
-            overlay_curves(&mut chart, curves).map_err(|e| plot_err(path, e))?;
         }
-    }
-    probability_key(&key, curves).map_err(|e| plot_err(path, e))?;
-    root.present().map_err(|e| plot_err(path, e))?;
-    Ok(())
+        probability_key(&key, curves).map_err(|e| plot_err(path, e))?;
+        Ok(())
+    })
 }
 
 /// White (0) to blue (1).
@@ -408,64 +402,63 @@ fn curve_styles() -> [(hycont_continuation::SpecialKind, RGBColor); 3] {
     [Fold, BranchPoint, PeriodDoubling].map(|k| (k, curve_colour(k)))
 }
 
-/// Fig. 10: group probabilities against each binned variable.
+/// Fig. 10: group probabilities against each binned variable, under `title`.
 ///
 /// # Errors
 /// [`crate::Error::Plot`] if the file cannot be written.
 #[allow(clippy::type_complexity)]
 pub fn marginals_svg(
     path: &Path,
+    title: &str,
     panels: &[(&str, f64, f64, Vec<(&str, Vec<f64>)>)],
 ) -> Result<()> {
-    let root = SVGBackend::new(path, (1420, 420)).into_drawing_area();
-    root.fill(&WHITE).map_err(|e| plot_err(path, e))?;
-    let (plots, key) = root.split_horizontally(1200);
-    let areas = plots.split_evenly((1, panels.len()));
-    let colours = [
-        RGBColor(255, 200, 0),
-        RGBColor(31, 119, 180),
-        RGBColor(140, 200, 140),
-        RGBColor(0, 0, 0),
-        RGBColor(148, 103, 189),
-    ];
-    for (area, (name, lo, hi, probs)) in areas.iter().zip(panels) {
-        let mut chart = ChartBuilder::on(area)
-            .caption(
-                format!("Fig. 10: probability against {name}"),
-                ("sans-serif", 13),
-            )
-            .margin(8)
-            .x_label_area_size(30)
-            .y_label_area_size(40)
-            .build_cartesian_2d(*lo..*hi, 0.0..1.0)
+    super::picture(path, (1420, 450), |root, fine| {
+        let root = root
+            .titled(title, ("sans-serif", 18))
             .map_err(|e| plot_err(path, e))?;
-        chart
-            .configure_mesh()
-            .x_desc(*name)
-            .y_desc("probability")
-            .draw()
-            .map_err(|e| plot_err(path, e))?;
-        for ((_, p), col) in probs.iter().zip(colours) {
-            let n = p.len().max(1);
-            let pts: Vec<(f64, f64)> = p
-                .iter()
-                .enumerate()
-                .filter(|(_, v)| v.is_finite())
-                .map(|(i, v)| (lo + (hi - lo) * (i as f64 + 0.5) / n as f64, *v))
-                .collect();
-            chart
-                .draw_series(LineSeries::new(pts, col.stroke_width(2)))
+        let (plots, key) = root.split_horizontally(1200);
+        let areas = plots.split_evenly((1, panels.len()));
+        let colours = [
+            RGBColor(255, 200, 0),
+            RGBColor(31, 119, 180),
+            RGBColor(140, 200, 140),
+            RGBColor(0, 0, 0),
+            RGBColor(148, 103, 189),
+        ];
+        for (area, (name, lo, hi, probs)) in areas.iter().zip(panels) {
+            let mut chart = ChartBuilder::on(area)
+                .caption(format!("against {name}"), ("sans-serif", 13))
+                .margin(8)
+                .x_label_area_size(30)
+                .y_label_area_size(40)
+                .build_cartesian_2d(*lo..*hi, 0.0..1.0)
                 .map_err(|e| plot_err(path, e))?;
+            chart
+                .configure_mesh()
+                .x_desc(*name)
+                .y_desc("probability")
+                .draw()
+                .map_err(|e| plot_err(path, e))?;
+            let frame = fine.frame(&chart);
+            for ((_, p), col) in probs.iter().zip(colours) {
+                let n = p.len().max(1);
+                let pts: Vec<(f64, f64)> = p
+                    .iter()
+                    .enumerate()
+                    .filter(|(_, v)| v.is_finite())
+                    .map(|(i, v)| (lo + (hi - lo) * (i as f64 + 0.5) / n as f64, *v))
+                    .collect();
+                fine.line(&frame, pts, Pen::new(col, 2.0));
+            }
         }
-    }
-    // The key beside the panels (inside, it would cover the curves).
-    let groups = panels.first().map(|p| &p.3[..]).unwrap_or_default();
-    let entries: Vec<(String, Mark)> = groups
-        .iter()
-        .zip(colours)
-        .map(|((group, _), col)| ((*group).to_string(), Mark::Line(col)))
-        .collect();
-    draw_key(&key, "solution group", &entries).map_err(|e| plot_err(path, e))?;
-    root.present().map_err(|e| plot_err(path, e))?;
-    Ok(())
+        // The key beside the panels (inside, it would cover the curves).
+        let groups = panels.first().map(|p| &p.3[..]).unwrap_or_default();
+        let entries: Vec<(String, Mark)> = groups
+            .iter()
+            .zip(colours)
+            .map(|((group, _), col)| ((*group).to_string(), Mark::Line(col)))
+            .collect();
+        draw_key(&key, "solution group", &entries).map_err(|e| plot_err(path, e))?;
+        Ok(())
+    })
 }
