@@ -136,7 +136,8 @@ pub fn figure6(
     let pictures = out.picture("fig6", |p| {
         plot::curves_svg(p, &title, &curves, &tests, &params)
     })?;
-    let title = format!("Fig. 6: the test points' phi(t) from their initial states{note}");
+    let title =
+        format!("Fig. 6: test points, phi(t) (blue: mode +, red: mode -, grey: at rest){note}");
     let tests = out.picture("fig6_tests", |p| {
         plot::test_points_svg(p, &title, &tests, &trajectories)
     })?;

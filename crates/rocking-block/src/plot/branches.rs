@@ -298,12 +298,14 @@ pub fn test_points_svg(
                     ("sans-serif", 13),
                 )
                 .margin(8)
-                .x_label_area_size(25)
-                .y_label_area_size(40)
+                .x_label_area_size(38)
+                .y_label_area_size(50)
                 .build_cartesian_2d(0.0..t1, -1.6..1.6)
                 .map_err(|e| plot_err(path, e))?;
             chart
                 .configure_mesh()
+                .x_desc("t")
+                .y_desc("phi")
                 .draw()
                 .map_err(|e| plot_err(path, e))?;
             let frame = fine.frame(&chart);
