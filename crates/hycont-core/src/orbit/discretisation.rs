@@ -195,6 +195,78 @@ impl Discretisation {
         }
     }
 
+    /// The estimated largest discretisation error of the orbit at unknowns `u`, in the units of
+    /// the state (collocation: [`super::collocation_error_estimate`]); `None` for shooting,
+    /// whose error is the integrator's tolerance.
+    #[must_use]
+    pub fn error_estimate(&self, like: &PeriodicOrbit, u: &[f64]) -> Option<f64> {
+        match self {
+            Self::Shooting(_) => None,
+            Self::Collocation { meshes, ncol } => {
+                Some(super::collocation_error_estimate(like, meshes, *ncol, u))
+            }
+        }
+    }
+
+    /// The discretisation adapted to the orbit at unknowns `u`, with the same layout (collocation:
+    /// meshes with the same intervals equidistributing the error estimate,
+    /// [`super::collocation_adapted_meshes`]; shooting: itself).
+    #[must_use]
+    pub fn adapted(&self, like: &PeriodicOrbit, u: &[f64]) -> Self {
+        match self {
+            Self::Shooting(_) => self.clone(),
+            Self::Collocation { meshes, ncol } => Self::Collocation {
+                meshes: super::collocation_adapted_meshes(like, meshes, *ncol, u),
+                ncol: *ncol,
+            },
+        }
+    }
+
+    /// The largest move of a mesh point from this discretisation to `other` (relative to the
+    /// segment's time, so in $[0, 1]$); 0 for shooting or discretisations that cannot be
+    /// compared.
+    #[must_use]
+    pub fn distance(&self, other: &Self) -> f64 {
+        match (self, other) {
+            (Self::Collocation { meshes: a, .. }, Self::Collocation { meshes: b, .. }) => a
+                .iter()
+                .zip(b)
+                .flat_map(|(x, y)| x.iter().zip(y).map(|(p, q)| (p - q).abs()))
+                .fold(0.0, f64::max),
+            _ => 0.0,
+        }
+    }
+
+    /// Unknowns `u` of this discretisation (followed by anything a problem appends) carried over
+    /// to `to` (collocation to collocation with the same `ncol` and segments:
+    /// [`super::collocation_transfer`], linear in `u`, so tangents carry over too).
+    ///
+    /// # Errors
+    /// [`crate::Error::InvalidSetting`] if the two discretisations are not both collocation
+    /// with the same `ncol` and number of segments, or `u` is too short.
+    pub fn transfer(&self, to: &Self, like: &PeriodicOrbit, u: &[f64]) -> Result<Vec<f64>> {
+        match (self, to) {
+            (
+                Self::Collocation { meshes, ncol },
+                Self::Collocation {
+                    meshes: new,
+                    ncol: new_ncol,
+                },
+            ) if ncol == new_ncol
+                && meshes.len() == new.len()
+                && meshes.len() == like.segment_count()
+                && u.len() >= self.segment_values(like) =>
+            {
+                Ok(super::collocation_transfer(like, meshes, new, *ncol, u))
+            }
+            _ => Err(crate::Error::InvalidSetting {
+                name: "discretisation transfer",
+                value: u.len() as f64,
+                reason: "needs two collocation discretisations of the same degree and segments, and the first one's unknowns",
+            }),
+        }
+    }
+
     /// Floquet multipliers at unknowns `u` (shooting: from `cache` when it holds this orbit's
     /// linearisations, else by integrating; collocation: by condensation of the collocation
     /// Jacobian). On a half orbit, the half map's monodromy (before $S$).

@@ -23,9 +23,10 @@ pub use admissibility::{
     ADMISSIBILITY_TOL, AdmissibilityMargin, Margin, Violation, check_admissible,
 };
 pub use collocation::{
-    Collocation, CollocationSettings, CollocationSolution, MAX_NTST, Mesh, collocation_floquet,
-    collocation_floquet_factorised, collocation_pack, collocation_problem, collocation_unpack,
-    gauss_legendre_points, solve_collocation,
+    Collocation, CollocationSettings, CollocationSolution, MAX_NTST, Mesh,
+    collocation_adapted_meshes, collocation_error_estimate, collocation_floquet,
+    collocation_floquet_factorised, collocation_pack, collocation_problem, collocation_transfer,
+    collocation_unpack, gauss_legendre_points, solve_collocation,
 };
 pub use discretisation::{Discretisation, OrbitEquations, OrbitMethod, orbit_problem};
 pub use floquet::{Floquet, NEUTRAL_BAND, saltation_matrix};

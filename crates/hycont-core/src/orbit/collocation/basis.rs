@@ -96,10 +96,4 @@ impl Basis {
             .collect();
         Self { ncol, l, dl, dn }
     }
-
-    pub(super) fn nodes(&self) -> Vec<f64> {
-        (0..=self.ncol)
-            .map(|i| i as f64 / self.ncol as f64)
-            .collect()
-    }
 }

@@ -32,10 +32,12 @@ pub(super) fn eval_piecewise(
     }
 }
 
-/// A new mesh equidistributing the error estimate
-/// $\|x^{(\mathrm{ncol}+1)}\|^{1/(\mathrm{ncol}+1)}$, the $(\mathrm{ncol}+1)$-th derivative
-/// estimated from jumps of the piecewise polynomial's `ncol`-th derivative (as in AUTO).
-pub(super) fn adapted_mesh(nodes: &[f64], mesh: &[f64], basis: &Basis, n: usize) -> Mesh {
+/// Estimates of $\|x^{(\mathrm{ncol}+1)}\|_\infty$ (derivative in $\tau$, the segment's time
+/// scaled to $[0, 1]$) on each interval, from the jumps of the piecewise polynomial's
+/// `ncol`-th derivative between neighbouring intervals (as in AUTO; largest over the state
+/// components): the mean of the two jumps of an interior interval, the one jump of an end
+/// interval.
+fn high_derivatives(nodes: &[f64], mesh: &[f64], basis: &Basis, n: usize) -> Vec<f64> {
     let ncol = basis.ncol;
     let ntst = mesh.len() - 1;
     // ncol-th derivative (in tau) on each interval.
@@ -58,17 +60,96 @@ pub(super) fn adapted_mesh(nodes: &[f64], mesh: &[f64], basis: &Basis, n: usize)
             .map(|c| ((d[b][c] - d[a][c]) / dist).abs())
             .fold(0.0, f64::max)
     };
-    let density: Vec<f64> = (0..ntst)
+    (0..ntst)
         .map(|j| {
             let left = if j > 0 { jump(j - 1, j) } else { 0.0 };
             let right = if j + 1 < ntst { jump(j, j + 1) } else { 0.0 };
-            let both = if j > 0 && j + 1 < ntst {
+            if j > 0 && j + 1 < ntst {
                 0.5 * (left + right)
             } else {
                 left.max(right)
-            };
-            both.powf(1.0 / (ncol + 1) as f64)
+            }
         })
+        .collect()
+}
+
+/// The constant $C_m = \max_{z \in [0, 1]} \bigl|\int_0^z \prod_{i=1}^m (s - c_i)\,ds\bigr| / m!$
+/// of the leading interior error of collocation at the Gauss points $c_i$ (de Boor and Swartz):
+/// on an interval of width $h$, $x - p \approx x^{(m+1)} h^{m+1} \int_0^z \prod (s - c_i)\,ds
+/// / m!$, the error at the interval's left end being of higher order ($h^{2m}$).
+fn interior_error_constant(m: usize) -> f64 {
+    let c = super::basis::gauss_legendre_points(m);
+    // Coefficients of prod (s - c_i), lowest degree first, then of its integral from 0.
+    let mut poly = vec![1.0];
+    for ci in &c {
+        let mut next = vec![0.0; poly.len() + 1];
+        for (k, a) in poly.iter().enumerate() {
+            next[k + 1] += a;
+            next[k] -= ci * a;
+        }
+        poly = next;
+    }
+    let integral: Vec<f64> = std::iter::once(0.0)
+        .chain(poly.iter().enumerate().map(|(k, a)| a / (k + 1) as f64))
+        .collect();
+    let factorial: f64 = (1..=m).map(|k| k as f64).product();
+    (0..=1000)
+        .map(|i| {
+            let z = f64::from(i) / 1000.0;
+            integral.iter().rev().fold(0.0, |acc, a| acc * z + a).abs()
+        })
+        .fold(0.0, f64::max)
+        / factorial
+}
+
+/// The estimated largest error $\max |x(\tau) - p(\tau)|$ of one segment's collocation
+/// polynomial: $C_m h_j^{m+1} \|x^{(m+1)}\|$ on each interval (see
+/// [`interior_error_constant`] and [`high_derivatives`]), largest over intervals and
+/// components. Zero for a single interval (no jump to estimate from).
+pub(super) fn error_estimate(nodes: &[f64], mesh: &[f64], basis: &Basis, n: usize) -> f64 {
+    let m = basis.ncol;
+    let c = interior_error_constant(m);
+    high_derivatives(nodes, mesh, basis, n)
+        .iter()
+        .zip(mesh.windows(2))
+        .map(|(d, w)| {
+            let h = w[1] - w[0];
+            c * h.powi(m as i32 + 1) * d
+        })
+        .fold(0.0, f64::max)
+}
+
+/// One segment's node states on `new_mesh` (the same `ncol`): its piecewise polynomial on
+/// `mesh` evaluated at the new nodes; the last node is copied.
+pub(super) fn transfer_nodes(
+    nodes: &[f64],
+    mesh: &[f64],
+    new_mesh: &[f64],
+    ncol: usize,
+    n: usize,
+) -> Vec<f64> {
+    let mut vals = Vec::with_capacity(((new_mesh.len() - 1) * ncol + 1) * n);
+    let mut x = vec![0.0; n];
+    for w in new_mesh.windows(2) {
+        for i in 0..ncol {
+            let tau = w[0] + (i as f64 / ncol as f64) * (w[1] - w[0]);
+            eval_piecewise(nodes, mesh, ncol, n, tau, &mut x);
+            vals.extend_from_slice(&x);
+        }
+    }
+    vals.extend_from_slice(&nodes[nodes.len() - n..]);
+    vals
+}
+
+/// A new mesh equidistributing the error estimate
+/// $\|x^{(\mathrm{ncol}+1)}\|^{1/(\mathrm{ncol}+1)}$, the $(\mathrm{ncol}+1)$-th derivative
+/// estimated from jumps of the piecewise polynomial's `ncol`-th derivative (as in AUTO).
+pub(super) fn adapted_mesh(nodes: &[f64], mesh: &[f64], basis: &Basis, n: usize) -> Mesh {
+    let ncol = basis.ncol;
+    let ntst = mesh.len() - 1;
+    let density: Vec<f64> = high_derivatives(nodes, mesh, basis, n)
+        .iter()
+        .map(|d| d.powf(1.0 / (ncol + 1) as f64))
         .collect();
     let total: f64 = density
         .iter()

@@ -23,8 +23,9 @@ use basis::Basis;
 pub use basis::gauss_legendre_points;
 use serde::{Deserialize, Serialize};
 pub use solve::{
-    CollocationSolution, collocation_floquet, collocation_floquet_factorised, collocation_pack,
-    collocation_problem, collocation_unpack, solve_collocation,
+    CollocationSolution, collocation_adapted_meshes, collocation_error_estimate,
+    collocation_floquet, collocation_floquet_factorised, collocation_pack, collocation_problem,
+    collocation_transfer, collocation_unpack, solve_collocation,
 };
 pub(crate) use solve::{initial_nodes, solve_collocation_unchecked};
 

@@ -3,7 +3,7 @@
 
 use super::basis::Basis;
 use super::condense::{condensed_floquet, factorised_floquet};
-use super::mesh::{adapted_mesh, eval_piecewise, uniform_mesh};
+use super::mesh::{adapted_mesh, error_estimate, transfer_nodes, uniform_mesh};
 use super::{Collocation, CollocationSettings, Mesh};
 use crate::error::Result;
 use crate::orbit::floquet::Floquet;
@@ -165,6 +165,73 @@ pub fn collocation_unpack(
     unpack_nodes(u, like, &sizes, like.starts[0].len())
 }
 
+/// The estimated largest discretisation error of the collocation solution at unknowns `u`
+/// on `meshes`: the largest over segments, intervals and state components of the interior
+/// error $C_m h^{m+1} \|x^{(m+1)}\|$ of Gauss collocation with $m = $ `ncol` points ($h$
+/// the interval's width and $x^{(m+1)}$ the derivative estimated from jumps of the polynomial's
+/// $m$-th derivative, both in each segment's time scaled to $[0, 1]$; $C_m$ from the Gauss
+/// points, de Boor and Swartz). In the units of the state: an estimate of
+/// $\max |x(t) - p(t)|$ over the orbit.
+#[must_use]
+pub fn collocation_error_estimate(
+    like: &PeriodicOrbit,
+    meshes: &[Mesh],
+    ncol: usize,
+    u: &[f64],
+) -> f64 {
+    let n = like.starts[0].len();
+    let basis = Basis::new(ncol);
+    let (nodes, _) = collocation_unpack(like, meshes, ncol, u);
+    nodes
+        .iter()
+        .zip(meshes)
+        .map(|(nd, m)| error_estimate(nd, m, &basis, n))
+        .fold(0.0, f64::max)
+}
+
+/// Meshes with the same intervals per segment that equidistribute the error estimate of the
+/// solution at unknowns `u` (as the mesh adaptation of [`solve_collocation`]).
+#[must_use]
+pub fn collocation_adapted_meshes(
+    like: &PeriodicOrbit,
+    meshes: &[Mesh],
+    ncol: usize,
+    u: &[f64],
+) -> Vec<Mesh> {
+    let n = like.starts[0].len();
+    let basis = Basis::new(ncol);
+    let (nodes, _) = collocation_unpack(like, meshes, ncol, u);
+    nodes
+        .iter()
+        .zip(meshes)
+        .map(|(nd, m)| adapted_mesh(nd, m, &basis, n))
+        .collect()
+}
+
+/// The unknowns `u` on `meshes` carried over to `new_meshes` (the same `ncol`, any intervals):
+/// each segment's piecewise polynomial evaluated at the new nodes; the unknowns after the
+/// segments' node states (durations, parameters and anything a problem appends) are copied.
+/// Linear in `u`, so it also carries tangents over.
+#[must_use]
+pub fn collocation_transfer(
+    like: &PeriodicOrbit,
+    meshes: &[Mesh],
+    new_meshes: &[Mesh],
+    ncol: usize,
+    u: &[f64],
+) -> Vec<f64> {
+    let n = like.starts[0].len();
+    let mut out = Vec::with_capacity(u.len());
+    let mut pos = 0;
+    for (m, new) in meshes.iter().zip(new_meshes) {
+        let len = ((m.len() - 1) * ncol + 1) * n;
+        out.extend(transfer_nodes(&u[pos..pos + len], m, new, ncol, n));
+        pos += len;
+    }
+    out.extend_from_slice(&u[pos..]);
+    out
+}
+
 /// Packs node states and an orbit's durations and parameters into collocation unknowns.
 #[must_use]
 pub fn collocation_pack(nodes: &[Vec<f64>], orbit: &PeriodicOrbit) -> Vec<f64> {
@@ -275,27 +342,9 @@ pub(crate) fn solve_collocation_unchecked<S: HybridJacobians + ?Sized>(
             let new_meshes: Vec<Mesh> = (0..kk)
                 .map(|k| adapted_mesh(&nodes[k], &meshes[k], &basis, n))
                 .collect();
-            let bn = basis.nodes();
-            let mut new_nodes = Vec::new();
-            for k in 0..kk {
-                let mut vals = Vec::new();
-                let mut x = vec![0.0; n];
-                for w in new_meshes[k].windows(2) {
-                    for z in &bn[..settings.ncol] {
-                        eval_piecewise(
-                            &nodes[k],
-                            &meshes[k],
-                            settings.ncol,
-                            n,
-                            w[0] + z * (w[1] - w[0]),
-                            &mut x,
-                        );
-                        vals.extend_from_slice(&x);
-                    }
-                }
-                vals.extend_from_slice(&nodes[k][nodes[k].len() - n..]);
-                new_nodes.push(vals);
-            }
+            let new_nodes: Vec<Vec<f64>> = (0..kk)
+                .map(|k| transfer_nodes(&nodes[k], &meshes[k], &new_meshes[k], settings.ncol, n))
+                .collect();
             meshes = new_meshes;
             nodes = new_nodes;
         }
