@@ -111,6 +111,18 @@ pub struct BranchPoint {
     pub newton_iterations: usize,
     /// Arclength step that reached this point.
     pub step: f64,
+    /// The estimated discretisation error (see [`crate::PointInfo::discretisation_error`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub discretisation_error: Option<f64>,
+    /// The revision of the problem's discretisation `u` and `tangent` are on (0 unless the run
+    /// re-discretised, [`crate::ContinuationProblem::rediscretise`]).
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub discretisation: usize,
+}
+
+#[allow(clippy::trivially_copy_pass_by_ref)] // serde's skip_serializing_if passes a reference
+fn is_zero(v: &usize) -> bool {
+    *v == 0
 }
 
 impl BranchPoint {
@@ -140,6 +152,8 @@ impl BranchPoint {
             unstable,
             newton_iterations,
             step,
+            discretisation_error: info.discretisation_error,
+            discretisation: 0,
         }
     }
 
@@ -267,6 +281,10 @@ pub struct RunStatistics {
     /// multiplier was at the critical value (e.g. a multiplier through infinity at grazing).
     #[serde(default)]
     pub discarded_tests: usize,
+    /// Times the discretisation was adapted along the run
+    /// ([`crate::ContinuationProblem::rediscretise`]).
+    #[serde(default)]
+    pub rediscretisations: usize,
 }
 
 impl std::ops::Add for RunStatistics {
@@ -280,6 +298,7 @@ impl std::ops::Add for RunStatistics {
             analyses: self.analyses + o.analyses,
             rejected_steps: self.rejected_steps + o.rejected_steps,
             discarded_tests: self.discarded_tests + o.discarded_tests,
+            rediscretisations: self.rediscretisations + o.rediscretisations,
         }
     }
 }

@@ -108,6 +108,11 @@ pub struct PointInfo {
     /// branch-point test changes sign there as on the full problem. `None`: no factor.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub branch_point_factor: Option<f64>,
+    /// The estimated discretisation error of the point (collocation: the largest interior
+    /// error of the polynomials, in the units of the state); `None` where the problem has no
+    /// estimate (shooting: the integrator's tolerance bounds it).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub discretisation_error: Option<f64>,
 }
 
 /// Product over the non-trivial multipliers $m$ of $(\mathrm{shift} + m)$, real: a complex pair
@@ -191,6 +196,36 @@ pub trait ContinuationProblem<'a> {
     /// the parameter.
     fn unknown_weights(&self) -> Option<Vec<f64>> {
         None
+    }
+    /// Re-discretises the problem for the solution `u` with tangent `t` (collocation: moves the
+    /// mesh to equidistribute the error estimate, keeping its size, so that the Jacobian's
+    /// pattern and the unknowns' layout stay the same). Returns `u` and `t` carried over to the
+    /// new discretisation, or `None` when the problem keeps its discretisation (the default,
+    /// and a collocation mesh that would hardly move). The continuation calls it every
+    /// [`ContinuationSettings::adapt_every`] points and at points whose
+    /// [`PointInfo::discretisation_error`] exceeds
+    /// [`ContinuationSettings::discretisation_tolerance`], then corrects the carried point.
+    ///
+    /// # Errors
+    /// If the new problem cannot be built.
+    fn rediscretise(&mut self, u: &[f64], t: &[f64]) -> Result<Option<(Vec<f64>, Vec<f64>)>> {
+        let _ = (u, t);
+        Ok(None)
+    }
+    /// The revision of the discretisation the unknowns are on: 0 at first, a new one at each
+    /// [`ContinuationProblem::rediscretise`] that changed it (recorded in
+    /// [`BranchPoint::discretisation`]).
+    fn discretisation_revision(&self) -> usize {
+        0
+    }
+    /// Returns to an earlier revision of the discretisation (a run ends on the revision it
+    /// started on, so that the other direction of a branch starts where it did).
+    ///
+    /// # Errors
+    /// An unknown revision, or a problem that cannot be rebuilt.
+    fn restore_discretisation(&mut self, revision: usize) -> Result<()> {
+        let _ = revision;
+        Ok(())
     }
 }
 

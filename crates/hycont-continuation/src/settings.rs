@@ -88,6 +88,25 @@ pub struct ContinuationSettings {
     /// [`crate::SpecialPoint::critical`].
     #[serde(default = "default_critical_tolerance")]
     pub critical_tolerance: f64,
+    /// Re-discretise (collocation: re-adapt the mesh,
+    /// [`crate::ContinuationProblem::rediscretise`]) every this many points; 0: only on the
+    /// error estimate (default 10; AUTO's IAD is 3, COCO's NAdapt off).
+    #[serde(default = "default_adapt_every")]
+    pub adapt_every: usize,
+    /// Re-discretise also at a point whose estimated discretisation error exceeds this
+    /// (default `1e-6`, absolute, in the units of the state; `f64::INFINITY`: never). The mesh
+    /// keeps its size, so equidistribution may not reach it: points report their estimate
+    /// ([`crate::BranchPoint::discretisation_error`]), and a finer mesh is the remedy.
+    #[serde(default = "default_discretisation_tolerance")]
+    pub discretisation_tolerance: f64,
+}
+
+fn default_adapt_every() -> usize {
+    10
+}
+
+fn default_discretisation_tolerance() -> f64 {
+    1e-6
 }
 
 fn default_critical_tolerance() -> f64 {
@@ -113,6 +132,8 @@ impl Default for ContinuationSettings {
             detect: Detect::default(),
             stop_at: Vec::new(),
             critical_tolerance: default_critical_tolerance(),
+            adapt_every: default_adapt_every(),
+            discretisation_tolerance: default_discretisation_tolerance(),
         }
     }
 }
@@ -175,6 +196,15 @@ impl ContinuationSettings {
         self
     }
 
+    /// Sets when the discretisation is adapted: every `every` points (0: never on a count)
+    /// and where the error estimate exceeds `tolerance` (`f64::INFINITY`: never).
+    #[must_use]
+    pub fn adaptation(mut self, every: usize, tolerance: f64) -> Self {
+        self.adapt_every = every;
+        self.discretisation_tolerance = tolerance;
+        self
+    }
+
     /// Sets which test functions are evaluated.
     #[must_use]
     pub fn detect(mut self, detect: Detect) -> Self {
@@ -224,6 +254,13 @@ impl ContinuationSettings {
                 "target_iterations",
                 self.target_iterations as f64,
                 "must be >= 2",
+            );
+        }
+        if !(self.discretisation_tolerance > 0.0) {
+            return bad(
+                "discretisation_tolerance",
+                self.discretisation_tolerance,
+                "must be > 0 (infinity: never re-discretise on the estimate)",
             );
         }
         if !(self.locate_tol > 0.0) {

@@ -124,6 +124,7 @@ impl ContinuationProblem<'static> for Test {
             trivial: vec![false; m.len()],
             multipliers: m,
             branch_point_factor: self.bp_factor.map(|f| f(u)),
+            discretisation_error: None,
         })
     }
     fn monitor_events(&self) -> Vec<MonitorEvent> {

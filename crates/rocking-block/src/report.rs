@@ -123,6 +123,9 @@ pub fn branch_json(b: &OrbitBranch, free: Free) -> Value {
         v["unstable"] = json!(p.unstable);
         v["trivial"] = json!(p.trivial);
         v["newton_iterations"] = json!(p.newton_iterations);
+        if let Some(e) = p.discretisation_error {
+            v["discretisation_error"] = json!(e);
+        }
         v
     });
     let specials = b.branch.special_points.iter().map(|s| {

@@ -405,6 +405,52 @@ fn continue_takes_steps_meshes_and_tolerances() {
     }
 }
 
+/// Collocation runs adapt their mesh along the branch and report every point's error
+/// estimate: on 4 intervals the estimate exceeds 1e-6 somewhere and the summary says to refine;
+/// without adaptation (`--adapt-every 0 --mesh-tol inf`) there are none; the fold agrees with
+/// shooting's to 1e-8 on the default mesh either way; bad settings exit 2.
+#[test]
+fn collocation_meshes_adapt_along_the_branch() {
+    let text = |extra: &[&str]| -> String {
+        let out = bin()
+            .args(["continue", "--free", "omega", "--method", "collocation"])
+            .args(extra)
+            .run_ok();
+        String::from_utf8(out.stdout).unwrap()
+    };
+    let coarse = text(&["--ntst", "4"]);
+    assert!(coarse.contains("raise --ntst"), "{coarse}");
+    let fixed = text(&["--adapt-every", "0", "--mesh-tol", "inf"]);
+    assert!(fixed.contains("collocation mesh: 0 adaptations"), "{fixed}");
+    let adapted = text(&[]);
+    let count: usize = adapted
+        .split("collocation mesh: ")
+        .nth(1)
+        .and_then(|r| r.split(' ').next())
+        .and_then(|n| n.parse().ok())
+        .unwrap();
+    assert!(count > 0, "{adapted}");
+    let json = |extra: &[&str]| -> serde_json::Value {
+        let out = bin()
+            .args(["continue", "--free", "omega", "--json"])
+            .args(extra)
+            .run_ok();
+        serde_json::from_slice(&out.stdout).unwrap()
+    };
+    let coll = json(&["--method", "collocation"]);
+    for p in coll["points"].as_array().unwrap() {
+        let e = p["discretisation_error"].as_f64().unwrap();
+        assert!(e > 0.0 && e < 1e-6, "{e}");
+    }
+    let shooting = json(&[]);
+    assert!(shooting["points"][0].get("discretisation_error").is_none());
+    assert_abs_diff_eq!(sn_omega(&coll), sn_omega(&shooting), epsilon = 1e-8);
+    assert_one_line_usage_error(
+        &["continue", "--free", "omega", "--mesh-tol", "0"],
+        "discretisation_tolerance = 0",
+    );
+}
+
 /// `--xi` and `--theta-b` reach `continue`, `orbit` and `classify` (as `simulate`): another
 /// block has other special points and orbits; bad values exit 2 naming the parameter; a restart
 /// keeps the saved run's block and refuses them.

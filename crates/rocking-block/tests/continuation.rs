@@ -362,14 +362,14 @@ fn unfolded_half_orbit_points_solve_the_full_problem() {
     for method in shooting_and_collocation() {
         let (b, cp) = down_to_the_fold_on(&start, &method);
         assert!(cp.is_half_orbit());
-        let mut full = cp.full_orbit_problem().unwrap();
-        let problem = full.problem_mut();
         // A point, the symmetry-breaking branch point BP1 (where the half problem is regular:
         // its own tangent is kept) and the fold.
         let kinds: Vec<_> = b.special_points.iter().map(|s| s.kind).collect();
         assert_eq!(kinds, [SpecialKind::BranchPoint, SpecialKind::Fold]);
         let specials = b.special_points.iter().map(|s| &s.point);
         for p in std::iter::once(&b.points[b.points.len() / 2]).chain(specials) {
+            let mut full = cp.full_orbit_problem_of(p).unwrap();
+            let problem = full.problem_mut();
             let q = cp.full_point(p);
             assert_eq!(q.u.len(), problem.unknowns());
             assert_eq!(q.u.len(), 2 * p.u.len() - 5); // 4 parameters and the active slot

@@ -141,7 +141,8 @@ impl<'a, S: HybridJacobians + ?Sized> OrbitRun<'a, S> {
             },
             _ => return Err(wrong("curves start at SN, BP, PD and events on measures")),
         };
-        self.continue_curve(name, branch, orbit, condition, special.kind, spec, &wrong)
+        let at = (branch, branch.discretisation_of(&special.point)?);
+        self.continue_curve(name, at, orbit, condition, special.kind, spec, &wrong)
     }
 
     /// Continues the curve saved as `curve` (by [`OrbitRun::curve_at`] or this) further from its
@@ -190,15 +191,17 @@ impl<'a, S: HybridJacobians + ?Sized> OrbitRun<'a, S> {
             reason,
         };
         let kind = condition.kind();
-        self.continue_curve(name, curve, orbit, condition, kind, spec, &wrong)
+        let at = (curve, curve.discretisation_of(point)?);
+        self.continue_curve(name, at, orbit, condition, kind, spec, &wrong)
     }
 
-    /// The curve with `condition` through `orbit` (a point of `branch`, whose layout it uses).
+    /// The curve with `condition` through `orbit` (a point of `branch` on its discretisation
+    /// `disc`, which the curve keeps).
     #[allow(clippy::too_many_arguments)]
     fn continue_curve(
         &mut self,
         name: &str,
-        branch: &OrbitBranch,
+        (branch, disc): (&OrbitBranch, &Discretisation),
         orbit: hycont_core::orbit::PeriodicOrbit,
         condition: CurveCondition,
         kind: SpecialKind,
@@ -209,7 +212,7 @@ impl<'a, S: HybridJacobians + ?Sized> OrbitRun<'a, S> {
         let half = symmetric && condition != CurveCondition::PeriodDoubling;
         let (start, disc) = if half {
             let h = orbit.half_of_symmetric(self.system, self.symmetry_tol)?;
-            let disc = match &branch.discretisation {
+            let disc = match disc {
                 Discretisation::Collocation { meshes, ncol } => Discretisation::Collocation {
                     meshes: meshes[..h.segment_count()].to_vec(),
                     ncol: *ncol,
@@ -218,7 +221,7 @@ impl<'a, S: HybridJacobians + ?Sized> OrbitRun<'a, S> {
             };
             (h, disc)
         } else {
-            (orbit, branch.discretisation.clone())
+            (orbit, disc.clone())
         };
         let condition = match condition {
             // A grazing found by a margin at an orbit whose segment has collapsed onto the

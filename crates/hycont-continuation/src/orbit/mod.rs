@@ -4,6 +4,7 @@
 
 mod curves;
 mod problem;
+mod revisions;
 mod run;
 mod saved;
 mod switching;

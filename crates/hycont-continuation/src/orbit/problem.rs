@@ -46,20 +46,27 @@ pub(crate) type WrapPart<'a> =
 /// branch-point test ([`crate::PointInfo::branch_point_factor`]), so that its branch has the
 /// special points of the same branch on the full orbit.
 pub struct OrbitContinuation<'a, S: ?Sized> {
-    system: &'a S,
-    like: PeriodicOrbit,
-    disc: Discretisation,
-    cache: Option<LinearizationCache>,
-    problem: Problem<'a>,
-    param: usize,
+    pub(super) system: &'a S,
+    pub(super) like: PeriodicOrbit,
+    pub(super) disc: Discretisation,
+    pub(super) cache: Option<LinearizationCache>,
+    pub(super) problem: Problem<'a>,
+    pub(super) param: usize,
     /// Position from the end of the unknowns of the continuation parameter's slot (0: last).
-    slot_from_end: usize,
+    pub(super) slot_from_end: usize,
     /// A segment left out of the shortest-segment monitor (held at zero on a grazing curve).
-    collapsed: Option<usize>,
-    measures: SharedMeasures<'a, S>,
-    events: Vec<MonitorEvent>,
+    pub(super) collapsed: Option<usize>,
+    pub(super) measures: SharedMeasures<'a, S>,
+    pub(super) events: Vec<MonitorEvent>,
     /// The symmetry, on a half-orbit problem.
-    half_of: Option<Z2Symmetry>,
+    pub(super) half_of: Option<Z2Symmetry>,
+    /// Every discretisation the problem has been on (the revisions of
+    /// [`ContinuationProblem::discretisation_revision`]); `disc` is `revisions[current]`.
+    pub(super) revisions: Vec<Discretisation>,
+    pub(super) current: usize,
+    /// Whether the problem is the plain orbit problem, which can be rebuilt on another mesh
+    /// (not one wrapped or extended for a two-parameter curve).
+    pub(super) adaptable: bool,
 }
 
 impl<S: ?Sized> std::fmt::Debug for OrbitContinuation<'_, S> {
@@ -126,7 +133,7 @@ impl<'a, S: HybridJacobians + ?Sized> OrbitContinuation<'a, S> {
         measures: SharedMeasures<'a, S>,
         events: Vec<MonitorEvent>,
     ) -> Result<Self> {
-        Self::build(
+        let mut cp = Self::build(
             system,
             like,
             disc,
@@ -134,7 +141,9 @@ impl<'a, S: HybridJacobians + ?Sized> OrbitContinuation<'a, S> {
             measures,
             events,
             Box::new(|eq| Ok(eq)),
-        )
+        )?;
+        cp.adaptable = true;
+        Ok(cp)
     }
 
     /// [`OrbitContinuation::on_discretisation`] with the orbit equations wrapped by `wrap`.
@@ -178,6 +187,9 @@ impl<'a, S: HybridJacobians + ?Sized> OrbitContinuation<'a, S> {
         Ok(Self {
             system,
             like,
+            revisions: vec![disc.clone()],
+            current: 0,
+            adaptable: false,
             disc,
             cache,
             problem,
@@ -190,19 +202,23 @@ impl<'a, S: HybridJacobians + ?Sized> OrbitContinuation<'a, S> {
         })
     }
 
-    /// The zero problem (e.g. to add parts for two-parameter curves).
+    /// The zero problem (e.g. to add parts for two-parameter curves; the problem then keeps
+    /// its discretisation along a run).
     pub fn problem_mut(&mut self) -> &mut Problem<'a> {
+        self.adaptable = false;
         &mut self.problem
     }
 
     /// Records that a second parameter's monitor was made active; `continued_is_last` is true
     /// when the continued parameter's slot comes last (its index is the higher one).
     pub(crate) fn set_second_parameter(&mut self, continued_is_last: bool) {
+        self.adaptable = false;
         self.slot_from_end = usize::from(!continued_is_last);
     }
 
     /// Leaves segment `k` out of the shortest-segment monitor (its duration is held at zero).
     pub(crate) fn set_collapsed(&mut self, k: usize) {
+        self.adaptable = false;
         self.collapsed = Some(k);
     }
 
@@ -267,15 +283,18 @@ impl<'a, S: HybridJacobians + ?Sized> OrbitContinuation<'a, S> {
     /// # Errors
     /// If the problem cannot be built.
     pub fn full_orbit_problem(&self) -> Result<Self> {
-        let (like, disc) = self.full_layout()?;
-        Self::on_discretisation(
-            self.system,
-            like,
-            disc,
-            ParamId(self.param),
-            self.measures.clone(),
-            self.events.clone(),
-        )
+        self.full_orbit_problem_at(self.current)
+    }
+
+    /// [`OrbitContinuation::full_orbit_problem`] on the discretisation of `point` (a point of
+    /// a branch of this problem; a run that adapted its mesh has points on several), whose
+    /// [`OrbitContinuation::full_point`] solves it.
+    ///
+    /// # Errors
+    /// As [`OrbitContinuation::full_orbit_problem`]; a point of another problem (a revision
+    /// this one does not have).
+    pub fn full_orbit_problem_of(&self, point: &BranchPoint) -> Result<Self> {
+        self.full_orbit_problem_at(point.discretisation)
     }
 
     /// A point of a branch of this problem with the unknowns and tangent of the full orbit's
@@ -286,12 +305,11 @@ impl<'a, S: HybridJacobians + ?Sized> OrbitContinuation<'a, S> {
         let Some(sym) = &self.half_of else {
             return point.clone();
         };
-        let mut t = self
-            .disc
-            .repeat_unknowns(&self.like, &point.tangent, Some(sym));
+        let disc = self.revision(point.discretisation);
+        let mut t = disc.repeat_unknowns(&self.like, &point.tangent, Some(sym));
         normalize(&mut t);
         BranchPoint {
-            u: self.disc.repeat_unknowns(&self.like, &point.u, Some(sym)),
+            u: disc.repeat_unknowns(&self.like, &point.u, Some(sym)),
             tangent: t,
             ..point.clone()
         }
@@ -327,16 +345,17 @@ impl<'a, S: HybridJacobians + ?Sized> OrbitContinuation<'a, S> {
                     .into(),
             });
         }
+        let disc = self.revision(point.discretisation);
         let mut doubled = Self::on_discretisation(
             self.system,
-            self.orbit(&point.u).doubled(),
-            self.disc.repeated(2),
+            disc.unpack(&self.like, &point.u).doubled(),
+            disc.repeated(2),
             ParamId(self.param),
             self.measures.clone(),
             self.events.clone(),
         )?;
-        let u0 = self.disc.repeat_unknowns(&self.like, &point.u, None);
-        let mut t = self.disc.repeat_unknowns(&self.like, &point.tangent, None);
+        let u0 = disc.repeat_unknowns(&self.like, &point.u, None);
+        let mut t = disc.repeat_unknowns(&self.like, &point.tangent, None);
         normalize(&mut t);
         let phi = branch_switch_direction(&mut doubled, &u0, &t)?;
         Ok((doubled, u0, phi))
@@ -368,7 +387,16 @@ impl<'a, S: HybridJacobians + ?Sized> OrbitContinuation<'a, S> {
             multipliers: floquet.multipliers,
             trivial: floquet.trivial,
             branch_point_factor,
+            discretisation_error: None,
         })
+    }
+}
+
+impl<S: HybridJacobians + ?Sized> OrbitContinuation<'_, S> {
+    /// `info` with the discretisation's error estimate at `u`.
+    fn with_error_estimate(&self, mut info: PointInfo, u: &[f64]) -> PointInfo {
+        info.discretisation_error = self.disc.error_estimate(&self.like, u);
+        info
     }
 }
 
@@ -409,7 +437,8 @@ impl<'a, S: HybridJacobians + ?Sized> ContinuationProblem<'a> for OrbitContinuat
         let (orbit, floquet) =
             self.disc
                 .floquet(self.system, &self.like, u, self.cache.as_ref())?;
-        self.info(&orbit, floquet)
+        let info = self.info(&orbit, floquet)?;
+        Ok(self.with_error_estimate(info, u))
     }
     /// Collocation reads the multipliers off the factorisation's condensed intervals.
     fn analyse_factorised(
@@ -421,7 +450,10 @@ impl<'a, S: HybridJacobians + ?Sized> ContinuationProblem<'a> for OrbitContinuat
             .disc
             .floquet_factorised(self.system, &self.like, u, jacobian)?
         {
-            Some((orbit, floquet)) => self.info(&orbit, floquet),
+            Some((orbit, floquet)) => {
+                let info = self.info(&orbit, floquet)?;
+                Ok(self.with_error_estimate(info, u))
+            }
             None => self.analyse(u),
         }
     }
@@ -434,6 +466,18 @@ impl<'a, S: HybridJacobians + ?Sized> ContinuationProblem<'a> for OrbitContinuat
         let copies = if self.half_of.is_some() { 2.0 } else { 1.0 };
         self.disc
             .unknown_weights(&self.like, copies, self.problem.unknowns())
+    }
+    /// Collocation (a one-parameter problem): meshes of the same size equidistributing the
+    /// error estimate, when some mesh point would move by more than a tenth of the smallest
+    /// interval.
+    fn rediscretise(&mut self, u: &[f64], t: &[f64]) -> Result<Option<(Vec<f64>, Vec<f64>)>> {
+        self.adapt_mesh(u, t)
+    }
+    fn discretisation_revision(&self) -> usize {
+        self.current
+    }
+    fn restore_discretisation(&mut self, revision: usize) -> Result<()> {
+        self.restore(revision)
     }
     fn monitor_events(&self) -> Vec<MonitorEvent> {
         let mut events = vec![MonitorEvent {

@@ -435,7 +435,8 @@ impl<'a, S: HybridJacobians + ?Sized> OrbitRun<'a, S> {
             None if saved.free == self.free => saved.direction_at(label)?,
             None => RunDirection::Both,
         };
-        let keep_mesh = matches!(saved.discretisation, Discretisation::Collocation { .. })
+        let disc = saved.discretisation_of(point)?;
+        let keep_mesh = matches!(disc, Discretisation::Collocation { .. })
             && matches!(self.method, OrbitMethod::Collocation(_));
         if !keep_mesh {
             let orbit = saved.orbit_of(point)?;
@@ -444,7 +445,7 @@ impl<'a, S: HybridJacobians + ?Sized> OrbitRun<'a, S> {
         let mut cp = OrbitContinuation::on_discretisation(
             self.system,
             saved.template.clone(),
-            saved.discretisation.clone(),
+            disc.clone(),
             self.free,
             self.measures.clone(),
             self.events.clone(),
@@ -464,7 +465,9 @@ impl<'a, S: HybridJacobians + ?Sized> OrbitRun<'a, S> {
         branch: Branch,
         curve: Option<(ParamId, crate::codim2::CurveCondition)>,
     ) -> Result<OrbitBranch> {
-        let (template, discretisation) = cp.full_layout()?;
+        let (template, _) = cp.full_layout()?;
+        let mut revisions = cp.full_revisions().into_iter();
+        let discretisation = revisions.next().expect("a problem has a discretisation");
         Ok(OrbitBranch {
             branch,
             free: cp.parameter(),
@@ -472,6 +475,7 @@ impl<'a, S: HybridJacobians + ?Sized> OrbitRun<'a, S> {
             condition: curve.map(|c| c.1),
             template,
             discretisation,
+            rediscretised: revisions.collect(),
         })
     }
 

@@ -28,8 +28,14 @@ pub struct OrbitBranch {
     pub condition: Option<CurveCondition>,
     /// An orbit with the branch's signature (the first point's, as started).
     pub template: PeriodicOrbit,
-    /// The discretisation of every point.
+    /// The discretisation the run started on (of every point with
+    /// [`BranchPoint::discretisation`] 0).
     pub discretisation: Discretisation,
+    /// The discretisations the run adapted to along the way, in order: a point with
+    /// [`BranchPoint::discretisation`] `r > 0` is on `rediscretised[r - 1]` (the same layout:
+    /// collocation meshes of the same size).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub rediscretised: Vec<Discretisation>,
 }
 
 impl OrbitBranch {
@@ -53,23 +59,24 @@ impl OrbitBranch {
         if let Some(p) = self.second {
             crate::orbit::check_parameter(system, p)?;
         }
-        if let Discretisation::Collocation { meshes, ncol } = &self.discretisation {
-            let bad_mesh = |m: &Vec<f64>| {
-                m.len() < 2
-                    || m[0] != 0.0
-                    || m.last() != Some(&1.0)
-                    || m.windows(2).any(|w| !(w[1] > w[0]))
+        for d in &self.rediscretised {
+            let same_layout = match (&self.discretisation, d) {
+                (
+                    Discretisation::Collocation { meshes: a, ncol: p },
+                    Discretisation::Collocation { meshes: b, ncol: q },
+                ) => p == q && a.iter().map(Vec::len).eq(b.iter().map(Vec::len)),
+                _ => false,
             };
-            if meshes.len() != self.template.segment_count()
-                || meshes.iter().any(bad_mesh)
-                || !(1..=7).contains(ncol)
-            {
+            if !same_layout {
                 return Err(Error::InvalidSetting {
-                    name: "collocation mesh",
-                    value: meshes.len() as f64,
-                    reason: "one increasing mesh from 0 to 1 per segment, ncol in 1..=7",
+                    name: "rediscretised",
+                    value: self.rediscretised.len() as f64,
+                    reason: "adapted discretisations are collocation meshes of the first one's sizes",
                 });
             }
+        }
+        for disc in std::iter::once(&self.discretisation).chain(&self.rediscretised) {
+            Self::validate_meshes(disc, self.template.segment_count())?;
         }
         let n = self.unknowns();
         let points = self
@@ -78,15 +85,55 @@ impl OrbitBranch {
             .iter()
             .chain(self.branch.special_points.iter().map(|s| &s.point));
         for p in points {
-            if p.u.len() != n || p.tangent.len() != n || p.u.iter().any(|v| !v.is_finite()) {
+            if p.u.len() != n
+                || p.tangent.len() != n
+                || p.u.iter().any(|v| !v.is_finite())
+                || p.discretisation > self.rediscretised.len()
+            {
                 return Err(Error::InvalidSetting {
                     name: "point unknowns",
                     value: p.label as f64,
-                    reason: "a point's unknowns or tangent do not fit the branch's layout",
+                    reason: "a point's unknowns, tangent or discretisation do not fit the branch's layout",
                 });
             }
         }
         Ok(())
+    }
+
+    /// Checks a collocation discretisation's meshes: one per segment, each increasing from 0
+    /// to 1, and `ncol` in `1..=7`.
+    fn validate_meshes(disc: &Discretisation, segments: usize) -> Result<()> {
+        if let Discretisation::Collocation { meshes, ncol } = disc {
+            let bad_mesh = |m: &Vec<f64>| {
+                m.len() < 2
+                    || m[0] != 0.0
+                    || m.last() != Some(&1.0)
+                    || m.windows(2).any(|w| !(w[1] > w[0]))
+            };
+            if meshes.len() != segments || meshes.iter().any(bad_mesh) || !(1..=7).contains(ncol) {
+                return Err(Error::InvalidSetting {
+                    name: "collocation mesh",
+                    value: meshes.len() as f64,
+                    reason: "one increasing mesh from 0 to 1 per segment, ncol in 1..=7",
+                });
+            }
+        }
+        Ok(())
+    }
+
+    /// The discretisation a point's unknowns are on (see [`BranchPoint::discretisation`]).
+    ///
+    /// # Errors
+    /// [`Error::InvalidSetting`] for a revision the branch does not have.
+    pub fn discretisation_of(&self, point: &BranchPoint) -> Result<&Discretisation> {
+        match point.discretisation {
+            0 => Ok(&self.discretisation),
+            r => self.rediscretised.get(r - 1).ok_or(Error::InvalidSetting {
+                name: "point discretisation",
+                value: r as f64,
+                reason: "the branch has no such discretisation revision",
+            }),
+        }
     }
 
     /// The point (regular or special) with the given label.
@@ -130,7 +177,9 @@ impl OrbitBranch {
                 reason: "do not fit the branch's layout",
             });
         }
-        Ok(self.discretisation.unpack(&self.template, &point.u))
+        Ok(self
+            .discretisation_of(point)?
+            .unpack(&self.template, &point.u))
     }
 
     /// The orbit at the point with the given label.

@@ -7,7 +7,7 @@ use super::problem::OrbitContinuation;
 use super::run::{OrbitRun, RunDirection};
 use super::saved::OrbitBranch;
 use crate::ContinuationProblem;
-use crate::branch::{Branch, BranchPoint, EndReason, SpecialKind};
+use crate::branch::{BranchPoint, EndReason, SpecialKind};
 use crate::error::{Error, Result};
 use crate::switch::branch_switch_direction;
 use hycont_core::HybridJacobians;
@@ -53,7 +53,7 @@ impl<'a, S: HybridJacobians + ?Sized> OrbitRun<'a, S> {
         let full = OrbitContinuation::on_discretisation(
             self.system,
             branch.template.clone(),
-            branch.discretisation.clone(),
+            branch.discretisation_of(&special.point)?.clone(),
             branch.free,
             self.measures.clone(),
             self.events.clone(),
@@ -66,9 +66,10 @@ impl<'a, S: HybridJacobians + ?Sized> OrbitRun<'a, S> {
                 let phi = branch_switch_direction(&mut full, &p.u, &p.tangent)?;
                 let start = BranchPoint {
                     tangent: phi.clone(),
+                    discretisation: 0,
                     ..p.clone()
                 };
-                let mut b = self.continue_in(
+                let b = self.continue_in(
                     &mut full,
                     name,
                     &p.u,
@@ -76,8 +77,9 @@ impl<'a, S: HybridJacobians + ?Sized> OrbitRun<'a, S> {
                     direction,
                     &settings,
                 )?;
-                snap_to_parent(&mut b, &branch.branch);
-                self.saved(&full, b, None)
+                let mut child = self.saved(&full, b, None)?;
+                snap_to_parent(&mut child, branch)?;
+                Ok(child)
             }
             SpecialKind::PeriodDoubling => {
                 let (mut doubled, u0, phi) = full.from_period_doubling(&special.point)?;
@@ -101,12 +103,15 @@ impl<'a, S: HybridJacobians + ?Sized> OrbitRun<'a, S> {
 /// A switched branch that ended on reaching a branch point of its parent ends at the parent's
 /// located point there (see [`OrbitRun::switch_at`]): the located branch point of `parent`
 /// whose continued parameter lies in the bracket of the end's step (widened by its width).
-fn snap_to_parent(b: &mut Branch, parent: &Branch) {
+/// The parent's point is carried to the discretisation the child ended on.
+fn snap_to_parent(child: &mut OrbitBranch, parent_saved: &OrbitBranch) -> Result<()> {
+    let parent = &parent_saved.branch;
+    let b = &child.branch;
     if b.end != EndReason::Reached(SpecialKind::BranchPoint) {
-        return;
+        return Ok(());
     }
     let Some(end) = b.special_points.last() else {
-        return;
+        return Ok(());
     };
     let (lo, hi) = (
         end.bracket.0.min(end.bracket.1),
@@ -123,15 +128,28 @@ fn snap_to_parent(b: &mut Branch, parent: &Branch) {
             (a.0 - mid).abs().total_cmp(&(b.0 - mid).abs())
         })
         .map(|(_, s)| s.clone());
-    if let Some(s) = found {
-        // The run's points end with its own end point when it was located: replace it.
-        let last = b.special_points.len() - 1;
-        let was_located = b.special_points[last].located;
-        b.special_points[last] = s.clone();
-        match b.points.last_mut() {
-            Some(p) if was_located => *p = s.point,
-            _ => b.points.push(s.point),
-        }
-        b.relabel();
+    let Some(mut s) = found else {
+        return Ok(());
+    };
+    let revision = end.point.discretisation;
+    let (from, to) = (
+        parent_saved.discretisation_of(&s.point)?,
+        child.discretisation_of(&end.point)?,
+    );
+    if from != to {
+        s.point.u = from.transfer(to, &parent_saved.template, &s.point.u)?;
+        s.point.tangent = from.transfer(to, &parent_saved.template, &s.point.tangent)?;
     }
+    s.point.discretisation = revision;
+    // The run's points end with its own end point when it was located: replace it.
+    let b = &mut child.branch;
+    let last = b.special_points.len() - 1;
+    let was_located = b.special_points[last].located;
+    b.special_points[last] = s.clone();
+    match b.points.last_mut() {
+        Some(p) if was_located => *p = s.point,
+        _ => b.points.push(s.point),
+    }
+    b.relabel();
+    Ok(())
 }

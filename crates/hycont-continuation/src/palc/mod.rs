@@ -184,7 +184,62 @@ impl<'p, 'a, P: ContinuationProblem<'a> + ?Sized> Palc<'p, 'a, P> {
     fn point(&self, c: &Chart, label: usize, step: f64) -> BranchPoint {
         BranchPoint {
             label,
+            discretisation: self.p.discretisation_revision(),
             ..BranchPoint::from_info(&c.info, c.u.clone(), c.t.clone(), c.iterations, step)
+        }
+    }
+
+    /// The largest difference between chart `b` and the run's start (its unknowns and
+    /// analysis, on discretisation `revision`): of the unknowns on the start's discretisation;
+    /// on another one (the unknowns do not compare), of the parameters and monitors.
+    fn distance_to_start(&self, b: &Chart, start: &(Vec<f64>, PointInfo), revision: usize) -> f64 {
+        let diff = |x: &[f64], y: &[f64]| {
+            max_abs(&x.iter().zip(y).map(|(p, q)| p - q).collect::<Vec<_>>())
+        };
+        if self.p.discretisation_revision() == revision {
+            diff(&b.u, &start.0)
+        } else {
+            diff(&b.info.params, &start.1.params).max(diff(&b.info.monitors, &start.1.monitors))
+        }
+    }
+
+    /// Whether the discretisation is due for adaptation at chart `b`, `since` points after the
+    /// last one: every [`ContinuationSettings::adapt_every`] points, or where the error estimate
+    /// exceeds the tolerance.
+    fn adaptation_due(&self, b: &Chart, since: usize) -> bool {
+        let every = self.settings.adapt_every;
+        (every > 0 && since >= every)
+            || b.info
+                .discretisation_error
+                .is_some_and(|e| e > self.settings.discretisation_tolerance)
+    }
+
+    /// Chart `b` on a new discretisation ([`ContinuationProblem::rediscretise`]), corrected on
+    /// the hyperplane through the carried point normal to the carried tangent; `None` when the
+    /// problem keeps its discretisation, or when the carried point does not correct (the
+    /// problem then returns to the discretisation of `b`).
+    fn rediscretised(&mut self, b: &Chart) -> Result<Option<Chart>> {
+        let before = self.p.discretisation_revision();
+        let Some((u, mut t)) = self.p.rediscretise(&b.u, &b.t)? else {
+            return Ok(None);
+        };
+        self.wnormalize(&mut t);
+        let row = self.row_of(&t);
+        let corrected = self
+            .correct(&u, &row, &u, 0.0, false)
+            .and_then(|(u, it)| self.chart(u, &row, it));
+        match corrected {
+            Ok(mut c) => {
+                if self.wdot(&c.t, &t) < 0.0 {
+                    c.t.iter_mut().for_each(|x| *x = -*x);
+                }
+                self.stats.rediscretisations += 1;
+                Ok(Some(c))
+            }
+            Err(_) => {
+                self.p.restore_discretisation(before)?;
+                Ok(None)
+            }
         }
     }
 
@@ -391,8 +446,10 @@ impl<'p, 'a, P: ContinuationProblem<'a> + ?Sized> Palc<'p, 'a, P> {
                 max,
             });
         }
+        let revision = self.p.discretisation_revision();
         let mut a = self.first_chart(u0, initial_tangent, direction)?;
         let mut label = 1;
+        let mut since_adapted = 0;
         let mut branch = Branch {
             name: name.to_string(),
             parameter: self.p.parameter_name(),
@@ -405,7 +462,7 @@ impl<'p, 'a, P: ContinuationProblem<'a> + ?Sized> Palc<'p, 'a, P> {
             statistics: RunStatistics::default(),
         };
         observer.point(&branch.points[0], self.parameter(&a.u));
-        let start = a.u.clone();
+        let start = (a.u.clone(), a.info.clone());
         let mut h = self.settings.h0;
         let mut travelled = 0.0;
         // The chart before `a` and the step from it, for the predictor; `None` after a
@@ -451,12 +508,7 @@ impl<'p, 'a, P: ContinuationProblem<'a> + ?Sized> Palc<'p, 'a, P> {
             travelled += h;
             let step = h;
             // Closed branch: back near the start after a long way.
-            let dist = max_abs(
-                &b.u.iter()
-                    .zip(&start)
-                    .map(|(x, y)| x - y)
-                    .collect::<Vec<_>>(),
-            );
+            let dist = self.distance_to_start(&b, &start, revision);
             if travelled > 10.0 * self.settings.h_max && dist < 0.5 * h && branch.points.len() > 10
             {
                 branch.end = EndReason::Closed;
@@ -470,7 +522,18 @@ impl<'p, 'a, P: ContinuationProblem<'a> + ?Sized> Palc<'p, 'a, P> {
             }
             previous = Some((std::mem::take(&mut a.u), std::mem::take(&mut a.t), step));
             a = b;
+            since_adapted += 1;
+            if self.adaptation_due(&a, since_adapted) {
+                since_adapted = 0;
+                if let Some(c) = self.rediscretised(&a)? {
+                    // The predictor restarts from the tangent: the previous chart is on the
+                    // old discretisation.
+                    previous = None;
+                    a = c;
+                }
+            }
         }
+        self.p.restore_discretisation(revision)?;
         branch.statistics = self.stats;
         Ok(branch)
     }

@@ -156,6 +156,18 @@ pub struct ContinueArgs {
     /// also be below 1e-10).
     #[arg(long, default_value_t = 1e-10, allow_hyphen_values = true)]
     pub tol: f64,
+    /// Collocation: re-adapt the mesh (same size, equidistributing the error) every N points;
+    /// 0: only when the error estimate exceeds --mesh-tol.
+    #[arg(
+        long = "adapt-every",
+        default_value_t = 10,
+        allow_negative_numbers = true
+    )]
+    pub adapt_every: usize,
+    /// Collocation: re-adapt the mesh at points whose error estimate (largest interior error of
+    /// the polynomials, in the units of the state) exceeds this.
+    #[arg(long = "mesh-tol", default_value_t = 1e-6, allow_hyphen_values = true)]
+    pub mesh_tol: f64,
     /// Restart from this saved run (a file written by --out).
     #[arg(long, requires = "label")]
     pub restart: Option<PathBuf>,

@@ -44,6 +44,9 @@ pub(super) fn run_continue(
         run.steps(args.h0, args.h_min, args.h_max)
             .max_points(args.max_points);
         run.settings_mut().newton.tol = args.tol;
+        let s = run.settings_mut();
+        s.adapt_every = args.adapt_every;
+        s.discretisation_tolerance = args.mesh_tol;
     };
     let direction = RunDirection::from(args.direction);
     if args.restart.is_some() && (args.block.given() || args.forcing.dimensional_given()) {
@@ -109,6 +112,9 @@ pub(super) fn run_continue(
     } else {
         let b = &branch.branch;
         writeln!(out, "{} points, ended: {:?}", b.points.len(), b.end).map_err(stdout_err)?;
+        if let Some(line) = mesh_summary(&branch, args.mesh_tol) {
+            writeln!(out, "{line}").map_err(stdout_err)?;
+        }
         for s in &b.special_points {
             writeln!(
                 out,
@@ -124,6 +130,25 @@ pub(super) fn run_continue(
         }
     }
     Ok(())
+}
+
+/// A collocation run's mesh: how often it was adapted and the largest error estimate along
+/// the branch, with a hint when that exceeds the tolerance (`None` for shooting).
+fn mesh_summary(branch: &hycont_continuation::OrbitBranch, tol: f64) -> Option<String> {
+    let largest = branch
+        .branch
+        .points
+        .iter()
+        .filter_map(|p| p.discretisation_error)
+        .reduce(f64::max)?;
+    let mut line = format!(
+        "collocation mesh: {} adaptations along the run, largest error estimate {largest:.2e}",
+        branch.branch.statistics.rediscretisations
+    );
+    if largest > tol {
+        line += &format!(" (above --mesh-tol {tol:e}: raise --ntst or --ncol)");
+    }
+    Some(line)
 }
 
 /// Writes a run or curve for restarts, with its provenance (which restarts ignore).
