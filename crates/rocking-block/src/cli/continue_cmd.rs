@@ -1,9 +1,14 @@
 //! `continue`: one-parameter continuation from the command line, and restarts.
 
 use super::{ContinueArgs, DirectionArg, KindArg, MethodArg, read_err, stdout_err};
+use crate::continuation::{AMP, Free, default_method, study_run};
 use crate::error::{Error, Result};
+use crate::figures::branches::study_labels;
 use crate::model::Parameters;
+use crate::orbits::{OrbitKind, orbit};
 use crate::provenance::Provenance;
+use crate::report::branch_json;
+use hycont_continuation::{OrbitBranch, OrbitMethod, RunDirection};
 use std::io::Write;
 
 pub(super) fn run_continue(
@@ -11,44 +16,7 @@ pub(super) fn run_continue(
     invocation: &Provenance,
     out: &mut dyn Write,
 ) -> Result<()> {
-    use crate::continuation::{AMP, Free, default_method, study_run};
-    use crate::figures::branches::study_labels;
-    use crate::orbits::{OrbitKind, orbit};
-    use crate::report::branch_json;
-    use hycont_continuation::{OrbitMethod, RunDirection};
     let free = Free::from(args.free);
-    let (min, max) = super::window(free, args.min, args.max)?;
-    let method = match args.method {
-        MethodArg::Shooting if args.ntst.is_some() || args.ncol.is_some() => {
-            return Err(Error::InvalidArgument {
-                name: "ntst/ncol",
-                value: format!("{:?}/{:?}", args.ntst, args.ncol),
-                reason: "set the collocation mesh with --method collocation",
-            });
-        }
-        MethodArg::Shooting => default_method(),
-        MethodArg::Collocation => {
-            let d = hycont_core::orbit::CollocationSettings::default();
-            let settings = hycont_core::orbit::CollocationSettings {
-                ntst: args.ntst.unwrap_or(d.ntst),
-                ncol: args.ncol.unwrap_or(d.ncol),
-                ..d
-            };
-            settings.validate()?;
-            OrbitMethod::Collocation(settings)
-        }
-    };
-    // The user's steps, point count and tolerance over the study's recipe (validated by the
-    // library when the run starts).
-    let tune = |run: &mut hycont_continuation::OrbitRun<'_, crate::model::RockingBlock>| {
-        run.steps(args.h0, args.h_min, args.h_max)
-            .max_points(args.max_points);
-        run.settings_mut().newton.tol = args.tol;
-        let s = run.settings_mut();
-        s.adapt_every = args.adapt_every;
-        s.discretisation_tolerance = args.mesh_tol;
-    };
-    let direction = RunDirection::from(args.direction);
     if args.restart.is_some() && (args.block.given() || args.forcing.dimensional_given()) {
         return Err(Error::InvalidArgument {
             name: "block options",
@@ -56,34 +24,7 @@ pub(super) fn run_continue(
             reason: "a restart continues the saved run's block and forcing; give them for fresh starts only",
         });
     }
-    let mut dimensional = None;
-    let branch = if let (Some(path), Some(label)) = (&args.restart, args.label) {
-        let saved = read_saved_run(path)?;
-        saved.point(label).map_err(|e| Error::InvalidFile {
-            path: path.clone(),
-            reason: e.to_string(),
-        })?;
-        let params = Parameters::from_vec(&saved.template.params);
-        let mut run = study_run(free, &params, (min, max), method)?;
-        tune(&mut run);
-        // Restarting both ways: keep going the way the saved run went.
-        let way = (args.direction != DirectionArg::Both).then_some(direction);
-        run.restart("branch", &saved, label, way)?
-    } else {
-        let (params, dims) = super::block_args::resolve(&args.block, &args.forcing)?;
-        dimensional = dims;
-        crate::simulation::check_start(args.phi0, args.psi0, args.beta)?;
-        let kind = match args.kind {
-            KindArg::Symmetric => OrbitKind::Symmetric,
-            KindArg::AsymmetricPos => OrbitKind::AsymmetricPos,
-            KindArg::AsymmetricNeg => OrbitKind::AsymmetricNeg,
-            KindArg::Simulate => OrbitKind::Simulate,
-        };
-        let start = orbit(&params, kind, Some((args.phi0, args.psi0, args.beta)))?;
-        let mut run = study_run(free, &params, (min, max), method)?;
-        tune(&mut run);
-        run.run("branch", &start.solution.orbit, direction)?
-    };
+    let (branch, dimensional) = continue_branch(args, free)?;
     let record = invocation
         .clone()
         .with_parameters(Parameters::from_vec(&branch.template.params))
@@ -109,32 +50,109 @@ pub(super) fn run_continue(
         let value = record.insert_into(branch_json(&branch, free));
         let text = serde_json::to_string_pretty(&value).expect("branch serialises");
         writeln!(out, "{text}").map_err(stdout_err)?;
+        Ok(())
     } else {
-        let b = &branch.branch;
-        writeln!(out, "{} points, ended: {:?}", b.points.len(), b.end).map_err(stdout_err)?;
-        if let Some(line) = mesh_summary(&branch, args.mesh_tol) {
-            writeln!(out, "{line}").map_err(stdout_err)?;
+        summary(&branch, free, args.mesh_tol, out)
+    }
+}
+
+/// The discretisation `continue` asks for (shooting, or collocation with its mesh).
+fn method_of(args: &ContinueArgs) -> Result<OrbitMethod> {
+    Ok(match args.method {
+        MethodArg::Shooting if args.ntst.is_some() || args.ncol.is_some() => {
+            return Err(Error::InvalidArgument {
+                name: "ntst/ncol",
+                value: format!("{:?}/{:?}", args.ntst, args.ncol),
+                reason: "set the collocation mesh with --method collocation",
+            });
         }
-        for s in &b.special_points {
-            writeln!(
-                out,
-                "  {} label {} {} = {:.10} amp {:.8}{}",
-                s.kind.label(),
-                s.point.label,
-                free.name(),
-                s.point[free.id()],
-                s.point[AMP],
-                if s.located { "" } else { " (not located)" }
-            )
-            .map_err(stdout_err)?;
+        MethodArg::Shooting => default_method(),
+        MethodArg::Collocation => {
+            let d = hycont_core::orbit::CollocationSettings::default();
+            let settings = hycont_core::orbit::CollocationSettings {
+                ntst: args.ntst.unwrap_or(d.ntst),
+                ncol: args.ncol.unwrap_or(d.ncol),
+                ..d
+            };
+            settings.validate()?;
+            OrbitMethod::Collocation(settings)
         }
+    })
+}
+
+/// The run `continue` asks for: from a saved run's labelled point, or from a fresh start of
+/// the block and forcing given (with its dimensional inputs, if any).
+fn continue_branch(
+    args: &ContinueArgs,
+    free: Free,
+) -> Result<(OrbitBranch, Option<crate::block::DimensionalInputs>)> {
+    let window = super::window(free, args.min, args.max)?;
+    let method = method_of(args)?;
+    // The user's steps, point count, tolerances and mesh adaptation over the study's recipe
+    // (validated by the library when the run starts).
+    let tune = |run: &mut hycont_continuation::OrbitRun<'_, crate::model::RockingBlock>| {
+        run.steps(args.h0, args.h_min, args.h_max)
+            .max_points(args.max_points);
+        let s = run.settings_mut();
+        s.newton.tol = args.tol;
+        s.adapt_every = args.adapt_every;
+        s.discretisation_tolerance = args.mesh_tol;
+    };
+    let direction = RunDirection::from(args.direction);
+    if let (Some(path), Some(label)) = (&args.restart, args.label) {
+        let saved = read_saved_run(path)?;
+        saved.point(label).map_err(|e| Error::InvalidFile {
+            path: path.clone(),
+            reason: e.to_string(),
+        })?;
+        let params = Parameters::from_vec(&saved.template.params);
+        let mut run = study_run(free, &params, window, method)?;
+        tune(&mut run);
+        // Restarting both ways: keep going the way the saved run went.
+        let way = (args.direction != DirectionArg::Both).then_some(direction);
+        return Ok((run.restart("branch", &saved, label, way)?, None));
+    }
+    let (params, dimensional) = super::block_args::resolve(&args.block, &args.forcing)?;
+    crate::simulation::check_start(args.phi0, args.psi0, args.beta)?;
+    let kind = match args.kind {
+        KindArg::Symmetric => OrbitKind::Symmetric,
+        KindArg::AsymmetricPos => OrbitKind::AsymmetricPos,
+        KindArg::AsymmetricNeg => OrbitKind::AsymmetricNeg,
+        KindArg::Simulate => OrbitKind::Simulate,
+    };
+    let start = orbit(&params, kind, Some((args.phi0, args.psi0, args.beta)))?;
+    let mut run = study_run(free, &params, window, method)?;
+    tune(&mut run);
+    let branch = run.run("branch", &start.solution.orbit, direction)?;
+    Ok((branch, dimensional))
+}
+
+/// The run's summary on stdout: points, end, mesh, special points.
+fn summary(branch: &OrbitBranch, free: Free, mesh_tol: f64, out: &mut dyn Write) -> Result<()> {
+    let b = &branch.branch;
+    writeln!(out, "{} points, ended: {:?}", b.points.len(), b.end).map_err(stdout_err)?;
+    if let Some(line) = mesh_summary(branch, mesh_tol) {
+        writeln!(out, "{line}").map_err(stdout_err)?;
+    }
+    for s in &b.special_points {
+        writeln!(
+            out,
+            "  {} label {} {} = {:.10} amp {:.8}{}",
+            s.kind.label(),
+            s.point.label,
+            free.name(),
+            s.point[free.id()],
+            s.point[AMP],
+            if s.located { "" } else { " (not located)" }
+        )
+        .map_err(stdout_err)?;
     }
     Ok(())
 }
 
 /// A collocation run's mesh: how often it was adapted and the largest error estimate along
 /// the branch, with a hint when that exceeds the tolerance (`None` for shooting).
-fn mesh_summary(branch: &hycont_continuation::OrbitBranch, tol: f64) -> Option<String> {
+fn mesh_summary(branch: &OrbitBranch, tol: f64) -> Option<String> {
     let largest = branch
         .branch
         .points
