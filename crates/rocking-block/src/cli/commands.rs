@@ -93,61 +93,9 @@ pub(super) fn run_classify(
     out: &mut dyn Write,
 ) -> Result<()> {
     use crate::classes::{ClassifierSettings, classify};
-    use rayon::prelude::*;
     let settings = ClassifierSettings::default();
     if let (Some(input), Some(output)) = (&args.input, &args.output) {
-        if crate::output::same_file(input, output) {
-            return Err(Error::InvalidArgument {
-                name: "output",
-                value: output.display().to_string(),
-                reason: "is the input file; write the classes to another file",
-            });
-        }
-        crate::output::check_file(output)?;
-        let text = std::fs::read_to_string(input).map_err(read_err(input))?;
-        let rows = crate::classes::parse_trials(&text).map_err(|reason| Error::InvalidFile {
-            path: input.clone(),
-            reason,
-        })?;
-        let block = args.block.block()?;
-        let results: Vec<String> = rows
-            .par_iter()
-            .map(
-                |v| match classify(&block.at(v[0], v[1]), v[2], v[3], v[4], &settings) {
-                    Ok(c) => format!(
-                        "{},{},{},{},{},{},{:?},{},{}",
-                        v[0],
-                        v[1],
-                        v[2],
-                        v[3],
-                        v[4],
-                        c.class.name(),
-                        c.decision,
-                        c.periods,
-                        c.with_rest
-                    ),
-                    Err(e) => format!(
-                        "{},{},{},{},{},error,\"{e}\",0,false",
-                        v[0], v[1], v[2], v[3], v[4]
-                    ),
-                },
-            )
-            .collect();
-        let mut text =
-            String::from("omega,alpha,beta,phi0,psi0,class,decision,periods,with_rest\n");
-        for r in results {
-            text.push_str(&r);
-            text.push('\n');
-        }
-        crate::output::write_atomic(output, text)?;
-        writeln!(
-            out,
-            "classified {} trials into {}",
-            rows.len(),
-            output.display()
-        )
-        .map_err(stdout_err)?;
-        return Ok(());
+        return classify_file(args, input, output, out);
     }
     let (params, dims) = super::block_args::resolve(&args.block, &args.forcing)?;
     let c = classify(&params, args.beta, args.phi0, args.psi0, &settings)?;
@@ -183,6 +131,69 @@ pub(super) fn run_classify(
         .map_err(stdout_err)?;
     }
     Ok(())
+}
+
+/// `classify --input trials.csv --output classes.csv`: every trial of the file, in parallel,
+/// one row each (a trial that fails is written as `error` with the reason).
+fn classify_file(
+    args: &ClassifyArgs,
+    input: &std::path::Path,
+    output: &std::path::Path,
+    out: &mut dyn Write,
+) -> Result<()> {
+    use crate::classes::{ClassifierSettings, classify};
+    use rayon::prelude::*;
+    if crate::output::same_file(input, output) {
+        return Err(Error::InvalidArgument {
+            name: "output",
+            value: output.display().to_string(),
+            reason: "is the input file; write the classes to another file",
+        });
+    }
+    crate::output::check_file(output)?;
+    let text = std::fs::read_to_string(input).map_err(read_err(input))?;
+    let rows = crate::classes::parse_trials(&text).map_err(|reason| Error::InvalidFile {
+        path: input.to_path_buf(),
+        reason,
+    })?;
+    let block = args.block.block()?;
+    let settings = ClassifierSettings::default();
+    let results: Vec<String> = rows
+        .par_iter()
+        .map(
+            |v| match classify(&block.at(v[0], v[1]), v[2], v[3], v[4], &settings) {
+                Ok(c) => format!(
+                    "{},{},{},{},{},{},{:?},{},{}",
+                    v[0],
+                    v[1],
+                    v[2],
+                    v[3],
+                    v[4],
+                    c.class.name(),
+                    c.decision,
+                    c.periods,
+                    c.with_rest
+                ),
+                Err(e) => format!(
+                    "{},{},{},{},{},error,\"{e}\",0,false",
+                    v[0], v[1], v[2], v[3], v[4]
+                ),
+            },
+        )
+        .collect();
+    let mut text = String::from("omega,alpha,beta,phi0,psi0,class,decision,periods,with_rest\n");
+    for r in results {
+        text.push_str(&r);
+        text.push('\n');
+    }
+    crate::output::write_atomic(output, text)?;
+    writeln!(
+        out,
+        "classified {} trials into {}",
+        rows.len(),
+        output.display()
+    )
+    .map_err(stdout_err)
 }
 
 pub(super) fn run_simulate(

@@ -88,6 +88,25 @@ pub(super) fn stop_on_signals(progress: &Arc<Progress>) {
     let _ = ctrlc::set_handler(move || p.stop.store(true, Ordering::Relaxed));
 }
 
+/// The figures `figure` draws: those named (a number or `all`), or the figure of the file
+/// resumed (which a name must then agree with).
+fn figures_to_draw(which: Option<&str>, resume: Option<&ShardFile>) -> Result<Vec<u32>> {
+    match (resume, which) {
+        (Some(file), Some(w)) if parse_which(w)? != [file.figure] => Err(Error::InvalidArgument {
+            name: "figure",
+            value: w.to_string(),
+            reason: "differs from the figure of the --resume file",
+        }),
+        (Some(file), _) => Ok(vec![file.figure]),
+        (None, Some(w)) => parse_which(w),
+        (None, None) => Err(Error::InvalidArgument {
+            name: "figure",
+            value: String::new(),
+            reason: "name a figure (2 to 10 or `all`), or --resume a partial file",
+        }),
+    }
+}
+
 pub(super) fn run_figure(
     args: &FigureArgs,
     invocation: &Provenance,
@@ -106,24 +125,7 @@ pub(super) fn run_figure(
         .clone()
         .with_block(block)
         .with_dimensional(super::block_args::figure_dimensional(&args.block)?);
-    let which = match (&resume, args.which.as_deref()) {
-        (Some(file), Some(w)) if parse_which(w)? != [file.figure] => {
-            return Err(Error::InvalidArgument {
-                name: "figure",
-                value: w.to_string(),
-                reason: "differs from the figure of the --resume file",
-            });
-        }
-        (Some(file), _) => vec![file.figure],
-        (None, Some(w)) => parse_which(w)?,
-        (None, None) => {
-            return Err(Error::InvalidArgument {
-                name: "figure",
-                value: String::new(),
-                reason: "name a figure (2 to 10 or `all`), or --resume a partial file",
-            });
-        }
-    };
+    let which = figures_to_draw(args.which.as_deref(), resume.as_ref())?;
     if let Some(t) = args.trials.filter(|t| !(1..=MAX_TRIALS).contains(t)) {
         return Err(Error::InvalidArgument {
             name: "trials",
