@@ -17,29 +17,11 @@ mod common;
 
 use common::Relaxation;
 use hycont_continuation::{BranchPoint, OrbitBranch, OrbitRun, RunDirection};
-use hycont_core::orbit::{
-    CollocationSettings, Discretisation, Mesh, OrbitMethod, PeriodicOrbit, SegmentEnd, SegmentSpec,
-    Signature, collocation_unpack,
-};
-use hycont_core::{EventId, Mode, ParamId};
+use hycont_core::ParamId;
+use hycont_core::orbit::{CollocationSettings, OrbitMethod, PeriodicOrbit};
 
 fn start(a: f64) -> PeriodicOrbit {
-    let signature = Signature::new(
-        &Relaxation,
-        vec![SegmentSpec {
-            mode: Mode(0),
-            end: SegmentEnd::Event(EventId(0)),
-        }],
-    )
-    .unwrap();
-    PeriodicOrbit::new(
-        &Relaxation,
-        signature,
-        vec![vec![0.5, Relaxation::y0(a)]],
-        vec![Relaxation::period(a)],
-        vec![a],
-    )
-    .unwrap()
+    Relaxation::orbit([0.5, Relaxation::y0(a)], Relaxation::period(a), a)
 }
 
 /// The run from a = 3 down to a = 1.52 on 8 intervals of degree 3, adapting its mesh (the
@@ -59,33 +41,11 @@ fn run(adapt: bool) -> OrbitBranch {
         .unwrap()
 }
 
-/// The true largest error of a point of `branch`, on the point's own discretisation.
+/// The true largest error of a point of `branch`, on the point's own discretisation (see
+/// `Relaxation::collocation_error`).
 fn true_error(branch: &OrbitBranch, p: &BranchPoint) -> f64 {
     let disc = branch.discretisation_of(p).unwrap();
-    let Discretisation::Collocation { ncol, .. } = disc else {
-        unreachable!()
-    };
-    let fine_mesh: Mesh = (0..=2000).map(|j| f64::from(j) / 2000.0).collect();
-    let fine = Discretisation::Collocation {
-        meshes: vec![fine_mesh.clone()],
-        ncol: *ncol,
-    };
-    let like = &branch.template;
-    let v = disc.transfer(&fine, like, &p.u).unwrap();
-    let (nodes, _) = collocation_unpack(like, &[fine_mesh], *ncol, &v);
-    let a = p.params[0];
-    let (period, y0) = (Relaxation::period(a), Relaxation::y0(a));
-    let count = nodes[0].len() / 2;
-    (0..count)
-        .map(|k| {
-            let t = period * k as f64 / (count - 1) as f64;
-            let x = a - (a - 0.5) * (-t).exp();
-            let y = y0 * (-2.0 * t).exp();
-            (nodes[0][2 * k] - x)
-                .abs()
-                .max((nodes[0][2 * k + 1] - y).abs())
-        })
-        .fold(0.0, f64::max)
+    Relaxation::collocation_error(disc, &branch.template, &p.u, p.params[0])
 }
 
 /// Along the branch the adapted run re-meshes, every point reports an estimate of its true

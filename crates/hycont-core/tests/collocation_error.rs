@@ -20,32 +20,13 @@
 mod common;
 
 use common::Relaxation;
-use hycont_core::orbit::{
-    CollocationSettings, Discretisation, Mesh, PeriodicOrbit, SegmentEnd, SegmentSpec, Signature,
-    collocation_unpack, solve_collocation,
-};
+use hycont_core::orbit::{CollocationSettings, Discretisation, PeriodicOrbit, solve_collocation};
 use hycont_core::problem::NewtonSettings;
-use hycont_core::{EventId, Mode};
 
 const A: f64 = 3.0;
 
 fn guess() -> PeriodicOrbit {
-    let signature = Signature::new(
-        &Relaxation,
-        vec![SegmentSpec {
-            mode: Mode(0),
-            end: SegmentEnd::Event(EventId(0)),
-        }],
-    )
-    .unwrap();
-    PeriodicOrbit::new(
-        &Relaxation,
-        signature,
-        vec![vec![0.6, 1.0]],
-        vec![1.2 * Relaxation::period(A)],
-        vec![A],
-    )
-    .unwrap()
+    Relaxation::orbit([0.6, 1.0], 1.2 * Relaxation::period(A), A)
 }
 
 /// The collocation solution on a uniform mesh of `ntst` intervals (no adaptation).
@@ -73,31 +54,9 @@ fn solve(ntst: usize, ncol: usize) -> (Discretisation, PeriodicOrbit, Vec<f64>) 
     (disc, sol.solution.orbit, u)
 }
 
-/// The true largest error of the solution `u`: its polynomial on a fine mesh against the
-/// closed form.
+/// The true largest error of the solution `u` (see `Relaxation::collocation_error`).
 fn true_error(disc: &Discretisation, like: &PeriodicOrbit, u: &[f64]) -> f64 {
-    let Discretisation::Collocation { ncol, .. } = disc else {
-        unreachable!()
-    };
-    let fine_mesh: Mesh = (0..=4000).map(|j| f64::from(j) / 4000.0).collect();
-    let fine = Discretisation::Collocation {
-        meshes: vec![fine_mesh.clone()],
-        ncol: *ncol,
-    };
-    let v = disc.transfer(&fine, like, u).unwrap();
-    let (nodes, _) = collocation_unpack(like, &[fine_mesh], *ncol, &v);
-    let (t_total, y0) = (Relaxation::period(A), Relaxation::y0(A));
-    let count = nodes[0].len() / 2;
-    (0..count)
-        .map(|k| {
-            let t = t_total * k as f64 / (count - 1) as f64;
-            let x = A - (A - 0.5) * (-t).exp();
-            let y = y0 * (-2.0 * t).exp();
-            (nodes[0][2 * k] - x)
-                .abs()
-                .max((nodes[0][2 * k + 1] - y).abs())
-        })
-        .fold(0.0, f64::max)
+    Relaxation::collocation_error(disc, like, u, A)
 }
 
 #[test]

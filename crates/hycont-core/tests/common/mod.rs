@@ -189,6 +189,61 @@ impl Relaxation {
     pub fn y0(a: f64) -> f64 {
         1.0 / (1.0 - (-2.0 * Self::period(a)).exp())
     }
+    /// The state at time `t` of the orbit: $x = a - (a - 0.5)e^{-t}$, $y = y_0 e^{-2t}$.
+    pub fn state(a: f64, t: f64) -> [f64; 2] {
+        [a - (a - 0.5) * (-t).exp(), Self::y0(a) * (-2.0 * t).exp()]
+    }
+    /// An orbit of one charging segment from `start` lasting `duration`, at parameter `a`.
+    pub fn orbit(start: [f64; 2], duration: f64, a: f64) -> hycont_core::orbit::PeriodicOrbit {
+        use hycont_core::orbit::{PeriodicOrbit, SegmentEnd, SegmentSpec, Signature};
+        let signature = Signature::new(
+            &Relaxation,
+            vec![SegmentSpec {
+                mode: Mode(0),
+                end: SegmentEnd::Event(EventId(0)),
+            }],
+        )
+        .unwrap();
+        PeriodicOrbit::new(
+            &Relaxation,
+            signature,
+            vec![start.to_vec()],
+            vec![duration],
+            vec![a],
+        )
+        .unwrap()
+    }
+    /// The true largest error of collocation unknowns `u` (on `disc`, orbits like `like`) at
+    /// parameter `a`: the polynomial, read on a fine mesh through the transfer (which evaluates
+    /// it at the new nodes), against [`Relaxation::state`].
+    pub fn collocation_error(
+        disc: &hycont_core::orbit::Discretisation,
+        like: &hycont_core::orbit::PeriodicOrbit,
+        u: &[f64],
+        a: f64,
+    ) -> f64 {
+        use hycont_core::orbit::{Discretisation, Mesh, collocation_unpack};
+        let Discretisation::Collocation { ncol, .. } = disc else {
+            panic!("a collocation discretisation")
+        };
+        let fine_mesh: Mesh = (0..=2000).map(|j| f64::from(j) / 2000.0).collect();
+        let fine = Discretisation::Collocation {
+            meshes: vec![fine_mesh.clone()],
+            ncol: *ncol,
+        };
+        let v = disc.transfer(&fine, like, u).unwrap();
+        let (nodes, _) = collocation_unpack(like, &[fine_mesh], *ncol, &v);
+        let count = nodes[0].len() / 2;
+        (0..count)
+            .map(|k| {
+                let t = Self::period(a) * k as f64 / (count - 1) as f64;
+                let [x, y] = Self::state(a, t);
+                (nodes[0][2 * k] - x)
+                    .abs()
+                    .max((nodes[0][2 * k + 1] - y).abs())
+            })
+            .fold(0.0, f64::max)
+    }
 }
 
 impl HybridSystem for Relaxation {

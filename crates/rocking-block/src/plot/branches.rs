@@ -281,10 +281,7 @@ pub fn test_points_svg(
     tests: &[crate::figures::fig6::TestPoint],
     trajectories: &[Trajectory],
 ) -> Result<()> {
-    super::picture(path, (1000, 930), |root, fine| {
-        let root = root
-            .titled(title, ("sans-serif", 18))
-            .map_err(|e| plot_err(path, e))?;
+    super::titled_picture(path, (1000, 930), title, |root, fine| {
         let panels = root.split_evenly((3, 2));
         for ((panel, t), traj) in panels.iter().zip(tests).zip(trajectories) {
             let (pieces, _) = pieces(traj);

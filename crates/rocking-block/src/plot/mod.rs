@@ -28,6 +28,21 @@ use std::path::Path;
 /// The whole picture plotters draws on.
 type Area<'a> = DrawingArea<SVGBackend<'a>, plotters::coord::Shift>;
 
+/// [`picture`] with `title` above what `draw` draws (on the area below it).
+fn titled_picture(
+    path: &Path,
+    size: (u32, u32),
+    title: &str,
+    draw: impl FnOnce(&Area<'_>, &mut Fine) -> crate::error::Result<()>,
+) -> crate::error::Result<()> {
+    picture(path, size, |root, fine| {
+        let below = root
+            .titled(title, ("sans-serif", 18))
+            .map_err(|e| plot_err(path, e))?;
+        draw(&below, fine)
+    })
+}
+
 /// Draws a picture of `size` px on white with `draw` (plotters' SVG backend, and curves with
 /// sub-pixel coordinates added to `fine`) and writes it to `path` as SVG.
 fn picture(

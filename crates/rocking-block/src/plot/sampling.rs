@@ -171,10 +171,7 @@ pub fn basins_svg(
     rasters: &[(f64, Vec<Vec<Option<&str>>>)],
     boundary: f64,
 ) -> Result<()> {
-    super::picture(path, (1390, 790), |root, _| {
-        let root = root
-            .titled(title, ("sans-serif", 18))
-            .map_err(|e| plot_err(path, e))?;
+    super::titled_picture(path, (1390, 790), title, |root, _| {
         let (maps, key) = root.split_horizontally(1050);
         let panels = maps.split_evenly((2, 3));
         let drawn = rasters
@@ -243,10 +240,7 @@ pub fn class_grid_svg(
     grids: &[(f64, Vec<Vec<&str>>)],
     curves: &[crate::continuation::Curve],
 ) -> Result<()> {
-    super::picture(path, (1440, 550), |root, fine| {
-        let root = root
-            .titled(title, ("sans-serif", 18))
-            .map_err(|e| plot_err(path, e))?;
+    super::titled_picture(path, (1440, 550), title, |root, fine| {
         let (maps, key) = root.split_horizontally(1100);
         let panels = maps.split_evenly((1, 2));
         let drawn = grids.iter().flat_map(|(_, g)| g.iter().flatten().copied());
@@ -301,50 +295,54 @@ pub fn probability_grid_svg(
     curves: &[crate::continuation::Curve],
 ) -> Result<()> {
     let groups = panels.first().map_or(0, |p| p.1.len());
-    super::picture(path, (1040, 50 + 300 * groups as u32), |root, fine| {
-        let root = root
-            .titled(title, ("sans-serif", 18))
-            .map_err(|e| plot_err(path, e))?;
-        let (maps, key) = root.split_horizontally(900);
-        let areas = maps.split_evenly((groups, panels.len()));
-        for (g, row) in (0..groups).map(|g| (g, &areas[g * panels.len()..(g + 1) * panels.len()])) {
-            for (area, (beta, probs)) in row.iter().zip(panels) {
-                let (name, p) = &probs[g];
-                let mut chart = ChartBuilder::on(area)
-                    .caption(format!("{name}, beta = {beta:.4}"), ("sans-serif", 13))
-                    .margin(6)
-                    .x_label_area_size(35)
-                    .y_label_area_size(45)
-                    .build_cartesian_2d(0.5..4.0, 0.1..0.9)
-                    .map_err(|e| plot_err(path, e))?;
-                chart
-                    .configure_mesh()
-                    .disable_mesh()
-                    .x_desc("omega")
-                    .y_desc("alpha")
-                    .draw()
-                    .map_err(|e| plot_err(path, e))?;
-                let side = (p.len() as f64).sqrt().round().max(1.0) as usize;
-                let (dw, da) = (3.5 / side as f64, 0.8 / side as f64);
-                for (cell, v) in p.iter().enumerate() {
-                    if v.is_nan() {
-                        continue;
-                    }
-                    let (i, j) = (cell / side, cell % side);
-                    let (x0, y0) = (0.5 + dw * i as f64, 0.1 + da * j as f64);
-                    chart
-                        .draw_series(std::iter::once(Rectangle::new(
-                            [(x0, y0), (x0 + dw, y0 + da)],
-                            probability_colour(*v).filled(),
-                        )))
+    super::titled_picture(
+        path,
+        (1040, 50 + 300 * groups as u32),
+        title,
+        |root, fine| {
+            let (maps, key) = root.split_horizontally(900);
+            let areas = maps.split_evenly((groups, panels.len()));
+            for (g, row) in
+                (0..groups).map(|g| (g, &areas[g * panels.len()..(g + 1) * panels.len()]))
+            {
+                for (area, (beta, probs)) in row.iter().zip(panels) {
+                    let (name, p) = &probs[g];
+                    let mut chart = ChartBuilder::on(area)
+                        .caption(format!("{name}, beta = {beta:.4}"), ("sans-serif", 13))
+                        .margin(6)
+                        .x_label_area_size(35)
+                        .y_label_area_size(45)
+                        .build_cartesian_2d(0.5..4.0, 0.1..0.9)
                         .map_err(|e| plot_err(path, e))?;
+                    chart
+                        .configure_mesh()
+                        .disable_mesh()
+                        .x_desc("omega")
+                        .y_desc("alpha")
+                        .draw()
+                        .map_err(|e| plot_err(path, e))?;
+                    let side = (p.len() as f64).sqrt().round().max(1.0) as usize;
+                    let (dw, da) = (3.5 / side as f64, 0.8 / side as f64);
+                    for (cell, v) in p.iter().enumerate() {
+                        if v.is_nan() {
+                            continue;
+                        }
+                        let (i, j) = (cell / side, cell % side);
+                        let (x0, y0) = (0.5 + dw * i as f64, 0.1 + da * j as f64);
+                        chart
+                            .draw_series(std::iter::once(Rectangle::new(
+                                [(x0, y0), (x0 + dw, y0 + da)],
+                                probability_colour(*v).filled(),
+                            )))
+                            .map_err(|e| plot_err(path, e))?;
+                    }
+                    overlay_curves(fine, &chart, curves);
                 }
-                overlay_curves(fine, &chart, curves);
             }
-        }
-        probability_key(&key, curves).map_err(|e| plot_err(path, e))?;
-        Ok(())
-    })
+            probability_key(&key, curves).map_err(|e| plot_err(path, e))?;
+            Ok(())
+        },
+    )
 }
 
 /// White (0) to blue (1).
@@ -412,10 +410,7 @@ pub fn marginals_svg(
     title: &str,
     panels: &[(&str, f64, f64, Vec<(&str, Vec<f64>)>)],
 ) -> Result<()> {
-    super::picture(path, (1420, 450), |root, fine| {
-        let root = root
-            .titled(title, ("sans-serif", 18))
-            .map_err(|e| plot_err(path, e))?;
+    super::titled_picture(path, (1420, 450), title, |root, fine| {
         let (plots, key) = root.split_horizontally(1200);
         let areas = plots.split_evenly((1, panels.len()));
         let colours = [

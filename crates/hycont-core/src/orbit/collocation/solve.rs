@@ -165,6 +165,23 @@ pub fn collocation_unpack(
     unpack_nodes(u, like, &sizes, like.starts[0].len())
 }
 
+/// `f(nodes, mesh, basis, n)` of each segment of the collocation solution at unknowns `u`.
+fn per_segment<'m, T: 'm>(
+    like: &PeriodicOrbit,
+    meshes: &'m [Mesh],
+    ncol: usize,
+    u: &[f64],
+    f: fn(&[f64], &[f64], &Basis, usize) -> T,
+) -> impl Iterator<Item = T> + 'm {
+    let n = like.starts[0].len();
+    let basis = Basis::new(ncol);
+    let (nodes, _) = collocation_unpack(like, meshes, ncol, u);
+    nodes
+        .into_iter()
+        .zip(meshes)
+        .map(move |(nd, m)| f(&nd, m, &basis, n))
+}
+
 /// The estimated largest discretisation error of the collocation solution at unknowns `u`
 /// on `meshes`: the largest over segments, intervals and state components of the interior
 /// error $C_m h^{m+1} \|x^{(m+1)}\|$ of Gauss collocation with $m = $ `ncol` points ($h$
@@ -179,14 +196,7 @@ pub fn collocation_error_estimate(
     ncol: usize,
     u: &[f64],
 ) -> f64 {
-    let n = like.starts[0].len();
-    let basis = Basis::new(ncol);
-    let (nodes, _) = collocation_unpack(like, meshes, ncol, u);
-    nodes
-        .iter()
-        .zip(meshes)
-        .map(|(nd, m)| error_estimate(nd, m, &basis, n))
-        .fold(0.0, f64::max)
+    per_segment(like, meshes, ncol, u, error_estimate).fold(0.0, f64::max)
 }
 
 /// Meshes with the same intervals per segment that equidistribute the error estimate of the
@@ -198,14 +208,7 @@ pub fn collocation_adapted_meshes(
     ncol: usize,
     u: &[f64],
 ) -> Vec<Mesh> {
-    let n = like.starts[0].len();
-    let basis = Basis::new(ncol);
-    let (nodes, _) = collocation_unpack(like, meshes, ncol, u);
-    nodes
-        .iter()
-        .zip(meshes)
-        .map(|(nd, m)| adapted_mesh(nd, m, &basis, n))
-        .collect()
+    per_segment(like, meshes, ncol, u, adapted_mesh).collect()
 }
 
 /// The unknowns `u` on `meshes` carried over to `new_meshes` (the same `ncol`, any intervals):
