@@ -76,9 +76,24 @@ pub fn study_branches(
     block: &Block,
     observer: &mut dyn Observer,
 ) -> Result<Vec<OrbitBranch>> {
+    study_branches_with(free, block, default_method(), observer)
+}
+
+/// [`study_branches`] on the discretisation `method` (the figures use shooting; collocation
+/// adapts its mesh along the branches, and switches start on the mesh of the point switched
+/// at).
+///
+/// # Errors
+/// As [`study_branches`].
+pub fn study_branches_with(
+    free: Free,
+    block: &Block,
+    method: OrbitMethod,
+    observer: &mut dyn Observer,
+) -> Result<Vec<OrbitBranch>> {
     let params = block.at(1.3, 0.66);
     let sym = orbit(&params, OrbitKind::Symmetric, None)?.solution.orbit;
-    let mut run = study_run(free, &params, free.range(), default_method())?;
+    let mut run = study_run(free, &params, free.range(), method)?;
     run.observer(Box::new(observer));
     let mut out = vec![run.run("symmetric", &sym, RunDirection::Both)?];
     let Some(bp) = out[0].special(SpecialKind::BranchPoint).next() else {

@@ -545,3 +545,69 @@ fn continue_cli_saves_and_restarts() {
     );
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// The branches of Figs. 3 and 4 by collocation (the default mesh, NTST 20 per segment, NCOL
+/// 4, adapted along the branches), switched at branch points and period doublings on the mesh
+/// of the point switched at, have the shooting branches' special points: the same labels, at
+/// the same parameters to 1e-7 (the meshes' error estimates stay below 1e-8). The asymmetric
+/// branch ends on its parent's located branch point, carried to its own mesh: that point
+/// solves the switched branch's problem.
+#[test]
+fn study_branches_by_collocation_match_shooting() {
+    use rocking_block::continuation::study_branches_with;
+    let collocation = OrbitMethod::Collocation(CollocationSettings::default());
+    for free in [Free::Omega, Free::Alpha] {
+        let block = Block::default();
+        let shooting = study_branches(free, &block, &mut Silent).unwrap();
+        let coll = study_branches_with(free, &block, collocation, &mut Silent).unwrap();
+        let (a, b) = (
+            study_labels(&shooting, free, &[]),
+            study_labels(&coll, free, &[]),
+        );
+        let names = |l: &[(SpecialKind, f64, f64, String)]| -> Vec<String> {
+            l.iter().map(|x| x.3.clone()).collect()
+        };
+        assert_eq!(names(&a), names(&b), "{free:?}");
+        for (x, y) in a.iter().zip(&b) {
+            assert!(
+                (x.1 - y.1).abs() < 1e-7,
+                "{free:?} {}: {} vs {}",
+                x.3,
+                x.1,
+                y.1
+            );
+        }
+        let adapted: usize = coll
+            .iter()
+            .map(|o| o.branch.statistics.rediscretisations)
+            .sum();
+        assert!(adapted > 0, "{free:?}: the meshes adapt");
+        for o in &coll {
+            for p in &o.branch.points {
+                assert!(p.discretisation_error.unwrap() < 1e-8);
+                o.orbit_of(p).unwrap();
+            }
+        }
+        // Fig. 3's asymmetric branch ends on the parent's BP2, on its own mesh (Fig. 4's at
+        // the bound).
+        let asym = &coll[1];
+        let end = asym.branch.special_points.last().unwrap();
+        if free == Free::Alpha {
+            assert_eq!(end.kind, SpecialKind::EndPoint);
+            continue;
+        }
+        assert_eq!(end.kind, SpecialKind::BranchPoint);
+        let mut run = study_run(free, &block.at(1.3, 0.66), free.range(), collocation).unwrap();
+        let again = run
+            .restart("again", asym, end.point.label, Some(RunDirection::Down))
+            .unwrap();
+        let first = &again.branch.points[0];
+        assert!(
+            (first.params[free.id().index()] - end.point.params[free.id().index()]).abs() < 1e-9
+        );
+        assert!(
+            first.newton_iterations <= 2,
+            "the carried point is a solution"
+        );
+    }
+}
