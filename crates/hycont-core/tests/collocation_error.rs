@@ -145,3 +145,42 @@ fn adaptation_lowers_the_error_and_transfer_keeps_the_solution() {
             .is_err()
     );
 }
+
+/// Where the estimate exceeds a tolerance, the refined mesh has enough intervals for half of
+/// it, $\lceil N (2e/\mathrm{tol})^{1/(m+1)} \rceil$ (the interior error falls like
+/// $h^{m+1}$), equidistributed; solved there, the true error is below the tolerance. Below the
+/// tolerance the refined mesh is the adapted one, of the same size.
+#[test]
+fn refined_meshes_reach_the_tolerance() {
+    use hycont_core::orbit::orbit_problem;
+    use hycont_core::problem::newton;
+    let (disc, like, u) = solve(8, 3);
+    let estimate = disc.error_estimate(&like, &u).unwrap();
+    assert_eq!(
+        disc.refined(&like, &u, 10.0 * estimate),
+        disc.adapted(&like, &u)
+    );
+    let tol = 1e-9;
+    let refined = disc.refined(&like, &u, tol);
+    let Discretisation::Collocation { meshes, .. } = &refined else {
+        unreachable!()
+    };
+    let expected = (8.0 * (2.0 * estimate / tol).powf(0.25)).ceil() as usize;
+    assert_eq!(meshes[0].len() - 1, expected);
+    assert!(disc.distance(&refined).is_infinite());
+    let eq = refined.equations(&Relaxation, &like, None).unwrap();
+    let first = eq.first_parameter();
+    let part: Box<dyn hycont_core::problem::ZeroFunction> = eq;
+    let mut problem = orbit_problem(&Relaxation, part, first, &like.params).unwrap();
+    let start = disc.transfer(&refined, &like, &u).unwrap();
+    let settings = NewtonSettings {
+        tol: 1e-14,
+        residual_tol: 1e-13,
+        ..NewtonSettings::default()
+    };
+    let sol = newton(&mut problem, &start, &settings).unwrap();
+    let truth = true_error(&refined, &like, &sol.u);
+    assert!(truth < tol, "{truth:e} on {expected} intervals");
+    let after = refined.error_estimate(&like, &sol.u).unwrap();
+    assert!(after < tol, "estimate {after:e}");
+}

@@ -222,12 +222,31 @@ impl Discretisation {
         }
     }
 
+    /// [`Discretisation::adapted`], with more intervals where the error estimate at `u`
+    /// exceeds `tolerance` (collocation: [`super::collocation_refined_meshes`], which aims at
+    /// half the tolerance; the layout then changes).
+    #[must_use]
+    pub fn refined(&self, like: &PeriodicOrbit, u: &[f64], tolerance: f64) -> Self {
+        match self {
+            Self::Shooting(_) => self.clone(),
+            Self::Collocation { meshes, ncol } => Self::Collocation {
+                meshes: super::collocation_refined_meshes(like, meshes, *ncol, u, tolerance),
+                ncol: *ncol,
+            },
+        }
+    }
+
     /// The largest move of a mesh point from this discretisation to `other` (relative to the
-    /// segment's time, so in $[0, 1]$); 0 for shooting or discretisations that cannot be
-    /// compared.
+    /// segment's time, so in $[0, 1]$); infinite between meshes of different sizes, 0 for
+    /// shooting.
     #[must_use]
     pub fn distance(&self, other: &Self) -> f64 {
         match (self, other) {
+            (Self::Collocation { meshes: a, .. }, Self::Collocation { meshes: b, .. })
+                if a.iter().map(Vec::len).ne(b.iter().map(Vec::len)) =>
+            {
+                f64::INFINITY
+            }
             (Self::Collocation { meshes: a, .. }, Self::Collocation { meshes: b, .. }) => a
                 .iter()
                 .zip(b)

@@ -25,8 +25,9 @@ pub use admissibility::{
 pub use collocation::{
     Collocation, CollocationSettings, CollocationSolution, MAX_NTST, Mesh,
     collocation_adapted_meshes, collocation_error_estimate, collocation_floquet,
-    collocation_floquet_factorised, collocation_pack, collocation_problem, collocation_transfer,
-    collocation_unpack, gauss_legendre_points, solve_collocation,
+    collocation_floquet_factorised, collocation_pack, collocation_problem,
+    collocation_refined_meshes, collocation_transfer, collocation_unpack, gauss_legendre_points,
+    solve_collocation,
 };
 pub use discretisation::{Discretisation, OrbitEquations, OrbitMethod, orbit_problem};
 pub use floquet::{Floquet, NEUTRAL_BAND, saltation_matrix};

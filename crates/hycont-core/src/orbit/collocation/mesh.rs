@@ -145,6 +145,17 @@ pub(super) fn transfer_nodes(
 /// $\|x^{(\mathrm{ncol}+1)}\|^{1/(\mathrm{ncol}+1)}$, the $(\mathrm{ncol}+1)$-th derivative
 /// estimated from jumps of the piecewise polynomial's `ncol`-th derivative (as in AUTO).
 pub(super) fn adapted_mesh(nodes: &[f64], mesh: &[f64], basis: &Basis, n: usize) -> Mesh {
+    adapted_mesh_of_size(nodes, mesh, basis, n, mesh.len() - 1)
+}
+
+/// [`adapted_mesh`] with `size` intervals.
+pub(super) fn adapted_mesh_of_size(
+    nodes: &[f64],
+    mesh: &[f64],
+    basis: &Basis,
+    n: usize,
+    size: usize,
+) -> Mesh {
     let ncol = basis.ncol;
     let ntst = mesh.len() - 1;
     let density: Vec<f64> = high_derivatives(nodes, mesh, basis, n)
@@ -157,7 +168,11 @@ pub(super) fn adapted_mesh(nodes: &[f64], mesh: &[f64], basis: &Basis, n: usize)
         .map(|(w, m)| w * (m[1] - m[0]))
         .sum();
     if !(total > 0.0) || ntst < 2 {
-        return mesh.to_vec();
+        return if size == ntst {
+            mesh.to_vec()
+        } else {
+            uniform_mesh(size)
+        };
     }
     // Mix with a uniform density (10 %) so that no interval grows unboundedly.
     let floor = 0.1 * total;
@@ -170,8 +185,8 @@ pub(super) fn adapted_mesh(nodes: &[f64], mesh: &[f64], basis: &Basis, n: usize)
     let mut out = vec![0.0];
     let mut acc = 0.0;
     let mut j = 0;
-    for k in 1..ntst {
-        let target = total * k as f64 / ntst as f64;
+    for k in 1..size {
+        let target = total * k as f64 / size as f64;
         while j < ntst && acc + dens[j] * (mesh[j + 1] - mesh[j]) < target {
             acc += dens[j] * (mesh[j + 1] - mesh[j]);
             j += 1;

@@ -25,7 +25,7 @@ use serde::{Deserialize, Serialize};
 pub use solve::{
     CollocationSolution, collocation_adapted_meshes, collocation_error_estimate,
     collocation_floquet, collocation_floquet_factorised, collocation_pack, collocation_problem,
-    collocation_transfer, collocation_unpack, solve_collocation,
+    collocation_refined_meshes, collocation_transfer, collocation_unpack, solve_collocation,
 };
 pub(crate) use solve::{initial_nodes, solve_collocation_unchecked};
 

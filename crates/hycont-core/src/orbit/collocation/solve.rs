@@ -3,7 +3,9 @@
 
 use super::basis::Basis;
 use super::condense::{condensed_floquet, factorised_floquet};
-use super::mesh::{adapted_mesh, error_estimate, transfer_nodes, uniform_mesh};
+use super::mesh::{
+    adapted_mesh, adapted_mesh_of_size, error_estimate, transfer_nodes, uniform_mesh,
+};
 use super::{Collocation, CollocationSettings, Mesh};
 use crate::error::Result;
 use crate::orbit::floquet::Floquet;
@@ -209,6 +211,37 @@ pub fn collocation_adapted_meshes(
     u: &[f64],
 ) -> Vec<Mesh> {
     per_segment(like, meshes, ncol, u, adapted_mesh).collect()
+}
+
+/// Meshes equidistributing the error estimate of the solution at unknowns `u` with enough
+/// intervals for an estimate of `tolerance / 2`: where the estimate $e$ exceeds `tolerance`,
+/// each segment gets $\lceil N (2e/\mathrm{tol})^{1/(m+1)} \rceil$ intervals (the interior
+/// error falls like $h^{m+1}$), at most [`super::MAX_NTST`]; otherwise the same number
+/// ([`collocation_adapted_meshes`]).
+#[must_use]
+pub fn collocation_refined_meshes(
+    like: &PeriodicOrbit,
+    meshes: &[Mesh],
+    ncol: usize,
+    u: &[f64],
+    tolerance: f64,
+) -> Vec<Mesh> {
+    let estimate = collocation_error_estimate(like, meshes, ncol, u);
+    if !(estimate > tolerance) {
+        return collocation_adapted_meshes(like, meshes, ncol, u);
+    }
+    let factor = (2.0 * estimate / tolerance).powf(1.0 / (ncol + 1) as f64);
+    let n = like.starts[0].len();
+    let basis = Basis::new(ncol);
+    let (nodes, _) = collocation_unpack(like, meshes, ncol, u);
+    nodes
+        .iter()
+        .zip(meshes)
+        .map(|(nd, m)| {
+            let size = ((((m.len() - 1) as f64) * factor).ceil() as usize).min(super::MAX_NTST);
+            adapted_mesh_of_size(nd, m, &basis, n, size)
+        })
+        .collect()
 }
 
 /// The unknowns `u` on `meshes` carried over to `new_meshes` (the same `ncol`, any intervals):
