@@ -197,19 +197,25 @@ pub trait ContinuationProblem<'a> {
     fn unknown_weights(&self) -> Option<Vec<f64>> {
         None
     }
-    /// Re-discretises the problem for the solution `u` with tangent `t` (collocation: moves the
-    /// mesh to equidistribute the error estimate, keeping its size, so that the Jacobian's
-    /// pattern and the unknowns' layout stay the same). Returns `u` and `t` carried over to the
-    /// new discretisation, or `None` when the problem keeps its discretisation (the default,
-    /// and a collocation mesh that would hardly move). The continuation calls it every
+    /// Re-discretises the problem for the solution `u` with tangent `t`, aiming at a
+    /// discretisation error below `tolerance` (collocation: moves the mesh to equidistribute
+    /// the error estimate, and adds intervals where the estimate exceeds `tolerance`). Returns
+    /// `u` and `t` carried over to the new discretisation (of another length when the layout
+    /// changed), or `None` when the problem keeps its discretisation (the default, and a
+    /// collocation mesh that would hardly move). The continuation calls it every
     /// [`ContinuationSettings::adapt_every`] points and at points whose
     /// [`PointInfo::discretisation_error`] exceeds
     /// [`ContinuationSettings::discretisation_tolerance`], then corrects the carried point.
     ///
     /// # Errors
     /// If the new problem cannot be built.
-    fn rediscretise(&mut self, u: &[f64], t: &[f64]) -> Result<Option<(Vec<f64>, Vec<f64>)>> {
-        let _ = (u, t);
+    fn rediscretise(
+        &mut self,
+        u: &[f64],
+        t: &[f64],
+        tolerance: f64,
+    ) -> Result<Option<(Vec<f64>, Vec<f64>)>> {
+        let _ = (u, t, tolerance);
         Ok(None)
     }
     /// The revision of the discretisation the unknowns are on: 0 at first, a new one at each

@@ -406,9 +406,10 @@ fn continue_takes_steps_meshes_and_tolerances() {
 }
 
 /// Collocation runs adapt their mesh along the branch and report every point's error
-/// estimate: on 4 intervals the estimate exceeds 1e-6 somewhere and the summary says to refine;
+/// estimate: started on 4 intervals per segment the mesh is refined where the estimate exceeds
+/// 1e-6; a tolerance the start mesh is far from (1e-12) is reported with a hint to refine it;
 /// without adaptation (`--adapt-every 0 --mesh-tol inf`) there are none; the fold agrees with
-/// shooting's to 1e-8 on the default mesh either way; bad settings exit 2.
+/// shooting's to 1e-8 on the default mesh; bad settings exit 2.
 #[test]
 fn collocation_meshes_adapt_along_the_branch() {
     let text = |extra: &[&str]| -> String {
@@ -419,7 +420,14 @@ fn collocation_meshes_adapt_along_the_branch() {
         String::from_utf8(out.stdout).unwrap()
     };
     let coarse = text(&["--ntst", "4"]);
-    assert!(coarse.contains("raise --ntst"), "{coarse}");
+    assert!(
+        coarse.contains("4 intervals per segment at the start"),
+        "{coarse}"
+    );
+    assert!(!coarse.contains("4 intervals per segment at the start, 4 at the most"));
+    assert!(!coarse.contains("raise --ntst"), "{coarse}");
+    let strict = text(&["--ntst", "4", "--mesh-tol", "1e-12"]);
+    assert!(strict.contains("raise --ntst"), "{strict}");
     let fixed = text(&["--adapt-every", "0", "--mesh-tol", "inf"]);
     assert!(fixed.contains("collocation mesh: 0 adaptations"), "{fixed}");
     let adapted = text(&[]);

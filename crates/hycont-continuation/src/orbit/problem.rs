@@ -467,11 +467,17 @@ impl<'a, S: HybridJacobians + ?Sized> ContinuationProblem<'a> for OrbitContinuat
         self.disc
             .unknown_weights(&self.like, copies, self.problem.unknowns())
     }
-    /// Collocation (a one-parameter problem): meshes of the same size equidistributing the
-    /// error estimate, when some mesh point would move by more than a tenth of the smallest
-    /// interval.
-    fn rediscretise(&mut self, u: &[f64], t: &[f64]) -> Result<Option<(Vec<f64>, Vec<f64>)>> {
-        self.adapt_mesh(u, t)
+    /// Collocation (a one-parameter problem): meshes equidistributing the error estimate, with
+    /// more intervals where it exceeds `tolerance`
+    /// ([`hycont_core::orbit::Discretisation::refined`]); kept when their size is the same and
+    /// no mesh point would move by more than a tenth of the smallest interval.
+    fn rediscretise(
+        &mut self,
+        u: &[f64],
+        t: &[f64],
+        tolerance: f64,
+    ) -> Result<Option<(Vec<f64>, Vec<f64>)>> {
+        self.adapt_mesh(u, t, tolerance)
     }
     fn discretisation_revision(&self) -> usize {
         self.current

@@ -70,13 +70,15 @@ impl<S: HybridJacobians + ?Sized> OrbitContinuation<'_, S> {
         )
     }
 
-    /// Moves a collocation problem (a one-parameter one) to meshes of the same size that
-    /// equidistribute the error estimate at `u`, when some mesh point would move by more than a
-    /// tenth of the smallest interval; returns `u` and `t` carried over.
+    /// Moves a collocation problem (a one-parameter one) to meshes that equidistribute the
+    /// error estimate at `u`, with more intervals where it exceeds `tolerance`; kept when the
+    /// size is the same and no mesh point would move by more than a tenth of the smallest
+    /// interval. Returns `u` and `t` carried over.
     pub(super) fn adapt_mesh(
         &mut self,
         u: &[f64],
         t: &[f64],
+        tolerance: f64,
     ) -> Result<Option<(Vec<f64>, Vec<f64>)>> {
         let Discretisation::Collocation { meshes, .. } = &self.disc else {
             return Ok(None);
@@ -88,7 +90,7 @@ impl<S: HybridJacobians + ?Sized> OrbitContinuation<'_, S> {
             .iter()
             .flat_map(|m| m.windows(2).map(|w| w[1] - w[0]))
             .fold(f64::INFINITY, f64::min);
-        let adapted = self.disc.adapted(&self.like, u);
+        let adapted = self.disc.refined(&self.like, u, tolerance);
         if self.disc.distance(&adapted) <= 0.1 * smallest {
             return Ok(None);
         }

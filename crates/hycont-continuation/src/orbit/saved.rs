@@ -32,16 +32,17 @@ pub struct OrbitBranch {
     /// [`BranchPoint::discretisation`] 0).
     pub discretisation: Discretisation,
     /// The discretisations the run adapted to along the way, in order: a point with
-    /// [`BranchPoint::discretisation`] `r > 0` is on `rediscretised[r - 1]` (the same layout:
-    /// collocation meshes of the same size).
+    /// [`BranchPoint::discretisation`] `r > 0` is on `rediscretised[r - 1]` (collocation
+    /// meshes of the same degree and segments; refined ones have more intervals, and their
+    /// points more unknowns).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub rediscretised: Vec<Discretisation>,
 }
 
 impl OrbitBranch {
-    /// The number of unknowns of every point.
-    fn unknowns(&self) -> usize {
-        let base = self.discretisation.segment_values(&self.template)
+    /// The number of unknowns of a point on `disc`.
+    fn unknowns(&self, disc: &Discretisation) -> usize {
+        let base = disc.segment_values(&self.template)
             + self.template.segment_count()
             + self.template.params.len();
         base + 1 + usize::from(self.second.is_some())
@@ -64,31 +65,30 @@ impl OrbitBranch {
                 (
                     Discretisation::Collocation { meshes: a, ncol: p },
                     Discretisation::Collocation { meshes: b, ncol: q },
-                ) => p == q && a.iter().map(Vec::len).eq(b.iter().map(Vec::len)),
+                ) => p == q && a.len() == b.len(),
                 _ => false,
             };
             if !same_layout {
                 return Err(Error::InvalidSetting {
                     name: "rediscretised",
                     value: self.rediscretised.len() as f64,
-                    reason: "adapted discretisations are collocation meshes of the first one's sizes",
+                    reason: "adapted discretisations are collocation meshes of the first one's degree and segments",
                 });
             }
         }
         for disc in std::iter::once(&self.discretisation).chain(&self.rediscretised) {
             Self::validate_meshes(disc, self.template.segment_count())?;
         }
-        let n = self.unknowns();
         let points = self
             .branch
             .points
             .iter()
             .chain(self.branch.special_points.iter().map(|s| &s.point));
         for p in points {
-            if p.u.len() != n
-                || p.tangent.len() != n
+            let n = self.discretisation_of(p).map(|d| self.unknowns(d));
+            if n.is_err()
+                || n.is_ok_and(|n| p.u.len() != n || p.tangent.len() != n)
                 || p.u.iter().any(|v| !v.is_finite())
-                || p.discretisation > self.rediscretised.len()
             {
                 return Err(Error::InvalidSetting {
                     name: "point unknowns",
@@ -170,16 +170,15 @@ impl OrbitBranch {
     /// # Errors
     /// [`Error::InvalidSetting`] if the point's unknowns do not fit the layout.
     pub fn orbit_of(&self, point: &BranchPoint) -> Result<PeriodicOrbit> {
-        if point.u.len() != self.unknowns() {
+        let disc = self.discretisation_of(point)?;
+        if point.u.len() != self.unknowns(disc) {
             return Err(Error::InvalidSetting {
                 name: "point unknowns",
                 value: point.u.len() as f64,
                 reason: "do not fit the branch's layout",
             });
         }
-        Ok(self
-            .discretisation_of(point)?
-            .unpack(&self.template, &point.u))
+        Ok(disc.unpack(&self.template, &point.u))
     }
 
     /// The orbit at the point with the given label.
@@ -197,7 +196,7 @@ impl OrbitBranch {
     /// [`Error::NoSuchLabel`].
     pub fn direction_at(&self, label: usize) -> Result<RunDirection> {
         let p = self.point(label)?;
-        let i = self.discretisation.segment_values(&self.template)
+        let i = self.discretisation_of(p)?.segment_values(&self.template)
             + self.template.segment_count()
             + self.free.index();
         Ok(match p.tangent.get(i) {

@@ -63,9 +63,7 @@ pub(crate) struct Palc<'p, 'a, P: ContinuationProblem<'a> + ?Sized> {
 impl<'p, 'a, P: ContinuationProblem<'a> + ?Sized> Palc<'p, 'a, P> {
     pub(crate) fn new(p: &'p mut P, settings: ContinuationSettings) -> Result<Self> {
         settings.validate()?;
-        let problem = p.problem();
-        let (pattern, k) = crate::switch::augmented_pattern(problem)?;
-        let n = problem.unknowns();
+        let (pattern, k, n, w) = Self::layout(p)?;
         let mut slots = Vec::new();
         let d = settings.detect;
         if d.fold {
@@ -103,17 +101,6 @@ impl<'p, 'a, P: ContinuationProblem<'a> + ?Sized> Palc<'p, 'a, P> {
                 slots.push(Slot::Bound { source, on, level });
             }
         }
-        let w = match p.unknown_weights() {
-            Some(w) if w.len() == n && w.iter().all(|&x| x > 0.0 && x.is_finite()) => w,
-            Some(w) => {
-                return Err(Error::InvalidSetting {
-                    name: "unknown_weights",
-                    value: w.len() as f64,
-                    reason: "need one finite positive weight per unknown",
-                });
-            }
-            None => vec![1.0; n],
-        };
         Ok(Self {
             p,
             settings,
@@ -128,6 +115,48 @@ impl<'p, 'a, P: ContinuationProblem<'a> + ?Sized> Palc<'p, 'a, P> {
             locating: false,
             _marker: std::marker::PhantomData,
         })
+    }
+
+    /// The augmented Jacobian's pattern and the position of its last row, the number of
+    /// unknowns and their arclength weights, for the problem's current discretisation.
+    fn layout(p: &mut P) -> Result<(SparsePattern, usize, usize, Vec<f64>)> {
+        let problem = p.problem();
+        let (pattern, k) = crate::switch::augmented_pattern(problem)?;
+        let n = problem.unknowns();
+        let w = match p.unknown_weights() {
+            Some(w) if w.len() == n && w.iter().all(|&x| x > 0.0 && x.is_finite()) => w,
+            Some(w) => {
+                return Err(Error::InvalidSetting {
+                    name: "unknown_weights",
+                    value: w.len() as f64,
+                    reason: "need one finite positive weight per unknown",
+                });
+            }
+            None => vec![1.0; n],
+        };
+        Ok((pattern, k, n, w))
+    }
+
+    /// Takes the layout of the problem's discretisation after it changed (a refined mesh has
+    /// more unknowns, another pattern and other weights).
+    fn relayout(&mut self) -> Result<()> {
+        let (pattern, k, n, w) = Self::layout(self.p)?;
+        self.pattern = pattern;
+        self.k = k;
+        self.n = n;
+        self.w = w;
+        self.res = vec![0.0; n];
+        self.values.clear();
+        Ok(())
+    }
+
+    /// Returns the problem to discretisation `revision`, and its layout.
+    fn restore(&mut self, revision: usize) -> Result<()> {
+        if self.p.discretisation_revision() != revision {
+            self.p.restore_discretisation(revision)?;
+            self.relayout()?;
+        }
+        Ok(())
     }
 
     /// Where the value of `q` is read, checked against the problem's parameters and monitors.
@@ -220,9 +249,11 @@ impl<'p, 'a, P: ContinuationProblem<'a> + ?Sized> Palc<'p, 'a, P> {
     /// problem then returns to the discretisation of `b`).
     fn rediscretised(&mut self, b: &Chart) -> Result<Option<Chart>> {
         let before = self.p.discretisation_revision();
-        let Some((u, mut t)) = self.p.rediscretise(&b.u, &b.t)? else {
+        let tolerance = self.settings.discretisation_tolerance;
+        let Some((u, mut t)) = self.p.rediscretise(&b.u, &b.t, tolerance)? else {
             return Ok(None);
         };
+        self.relayout()?;
         self.wnormalize(&mut t);
         let row = self.row_of(&t);
         let corrected = self
@@ -237,7 +268,7 @@ impl<'p, 'a, P: ContinuationProblem<'a> + ?Sized> Palc<'p, 'a, P> {
                 Ok(Some(c))
             }
             Err(_) => {
-                self.p.restore_discretisation(before)?;
+                self.restore(before)?;
                 Ok(None)
             }
         }
@@ -533,7 +564,7 @@ impl<'p, 'a, P: ContinuationProblem<'a> + ?Sized> Palc<'p, 'a, P> {
                 }
             }
         }
-        self.p.restore_discretisation(revision)?;
+        self.restore(revision)?;
         branch.statistics = self.stats;
         Ok(branch)
     }

@@ -150,8 +150,10 @@ fn summary(branch: &OrbitBranch, free: Free, mesh_tol: f64, out: &mut dyn Write)
     Ok(())
 }
 
-/// A collocation run's mesh: how often it was adapted and the largest error estimate along
-/// the branch, with a hint when that exceeds the tolerance (`None` for shooting).
+/// A collocation run's mesh: how often it was adapted, its intervals per segment at the start
+/// and at the most, and the largest error estimate along the branch, with a hint when that
+/// stayed above the tolerance (by more than the growth over the step before a refinement);
+/// `None` for shooting.
 fn mesh_summary(branch: &OrbitBranch, tol: f64) -> Option<String> {
     let largest = branch
         .branch
@@ -159,11 +161,25 @@ fn mesh_summary(branch: &OrbitBranch, tol: f64) -> Option<String> {
         .iter()
         .filter_map(|p| p.discretisation_error)
         .reduce(f64::max)?;
+    let intervals = |d: &hycont_core::orbit::Discretisation| match d {
+        hycont_core::orbit::Discretisation::Collocation { meshes, .. } => {
+            meshes.iter().map(|m| m.len() - 1).max().unwrap_or(0)
+        }
+        hycont_core::orbit::Discretisation::Shooting(_) => 0,
+    };
+    let most = branch
+        .rediscretised
+        .iter()
+        .map(intervals)
+        .max()
+        .unwrap_or(0);
+    let first = intervals(&branch.discretisation);
     let mut line = format!(
-        "collocation mesh: {} adaptations along the run, largest error estimate {largest:.2e}",
-        branch.branch.statistics.rediscretisations
+        "collocation mesh: {} adaptations along the run, {first} intervals per segment at the start, {} at the most; largest error estimate {largest:.2e}",
+        branch.branch.statistics.rediscretisations,
+        most.max(first)
     );
-    if largest > tol {
+    if largest > 2.0 * tol {
         line += &format!(" (above --mesh-tol {tol:e}: raise --ntst or --ncol)");
     }
     Some(line)
