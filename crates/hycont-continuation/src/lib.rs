@@ -214,7 +214,7 @@ pub trait ContinuationProblem<'a> {
         u: &[f64],
         t: &[f64],
         tolerance: f64,
-    ) -> Result<Option<(Vec<f64>, Vec<f64>)>> {
+    ) -> Result<Option<Rediscretised>> {
         let _ = (u, t, tolerance);
         Ok(None)
     }
@@ -225,14 +225,29 @@ pub trait ContinuationProblem<'a> {
         0
     }
     /// Returns to an earlier revision of the discretisation (a run ends on the revision it
-    /// started on, so that the other direction of a branch starts where it did).
+    /// started on, so that the other direction of a branch starts where it did); whether the
+    /// layout changed (see [`Rediscretised::layout_changed`]).
     ///
     /// # Errors
     /// An unknown revision, or a problem that cannot be rebuilt.
-    fn restore_discretisation(&mut self, revision: usize) -> Result<()> {
+    fn restore_discretisation(&mut self, revision: usize) -> Result<bool> {
         let _ = revision;
-        Ok(())
+        Ok(false)
     }
+}
+
+/// A solution and tangent carried to a new discretisation by
+/// [`ContinuationProblem::rediscretise`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct Rediscretised {
+    /// The unknowns on the new discretisation.
+    pub u: Vec<f64>,
+    /// The tangent on the new discretisation (any length; it is normalised).
+    pub t: Vec<f64>,
+    /// Whether the layout changed: the number of unknowns, the Jacobian's pattern or the
+    /// arclength weights (a refined mesh), so that the continuation must set them up again (a
+    /// mesh that only moved keeps them).
+    pub layout_changed: bool,
 }
 
 /// Continues the branch through `u0` (an approximate solution) in the direction of increasing

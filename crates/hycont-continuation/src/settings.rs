@@ -89,8 +89,9 @@ pub struct ContinuationSettings {
     #[serde(default = "default_critical_tolerance")]
     pub critical_tolerance: f64,
     /// Re-discretise (collocation: re-adapt the mesh,
-    /// [`crate::ContinuationProblem::rediscretise`]) every this many points; 0: only on the
-    /// error estimate (default 10; AUTO's IAD is 3, COCO's NAdapt off).
+    /// [`crate::ContinuationProblem::rediscretise`]) every this many points, unless the error
+    /// estimate is below a hundredth of [`ContinuationSettings::discretisation_tolerance`]; 0:
+    /// only on the error estimate (default 10; AUTO's IAD is 3, COCO's NAdapt off).
     #[serde(default = "default_adapt_every")]
     pub adapt_every: usize,
     /// Re-discretise also at a point whose estimated discretisation error exceeds this

@@ -546,16 +546,20 @@ fn continue_cli_saves_and_restarts() {
     std::fs::remove_dir_all(&dir).ok();
 }
 
-/// The branches of Figs. 3 and 4 by collocation (the default mesh, NTST 20 per segment, NCOL
-/// 4, adapted along the branches), switched at branch points and period doublings on the mesh
-/// of the point switched at, have the shooting branches' special points: the same labels, at
-/// the same parameters to 1e-7 (the meshes' error estimates stay below 1e-8). The asymmetric
-/// branch ends on its parent's located branch point, carried to its own mesh: that point
-/// solves the switched branch's problem.
+/// The branches of Figs. 3 and 4 by collocation on a coarse mesh (NTST 10 per segment, NCOL
+/// 4, whose estimates of ~3e-8 make it move every 10 points), switched at branch points and
+/// period doublings on the mesh of the point switched at, have the shooting branches' special
+/// points: the same labels, at the same parameters to 1e-7, with estimates below the default
+/// tolerance 1e-6. The asymmetric branch ends on its parent's located branch point where both
+/// are on one mesh, else on its own located end: either way its end solves the problem on its
+/// own mesh (a parent's point carried to another mesh would not: residual 1e-7, tried).
 #[test]
 fn study_branches_by_collocation_match_shooting() {
     use rocking_block::continuation::study_branches_with;
-    let collocation = OrbitMethod::Collocation(CollocationSettings::default());
+    let collocation = OrbitMethod::Collocation(CollocationSettings {
+        ntst: 10,
+        ..CollocationSettings::default()
+    });
     for free in [Free::Omega, Free::Alpha] {
         let block = Block::default();
         let shooting = study_branches(free, &block, &mut Silent).unwrap();
@@ -584,12 +588,12 @@ fn study_branches_by_collocation_match_shooting() {
         assert!(adapted > 0, "{free:?}: the meshes adapt");
         for o in &coll {
             for p in &o.branch.points {
-                assert!(p.discretisation_error.unwrap() < 1e-8);
+                let e = p.discretisation_error.unwrap();
+                assert!(e < 1e-6, "{} {}: {e:e}", o.branch.name, p.label);
                 o.orbit_of(p).unwrap();
             }
         }
-        // Fig. 3's asymmetric branch ends on the parent's BP2, on its own mesh (Fig. 4's at
-        // the bound).
+        // Fig. 3's asymmetric branch ends at BP2 (Fig. 4's at the bound).
         let asym = &coll[1];
         let end = asym.branch.special_points.last().unwrap();
         if free == Free::Alpha {
@@ -597,17 +601,23 @@ fn study_branches_by_collocation_match_shooting() {
             continue;
         }
         assert_eq!(end.kind, SpecialKind::BranchPoint);
-        let mut run = study_run(free, &block.at(1.3, 0.66), free.range(), collocation).unwrap();
-        let again = run
-            .restart("again", asym, end.point.label, Some(RunDirection::Down))
-            .unwrap();
-        let first = &again.branch.points[0];
-        assert!(
-            (first.params[free.id().index()] - end.point.params[free.id().index()]).abs() < 1e-9
-        );
-        assert!(
-            first.newton_iterations <= 2,
-            "the carried point is a solution"
-        );
+        // Its unknowns solve the problem on its own mesh (the branch's layout: the full orbit
+        // with the continued parameter's slot last).
+        let disc = asym.discretisation_of(&end.point).unwrap().clone();
+        let measures = std::rc::Rc::new(hycont_core::orbit::MeasureSet::new());
+        let mut cp = OrbitContinuation::on_discretisation(
+            &RockingBlock,
+            asym.template.clone(),
+            disc,
+            free.id(),
+            measures,
+            Vec::new(),
+        )
+        .unwrap();
+        let problem = cp.problem_mut();
+        let mut r = vec![0.0; problem.equations()];
+        problem.evaluate(&end.point.u, &mut r, None).unwrap();
+        let res = r.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+        assert!(res < 1e-8, "residual {res:e}");
     }
 }

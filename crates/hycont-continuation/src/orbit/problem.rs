@@ -476,13 +476,13 @@ impl<'a, S: HybridJacobians + ?Sized> ContinuationProblem<'a> for OrbitContinuat
         u: &[f64],
         t: &[f64],
         tolerance: f64,
-    ) -> Result<Option<(Vec<f64>, Vec<f64>)>> {
+    ) -> Result<Option<crate::Rediscretised>> {
         self.adapt_mesh(u, t, tolerance)
     }
     fn discretisation_revision(&self) -> usize {
         self.current
     }
-    fn restore_discretisation(&mut self, revision: usize) -> Result<()> {
+    fn restore_discretisation(&mut self, revision: usize) -> Result<bool> {
         self.restore(revision)
     }
     fn monitor_events(&self) -> Vec<MonitorEvent> {

@@ -79,7 +79,7 @@ impl<S: HybridJacobians + ?Sized> OrbitContinuation<'_, S> {
         u: &[f64],
         t: &[f64],
         tolerance: f64,
-    ) -> Result<Option<(Vec<f64>, Vec<f64>)>> {
+    ) -> Result<Option<crate::Rediscretised>> {
         let Discretisation::Collocation { meshes, .. } = &self.disc else {
             return Ok(None);
         };
@@ -94,20 +94,21 @@ impl<S: HybridJacobians + ?Sized> OrbitContinuation<'_, S> {
         if self.disc.distance(&adapted) <= 0.1 * smallest {
             return Ok(None);
         }
-        let carried = (
-            self.disc.transfer(&adapted, &self.like, u)?,
-            self.disc.transfer(&adapted, &self.like, t)?,
-        );
+        let carried = crate::Rediscretised {
+            u: self.disc.transfer(&adapted, &self.like, u)?,
+            t: self.disc.transfer(&adapted, &self.like, t)?,
+            layout_changed: !self.disc.same_layout(&adapted),
+        };
         self.revisions.push(adapted);
         let r = self.revisions.len() - 1;
         self.switch_to(r)?;
         Ok(Some(carried))
     }
 
-    /// Returns to revision `revision` of the discretisation.
-    pub(super) fn restore(&mut self, revision: usize) -> Result<()> {
+    /// Returns to revision `revision` of the discretisation; whether the layout changed.
+    pub(super) fn restore(&mut self, revision: usize) -> Result<bool> {
         if revision == self.current {
-            return Ok(());
+            return Ok(false);
         }
         if revision >= self.revisions.len() {
             return Err(hycont_core::Error::IndexOutOfRange {
@@ -117,6 +118,8 @@ impl<S: HybridJacobians + ?Sized> OrbitContinuation<'_, S> {
             }
             .into());
         }
-        self.switch_to(revision)
+        let changed = !self.disc.same_layout(&self.revisions[revision]);
+        self.switch_to(revision)?;
+        Ok(changed)
     }
 }

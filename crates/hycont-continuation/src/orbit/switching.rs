@@ -103,7 +103,7 @@ impl<'a, S: HybridJacobians + ?Sized> OrbitRun<'a, S> {
 /// A switched branch that ended on reaching a branch point of its parent ends at the parent's
 /// located point there (see [`OrbitRun::switch_at`]): the located branch point of `parent`
 /// whose continued parameter lies in the bracket of the end's step (widened by its width).
-/// The parent's point is carried to the discretisation the child ended on.
+/// Only on the same discretisation: a point of another mesh does not solve the child's problem.
 fn snap_to_parent(child: &mut OrbitBranch, parent_saved: &OrbitBranch) -> Result<()> {
     let parent = &parent_saved.branch;
     let b = &child.branch;
@@ -131,16 +131,12 @@ fn snap_to_parent(child: &mut OrbitBranch, parent_saved: &OrbitBranch) -> Result
     let Some(mut s) = found else {
         return Ok(());
     };
-    let revision = end.point.discretisation;
-    let (from, to) = (
-        parent_saved.discretisation_of(&s.point)?,
-        child.discretisation_of(&end.point)?,
-    );
-    if from != to {
-        s.point.u = from.transfer(to, &parent_saved.template, &s.point.u)?;
-        s.point.tangent = from.transfer(to, &parent_saved.template, &s.point.tangent)?;
+    // On another mesh (the child's or the parent's was adapted on the way) the parent's point
+    // would not solve the child's problem: the child keeps its own end.
+    if parent_saved.discretisation_of(&s.point)? != child.discretisation_of(&end.point)? {
+        return Ok(());
     }
-    s.point.discretisation = revision;
+    s.point.discretisation = end.point.discretisation;
     // The run's points end with its own end point when it was located: replace it.
     let b = &mut child.branch;
     let last = b.special_points.len() - 1;

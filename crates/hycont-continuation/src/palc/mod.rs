@@ -152,8 +152,9 @@ impl<'p, 'a, P: ContinuationProblem<'a> + ?Sized> Palc<'p, 'a, P> {
 
     /// Returns the problem to discretisation `revision`, and its layout.
     fn restore(&mut self, revision: usize) -> Result<()> {
-        if self.p.discretisation_revision() != revision {
-            self.p.restore_discretisation(revision)?;
+        if self.p.discretisation_revision() != revision
+            && self.p.restore_discretisation(revision)?
+        {
             self.relayout()?;
         }
         Ok(())
@@ -233,14 +234,15 @@ impl<'p, 'a, P: ContinuationProblem<'a> + ?Sized> Palc<'p, 'a, P> {
     }
 
     /// Whether the discretisation is due for adaptation at chart `b`, `since` points after the
-    /// last one: every [`ContinuationSettings::adapt_every`] points, or where the error estimate
-    /// exceeds the tolerance.
+    /// last one: where the error estimate exceeds the tolerance, and every
+    /// [`ContinuationSettings::adapt_every`] points unless the estimate is below a hundredth of
+    /// the tolerance (a mesh that good is not worth moving).
     fn adaptation_due(&self, b: &Chart, since: usize) -> bool {
         let every = self.settings.adapt_every;
-        (every > 0 && since >= every)
-            || b.info
-                .discretisation_error
-                .is_some_and(|e| e > self.settings.discretisation_tolerance)
+        let tol = self.settings.discretisation_tolerance;
+        let error = b.info.discretisation_error;
+        error.is_some_and(|e| e > tol)
+            || (every > 0 && since >= every && error.is_none_or(|e| e > 0.01 * tol))
     }
 
     /// Chart `b` on a new discretisation ([`ContinuationProblem::rediscretise`]), corrected on
@@ -250,10 +252,13 @@ impl<'p, 'a, P: ContinuationProblem<'a> + ?Sized> Palc<'p, 'a, P> {
     fn rediscretised(&mut self, b: &Chart) -> Result<Option<Chart>> {
         let before = self.p.discretisation_revision();
         let tolerance = self.settings.discretisation_tolerance;
-        let Some((u, mut t)) = self.p.rediscretise(&b.u, &b.t, tolerance)? else {
+        let Some(carried) = self.p.rediscretise(&b.u, &b.t, tolerance)? else {
             return Ok(None);
         };
-        self.relayout()?;
+        let (u, mut t) = (carried.u, carried.t);
+        if carried.layout_changed {
+            self.relayout()?;
+        }
         self.wnormalize(&mut t);
         let row = self.row_of(&t);
         let corrected = self

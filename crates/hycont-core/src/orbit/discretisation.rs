@@ -236,17 +236,26 @@ impl Discretisation {
         }
     }
 
+    /// Whether `other` has the same layout of unknowns (and Jacobian pattern): the same
+    /// method, and for collocation the same degree and intervals per segment.
+    #[must_use]
+    pub fn same_layout(&self, other: &Self) -> bool {
+        match (self, other) {
+            (Self::Shooting(_), Self::Shooting(_)) => true,
+            (
+                Self::Collocation { meshes: a, ncol: p },
+                Self::Collocation { meshes: b, ncol: q },
+            ) => p == q && a.iter().map(Vec::len).eq(b.iter().map(Vec::len)),
+            _ => false,
+        }
+    }
+
     /// The largest move of a mesh point from this discretisation to `other` (relative to the
-    /// segment's time, so in $[0, 1]$); infinite between meshes of different sizes, 0 for
-    /// shooting.
+    /// segment's time, so in $[0, 1]$); infinite between different layouts, 0 for shooting.
     #[must_use]
     pub fn distance(&self, other: &Self) -> f64 {
         match (self, other) {
-            (Self::Collocation { meshes: a, .. }, Self::Collocation { meshes: b, .. })
-                if a.iter().map(Vec::len).ne(b.iter().map(Vec::len)) =>
-            {
-                f64::INFINITY
-            }
+            _ if !self.same_layout(other) => f64::INFINITY,
             (Self::Collocation { meshes: a, .. }, Self::Collocation { meshes: b, .. }) => a
                 .iter()
                 .zip(b)

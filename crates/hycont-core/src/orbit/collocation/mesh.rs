@@ -78,6 +78,13 @@ fn high_derivatives(nodes: &[f64], mesh: &[f64], basis: &Basis, n: usize) -> Vec
 /// on an interval of width $h$, $x - p \approx x^{(m+1)} h^{m+1} \int_0^z \prod (s - c_i)\,ds
 /// / m!$, the error at the interval's left end being of higher order ($h^{2m}$).
 fn interior_error_constant(m: usize) -> f64 {
+    static CONSTANTS: std::sync::OnceLock<Vec<f64>> = std::sync::OnceLock::new();
+    let table = CONSTANTS.get_or_init(|| (0..=7).map(compute_constant).collect());
+    table.get(m).copied().unwrap_or_else(|| compute_constant(m))
+}
+
+/// [`interior_error_constant`], computed (`ncol` is at most 7).
+fn compute_constant(m: usize) -> f64 {
     let c = super::basis::gauss_legendre_points(m);
     // Coefficients of prod (s - c_i), lowest degree first, then of its integral from 0.
     let mut poly = vec![1.0];
