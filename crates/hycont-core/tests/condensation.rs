@@ -288,32 +288,15 @@ fn badly_declared_blocks_are_refused() {
 fn a_collocation_problem_condenses_to_the_plain_lu_steps() {
     use common::Relaxation;
     use hycont_core::orbit::{
-        CollocationSettings, PeriodicOrbit, SegmentEnd, SegmentSpec, Signature,
-        collocation_floquet, collocation_floquet_factorised, collocation_problem,
-        solve_collocation,
+        CollocationSettings, collocation_floquet, collocation_floquet_factorised,
+        collocation_problem, solve_collocation,
     };
     use hycont_core::problem::NewtonSettings;
     use hycont_core::simulate::SimulationSettings;
-    use hycont_core::system::{EventId, Mode};
     let a = 3.0;
-    let signature = Signature::new(
-        &Relaxation,
-        vec![SegmentSpec {
-            mode: Mode(0),
-            end: SegmentEnd::Event(EventId(0)),
-        }],
-    )
-    .unwrap();
-    let guess = PeriodicOrbit::new(
-        &Relaxation,
-        signature,
-        vec![vec![0.6, 1.0]],
-        vec![1.2 * Relaxation::period(a)],
-        vec![a],
-    )
-    .unwrap()
-    .with_interior_points(&Relaxation, 1, 0.9, &SimulationSettings::default())
-    .unwrap();
+    let guess = Relaxation::orbit([0.6, 1.0], 1.2 * Relaxation::period(a), a)
+        .with_interior_points(&Relaxation, 1, 0.9, &SimulationSettings::default())
+        .unwrap();
     let (ntst, ncol) = (8, 4);
     let settings = CollocationSettings {
         ntst,

@@ -16,27 +16,9 @@ use hycont_core::problem::{
 };
 use hycont_core::{Error, EventId, Mode, SimulationSettings};
 
-fn relaxation_signature() -> Signature {
-    Signature::new(
-        &Relaxation,
-        vec![SegmentSpec {
-            mode: Mode(0),
-            end: SegmentEnd::Event(EventId(0)),
-        }],
-    )
-    .unwrap()
-}
-
 /// A deliberately rough guess of the relaxation orbit at parameter a.
 fn relaxation_guess(a: f64) -> PeriodicOrbit {
-    PeriodicOrbit::new(
-        &Relaxation,
-        relaxation_signature(),
-        vec![vec![0.6, 1.0]],
-        vec![1.2 * Relaxation::period(a)],
-        vec![a],
-    )
-    .unwrap()
+    Relaxation::orbit([0.6, 1.0], 1.2 * Relaxation::period(a), a)
 }
 
 #[test]
@@ -138,7 +120,7 @@ fn shooting_and_collocation_jacobians_match_finite_differences() {
     let guess = relaxation_guess(2.5);
     let mut shooting = Shooting::new(
         &Relaxation,
-        relaxation_signature(),
+        Relaxation::signature(),
         ShootingSettings::default(),
     )
     .unwrap();
@@ -146,7 +128,7 @@ fn shooting_and_collocation_jacobians_match_finite_differences() {
     check_part(&mut shooting, &u, 1e-6);
     let mut coll = Collocation::new(
         &Relaxation,
-        relaxation_signature(),
+        Relaxation::signature(),
         vec![vec![0.0, 0.3, 0.7, 1.0]],
         3,
     )
@@ -440,7 +422,7 @@ fn invalid_signatures_are_rejected() {
     assert!(e.to_string().contains("not monitored"), "{e}");
     let bad_duration = PeriodicOrbit::new(
         &Relaxation,
-        relaxation_signature(),
+        Relaxation::signature(),
         vec![vec![0.5, 1.0]],
         vec![-1.0],
         vec![2.0],

@@ -193,20 +193,23 @@ impl Relaxation {
     pub fn state(a: f64, t: f64) -> [f64; 2] {
         [a - (a - 0.5) * (-t).exp(), Self::y0(a) * (-2.0 * t).exp()]
     }
-    /// An orbit of one charging segment from `start` lasting `duration`, at parameter `a`.
-    pub fn orbit(start: [f64; 2], duration: f64, a: f64) -> hycont_core::orbit::PeriodicOrbit {
-        use hycont_core::orbit::{PeriodicOrbit, SegmentEnd, SegmentSpec, Signature};
-        let signature = Signature::new(
+    /// The orbit's signature: one charging segment ended by firing.
+    pub fn signature() -> hycont_core::orbit::Signature {
+        use hycont_core::orbit::{SegmentEnd, SegmentSpec, Signature};
+        Signature::new(
             &Relaxation,
             vec![SegmentSpec {
                 mode: Mode(0),
                 end: SegmentEnd::Event(EventId(0)),
             }],
         )
-        .unwrap();
-        PeriodicOrbit::new(
+        .unwrap()
+    }
+    /// An orbit of one charging segment from `start` lasting `duration`, at parameter `a`.
+    pub fn orbit(start: [f64; 2], duration: f64, a: f64) -> hycont_core::orbit::PeriodicOrbit {
+        hycont_core::orbit::PeriodicOrbit::new(
             &Relaxation,
-            signature,
+            Self::signature(),
             vec![start.to_vec()],
             vec![duration],
             vec![a],
