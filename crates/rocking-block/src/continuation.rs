@@ -35,6 +35,97 @@ pub fn default_method() -> OrbitMethod {
     })
 }
 
+/// How the study's branches are computed: the discretisation, the arclength steps, the point
+/// count and the corrector's tolerance, and (collocation) the mesh adaptation. The default is
+/// the study's recipe (Figs. 3 to 5): [`default_method`], steps 0.02 (first), 1e-8 to 0.1, at
+/// most 2000 points each way, Newton tolerance 1e-10, the mesh re-adapted every 10 points or
+/// where its error estimate exceeds 1e-6.
+///
+/// ```
+/// use rocking_block::continuation::Recipe;
+/// let dense = Recipe { h_max: 0.02, ..Recipe::default() };
+/// assert!(dense.validate().is_ok());
+/// assert!(Recipe { h_min: 0.5, ..dense }.validate().is_err()); // h_min above h_max
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Recipe {
+    /// The discretisation.
+    pub method: OrbitMethod,
+    /// First arclength step.
+    pub h0: f64,
+    /// Smallest arclength step before a run gives up.
+    pub h_min: f64,
+    /// Largest arclength step (smaller: denser branches).
+    pub h_max: f64,
+    /// Largest number of points of a run (each way).
+    pub max_points: usize,
+    /// Newton tolerance of the corrector (the step relative to $1 + |u|$).
+    pub tol: f64,
+    /// Collocation: re-adapt the mesh every this many points (0: only above `mesh_tol`).
+    pub adapt_every: usize,
+    /// Collocation: re-adapt the mesh where its error estimate exceeds this.
+    pub mesh_tol: f64,
+}
+
+impl Default for Recipe {
+    fn default() -> Self {
+        let s = hycont_continuation::ContinuationSettings::default();
+        Self {
+            method: default_method(),
+            h0: 0.02,
+            h_min: 1e-8,
+            h_max: 0.1,
+            max_points: s.max_points,
+            tol: s.newton.tol,
+            adapt_every: s.adapt_every,
+            mesh_tol: s.discretisation_tolerance,
+        }
+    }
+}
+
+impl Recipe {
+    /// The study's recipe on another discretisation.
+    #[must_use]
+    pub fn with_method(method: OrbitMethod) -> Self {
+        Self {
+            method,
+            ..Self::default()
+        }
+    }
+
+    /// Whether this is the study's recipe.
+    #[must_use]
+    pub fn is_study(&self) -> bool {
+        *self == Self::default()
+    }
+
+    /// Checks the settings as a run would (steps ordered and positive, tolerances positive,
+    /// a valid collocation mesh).
+    ///
+    /// # Errors
+    /// The first invalid setting, named.
+    pub fn validate(&self) -> Result<()> {
+        if let OrbitMethod::Collocation(c) = self.method {
+            c.validate()?;
+        }
+        let mut run = OrbitRun::new(&RockingBlock, OMEGA)?;
+        self.apply(&mut run);
+        run.settings_mut().validate()?;
+        Ok(())
+    }
+
+    /// Sets `run`'s discretisation, steps, point count, tolerance and mesh adaptation.
+    pub fn apply(&self, run: &mut OrbitRun<'_, RockingBlock>) {
+        run.method(self.method)
+            .steps(self.h0, self.h_min, self.h_max)
+            .max_points(self.max_points);
+        let s = run.settings_mut();
+        s.newton.tol = self.tol;
+        s.adapt_every = self.adapt_every;
+        s.discretisation_tolerance = self.mesh_tol;
+    }
+}
+
 /// A run of the block at `params` in `free` over `range` by `method`, recording Amp, with the
 /// study's events: SB where Amp reaches the static boundary $\pi/2 - \theta_b$, and GR where
 /// the run's default admissibility ends the branch ([`GRAZING_MARGIN`] reaches 0: past it
@@ -76,24 +167,26 @@ pub fn study_branches(
     block: &Block,
     observer: &mut dyn Observer,
 ) -> Result<Vec<OrbitBranch>> {
-    study_branches_with(free, block, default_method(), observer)
+    study_branches_with(free, block, &Recipe::default(), observer)
 }
 
-/// [`study_branches`] on the discretisation `method` (the figures use shooting; collocation
-/// adapts its mesh along the branches, and switches start on the mesh of the point switched
-/// at).
+/// [`study_branches`] by another [`Recipe`]: another discretisation (the figures use shooting;
+/// collocation adapts its mesh along the branches, and switches start on the mesh of the point
+/// switched at), denser or sparser steps, another tolerance.
 ///
 /// # Errors
-/// As [`study_branches`].
+/// As [`study_branches`]; an invalid recipe.
 pub fn study_branches_with(
     free: Free,
     block: &Block,
-    method: OrbitMethod,
+    recipe: &Recipe,
     observer: &mut dyn Observer,
 ) -> Result<Vec<OrbitBranch>> {
+    recipe.validate()?;
     let params = block.at(1.3, 0.66);
     let sym = orbit(&params, OrbitKind::Symmetric, None)?.solution.orbit;
-    let mut run = study_run(free, &params, free.range(), method)?;
+    let mut run = study_run(free, &params, free.range(), recipe.method)?;
+    recipe.apply(&mut run);
     run.observer(Box::new(observer));
     let mut out = vec![run.run("symmetric", &sym, RunDirection::Both)?];
     let Some(bp) = out[0].special(SpecialKind::BranchPoint).next() else {

@@ -3,6 +3,7 @@
 //! parameters, the seed and trials) so that the file says how to reproduce it.
 
 use crate::block::{Block, DimensionalInputs};
+use crate::continuation::Recipe;
 use crate::model::Parameters;
 use serde::{Deserialize, Serialize};
 use serde_json::Value;
@@ -43,6 +44,10 @@ pub struct Provenance {
     /// The trials asked for of a sampled result (per study; see the file for those counted).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub trials: Option<u64>,
+    /// How the branches were continued, when not by the study's [`Recipe`] (the branch
+    /// figures 3 to 5 compute by it).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub recipe: Option<Recipe>,
 }
 
 impl Default for Provenance {
@@ -56,6 +61,7 @@ impl Default for Provenance {
             parameters: None,
             seed: None,
             trials: None,
+            recipe: None,
         }
     }
 }
@@ -111,6 +117,21 @@ impl Provenance {
             trials: Some(trials),
             ..self
         }
+    }
+
+    /// With the continuation recipe (recorded only when it is not the study's).
+    #[must_use]
+    pub fn with_recipe(self, recipe: Recipe) -> Self {
+        Self {
+            recipe: (!recipe.is_study()).then_some(recipe),
+            ..self
+        }
+    }
+
+    /// The continuation recipe of the branch figures (the study's unless one was given).
+    #[must_use]
+    pub fn recipe(&self) -> Recipe {
+        self.recipe.unwrap_or_default()
     }
 
     /// `value` (a JSON object) with a `provenance` entry; other values are wrapped as

@@ -5,7 +5,7 @@ use hycont_continuation::{OrbitContinuation, OrbitMethod, SpecialKind};
 use hycont_core::orbit::CollocationSettings;
 use rocking_block::RockingBlock;
 use rocking_block::block::Block;
-use rocking_block::continuation::{Free, study_branches, study_branches_with};
+use rocking_block::continuation::{Free, Recipe, study_branches, study_branches_with};
 use rocking_block::figures::branches::study_labels;
 
 /// The branches of Figs. 3 and 4 by collocation on a coarse mesh (NTST 10 per segment, NCOL
@@ -24,7 +24,9 @@ fn study_branches_by_collocation_match_shooting() {
     for free in [Free::Omega, Free::Alpha] {
         let block = Block::default();
         let shooting = study_branches(free, &block, &mut Silent).unwrap();
-        let coll = study_branches_with(free, &block, collocation, &mut Silent).unwrap();
+        let coll =
+            study_branches_with(free, &block, &Recipe::with_method(collocation), &mut Silent)
+                .unwrap();
         let (a, b) = (
             study_labels(&shooting, free, &[]),
             study_labels(&coll, free, &[]),

@@ -1,6 +1,7 @@
 //! The command line's arguments (clap).
 
 pub use super::block_args::{BlockArgs, ForcingArgs};
+use crate::continuation::Recipe;
 use crate::output::Format;
 use clap::{Args, Parser, Subcommand};
 use std::path::PathBuf;
@@ -126,48 +127,10 @@ pub struct ContinueArgs {
     /// Direction.
     #[arg(long, value_enum, default_value_t = DirectionArg::Both)]
     pub direction: DirectionArg,
-    /// Discretisation (a collocation run restarted by collocation keeps its mesh).
-    #[arg(long, value_enum, default_value_t = MethodArg::Shooting)]
-    pub method: MethodArg,
-    /// First arclength step.
-    #[arg(long, default_value_t = 0.02, allow_hyphen_values = true)]
-    pub h0: f64,
-    /// Smallest arclength step before the run gives up.
-    #[arg(long = "h-min", default_value_t = 1e-8, allow_hyphen_values = true)]
-    pub h_min: f64,
-    /// Largest arclength step (smaller: denser branches).
-    #[arg(long = "h-max", default_value_t = 0.1, allow_hyphen_values = true)]
-    pub h_max: f64,
-    /// Largest number of points of a run (each way).
-    #[arg(
-        long = "max-points",
-        default_value_t = 2000,
-        allow_negative_numbers = true
-    )]
-    pub max_points: usize,
-    /// Collocation: mesh intervals per segment (--method collocation; a restart by collocation
-    /// keeps the saved mesh).
-    #[arg(long, allow_negative_numbers = true)]
-    pub ntst: Option<usize>,
-    /// Collocation: collocation points per interval, 1 to 7 (--method collocation).
-    #[arg(long, allow_negative_numbers = true)]
-    pub ncol: Option<usize>,
-    /// Newton tolerance of the corrector: the step relative to 1 + |u| (the residual must
-    /// also be below 1e-10).
-    #[arg(long, default_value_t = 1e-10, allow_hyphen_values = true)]
-    pub tol: f64,
-    /// Collocation: re-adapt the mesh (same size, equidistributing the error) every N points;
-    /// 0: only when the error estimate exceeds --mesh-tol.
-    #[arg(
-        long = "adapt-every",
-        default_value_t = 10,
-        allow_negative_numbers = true
-    )]
-    pub adapt_every: usize,
-    /// Collocation: re-adapt the mesh at points whose error estimate (largest interior error of
-    /// the polynomials, in the units of the state) exceeds this.
-    #[arg(long = "mesh-tol", default_value_t = 1e-6, allow_hyphen_values = true)]
-    pub mesh_tol: f64,
+    /// Discretisation, steps, point count, tolerance and mesh (a collocation run restarted by
+    /// collocation keeps its mesh).
+    #[command(flatten)]
+    pub recipe: RecipeArgs,
     /// Restart from this saved run (a file written by --out).
     #[arg(long, requires = "label")]
     pub restart: Option<PathBuf>,
@@ -186,6 +149,54 @@ pub struct ContinueArgs {
     /// Print the branch (study format) as JSON on stdout.
     #[arg(long)]
     pub json: bool,
+}
+
+/// How branches are continued (the study's [`Recipe`] by default): `continue`, and the branch
+/// figures of `figure`.
+#[derive(Debug, Clone, Args)]
+pub struct RecipeArgs {
+    /// Discretisation.
+    #[arg(long, value_enum, default_value_t = MethodArg::Shooting)]
+    pub method: MethodArg,
+    /// First arclength step.
+    #[arg(long, default_value_t = Recipe::default().h0, allow_hyphen_values = true)]
+    pub h0: f64,
+    /// Smallest arclength step before the run gives up.
+    #[arg(long = "h-min", default_value_t = Recipe::default().h_min, allow_hyphen_values = true)]
+    pub h_min: f64,
+    /// Largest arclength step (smaller: denser branches).
+    #[arg(long = "h-max", default_value_t = Recipe::default().h_max, allow_hyphen_values = true)]
+    pub h_max: f64,
+    /// Largest number of points of a run (each way).
+    #[arg(
+        long = "max-points",
+        default_value_t = Recipe::default().max_points,
+        allow_negative_numbers = true
+    )]
+    pub max_points: usize,
+    /// Collocation: mesh intervals per segment (--method collocation; a restart by collocation
+    /// keeps the saved mesh).
+    #[arg(long, allow_negative_numbers = true)]
+    pub ntst: Option<usize>,
+    /// Collocation: collocation points per interval, 1 to 7 (--method collocation).
+    #[arg(long, allow_negative_numbers = true)]
+    pub ncol: Option<usize>,
+    /// Newton tolerance of the corrector: the step relative to 1 + |u| (the residual must
+    /// also be below 1e-10).
+    #[arg(long, default_value_t = Recipe::default().tol, allow_hyphen_values = true)]
+    pub tol: f64,
+    /// Collocation: re-adapt the mesh (same size, equidistributing the error) every N points;
+    /// 0: only when the error estimate exceeds --mesh-tol.
+    #[arg(
+        long = "adapt-every",
+        default_value_t = Recipe::default().adapt_every,
+        allow_negative_numbers = true
+    )]
+    pub adapt_every: usize,
+    /// Collocation: re-adapt the mesh at points whose error estimate (largest interior error of
+    /// the polynomials, in the units of the state) exceeds this.
+    #[arg(long = "mesh-tol", default_value_t = Recipe::default().mesh_tol, allow_hyphen_values = true)]
+    pub mesh_tol: f64,
 }
 
 /// Orbit kinds on the command line.
@@ -330,6 +341,10 @@ pub struct FigureArgs {
     /// The block (the figures of the study for another block; a resumed run keeps its block).
     #[command(flatten)]
     pub block: BlockArgs,
+    /// How the branches of Figs. 3, 4 and 5 are continued (Fig. 6 and the sampling figures
+    /// keep the study's recipe).
+    #[command(flatten)]
+    pub recipe: RecipeArgs,
 }
 
 /// Arguments of `rocking-block merge`.

@@ -1,7 +1,7 @@
 //! `continue`: one-parameter continuation from the command line, and restarts.
 
-use super::{ContinueArgs, DirectionArg, KindArg, MethodArg, read_err, stdout_err};
-use crate::continuation::{AMP, Free, default_method, study_run};
+use super::{ContinueArgs, DirectionArg, KindArg, MethodArg, RecipeArgs, read_err, stdout_err};
+use crate::continuation::{AMP, Free, Recipe, default_method, study_run};
 use crate::error::{Error, Result};
 use crate::figures::branches::study_labels;
 use crate::model::Parameters;
@@ -52,32 +52,47 @@ pub(super) fn run_continue(
         writeln!(out, "{text}").map_err(stdout_err)?;
         Ok(())
     } else {
-        summary(&branch, free, args.mesh_tol, out)
+        summary(&branch, free, args.recipe.mesh_tol, out)
     }
 }
 
-/// The discretisation `continue` asks for (shooting, or collocation with its mesh).
-fn method_of(args: &ContinueArgs) -> Result<OrbitMethod> {
-    Ok(match args.method {
-        MethodArg::Shooting if args.ntst.is_some() || args.ncol.is_some() => {
-            return Err(Error::InvalidArgument {
-                name: "ntst/ncol",
-                value: format!("{:?}/{:?}", args.ntst, args.ncol),
-                reason: "set the collocation mesh with --method collocation",
-            });
-        }
-        MethodArg::Shooting => default_method(),
-        MethodArg::Collocation => {
-            let d = hycont_core::orbit::CollocationSettings::default();
-            let settings = hycont_core::orbit::CollocationSettings {
-                ntst: args.ntst.unwrap_or(d.ntst),
-                ncol: args.ncol.unwrap_or(d.ncol),
-                ..d
-            };
-            settings.validate()?;
-            OrbitMethod::Collocation(settings)
-        }
-    })
+impl RecipeArgs {
+    /// The recipe asked for (validated).
+    ///
+    /// # Errors
+    /// `--ntst`/`--ncol` without collocation; an invalid setting.
+    pub(super) fn recipe(&self) -> Result<Recipe> {
+        let method = match self.method {
+            MethodArg::Shooting if self.ntst.is_some() || self.ncol.is_some() => {
+                return Err(Error::InvalidArgument {
+                    name: "ntst/ncol",
+                    value: format!("{:?}/{:?}", self.ntst, self.ncol),
+                    reason: "set the collocation mesh with --method collocation",
+                });
+            }
+            MethodArg::Shooting => default_method(),
+            MethodArg::Collocation => {
+                let d = hycont_core::orbit::CollocationSettings::default();
+                OrbitMethod::Collocation(hycont_core::orbit::CollocationSettings {
+                    ntst: self.ntst.unwrap_or(d.ntst),
+                    ncol: self.ncol.unwrap_or(d.ncol),
+                    ..d
+                })
+            }
+        };
+        let recipe = Recipe {
+            method,
+            h0: self.h0,
+            h_min: self.h_min,
+            h_max: self.h_max,
+            max_points: self.max_points,
+            tol: self.tol,
+            adapt_every: self.adapt_every,
+            mesh_tol: self.mesh_tol,
+        };
+        recipe.validate()?;
+        Ok(recipe)
+    }
 }
 
 /// The run `continue` asks for: from a saved run's labelled point, or from a fresh start of
@@ -87,17 +102,7 @@ fn continue_branch(
     free: Free,
 ) -> Result<(OrbitBranch, Option<crate::block::DimensionalInputs>)> {
     let window = super::window(free, args.min, args.max)?;
-    let method = method_of(args)?;
-    // The user's steps, point count, tolerances and mesh adaptation over the study's recipe
-    // (validated by the library when the run starts).
-    let tune = |run: &mut hycont_continuation::OrbitRun<'_, crate::model::RockingBlock>| {
-        run.steps(args.h0, args.h_min, args.h_max)
-            .max_points(args.max_points);
-        let s = run.settings_mut();
-        s.newton.tol = args.tol;
-        s.adapt_every = args.adapt_every;
-        s.discretisation_tolerance = args.mesh_tol;
-    };
+    let recipe = args.recipe.recipe()?;
     let direction = RunDirection::from(args.direction);
     if let (Some(path), Some(label)) = (&args.restart, args.label) {
         let saved = read_saved_run(path)?;
@@ -106,8 +111,8 @@ fn continue_branch(
             reason: e.to_string(),
         })?;
         let params = Parameters::from_vec(&saved.template.params);
-        let mut run = study_run(free, &params, window, method)?;
-        tune(&mut run);
+        let mut run = study_run(free, &params, window, recipe.method)?;
+        recipe.apply(&mut run);
         // Restarting both ways: keep going the way the saved run went.
         let way = (args.direction != DirectionArg::Both).then_some(direction);
         return Ok((run.restart("branch", &saved, label, way)?, None));
@@ -121,8 +126,8 @@ fn continue_branch(
         KindArg::Simulate => OrbitKind::Simulate,
     };
     let start = orbit(&params, kind, Some((args.phi0, args.psi0, args.beta)))?;
-    let mut run = study_run(free, &params, window, method)?;
-    tune(&mut run);
+    let mut run = study_run(free, &params, window, recipe.method)?;
+    recipe.apply(&mut run);
     let branch = run.run("branch", &start.solution.orbit, direction)?;
     Ok((branch, dimensional))
 }

@@ -124,8 +124,16 @@ pub(super) fn run_figure(
     let invocation = &invocation
         .clone()
         .with_block(block)
-        .with_dimensional(super::block_args::figure_dimensional(&args.block)?);
+        .with_dimensional(super::block_args::figure_dimensional(&args.block)?)
+        .with_recipe(args.recipe.recipe()?);
     let which = figures_to_draw(args.which.as_deref(), resume.as_ref())?;
+    if !invocation.recipe().is_study() && !which.iter().any(|n| (3..=5).contains(n)) {
+        return Err(Error::InvalidArgument {
+            name: "continuation options",
+            value: format!("figures {which:?}"),
+            reason: "--method, --h0, --h-min, --h-max, --max-points, --ntst, --ncol, --tol, --adapt-every and --mesh-tol apply to the branch figures 3, 4 and 5",
+        });
+    }
     if let Some(t) = args.trials.filter(|t| !(1..=MAX_TRIALS).contains(t)) {
         return Err(Error::InvalidArgument {
             name: "trials",

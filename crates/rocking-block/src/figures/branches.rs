@@ -2,7 +2,7 @@
 //! from the first period doubling), with special points.
 
 use super::{FigureFiles, write_json};
-use crate::continuation::{AMP, Free, study_branches};
+use crate::continuation::{AMP, Free, study_branches_with};
 use crate::error::Result;
 use crate::output::OutDir;
 use crate::plot;
@@ -25,7 +25,8 @@ pub fn branches_figure(
     observer: &mut dyn Observer,
 ) -> Result<FigureFiles> {
     let params = provenance.block.at(1.3, 0.66);
-    let branches = study_branches(free, &provenance.block, observer)?;
+    let recipe = provenance.recipe();
+    let branches = study_branches_with(free, &provenance.block, &recipe, observer)?;
     let (n, offsets, title) = match free {
         Free::Omega => (3, vec![], "Fig. 3: continuation in omega at alpha = 0.66"),
         Free::Alpha => (

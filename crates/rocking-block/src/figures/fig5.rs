@@ -73,9 +73,10 @@ pub fn figure5(out: &OutDir, provenance: &Provenance) -> Result<FigureFiles> {
     write_json(&json_path, &provenance.insert_into(json))?;
     // The study's special points on the line omega = 1.3, from the continuation of Fig. 4:
     // BP3 on the symmetric branch, PD1 on the asymmetric one, PD2 on the period-2 one.
-    let fig4 = crate::continuation::study_branches(
+    let fig4 = crate::continuation::study_branches_with(
         crate::continuation::Free::Alpha,
         &provenance.block,
+        &provenance.recipe(),
         &mut hycont_continuation::observe::Silent,
     )?;
     let first = |b: usize, kind: hycont_continuation::SpecialKind| {
