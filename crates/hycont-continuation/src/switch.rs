@@ -21,6 +21,7 @@ pub(crate) fn augmented_pattern(problem: &Problem<'_>) -> Result<(SparsePattern,
     }
     let mut entries = problem.jacobian_entries();
     let k = entries.len();
+    entries.reserve_exact(n);
     entries.extend((0..n).map(|j| (m, j)));
     let blocks = problem.elimination_blocks();
     Ok((SparsePattern::with_blocks(n, n, &entries, &blocks)?, k))

@@ -293,7 +293,13 @@ impl<'a> Problem<'a> {
     }
 
     fn global_pattern(&self) -> Vec<(usize, usize)> {
-        let mut entries = Vec::new();
+        let len = self.parts.iter().map(|p| p.pattern.len()).sum::<usize>()
+            + self
+                .monitors
+                .iter()
+                .map(|m| m.unknowns.len() + 1)
+                .sum::<usize>();
+        let mut entries = Vec::with_capacity(len);
         for part in &self.parts {
             for &(r, c) in &part.pattern {
                 entries.push((part.row + r, part.unknowns[c]));

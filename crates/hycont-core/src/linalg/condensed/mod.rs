@@ -54,7 +54,11 @@ struct Routes {
 
 impl Routes {
     fn new(dest: &[Dest], pin0: usize) -> Self {
-        let mut r = Self::default();
+        let dense = dest.iter().filter(|d| matches!(d, Dest::Dense(_))).count();
+        let mut r = Self {
+            dense: Vec::with_capacity(dense),
+            ..Self::default()
+        };
         for (e, d) in dest.iter().enumerate() {
             let e = u32::try_from(e).expect("at most 2^32 entries");
             match *d {

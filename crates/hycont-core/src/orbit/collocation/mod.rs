@@ -215,7 +215,11 @@ impl<S: HybridJacobians + ?Sized> ZeroFunction for Collocation<'_, S> {
     fn jacobian_pattern(&self) -> Vec<(usize, usize)> {
         let (n, np, ncol) = (self.n, self.np, self.basis.ncol);
         let kk = self.signature.len();
-        let mut out = Vec::new();
+        // Per collocation row: the interval's nodes, the duration, the parameters; per
+        // boundary row at most the end state, the parameters and the next segment's start.
+        let per_row = (ncol + 1) * n + 1 + np;
+        let rows: usize = (0..kk).map(|k| (self.meshes[k].len() - 1) * ncol * n).sum();
+        let mut out = Vec::with_capacity(rows * per_row + kk * (n + 1) * (2 * n + np));
         for k in 0..kk {
             let off = self.segment_offset(k);
             let r0 = self.row_offset(k);
