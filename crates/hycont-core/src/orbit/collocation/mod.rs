@@ -285,12 +285,15 @@ impl<S: HybridJacobians + ?Sized> ZeroFunction for Collocation<'_, S> {
             for j in 0..ntst {
                 let h = self.meshes[k][j + 1] - self.meshes[k][j];
                 let base = off + j * ncol * n;
+                let nodes = &u[base..base + (ncol + 1) * n];
                 for c in 0..ncol {
+                    let (lc, dlc) = (&self.basis.l[c], &self.basis.dl[c]);
                     // xi = p(z_c)
-                    for comp in 0..n {
-                        self.xi[comp] = (0..=ncol)
-                            .map(|node| self.basis.l[c][node] * u[base + node * n + comp])
-                            .sum();
+                    self.xi.fill(0.0);
+                    for (x, &lv) in nodes.chunks_exact(n).zip(lc) {
+                        for (xi, xv) in self.xi.iter_mut().zip(x) {
+                            *xi += lv * xv;
+                        }
                     }
                     if jac.is_some() {
                         self.system.vector_field_with_jacobian(
@@ -305,31 +308,37 @@ impl<S: HybridJacobians + ?Sized> ZeroFunction for Collocation<'_, S> {
                         self.system.vector_field(mode, &self.xi, &p, &mut self.f);
                     }
                     let row = r0 + (j * ncol + c) * n;
-                    for i in 0..n {
-                        let dp: f64 = (0..=ncol)
-                            .map(|node| self.basis.dl[c][node] * u[base + node * n + i])
-                            .sum();
-                        residual[row + i] = dp - h * t_k * self.f[i];
+                    let res = &mut residual[row..row + n];
+                    for (r, f) in res.iter_mut().zip(&self.f) {
+                        *r = -h * t_k * f;
+                    }
+                    for (x, &dv) in nodes.chunks_exact(n).zip(dlc) {
+                        for (r, xv) in res.iter_mut().zip(x) {
+                            *r += dv * xv;
+                        }
                     }
                     if let Some(jac) = jac.as_deref_mut() {
+                        // Row i: d/dx_node = L_node'(z_c) e_i - h T L_node(z_c) A[i, :], then
+                        // the duration's and the parameters' columns.
+                        let width = (ncol + 1) * n + 1 + np;
+                        let ht = -h * t_k;
                         for i in 0..n {
-                            for node in 0..=ncol {
-                                for comp in 0..n {
-                                    let mut v =
-                                        -h * t_k * self.a[i + comp * n] * self.basis.l[c][node];
-                                    if comp == i {
-                                        v += self.basis.dl[c][node];
-                                    }
-                                    jac[pos] = v;
-                                    pos += 1;
+                            let out = &mut jac[pos..pos + width];
+                            let (nodes_out, rest) = out.split_at_mut((ncol + 1) * n);
+                            for (node_out, (&lv, &dv)) in
+                                nodes_out.chunks_exact_mut(n).zip(lc.iter().zip(dlc))
+                            {
+                                let s = ht * lv;
+                                for (o, comp) in node_out.iter_mut().zip(0..n) {
+                                    *o = s * self.a[i + comp * n];
                                 }
+                                node_out[i] += dv;
                             }
-                            jac[pos] = -h * self.f[i];
-                            pos += 1;
-                            for q in 0..np {
-                                jac[pos] = -h * t_k * self.fp[i + q * n];
-                                pos += 1;
+                            rest[0] = -h * self.f[i];
+                            for (o, q) in rest[1..].iter_mut().zip(0..np) {
+                                *o = ht * self.fp[i + q * n];
                             }
+                            pos += width;
                         }
                     }
                 }
