@@ -272,14 +272,14 @@ impl<S: HybridJacobians + ?Sized> ZeroFunction for Collocation<'_, S> {
         jacobian: Option<&mut [f64]>,
     ) -> Result<()> {
         let (n, np, ncol) = (self.n, self.np, self.basis.ncol);
-        let kk = self.signature.len();
         let p = u[self.param_index(0)..self.param_index(0) + np].to_vec();
         let mut jac = jacobian;
         let mut pos = 0usize;
-        for k in 0..kk {
+        // Entries of a collocation row: the interval's nodes, the duration, the parameters.
+        let width = (ncol + 1) * n + 1 + np;
+        for k in 0..self.signature.len() {
             let mode = self.signature.segments()[k].mode;
-            let off = self.segment_offset(k);
-            let r0 = self.row_offset(k);
+            let (off, r0) = (self.segment_offset(k), self.row_offset(k));
             let t_k = u[self.duration_index(k)];
             let ntst = self.meshes[k].len() - 1;
             for j in 0..ntst {
@@ -287,97 +287,139 @@ impl<S: HybridJacobians + ?Sized> ZeroFunction for Collocation<'_, S> {
                 let base = off + j * ncol * n;
                 let nodes = &u[base..base + (ncol + 1) * n];
                 for c in 0..ncol {
-                    let (lc, dlc) = (&self.basis.l[c], &self.basis.dl[c]);
-                    // xi = p(z_c)
-                    self.xi.fill(0.0);
-                    for (x, &lv) in nodes.chunks_exact(n).zip(lc) {
-                        for (xi, xv) in self.xi.iter_mut().zip(x) {
-                            *xi += lv * xv;
-                        }
-                    }
-                    if jac.is_some() {
-                        self.system.vector_field_with_jacobian(
-                            mode,
-                            &self.xi,
-                            &p,
-                            &mut self.f,
-                            &mut self.a,
-                            Some(&mut self.fp),
-                        );
-                    } else {
-                        self.system.vector_field(mode, &self.xi, &p, &mut self.f);
-                    }
                     let row = r0 + (j * ncol + c) * n;
+                    let point = Point { mode, c, h, t: t_k };
                     let res = &mut residual[row..row + n];
-                    for (r, f) in res.iter_mut().zip(&self.f) {
-                        *r = -h * t_k * f;
-                    }
-                    for (x, &dv) in nodes.chunks_exact(n).zip(dlc) {
-                        for (r, xv) in res.iter_mut().zip(x) {
-                            *r += dv * xv;
-                        }
-                    }
-                    if let Some(jac) = jac.as_deref_mut() {
-                        // Row i: d/dx_node = L_node'(z_c) e_i - h T L_node(z_c) A[i, :], then
-                        // the duration's and the parameters' columns.
-                        let width = (ncol + 1) * n + 1 + np;
-                        let ht = -h * t_k;
-                        for i in 0..n {
-                            let out = &mut jac[pos..pos + width];
-                            let (nodes_out, rest) = out.split_at_mut((ncol + 1) * n);
-                            for (node_out, (&lv, &dv)) in
-                                nodes_out.chunks_exact_mut(n).zip(lc.iter().zip(dlc))
-                            {
-                                let s = ht * lv;
-                                for (o, comp) in node_out.iter_mut().zip(0..n) {
-                                    *o = s * self.a[i + comp * n];
-                                }
-                                node_out[i] += dv;
-                            }
-                            rest[0] = -h * self.f[i];
-                            for (o, q) in rest[1..].iter_mut().zip(0..np) {
-                                *o = ht * self.fp[i + q * n];
-                            }
-                            pos += width;
-                        }
+                    let rows = jac.as_deref_mut().map(|j| &mut j[pos..pos + n * width]);
+                    self.collocation_point(point, nodes, &p, res, rows);
+                    if jac.is_some() {
+                        pos += n * width;
                     }
                 }
             }
-            // Boundary conditions at the segment's end.
             let rb = r0 + ntst * ncol * n;
-            let last = off + (self.nodes_in(k) - 1) * n;
-            let y = u[last..last + n].to_vec();
-            let next_off = self.segment_offset((k + 1) % kk);
-            let wrap = k + 1 == kk;
-            let target = self.ends.target(wrap, &u[next_off..next_off + n]);
-            let end = self.signature.segments()[k].end;
-            self.ends.residual(
-                self.system,
-                end,
-                &y,
+            self.segment_end(
+                k,
+                u,
                 &p,
-                &target,
                 &mut residual[rb..=rb + n],
+                jac.as_deref_mut(),
+                &mut pos,
             );
-            let Some(jac) = jac.as_deref_mut() else {
-                continue;
-            };
-            self.ends.linearise(self.system, end, &y, &p);
-            for i in 0..=n {
-                for comp in 0..n {
-                    jac[pos] = self.ends.state_derivative(i, comp);
-                    pos += 1;
-                }
-                for q in 0..np {
-                    jac[pos] = self.ends.parameter_derivative(i, q);
-                    pos += 1;
-                }
-                if i < n {
-                    self.ends.write_target_entries(i, wrap, jac, &mut pos);
-                }
-            }
         }
         Ok(())
+    }
+}
+
+/// A collocation point: its segment's mode, its index in the interval, the interval's length
+/// and the segment's duration.
+#[derive(Clone, Copy)]
+struct Point {
+    mode: crate::system::Mode,
+    c: usize,
+    h: f64,
+    t: f64,
+}
+
+impl<S: HybridJacobians + ?Sized> Collocation<'_, S> {
+    /// The `n` equations at collocation point `at` of the interval with node values `nodes`
+    /// (and, with `jac`, their rows of the Jacobian: the nodes, the duration, the parameters).
+    fn collocation_point(
+        &mut self,
+        at: Point,
+        nodes: &[f64],
+        p: &[f64],
+        res: &mut [f64],
+        jac: Option<&mut [f64]>,
+    ) {
+        let (n, np) = (self.n, self.np);
+        let (lc, dlc) = (&self.basis.l[at.c], &self.basis.dl[at.c]);
+        // xi = p(z_c)
+        self.xi.fill(0.0);
+        for (x, &lv) in nodes.chunks_exact(n).zip(lc) {
+            for (xi, xv) in self.xi.iter_mut().zip(x) {
+                *xi += lv * xv;
+            }
+        }
+        if jac.is_some() {
+            self.system.vector_field_with_jacobian(
+                at.mode,
+                &self.xi,
+                p,
+                &mut self.f,
+                &mut self.a,
+                Some(&mut self.fp),
+            );
+        } else {
+            self.system.vector_field(at.mode, &self.xi, p, &mut self.f);
+        }
+        let ht = -at.h * at.t;
+        for (r, f) in res.iter_mut().zip(&self.f) {
+            *r = ht * f;
+        }
+        for (x, &dv) in nodes.chunks_exact(n).zip(dlc) {
+            for (r, xv) in res.iter_mut().zip(x) {
+                *r += dv * xv;
+            }
+        }
+        let Some(jac) = jac else {
+            return;
+        };
+        // Row i: d/dx_node = L_node'(z_c) e_i - h T L_node(z_c) A[i, :], then the duration's
+        // and the parameters' columns.
+        let width = jac.len() / n;
+        for (i, out) in jac.chunks_exact_mut(width).enumerate() {
+            let (nodes_out, rest) = out.split_at_mut(nodes.len());
+            for (node_out, (&lv, &dv)) in nodes_out.chunks_exact_mut(n).zip(lc.iter().zip(dlc)) {
+                let s = ht * lv;
+                for (o, comp) in node_out.iter_mut().zip(0..n) {
+                    *o = s * self.a[i + comp * n];
+                }
+                node_out[i] += dv;
+            }
+            rest[0] = -at.h * self.f[i];
+            for (o, q) in rest[1..].iter_mut().zip(0..np) {
+                *o = ht * self.fp[i + q * n];
+            }
+        }
+    }
+
+    /// The `n + 1` conditions at the end of segment `k` (continuity into the next segment and
+    /// the end condition) and, with `jac`, their Jacobian entries from `pos` on.
+    fn segment_end(
+        &mut self,
+        k: usize,
+        u: &[f64],
+        p: &[f64],
+        res: &mut [f64],
+        jac: Option<&mut [f64]>,
+        pos: &mut usize,
+    ) {
+        let (n, np, kk) = (self.n, self.np, self.signature.len());
+        let last = self.segment_offset(k) + (self.nodes_in(k) - 1) * n;
+        let y = &u[last..last + n];
+        let next_off = self.segment_offset((k + 1) % kk);
+        let wrap = k + 1 == kk;
+        let target = self.ends.target(wrap, &u[next_off..next_off + n]);
+        let end = self.signature.segments()[k].end;
+        self.ends.residual(self.system, end, y, p, &target, res);
+        let Some(jac) = jac else {
+            return;
+        };
+        self.ends.linearise(self.system, end, y, p);
+        for i in 0..=n {
+            for comp in 0..n {
+                jac[*pos] = self.ends.state_derivative(i, comp);
+                *pos += 1;
+            }
+            for q in 0..np {
+                jac[*pos] = self.ends.parameter_derivative(i, q);
+                *pos += 1;
+            }
+            if i < n {
+                self.ends.write_target_entries(i, wrap, jac, pos);
+            }
+        }
     }
 }
 
