@@ -127,33 +127,12 @@ pub(super) fn run_figure(
         .with_dimensional(super::block_args::figure_dimensional(&args.block)?)
         .with_recipe(args.recipe.recipe()?);
     let which = figures_to_draw(args.which.as_deref(), resume.as_ref())?;
-    if !invocation.recipe().is_study() && !which.iter().any(|n| (3..=5).contains(n)) {
-        return Err(Error::InvalidArgument {
-            name: "continuation options",
-            value: format!("figures {which:?}"),
-            reason: "--method, --h0, --h-min, --h-max, --max-points, --ntst, --ncol, --tol, --adapt-every and --mesh-tol apply to the branch figures 3, 4 and 5",
-        });
-    }
-    if let Some(t) = args.trials.filter(|t| !(1..=MAX_TRIALS).contains(t)) {
-        return Err(Error::InvalidArgument {
-            name: "trials",
-            value: t.to_string(),
-            reason: "must be in 1..=10^12 (shard larger studies into separate runs)",
-        });
-    }
+    let shard = checked_options(args, &which, invocation)?;
     let trials = |n: u32| {
         args.trials
             .unwrap_or_else(|| crate::figures::sampling::default_trials(n))
     };
     set_threads(args.threads)?;
-    let shard = args.shard.as_deref().map(parse_shard).transpose()?;
-    if shard.is_some() && !matches!(which.as_slice(), [n] if SAMPLING.contains(n)) {
-        return Err(Error::InvalidArgument {
-            name: "shard",
-            value: args.which.clone().unwrap_or_default(),
-            reason: "shard one sampling figure (7, 9 or 10) at a time",
-        });
-    }
     crate::output::check_dir(&args.out)?;
     let dir = OutDir::new(&args.out).with_format(args.format);
     let progress = Arc::new(Progress::default());
@@ -194,6 +173,38 @@ pub(super) fn run_figure(
         }
     }
     print_written(out, &written, args.json)
+}
+
+/// Checks the options of `figure` against the figures drawn: a recipe other than the study's
+/// only for the branch figures, trials in range, a shard of one sampling figure (returned).
+fn checked_options(
+    args: &FigureArgs,
+    which: &[u32],
+    invocation: &Provenance,
+) -> Result<Option<(u64, u64)>> {
+    if !invocation.recipe().is_study() && !which.iter().any(|n| (3..=5).contains(n)) {
+        return Err(Error::InvalidArgument {
+            name: "continuation options",
+            value: format!("figures {which:?}"),
+            reason: "--method, --h0, --h-min, --h-max, --max-points, --ntst, --ncol, --tol, --adapt-every and --mesh-tol apply to the branch figures 3, 4 and 5",
+        });
+    }
+    if let Some(t) = args.trials.filter(|t| !(1..=MAX_TRIALS).contains(t)) {
+        return Err(Error::InvalidArgument {
+            name: "trials",
+            value: t.to_string(),
+            reason: "must be in 1..=10^12 (shard larger studies into separate runs)",
+        });
+    }
+    let shard = args.shard.as_deref().map(parse_shard).transpose()?;
+    if shard.is_some() && !matches!(which, [n] if SAMPLING.contains(n)) {
+        return Err(Error::InvalidArgument {
+            name: "shard",
+            value: args.which.clone().unwrap_or_default(),
+            reason: "shard one sampling figure (7, 9 or 10) at a time",
+        });
+    }
+    Ok(shard)
 }
 
 /// A file of count tables over one shard of a sampling run's trials (a sampling figure's, or a
