@@ -22,6 +22,7 @@ use crate::{ContinuationProblem, PointInfo};
 use hycont_core::ParamId;
 use hycont_core::linalg::SparsePattern;
 
+mod adapt;
 mod corrector;
 mod critical;
 mod locate;
@@ -233,52 +234,6 @@ impl<'p, 'a, P: ContinuationProblem<'a> + ?Sized> Palc<'p, 'a, P> {
         }
     }
 
-    /// Whether the discretisation is due for adaptation at chart `b`, `since` points after the
-    /// last one: where the error estimate exceeds the tolerance, and every
-    /// [`ContinuationSettings::adapt_every`] points unless the estimate is below a hundredth of
-    /// the tolerance (a mesh that good is not worth moving).
-    fn adaptation_due(&self, b: &Chart, since: usize) -> bool {
-        let every = self.settings.adapt_every;
-        let tol = self.settings.discretisation_tolerance;
-        let error = b.info.discretisation_error;
-        error.is_some_and(|e| e > tol)
-            || (every > 0 && since >= every && error.is_none_or(|e| e > 0.01 * tol))
-    }
-
-    /// Chart `b` on a new discretisation ([`ContinuationProblem::rediscretise`]), corrected on
-    /// the hyperplane through the carried point normal to the carried tangent; `None` when the
-    /// problem keeps its discretisation, or when the carried point does not correct (the
-    /// problem then returns to the discretisation of `b`).
-    fn rediscretised(&mut self, b: &Chart) -> Result<Option<Chart>> {
-        let before = self.p.discretisation_revision();
-        let tolerance = self.settings.discretisation_tolerance;
-        let Some(carried) = self.p.rediscretise(&b.u, &b.t, tolerance)? else {
-            return Ok(None);
-        };
-        let (u, mut t) = (carried.u, carried.t);
-        if carried.layout_changed {
-            self.relayout()?;
-        }
-        self.wnormalize(&mut t);
-        let row = self.row_of(&t);
-        let corrected = self
-            .correct(&u, &row, &u, 0.0, false)
-            .and_then(|(u, it)| self.chart(u, &row, it));
-        match corrected {
-            Ok(mut c) => {
-                if self.wdot(&c.t, &t) < 0.0 {
-                    c.t.iter_mut().for_each(|x| *x = -*x);
-                }
-                self.stats.rediscretisations += 1;
-                Ok(Some(c))
-            }
-            Err(_) => {
-                self.restore(before)?;
-                Ok(None)
-            }
-        }
-    }
-
     /// The first chart. Without a given direction: `u0` corrected with the parameter fixed
     /// (where that fails, on a generic hyperplane through it: a branch that does not move in the
     /// parameter there), its tangent oriented by `direction`. With one (branch switching,
@@ -451,14 +406,14 @@ impl<'p, 'a, P: ContinuationProblem<'a> + ?Sized> Palc<'p, 'a, P> {
         }
     }
 
-    pub(crate) fn run(
-        &mut self,
-        name: &str,
+    /// Checks a run's start: a usable direction, a finite start (and tangent) of the right
+    /// length, inside the continuation bounds.
+    fn check_start(
+        &self,
         u0: &[f64],
         initial_tangent: Option<&[f64]>,
         direction: f64,
-        observer: &mut dyn Observer,
-    ) -> Result<Branch> {
+    ) -> Result<()> {
         if !(direction.is_finite() && direction != 0.0) {
             return Err(Error::InvalidSetting {
                 name: "direction",
@@ -482,6 +437,58 @@ impl<'p, 'a, P: ContinuationProblem<'a> + ?Sized> Palc<'p, 'a, P> {
                 max,
             });
         }
+        Ok(())
+    }
+
+    /// The special points of the step `h` from `a` to `b`, labelled from `*label + 1` on, into
+    /// `branch` (and the observer); the reason the run ends at one of them, if it does.
+    fn record_special_points(
+        &mut self,
+        (a, b): (&Chart, &Chart),
+        h: f64,
+        label: &mut usize,
+        branch: &mut Branch,
+        observer: &mut dyn Observer,
+    ) -> Option<EndReason> {
+        for f in self.located_in_step(a, b, h) {
+            let slot = f.slot;
+            let Some(special) = self.special_point(f, (a, b), h, *label + 1) else {
+                self.stats.discarded_tests += 1;
+                continue;
+            };
+            *label += 1;
+            observer.special(&special);
+            let end = self.ends_run(slot, special.kind);
+            branch.special_points.push(special);
+            if end.is_some() {
+                return end;
+            }
+        }
+        None
+    }
+
+    /// The next step after a corrector that took `iterations`: longer (by the growth factor,
+    /// up to the largest step) after at most two, halved (down to the smallest) after more
+    /// than the target.
+    fn next_step(&self, h: f64, iterations: usize) -> f64 {
+        if iterations <= 2 {
+            (h * self.settings.growth).min(self.settings.h_max)
+        } else if iterations > self.settings.target_iterations {
+            (0.5 * h).max(self.settings.h_min)
+        } else {
+            h
+        }
+    }
+
+    pub(crate) fn run(
+        &mut self,
+        name: &str,
+        u0: &[f64],
+        initial_tangent: Option<&[f64]>,
+        direction: f64,
+        observer: &mut dyn Observer,
+    ) -> Result<Branch> {
+        self.check_start(u0, initial_tangent, direction)?;
         let revision = self.p.discretisation_revision();
         let mut a = self.first_chart(u0, initial_tangent, direction)?;
         let mut label = 1;
@@ -504,7 +511,7 @@ impl<'p, 'a, P: ContinuationProblem<'a> + ?Sized> Palc<'p, 'a, P> {
         // The chart before `a` and the step from it, for the predictor; `None` after a
         // rejected step (the tangent predictor is then used).
         let mut previous: Option<(Vec<f64>, Vec<f64>, f64)> = None;
-        'outer: while branch.points.len() < self.settings.max_points {
+        while branch.points.len() < self.settings.max_points {
             let pred = match &previous {
                 Some((u_p, t_p, h_p)) => extrapolate(u_p, t_p, *h_p, &a.u, &a.t, h),
                 None => a.u.iter().zip(&a.t).map(|(x, t)| x + h * t).collect(),
@@ -522,20 +529,11 @@ impl<'p, 'a, P: ContinuationProblem<'a> + ?Sized> Palc<'p, 'a, P> {
                     break;
                 }
             };
-            for f in self.located_in_step(&a, &b, h) {
-                let slot = f.slot;
-                let Some(special) = self.special_point(f, (&a, &b), h, label + 1) else {
-                    self.stats.discarded_tests += 1;
-                    continue;
-                };
-                label += 1;
-                observer.special(&special);
-                let end = self.ends_run(slot, special.kind);
-                branch.special_points.push(special);
-                if let Some(end) = end {
-                    branch.end = end;
-                    break 'outer;
-                }
+            if let Some(end) =
+                self.record_special_points((&a, &b), h, &mut label, &mut branch, observer)
+            {
+                branch.end = end;
+                break;
             }
             label += 1;
             let point = self.point(&b, label, h);
@@ -550,12 +548,7 @@ impl<'p, 'a, P: ContinuationProblem<'a> + ?Sized> Palc<'p, 'a, P> {
                 branch.end = EndReason::Closed;
                 break;
             }
-            // Step control from the corrector's effort.
-            if b.iterations <= 2 {
-                h = (h * self.settings.growth).min(self.settings.h_max);
-            } else if b.iterations > self.settings.target_iterations {
-                h = (0.5 * h).max(self.settings.h_min);
-            }
+            h = self.next_step(h, b.iterations);
             previous = Some((std::mem::take(&mut a.u), std::mem::take(&mut a.t), step));
             a = b;
             since_adapted += 1;
