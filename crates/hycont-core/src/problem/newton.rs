@@ -142,8 +142,7 @@ pub fn newton(
     crate::error::check_finite("initial unknowns", u0)?;
     let mut u = u0.to_vec();
     let mut f = vec![0.0; m];
-    let mut trial_f = vec![0.0; m];
-    let mut trial = vec![0.0; n];
+    let mut trial = (vec![0.0; n], vec![0.0; m]);
     let mut du = vec![0.0; n];
     let mut history = Vec::new();
     // Residual at u, if already known from the previous accepted step.
@@ -164,23 +163,22 @@ pub fn newton(
         problem.solve_in_place(&mut du)?;
         let step = max_abs(&du);
         let scale = 1.0 + max_abs(&u);
-        // Damping: accept the first factor that reduces the residual sufficiently.
-        let mut damping = 1.0;
-        let trial_res = loop {
-            for i in 0..n {
-                trial[i] = u[i] + damping * du[i];
-            }
-            let ok = problem.evaluate(&trial, &mut trial_f, None).is_ok()
-                && trial_f.iter().all(|v| v.is_finite());
-            let trial_res = if ok { max_abs(&trial_f) } else { f64::INFINITY };
-            if trial_res <= (1.0 - 1e-4 * damping) * res || trial_res <= settings.residual_tol {
-                break trial_res;
-            }
-            if chord {
+        let (trial_res, damping) = match damped_step(
+            problem,
+            (&u, &du),
+            &mut trial,
+            res,
+            chord,
+            settings,
+        ) {
+            Damped::Accepted { residual, damping } => (residual, damping),
+            Damped::PoorChord => {
                 // A poor chord step: refactorise instead of damping.
-                break f64::NAN;
+                chord = false;
+                known_residual = false;
+                continue;
             }
-            if damping <= settings.min_damping {
+            Damped::Failed { damping } => {
                 history.push(NewtonIteration {
                     residual: res,
                     step,
@@ -195,21 +193,15 @@ pub fn newton(
                     history,
                 });
             }
-            damping *= 0.5;
         };
-        if trial_res.is_nan() {
-            chord = false;
-            known_residual = false;
-            continue;
-        }
         history.push(NewtonIteration {
             residual: res,
             step,
             damping,
             factorized: !chord,
         });
-        std::mem::swap(&mut u, &mut trial);
-        std::mem::swap(&mut f, &mut trial_f);
+        std::mem::swap(&mut u, &mut trial.0);
+        std::mem::swap(&mut f, &mut trial.1);
         known_residual = true;
         if damping == 1.0 && step <= settings.tol * scale && trial_res <= settings.residual_tol {
             return Ok(NewtonSolution {
@@ -230,4 +222,49 @@ pub fn newton(
         ),
         history,
     })
+}
+
+/// Outcome of [`damped_step`].
+enum Damped {
+    /// The step `damping * du` reduces the residual (to `residual`).
+    Accepted { residual: f64, damping: f64 },
+    /// A chord step that does not reduce the residual enough (refactorise, do not damp).
+    PoorChord,
+    /// No damping down to the smallest reduces the residual.
+    Failed { damping: f64 },
+}
+
+/// The first of the damped steps `u + damping du`, `damping` = 1, 1/2, 1/4, ... down to
+/// [`NewtonSettings::min_damping`], that reduces the residual `res` sufficiently (Armijo with
+/// `1e-4`) or below the tolerance; the trial point and its residual are left in `trial`.
+fn damped_step(
+    problem: &mut Problem<'_>,
+    (u, du): (&[f64], &[f64]),
+    (trial, trial_f): &mut (Vec<f64>, Vec<f64>),
+    res: f64,
+    chord: bool,
+    settings: &NewtonSettings,
+) -> Damped {
+    let mut damping = 1.0;
+    loop {
+        for ((t, x), d) in trial.iter_mut().zip(u).zip(du) {
+            *t = x + damping * d;
+        }
+        let ok =
+            problem.evaluate(trial, trial_f, None).is_ok() && trial_f.iter().all(|v| v.is_finite());
+        let trial_res = if ok { max_abs(trial_f) } else { f64::INFINITY };
+        if trial_res <= (1.0 - 1e-4 * damping) * res || trial_res <= settings.residual_tol {
+            return Damped::Accepted {
+                residual: trial_res,
+                damping,
+            };
+        }
+        if chord {
+            return Damped::PoorChord;
+        }
+        if damping <= settings.min_damping {
+            return Damped::Failed { damping };
+        }
+        damping *= 0.5;
+    }
 }
