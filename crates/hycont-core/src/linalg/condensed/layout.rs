@@ -166,6 +166,10 @@ impl Condensed {
         // Position of each block column and block row within its block.
         let mut local = vec![NONE; ctx.row_owner.len()];
         let mut local_row = vec![NONE; ctx.row_owner.len()];
+        // Position of each kept column among the current block's other columns (set while
+        // that block's rows are routed).
+        let mut other_at = vec![NONE; ctx.red_col.iter().filter(|&&c| c != NONE).count()];
+        let mut current = NONE;
         for blk in &self.blocks {
             for (k, &j) in blk.cols.iter().enumerate() {
                 local[j] = k;
@@ -185,11 +189,23 @@ impl Condensed {
             } else if rb != NONE {
                 let blk = &self.blocks[rb];
                 let i = local_row[r];
+                if current != rb {
+                    if current != NONE {
+                        for &rc in &self.blocks[current].other {
+                            other_at[rc] = NONE;
+                        }
+                    }
+                    for (k, &rc) in blk.other.iter().enumerate() {
+                        other_at[rc] = k;
+                    }
+                    current = rb;
+                }
                 let j = if cb == rb {
                     local[c]
                 } else {
-                    let k = blk.other.binary_search(&ctx.red_col[c]);
-                    blk.c() + k.expect("the block's kept columns are listed")
+                    let k = other_at[ctx.red_col[c]];
+                    assert_ne!(k, NONE, "the block's kept columns are listed");
+                    blk.c() + k
                 };
                 Dest::Dense(blk.at + i + j * blk.m())
             } else if cb != NONE {

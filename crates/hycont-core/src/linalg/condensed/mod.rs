@@ -54,9 +54,9 @@ struct Routes {
 
 impl Routes {
     fn new(dest: &[Dest], pin0: usize) -> Self {
-        let dense = dest.iter().filter(|d| matches!(d, Dest::Dense(_))).count();
+        // Most entries go to the dense blocks: room for all of them.
         let mut r = Self {
-            dense: Vec::with_capacity(dense),
+            dense: Vec::with_capacity(dest.len()),
             ..Self::default()
         };
         for (e, d) in dest.iter().enumerate() {
