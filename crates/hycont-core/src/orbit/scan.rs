@@ -314,6 +314,7 @@ pub fn scan<S: HybridJacobians + ?Sized>(
     let boundary = boundary.critical;
     for (k, seg) in segs.iter().enumerate() {
         let duration = orbit.durations[k];
+        // Critical points only forward (a negative duration contributes its end and integrals).
         let watches: Vec<Watch> = if duration >= 0.0 {
             needs
                 .watches
@@ -324,41 +325,7 @@ pub fn scan<S: HybridJacobians + ?Sized>(
         } else {
             Vec::new()
         };
-        // Watches whose rates are the same state component (by the system's hints) are one
-        // function up to a constant: one event finds the critical points of all of them (the
-        // others are added where their rate vanishes too, below).
-        let hinted = |w: &Watch| {
-            let c = match *w {
-                Watch::Component(c) => Some(c),
-                Watch::Event(e) => system.event_component(e),
-            };
-            c.and_then(|c| system.rate_component(seg.mode, c))
-                .filter(|&j| j < n)
-        };
-        let mut detected: Vec<Watch> = Vec::new();
-        for w in &watches {
-            if hinted(w).is_none() || !detected.iter().any(|d| hinted(d) == hinted(w)) {
-                detected.push(*w);
-            }
-        }
-        let rate_of = detected.iter().map(hinted).collect();
-        let flow = ScanFlow {
-            system,
-            mode: seg.mode,
-            n,
-            ids: (0..detected.len()).map(EventId).collect(),
-            rate_of,
-            watches: detected,
-            integrals: &needs.integrals,
-            time_sign: duration.signum(),
-            rates: RefCell::new(Rates {
-                x: Vec::with_capacity(n),
-                values: Vec::new(),
-                f: vec![0.0; n],
-                grad: vec![0.0; n],
-                valid: false,
-            }),
-        };
+        let flow = segment_flow(system, seg.mode, &watches, &needs.integrals, duration);
         let mut x0 = orbit.starts[k].clone();
         x0.resize(n + needs.integrals.len(), 0.0);
         let traj = sim.run(&flow, Mode(0), 0.0, &x0, &orbit.params, duration.abs())?;
@@ -368,45 +335,13 @@ pub fn scan<S: HybridJacobians + ?Sized>(
                 reason: format!("the scan of the segment stopped early: {:?}", traj.stop),
             });
         }
-        let margin = BOUNDARY_BAND * duration.abs().max(1.0);
-        for e in &traj.events {
-            let first = flow.watches[e.event.0];
-            // Inside the band at an end, the point is the boundary's when the boundary was
-            // registered as this function's critical point (its exact state); otherwise it is
-            // kept (a start slightly off its split, e.g. during Newton's iterations).
-            let registered = |segment: usize| {
-                boundary
-                    .iter()
-                    .any(|c| c.segment == segment && c.watch == first)
-            };
-            if (e.t <= margin && registered(k))
-                || (e.t >= duration - margin && registered((k + 1) % segs.len()))
-            {
-                continue;
-            }
-            let state = &e.state_before[..n];
-            let turn = classify(system, first, seg.mode, state, &orbit.params);
-            push_unique(
-                &mut out.critical,
-                system,
-                orbit,
-                first,
-                turn,
-                (k, e.t),
-                state,
-            );
-            // Other watched functions critical at the same point: the simulator restarts on
-            // their zero and does not report them.
-            let scale = 1.0 + state.iter().fold(0.0f64, |m, v| m.max(v.abs()));
-            for &w in watches.iter().filter(|&&w| w != first) {
-                let (mut f, mut g) = (vec![0.0; n], vec![0.0; n]);
-                let rate = watched(system, w, seg.mode, state, &orbit.params, &mut f, &mut g).1;
-                if rate.abs() <= 1e-9 * scale {
-                    let turn = classify(system, w, seg.mode, state, &orbit.params);
-                    push_unique(&mut out.critical, system, orbit, w, turn, (k, e.t), state);
-                }
-            }
-        }
+        let found = SegmentScan {
+            orbit,
+            k,
+            watches: &watches,
+            boundary: &boundary,
+        };
+        found.record(system, &flow, &traj.events, &mut out.critical);
         let sign = duration.signum();
         out.ends.push(traj.state_final[..n].to_vec());
         out.integrals
@@ -424,6 +359,109 @@ pub fn scan<S: HybridJacobians + ?Sized>(
     out.critical
         .sort_by(|a, b| a.segment.cmp(&b.segment).then(a.t.total_cmp(&b.t)));
     Ok(out)
+}
+
+/// The flow that scans one segment in `mode` (backward for a negative `duration`): the state,
+/// the integrals, and one event per group of `watches` whose rates are the same state
+/// component by the system's hints (one function up to a constant: one event finds the
+/// critical points of all of them; the others are added where their rate vanishes too, see
+/// [`SegmentScan::record`]).
+fn segment_flow<'a, S: HybridJacobians + ?Sized>(
+    system: &'a S,
+    mode: Mode,
+    watches: &[Watch],
+    integrals: &'a [usize],
+    duration: f64,
+) -> ScanFlow<'a, S> {
+    let n = system.state_dim();
+    let hinted = |w: &Watch| {
+        let c = match *w {
+            Watch::Component(c) => Some(c),
+            Watch::Event(e) => system.event_component(e),
+        };
+        c.and_then(|c| system.rate_component(mode, c))
+            .filter(|&j| j < n)
+    };
+    let mut detected: Vec<Watch> = Vec::new();
+    for w in watches {
+        if hinted(w).is_none() || !detected.iter().any(|d| hinted(d) == hinted(w)) {
+            detected.push(*w);
+        }
+    }
+    let rate_of = detected.iter().map(hinted).collect();
+    ScanFlow {
+        system,
+        mode,
+        n,
+        ids: (0..detected.len()).map(EventId).collect(),
+        rate_of,
+        watches: detected,
+        integrals,
+        time_sign: duration.signum(),
+        rates: RefCell::new(Rates {
+            x: Vec::with_capacity(n),
+            values: Vec::new(),
+            f: vec![0.0; n],
+            grad: vec![0.0; n],
+            valid: false,
+        }),
+    }
+}
+
+/// Segment `k` of a scan: its watches and the boundary critical points already registered.
+struct SegmentScan<'s> {
+    orbit: &'s PeriodicOrbit,
+    k: usize,
+    watches: &'s [Watch],
+    boundary: &'s [CriticalPoint],
+}
+
+impl SegmentScan<'_> {
+    /// Adds the critical points the scan's `events` found in the segment: each event's watched
+    /// function, and the other watched functions critical at the same point (the simulator
+    /// restarts on their zero and does not report them); not the points within
+    /// [`BOUNDARY_BAND`] of a boundary registered as that function's critical point.
+    fn record<S: HybridJacobians + ?Sized>(
+        &self,
+        system: &S,
+        flow: &ScanFlow<'_, S>,
+        events: &[crate::simulate::EventRecord],
+        critical: &mut Vec<CriticalPoint>,
+    ) {
+        let (orbit, k, n) = (self.orbit, self.k, system.state_dim());
+        let duration = orbit.durations[k];
+        let mode = flow.mode;
+        let segments = orbit.signature.segments().len();
+        let margin = BOUNDARY_BAND * duration.abs().max(1.0);
+        for e in events {
+            let first = flow.watches[e.event.0];
+            // Inside the band at an end, the point is the boundary's when the boundary was
+            // registered as this function's critical point (its exact state); otherwise it is
+            // kept (a start slightly off its split, e.g. during Newton's iterations).
+            let registered = |segment: usize| {
+                self.boundary
+                    .iter()
+                    .any(|c| c.segment == segment && c.watch == first)
+            };
+            if (e.t <= margin && registered(k))
+                || (e.t >= duration - margin && registered((k + 1) % segments))
+            {
+                continue;
+            }
+            let state = &e.state_before[..n];
+            let turn = classify(system, first, mode, state, &orbit.params);
+            push_unique(critical, system, orbit, first, turn, (k, e.t), state);
+            let scale = 1.0 + state.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+            for &w in self.watches.iter().filter(|&&w| w != first) {
+                let (mut f, mut g) = (vec![0.0; n], vec![0.0; n]);
+                let rate = watched(system, w, mode, state, &orbit.params, &mut f, &mut g).1;
+                if rate.abs() <= 1e-9 * scale {
+                    let turn = classify(system, w, mode, state, &orbit.params);
+                    push_unique(critical, system, orbit, w, turn, (k, e.t), state);
+                }
+            }
+        }
+    }
 }
 
 /// Adds the critical points that are segment boundaries of the signature: the start of a
