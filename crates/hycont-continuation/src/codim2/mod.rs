@@ -119,53 +119,8 @@ impl<'a, S: HybridJacobians + ?Sized> Codim2<'a, S> {
                 reason: "must differ from the continued one",
             });
         }
-        let half = orbit.signature.closure() == Closure::Symmetric;
         let base = disc.pack(system, orbit)?;
-        let factor = match condition {
-            CurveCondition::Fold => Some(1.0),
-            CurveCondition::PeriodDoubling if half => {
-                return Err(Error::InvalidSetting {
-                    name: "curve condition",
-                    value: -1.0,
-                    reason: "period doubling is continued on the full orbit, not a half orbit",
-                });
-            }
-            CurveCondition::SymmetryBreaking if !half => {
-                return Err(Error::InvalidSetting {
-                    name: "curve condition",
-                    value: -1.0,
-                    reason: "symmetry breaking is continued on the half orbit of a symmetric orbit",
-                });
-            }
-            CurveCondition::PeriodDoubling | CurveCondition::SymmetryBreaking => Some(-1.0),
-            CurveCondition::Measure { measure, level } => {
-                if !level.is_finite() {
-                    return Err(Error::InvalidSetting {
-                        name: "measure level",
-                        value: level,
-                        reason: "must be finite",
-                    });
-                }
-                let count = 2 + measures.len();
-                if measure.index() < 2 || measure.index() >= count {
-                    return Err(Error::NoSuchQuantity {
-                        quantity: Quantity::Measure(measure),
-                        count,
-                    });
-                }
-                None
-            }
-            CurveCondition::Collapse { segment } => {
-                if segment >= orbit.segment_count() {
-                    return Err(Error::InvalidSetting {
-                        name: "collapsed segment",
-                        value: segment as f64,
-                        reason: "the orbit has no such segment",
-                    });
-                }
-                None
-            }
-        };
+        let factor = closure_factor(condition, orbit, measures.len())?;
         let u_base = base.clone();
         let mut inner = OrbitContinuation::build(
             system,
@@ -295,4 +250,61 @@ pub fn curve_settings() -> crate::ContinuationSettings {
             torus: false,
             monitor_events: true,
         })
+}
+
+/// The factor of the singular closure a curve condition continues ($+1$: a multiplier 1, the
+/// fold; $-1$: a multiplier $-1$, period doubling on the full orbit or symmetry breaking on
+/// the half orbit), `None` for the conditions held by a measured part; an error where the
+/// condition does not apply to `orbit` (with `measures` measures besides the two built in).
+fn closure_factor(
+    condition: CurveCondition,
+    orbit: &PeriodicOrbit,
+    measures: usize,
+) -> Result<Option<f64>> {
+    let half = orbit.signature.closure() == Closure::Symmetric;
+    Ok(match condition {
+        CurveCondition::Fold => Some(1.0),
+        CurveCondition::PeriodDoubling if half => {
+            return Err(Error::InvalidSetting {
+                name: "curve condition",
+                value: -1.0,
+                reason: "period doubling is continued on the full orbit, not a half orbit",
+            });
+        }
+        CurveCondition::SymmetryBreaking if !half => {
+            return Err(Error::InvalidSetting {
+                name: "curve condition",
+                value: -1.0,
+                reason: "symmetry breaking is continued on the half orbit of a symmetric orbit",
+            });
+        }
+        CurveCondition::PeriodDoubling | CurveCondition::SymmetryBreaking => Some(-1.0),
+        CurveCondition::Measure { measure, level } => {
+            if !level.is_finite() {
+                return Err(Error::InvalidSetting {
+                    name: "measure level",
+                    value: level,
+                    reason: "must be finite",
+                });
+            }
+            let count = 2 + measures;
+            if measure.index() < 2 || measure.index() >= count {
+                return Err(Error::NoSuchQuantity {
+                    quantity: Quantity::Measure(measure),
+                    count,
+                });
+            }
+            None
+        }
+        CurveCondition::Collapse { segment } => {
+            if segment >= orbit.segment_count() {
+                return Err(Error::InvalidSetting {
+                    name: "collapsed segment",
+                    value: segment as f64,
+                    reason: "the orbit has no such segment",
+                });
+            }
+            None
+        }
+    })
 }
