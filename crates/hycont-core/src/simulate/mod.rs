@@ -11,6 +11,7 @@ mod settings;
 mod tableau;
 mod trajectory;
 mod variational;
+mod zeno;
 
 pub use dop853::{Dop853, NonFiniteEvaluation, StepperStats};
 pub use settings::{ParamSet, SampleTimes, Sensitivities, SimulationSettings, ZenoSettings};
@@ -23,6 +24,7 @@ use crate::error::{Error, Result, check_finite, check_len};
 use crate::system::{EventAction, EventId, HybridJacobians, HybridSystem, Mode};
 use events::{DenseStep, EventState, event_rate};
 use variational::{Extension, Plain, Variational};
+use zeno::ZenoWatch;
 
 /// The event-driven simulator. Holds its work space, so that repeated runs do not allocate per
 /// step (and reuse buffers across runs of the same dimension).
@@ -217,6 +219,55 @@ impl Simulator {
         }
     }
 
+    /// The earliest event of the current segment located in the accepted, pending step from
+    /// `t` to `t_new` (its time and index in `self.events`), the events' values and rates at
+    /// the step's end updated; the dense output is built where an event needs a closer look.
+    fn earliest_event<S: HybridSystem + ?Sized, F: FnMut(f64, &[f64], &mut [f64])>(
+        &mut self,
+        system: &S,
+        p: &[f64],
+        (t, t_new): (f64, f64),
+        tolerance: f64,
+        rhs: &mut F,
+    ) -> std::result::Result<Option<(f64, usize)>, NonFiniteEvaluation> {
+        let n = system.state_dim();
+        let mut earliest: Option<(f64, usize)> = None;
+        for idx in 0..self.events.len() {
+            let x_new = &self.stepper.new_state()[..n];
+            let f_new = &self.stepper.new_derivative()[..n];
+            let ev = &mut self.events[idx];
+            ev.value_new = system.event(ev.id, x_new, p);
+            ev.rate_new = event_rate(system, ev.id, x_new, f_new, p, &mut self.x_probe[..n]);
+            let ev = *ev;
+            let check = ev.check();
+            if check == events::Check::Quiet {
+                continue;
+            }
+            self.stepper.prepare_dense(rhs)?;
+            let tol = tolerance * t_new.abs().max(1.0);
+            let step = DenseStep {
+                stepper: &self.stepper,
+                system,
+                p,
+                t,
+                t_new,
+            };
+            if let Some((ta, ga, tb, gb)) = step.bracket(&ev, check, tol, &mut self.x_probe[..n]) {
+                let tol = tolerance * tb.abs().max(1.0);
+                let stepper = &self.stepper;
+                let probe = &mut self.x_probe;
+                let te = events::locate_root(ta, ga, tb, gb, tol, |tau| {
+                    stepper.dense(tau, &mut probe[..n]);
+                    system.event(ev.id, &probe[..n], p)
+                });
+                if earliest.is_none_or(|(t_best, _)| te < t_best) {
+                    earliest = Some((te, idx));
+                }
+            }
+        }
+        Ok(earliest)
+    }
+
     #[allow(clippy::too_many_arguments, clippy::too_many_lines)]
     fn run_impl<S: HybridSystem + ?Sized, E: Extension<S>>(
         &mut self,
@@ -294,10 +345,7 @@ impl Simulator {
             }
         };
 
-        // Zeno bookkeeping.
-        let mut last_jump: Option<f64> = None;
-        let mut last_interval: Option<f64> = None;
-        let mut contracting = 0usize;
+        let mut zeno_watch = ZenoWatch::default();
 
         let stop = 'outer: loop {
             // Samples at the current time (only the very first point; later samples are emitted
@@ -341,44 +389,9 @@ impl Simulator {
             let t_new = if last { t_end } else { t + h };
 
             // --- Event detection on the pending step.
-            let mut earliest: Option<(f64, usize)> = None;
-            for idx in 0..self.events.len() {
-                let x_new = &self.stepper.new_state()[..n];
-                let f_new = &self.stepper.new_derivative()[..n];
-                let ev = &mut self.events[idx];
-                ev.value_new = system.event(ev.id, x_new, p);
-                ev.rate_new = event_rate(system, ev.id, x_new, f_new, p, &mut self.x_probe[..n]);
-                let ev = *ev;
-                let check = ev.check();
-                if check == events::Check::Quiet {
-                    continue;
-                }
-                self.stepper
-                    .prepare_dense(&mut rhs)
-                    .map_err(|e| to_error(e, mode))?;
-                let tol = s.event_tolerance * t_new.abs().max(1.0);
-                let step = DenseStep {
-                    stepper: &self.stepper,
-                    system,
-                    p,
-                    t,
-                    t_new,
-                };
-                if let Some((ta, ga, tb, gb)) =
-                    step.bracket(&ev, check, tol, &mut self.x_probe[..n])
-                {
-                    let tol = s.event_tolerance * tb.abs().max(1.0);
-                    let stepper = &self.stepper;
-                    let probe = &mut self.x_probe;
-                    let te = events::locate_root(ta, ga, tb, gb, tol, |tau| {
-                        stepper.dense(tau, &mut probe[..n]);
-                        system.event(ev.id, &probe[..n], p)
-                    });
-                    if earliest.is_none_or(|(t_best, _)| te < t_best) {
-                        earliest = Some((te, idx));
-                    }
-                }
-            }
+            let earliest = self
+                .earliest_event(system, p, (t, t_new), s.event_tolerance, &mut rhs)
+                .map_err(|e| to_error(e, mode))?;
 
             let t_stop = earliest.map_or(t_new, |(te, _)| te);
             // A sample that coincides with the end time up to rounding (k * period computed
@@ -480,35 +493,7 @@ impl Simulator {
                     mode = to;
                     t = te;
 
-                    // Zeno detection.
-                    let mut zeno = None;
-                    if let Some(prev) = last_jump {
-                        let interval = te - prev;
-                        let mut ratio = f64::NAN;
-                        if let Some(prev_interval) = last_interval {
-                            ratio = interval / prev_interval;
-                            if ratio <= s.zeno.max_ratio {
-                                contracting += 1;
-                            } else {
-                                contracting = 0;
-                            }
-                        }
-                        last_interval = Some(interval);
-                        let remaining_time = interval * ratio / (1.0 - ratio);
-                        if (contracting >= s.zeno.min_contracting
-                            && remaining_time <= s.zeno.horizon)
-                            || interval <= s.zeno.min_interval * te.abs().max(1.0)
-                        {
-                            let t_acc = if remaining_time.is_finite() && remaining_time >= 0.0 {
-                                te + remaining_time
-                            } else {
-                                te
-                            };
-                            zeno = Some(t_acc);
-                        }
-                    }
-                    last_jump = Some(te);
-                    if let Some(t_acc) = zeno {
+                    if let Some(t_acc) = zeno_watch.jump_at(te, &s.zeno) {
                         match system.zeno_transition(
                             mode,
                             ev.id,
@@ -528,9 +513,7 @@ impl Simulator {
                                 });
                                 mode = m2;
                                 self.y_plus[..n].copy_from_slice(&self.zeno_out);
-                                last_jump = None;
-                                last_interval = None;
-                                contracting = 0;
+                                zeno_watch = ZenoWatch::default();
                             }
                             Some(m2) => {
                                 return Err(Error::InvalidTransition {
@@ -582,29 +565,9 @@ impl Simulator {
             StopReason::TerminalEvent { .. } | StopReason::ZenoAccumulation { .. } => &self.y_plus,
             _ => self.stepper.state(),
         };
-        let sensitivities = if which == Sensitivities::None || !sensitivities_valid {
-            None
-        } else {
-            let np = system.parameter_count();
-            let state = final_aug[n..n + n * n].to_vec();
-            let params = match which {
-                Sensitivities::StateAndParameters => {
-                    Some(final_aug[n + n * n..n + n * n + n * np].to_vec())
-                }
-                Sensitivities::StateAndSomeParameters(_) => {
-                    // Integrated columns are stored in parameter order; the others are zero.
-                    let mut out = vec![0.0; n * np];
-                    let mut col = n + n * n;
-                    for q in (0..np).filter(|&q| which.includes_parameter(q)) {
-                        out[q * n..(q + 1) * n].copy_from_slice(&final_aug[col..col + n]);
-                        col += n;
-                    }
-                    Some(out)
-                }
-                _ => None,
-            };
-            Some(SensitivityMatrices { n, state, params })
-        };
+        let sensitivities = (sensitivities_valid && which != Sensitivities::None).then(|| {
+            SensitivityMatrices::from_augmented(final_aug, n, system.parameter_count(), which)
+        });
         Ok(Trajectory {
             stop,
             t_final: t,

@@ -160,6 +160,33 @@ pub struct SensitivityMatrices {
 }
 
 impl SensitivityMatrices {
+    /// The sensitivities in a final augmented state $(x, \Phi, \partial x / \partial p)$ of
+    /// a run that integrated `which` (the parameter columns integrated are stored in
+    /// parameter order; the others are zero).
+    pub(super) fn from_augmented(
+        aug: &[f64],
+        n: usize,
+        np: usize,
+        which: super::Sensitivities,
+    ) -> Self {
+        use super::Sensitivities as W;
+        let state = aug[n..n + n * n].to_vec();
+        let params = match which {
+            W::StateAndParameters => Some(aug[n + n * n..n + n * n + n * np].to_vec()),
+            W::StateAndSomeParameters(_) => {
+                let mut out = vec![0.0; n * np];
+                let mut col = n + n * n;
+                for q in (0..np).filter(|&q| which.includes_parameter(q)) {
+                    out[q * n..(q + 1) * n].copy_from_slice(&aug[col..col + n]);
+                    col += n;
+                }
+                Some(out)
+            }
+            _ => None,
+        };
+        Self { n, state, params }
+    }
+
     /// Entry $(i, j)$ of $\Phi$.
     #[must_use]
     pub fn state_entry(&self, i: usize, j: usize) -> f64 {
