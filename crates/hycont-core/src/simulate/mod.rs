@@ -24,7 +24,7 @@ use crate::error::{Error, Result, check_finite, check_len};
 use crate::system::{EventAction, EventId, HybridJacobians, HybridSystem, Mode};
 use events::{DenseStep, EventState, event_rate};
 use variational::{Extension, Plain, Variational};
-use zeno::ZenoWatch;
+use zeno::{Zeno, ZenoWatch};
 
 /// The event-driven simulator. Holds its work space, so that repeated runs do not allocate per
 /// step (and reuse buffers across runs of the same dimension).
@@ -268,6 +268,45 @@ impl Simulator {
         Ok(earliest)
     }
 
+    /// After a jump into `mode` at `te` by `event`: where the jumps accumulate
+    /// ([`ZenoWatch`]), the system's Zeno transition applied to `self.y_plus` (continue in its
+    /// mode, recorded in `zeno.log`), or the run's stop where the system has none.
+    fn zeno_check<S: HybridSystem + ?Sized>(
+        &mut self,
+        system: &S,
+        p: &[f64],
+        (event, te): (EventId, f64),
+        mode: Mode,
+        zeno: &mut Zeno,
+        settings: &ZenoSettings,
+    ) -> Result<std::ops::ControlFlow<StopReason, Mode>> {
+        use std::ops::ControlFlow::{Break, Continue};
+        let n = system.state_dim();
+        let Some(t_acc) = zeno.watch.jump_at(te, settings) else {
+            return Ok(Continue(mode));
+        };
+        match system.zeno_transition(mode, event, &self.y_plus[..n], p, &mut self.zeno_out) {
+            Some(m2) if m2.0 < system.mode_count() => {
+                zeno.log.push(ZenoRecord {
+                    t: te,
+                    t_accumulation: t_acc,
+                    event,
+                    mode_after: m2,
+                    state_after: self.zeno_out.clone(),
+                });
+                self.y_plus[..n].copy_from_slice(&self.zeno_out);
+                zeno.watch = ZenoWatch::default();
+                Ok(Continue(m2))
+            }
+            Some(m2) => Err(Error::InvalidTransition {
+                t: te,
+                mode,
+                reason: format!("Zeno transition to mode {m2}, which does not exist"),
+            }),
+            None => Ok(Break(StopReason::ZenoAccumulation { event, t: te })),
+        }
+    }
+
     #[allow(clippy::too_many_arguments, clippy::too_many_lines)]
     fn run_impl<S: HybridSystem + ?Sized, E: Extension<S>>(
         &mut self,
@@ -301,9 +340,7 @@ impl Simulator {
         let mut samples = TimeSeries::new(n);
         let mut steps = TimeSeries::new(n);
         let mut event_log = Vec::new();
-        let mut zeno_log = Vec::new();
         let mut stats = SimulationStats::default();
-        let mut sensitivities_valid = true;
         let mut next_sample = s.samples.map(|st| st.first_index_from(t0));
 
         let to_error = |e: NonFiniteEvaluation, mode: Mode| Error::NonFiniteVectorField {
@@ -345,7 +382,7 @@ impl Simulator {
             }
         };
 
-        let mut zeno_watch = ZenoWatch::default();
+        let mut zeno = Zeno::default();
 
         let stop = 'outer: loop {
             // Samples at the current time (only the very first point; later samples are emitted
@@ -493,45 +530,9 @@ impl Simulator {
                     mode = to;
                     t = te;
 
-                    if let Some(t_acc) = zeno_watch.jump_at(te, &s.zeno) {
-                        match system.zeno_transition(
-                            mode,
-                            ev.id,
-                            &self.y_plus[..n],
-                            p,
-                            &mut self.zeno_out,
-                        ) {
-                            Some(m2) if m2.0 < system.mode_count() => {
-                                stats.zeno_transitions += 1;
-                                sensitivities_valid = false;
-                                zeno_log.push(ZenoRecord {
-                                    t: te,
-                                    t_accumulation: t_acc,
-                                    event: ev.id,
-                                    mode_after: m2,
-                                    state_after: self.zeno_out.clone(),
-                                });
-                                mode = m2;
-                                self.y_plus[..n].copy_from_slice(&self.zeno_out);
-                                zeno_watch = ZenoWatch::default();
-                            }
-                            Some(m2) => {
-                                return Err(Error::InvalidTransition {
-                                    t: te,
-                                    mode,
-                                    reason: format!(
-                                        "Zeno transition to mode {m2}, which does not exist"
-                                    ),
-                                });
-                            }
-                            None => {
-                                t = te;
-                                break 'outer StopReason::ZenoAccumulation {
-                                    event: ev.id,
-                                    t: te,
-                                };
-                            }
-                        }
+                    match self.zeno_check(system, p, (ev.id, te), mode, &mut zeno, &s.zeno)? {
+                        std::ops::ControlFlow::Continue(m) => mode = m,
+                        std::ops::ControlFlow::Break(stop) => break 'outer stop,
                     }
                     if s.record_steps {
                         steps.push(te, mode, &self.y_plus);
@@ -565,7 +566,8 @@ impl Simulator {
             StopReason::TerminalEvent { .. } | StopReason::ZenoAccumulation { .. } => &self.y_plus,
             _ => self.stepper.state(),
         };
-        let sensitivities = (sensitivities_valid && which != Sensitivities::None).then(|| {
+        stats.zeno_transitions = zeno.log.len() as u64;
+        let sensitivities = (zeno.log.is_empty() && which != Sensitivities::None).then(|| {
             SensitivityMatrices::from_augmented(final_aug, n, system.parameter_count(), which)
         });
         Ok(Trajectory {
@@ -576,7 +578,7 @@ impl Simulator {
             samples,
             steps,
             events: event_log,
-            zeno: zeno_log,
+            zeno: zeno.log,
             sensitivities,
             stats,
         })

@@ -1,6 +1,13 @@
 //! Zeno detection: the times between consecutive jumps, and when they accumulate.
 
-use super::ZenoSettings;
+use super::{ZenoRecord, ZenoSettings};
+
+/// A run's Zeno bookkeeping: the jumps watched since the last transition, and the transitions.
+#[derive(Debug, Default)]
+pub(super) struct Zeno {
+    pub(super) watch: ZenoWatch,
+    pub(super) log: Vec<ZenoRecord>,
+}
 
 /// The jumps of a run so far, for Zeno detection ([`ZenoSettings`]).
 #[derive(Debug, Default, Clone, Copy)]
