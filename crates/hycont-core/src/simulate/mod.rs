@@ -8,6 +8,7 @@
 mod dop853;
 mod events;
 mod settings;
+mod stepping;
 mod tableau;
 mod trajectory;
 mod variational;
@@ -22,9 +23,9 @@ pub use trajectory::{
 
 use crate::error::{Error, Result, check_finite, check_len};
 use crate::system::{EventAction, EventId, HybridJacobians, HybridSystem, Mode};
-use events::{DenseStep, EventState, event_rate};
+use events::EventState;
 use variational::{Extension, Plain, Variational};
-use zeno::{Zeno, ZenoWatch};
+use zeno::Zeno;
 
 /// The event-driven simulator. Holds its work space, so that repeated runs do not allocate per
 /// step (and reuse buffers across runs of the same dimension).
@@ -219,94 +220,6 @@ impl Simulator {
         }
     }
 
-    /// The earliest event of the current segment located in the accepted, pending step from
-    /// `t` to `t_new` (its time and index in `self.events`), the events' values and rates at
-    /// the step's end updated; the dense output is built where an event needs a closer look.
-    fn earliest_event<S: HybridSystem + ?Sized, F: FnMut(f64, &[f64], &mut [f64])>(
-        &mut self,
-        system: &S,
-        p: &[f64],
-        (t, t_new): (f64, f64),
-        tolerance: f64,
-        rhs: &mut F,
-    ) -> std::result::Result<Option<(f64, usize)>, NonFiniteEvaluation> {
-        let n = system.state_dim();
-        let mut earliest: Option<(f64, usize)> = None;
-        for idx in 0..self.events.len() {
-            let x_new = &self.stepper.new_state()[..n];
-            let f_new = &self.stepper.new_derivative()[..n];
-            let ev = &mut self.events[idx];
-            ev.value_new = system.event(ev.id, x_new, p);
-            ev.rate_new = event_rate(system, ev.id, x_new, f_new, p, &mut self.x_probe[..n]);
-            let ev = *ev;
-            let check = ev.check();
-            if check == events::Check::Quiet {
-                continue;
-            }
-            self.stepper.prepare_dense(rhs)?;
-            let tol = tolerance * t_new.abs().max(1.0);
-            let step = DenseStep {
-                stepper: &self.stepper,
-                system,
-                p,
-                t,
-                t_new,
-            };
-            if let Some((ta, ga, tb, gb)) = step.bracket(&ev, check, tol, &mut self.x_probe[..n]) {
-                let tol = tolerance * tb.abs().max(1.0);
-                let stepper = &self.stepper;
-                let probe = &mut self.x_probe;
-                let te = events::locate_root(ta, ga, tb, gb, tol, |tau| {
-                    stepper.dense(tau, &mut probe[..n]);
-                    system.event(ev.id, &probe[..n], p)
-                });
-                if earliest.is_none_or(|(t_best, _)| te < t_best) {
-                    earliest = Some((te, idx));
-                }
-            }
-        }
-        Ok(earliest)
-    }
-
-    /// After a jump into `mode` at `te` by `event`: where the jumps accumulate
-    /// ([`ZenoWatch`]), the system's Zeno transition applied to `self.y_plus` (continue in its
-    /// mode, recorded in `zeno.log`), or the run's stop where the system has none.
-    fn zeno_check<S: HybridSystem + ?Sized>(
-        &mut self,
-        system: &S,
-        p: &[f64],
-        (event, te): (EventId, f64),
-        mode: Mode,
-        zeno: &mut Zeno,
-        settings: &ZenoSettings,
-    ) -> Result<std::ops::ControlFlow<StopReason, Mode>> {
-        use std::ops::ControlFlow::{Break, Continue};
-        let n = system.state_dim();
-        let Some(t_acc) = zeno.watch.jump_at(te, settings) else {
-            return Ok(Continue(mode));
-        };
-        match system.zeno_transition(mode, event, &self.y_plus[..n], p, &mut self.zeno_out) {
-            Some(m2) if m2.0 < system.mode_count() => {
-                zeno.log.push(ZenoRecord {
-                    t: te,
-                    t_accumulation: t_acc,
-                    event,
-                    mode_after: m2,
-                    state_after: self.zeno_out.clone(),
-                });
-                self.y_plus[..n].copy_from_slice(&self.zeno_out);
-                zeno.watch = ZenoWatch::default();
-                Ok(Continue(m2))
-            }
-            Some(m2) => Err(Error::InvalidTransition {
-                t: te,
-                mode,
-                reason: format!("Zeno transition to mode {m2}, which does not exist"),
-            }),
-            None => Ok(Break(StopReason::ZenoAccumulation { event, t: te })),
-        }
-    }
-
     #[allow(clippy::too_many_arguments, clippy::too_many_lines)]
     fn run_impl<S: HybridSystem + ?Sized, E: Extension<S>>(
         &mut self,
@@ -321,67 +234,18 @@ impl Simulator {
     ) -> Result<Trajectory> {
         Self::validate_inputs(system, mode, t0, x0, p, t_end)?;
         let n = system.state_dim();
-        let na = ext.dim();
         let s = self.settings.clone();
-        if self.stepper.dim() != na {
-            self.stepper = Dop853::new(na);
-        }
-        self.stepper.reset_stats();
-        let n_err = if s.sensitivities_in_error { na } else { n };
-        self.stepper.set_tolerances(s.rtol, s.atol, n_err);
-        self.stepper.set_controller_beta(s.controller_beta);
-        self.y0.resize(na, 0.0);
-        self.y_minus.resize(na, 0.0);
-        self.y_plus.resize(na, 0.0);
-        self.x_probe.resize(na, 0.0);
-        self.zeno_out.resize(n, 0.0);
-        ext.initial(x0, &mut self.y0);
-
         let mut samples = TimeSeries::new(n);
         let mut steps = TimeSeries::new(n);
         let mut event_log = Vec::new();
         let mut stats = SimulationStats::default();
         let mut next_sample = s.samples.map(|st| st.first_index_from(t0));
-
-        let to_error = |e: NonFiniteEvaluation, mode: Mode| Error::NonFiniteVectorField {
-            t: e.t,
-            mode,
-            index: e.index,
-            value: e.value,
-            state: e.state[..n].to_vec(),
-        };
-
+        let to_error = |e: NonFiniteEvaluation, mode: Mode| non_finite(&e, mode, n);
         let mut t = t0;
+        let mut h = self.begin(system, ext, mode, (t0, t_end), x0, p)?;
         if s.record_steps {
             steps.push(t, mode, &self.y0);
         }
-        {
-            let mut rhs = |_t: f64, y: &[f64], dy: &mut [f64]| ext.rhs(system, mode, p, y, dy);
-            self.stepper
-                .start(&mut rhs, t, &self.y0)
-                .map_err(|e| to_error(e, mode))?;
-        }
-        Self::start_segment(
-            &mut self.events,
-            system,
-            mode,
-            None,
-            &self.y0,
-            self.stepper.derivative(),
-            p,
-            &mut self.x_probe[..n],
-        );
-        let span = (t_end - t0).max(f64::MIN_POSITIVE);
-        let mut h = match s.h_initial {
-            Some(h) => h.min(span),
-            None => {
-                let mut rhs = |_t: f64, y: &[f64], dy: &mut [f64]| ext.rhs(system, mode, p, y, dy);
-                self.stepper
-                    .initial_step(&mut rhs, 1.0, s.h_max.min(span))
-                    .map_err(|e| to_error(e, mode))?
-            }
-        };
-
         let mut zeno = Zeno::default();
 
         let stop = 'outer: loop {
@@ -582,6 +446,17 @@ impl Simulator {
             sensitivities,
             stats,
         })
+    }
+}
+
+/// The error of a right-hand side that returned a non-finite value in `mode` (`n` states).
+fn non_finite(e: &NonFiniteEvaluation, mode: Mode, n: usize) -> Error {
+    Error::NonFiniteVectorField {
+        t: e.t,
+        mode,
+        index: e.index,
+        value: e.value,
+        state: e.state[..n].to_vec(),
     }
 }
 

@@ -1,0 +1,153 @@
+//! The pieces of a simulation run ([`Simulator`]'s run loop): its start, the earliest event in
+//! an accepted step, and the Zeno check after a jump.
+
+use super::events::{self, DenseStep, event_rate};
+use super::variational::Extension;
+use super::zeno::{Zeno, ZenoWatch};
+use super::{
+    Dop853, NonFiniteEvaluation, Simulator, StopReason, ZenoRecord, ZenoSettings, non_finite,
+};
+use crate::error::{Error, Result};
+use crate::system::{EventId, HybridSystem, Mode};
+
+impl Simulator {
+    /// Prepares a run from `x0` at `t0` in `mode`: the stepper for the extension's dimension
+    /// and the settings' tolerances, the work space, the first derivative, the events of the
+    /// first segment; returns the first step (the settings' or the stepper's estimate, within
+    /// the span to `t_end`).
+    pub(super) fn begin<S: HybridSystem + ?Sized, E: Extension<S>>(
+        &mut self,
+        system: &S,
+        ext: &mut E,
+        mode: Mode,
+        (t0, t_end): (f64, f64),
+        x0: &[f64],
+        p: &[f64],
+    ) -> Result<f64> {
+        let (n, na) = (system.state_dim(), ext.dim());
+        let s = &self.settings;
+        if self.stepper.dim() != na {
+            self.stepper = Dop853::new(na);
+        }
+        self.stepper.reset_stats();
+        let n_err = if s.sensitivities_in_error { na } else { n };
+        self.stepper.set_tolerances(s.rtol, s.atol, n_err);
+        self.stepper.set_controller_beta(s.controller_beta);
+        self.y0.resize(na, 0.0);
+        self.y_minus.resize(na, 0.0);
+        self.y_plus.resize(na, 0.0);
+        self.x_probe.resize(na, 0.0);
+        self.zeno_out.resize(n, 0.0);
+        ext.initial(x0, &mut self.y0);
+        let mut rhs = |_t: f64, y: &[f64], dy: &mut [f64]| ext.rhs(system, mode, p, y, dy);
+        self.stepper
+            .start(&mut rhs, t0, &self.y0)
+            .map_err(|e| non_finite(&e, mode, n))?;
+        Self::start_segment(
+            &mut self.events,
+            system,
+            mode,
+            None,
+            &self.y0,
+            self.stepper.derivative(),
+            p,
+            &mut self.x_probe[..n],
+        );
+        let span = (t_end - t0).max(f64::MIN_POSITIVE);
+        Ok(match self.settings.h_initial {
+            Some(h) => h.min(span),
+            None => self
+                .stepper
+                .initial_step(&mut rhs, 1.0, self.settings.h_max.min(span))
+                .map_err(|e| non_finite(&e, mode, n))?,
+        })
+    }
+
+    /// The earliest event of the current segment located in the accepted, pending step from
+    /// `t` to `t_new` (its time and index in `self.events`), the events' values and rates at
+    /// the step's end updated; the dense output is built where an event needs a closer look.
+    pub(super) fn earliest_event<S: HybridSystem + ?Sized, F: FnMut(f64, &[f64], &mut [f64])>(
+        &mut self,
+        system: &S,
+        p: &[f64],
+        (t, t_new): (f64, f64),
+        tolerance: f64,
+        rhs: &mut F,
+    ) -> std::result::Result<Option<(f64, usize)>, NonFiniteEvaluation> {
+        let n = system.state_dim();
+        let mut earliest: Option<(f64, usize)> = None;
+        for idx in 0..self.events.len() {
+            let x_new = &self.stepper.new_state()[..n];
+            let f_new = &self.stepper.new_derivative()[..n];
+            let ev = &mut self.events[idx];
+            ev.value_new = system.event(ev.id, x_new, p);
+            ev.rate_new = event_rate(system, ev.id, x_new, f_new, p, &mut self.x_probe[..n]);
+            let ev = *ev;
+            let check = ev.check();
+            if check == events::Check::Quiet {
+                continue;
+            }
+            self.stepper.prepare_dense(rhs)?;
+            let tol = tolerance * t_new.abs().max(1.0);
+            let step = DenseStep {
+                stepper: &self.stepper,
+                system,
+                p,
+                t,
+                t_new,
+            };
+            if let Some((ta, ga, tb, gb)) = step.bracket(&ev, check, tol, &mut self.x_probe[..n]) {
+                let tol = tolerance * tb.abs().max(1.0);
+                let stepper = &self.stepper;
+                let probe = &mut self.x_probe;
+                let te = events::locate_root(ta, ga, tb, gb, tol, |tau| {
+                    stepper.dense(tau, &mut probe[..n]);
+                    system.event(ev.id, &probe[..n], p)
+                });
+                if earliest.is_none_or(|(t_best, _)| te < t_best) {
+                    earliest = Some((te, idx));
+                }
+            }
+        }
+        Ok(earliest)
+    }
+
+    /// After a jump into `mode` at `te` by `event`: where the jumps accumulate
+    /// ([`ZenoWatch`]), the system's Zeno transition applied to `self.y_plus` (continue in its
+    /// mode, recorded in `zeno.log`), or the run's stop where the system has none.
+    pub(super) fn zeno_check<S: HybridSystem + ?Sized>(
+        &mut self,
+        system: &S,
+        p: &[f64],
+        (event, te): (EventId, f64),
+        mode: Mode,
+        zeno: &mut Zeno,
+        settings: &ZenoSettings,
+    ) -> Result<std::ops::ControlFlow<StopReason, Mode>> {
+        use std::ops::ControlFlow::{Break, Continue};
+        let n = system.state_dim();
+        let Some(t_acc) = zeno.watch.jump_at(te, settings) else {
+            return Ok(Continue(mode));
+        };
+        match system.zeno_transition(mode, event, &self.y_plus[..n], p, &mut self.zeno_out) {
+            Some(m2) if m2.0 < system.mode_count() => {
+                zeno.log.push(ZenoRecord {
+                    t: te,
+                    t_accumulation: t_acc,
+                    event,
+                    mode_after: m2,
+                    state_after: self.zeno_out.clone(),
+                });
+                self.y_plus[..n].copy_from_slice(&self.zeno_out);
+                zeno.watch = ZenoWatch::default();
+                Ok(Continue(m2))
+            }
+            Some(m2) => Err(Error::InvalidTransition {
+                t: te,
+                mode,
+                reason: format!("Zeno transition to mode {m2}, which does not exist"),
+            }),
+            None => Ok(Break(StopReason::ZenoAccumulation { event, t: te })),
+        }
+    }
+}
