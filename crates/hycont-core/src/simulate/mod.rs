@@ -24,8 +24,8 @@ pub use trajectory::{
 use crate::error::{Error, Result, check_finite, check_len};
 use crate::system::{EventAction, EventId, HybridJacobians, HybridSystem, Mode};
 use events::EventState;
+use stepping::Records;
 use variational::{Extension, Plain, Variational};
-use zeno::Zeno;
 
 /// The event-driven simulator. Holds its work space, so that repeated runs do not allocate per
 /// step (and reuse buffers across runs of the same dimension).
@@ -235,18 +235,14 @@ impl Simulator {
         Self::validate_inputs(system, mode, t0, x0, p, t_end)?;
         let n = system.state_dim();
         let s = self.settings.clone();
-        let mut samples = TimeSeries::new(n);
-        let mut steps = TimeSeries::new(n);
-        let mut event_log = Vec::new();
-        let mut stats = SimulationStats::default();
+        let mut rec = Records::new(n);
         let mut next_sample = s.samples.map(|st| st.first_index_from(t0));
         let to_error = |e: NonFiniteEvaluation, mode: Mode| non_finite(&e, mode, n);
         let mut t = t0;
         let mut h = self.begin(system, ext, mode, (t0, t_end), x0, p)?;
         if s.record_steps {
-            steps.push(t, mode, &self.y0);
+            rec.steps.push(t, mode, &self.y0);
         }
-        let mut zeno = Zeno::default();
 
         let stop = 'outer: loop {
             // Samples at the current time (only the very first point; later samples are emitted
@@ -255,7 +251,7 @@ impl Simulator {
                 && st.time(*k) <= t
                 && t == t0
             {
-                samples.push(t, mode, self.stepper.state());
+                rec.samples.push(t, mode, self.stepper.state());
                 *k += 1;
             }
             if t >= t_end {
@@ -307,13 +303,13 @@ impl Simulator {
                 while st.time(*k) <= sample_limit {
                     let ts = st.time(*k);
                     if ts >= t_new && earliest.is_none() {
-                        samples.push(ts, mode, self.stepper.new_state());
+                        rec.samples.push(ts, mode, self.stepper.new_state());
                     } else {
                         self.stepper
                             .prepare_dense(&mut rhs)
                             .map_err(|e| to_error(e, mode))?;
                         self.stepper.dense(ts, &mut self.x_probe[..n]);
-                        samples.push(ts, mode, &self.x_probe);
+                        rec.samples.push(ts, mode, &self.x_probe);
                     }
                     *k += 1;
                 }
@@ -322,7 +318,7 @@ impl Simulator {
             let Some((te, idx)) = earliest else {
                 // --- No event: commit the step.
                 if s.record_steps {
-                    steps.push(t_new, mode, self.stepper.new_state());
+                    rec.steps.push(t_new, mode, self.stepper.new_state());
                 }
                 for ev in &mut self.events {
                     ev.commit(&self.stepper.new_state()[..n]);
@@ -335,18 +331,18 @@ impl Simulator {
 
             // --- An event at te.
             let ev = self.events[idx];
-            stats.events += 1;
+            rec.stats.events += 1;
             self.stepper
                 .prepare_dense(&mut rhs)
                 .map_err(|e| to_error(e, mode))?;
             self.stepper.dense(te, &mut self.y_minus);
             if s.record_steps {
-                steps.push(te, mode, &self.y_minus);
+                rec.steps.push(te, mode, &self.y_minus);
             }
             match system.event_spec(ev.id).action {
                 EventAction::Terminal => {
                     if s.record_events {
-                        event_log.push(EventRecord {
+                        rec.events.push(EventRecord {
                             t: te,
                             event: ev.id,
                             mode_before: mode,
@@ -363,75 +359,30 @@ impl Simulator {
                     };
                 }
                 EventAction::Jump { to } => {
-                    if to.0 >= system.mode_count() {
-                        return Err(Error::InvalidTransition {
-                            t: te,
-                            mode,
-                            reason: format!("{} leads to mode {to}, which does not exist", ev.id),
-                        });
-                    }
-                    ext.jump(
-                        system,
-                        ev.id,
-                        mode,
-                        to,
-                        te,
-                        p,
-                        &self.y_minus,
-                        &mut self.y_plus,
-                    )?;
-                    stats.jumps += 1;
-                    if s.record_events {
-                        event_log.push(EventRecord {
-                            t: te,
-                            event: ev.id,
-                            mode_before: mode,
-                            mode_after: Some(to),
-                            state_before: self.y_minus[..n].to_vec(),
-                            state_after: self.y_plus[..n].to_vec(),
-                        });
-                    }
-                    mode = to;
                     t = te;
-
-                    match self.zeno_check(system, p, (ev.id, te), mode, &mut zeno, &s.zeno)? {
+                    match self.jump(system, ext, p, (ev.id, mode, to, te), &mut rec)? {
                         std::ops::ControlFlow::Continue(m) => mode = m,
-                        std::ops::ControlFlow::Break(stop) => break 'outer stop,
+                        std::ops::ControlFlow::Break(stop) => {
+                            mode = to;
+                            break 'outer stop;
+                        }
                     }
-                    if s.record_steps {
-                        steps.push(te, mode, &self.y_plus);
-                    }
-                    let mut rhs =
-                        |_t: f64, y: &[f64], dy: &mut [f64]| ext.rhs(system, mode, p, y, dy);
-                    self.stepper
-                        .start(&mut rhs, te, &self.y_plus)
-                        .map_err(|e| to_error(e, mode))?;
-                    Self::start_segment(
-                        &mut self.events,
-                        system,
-                        mode,
-                        Some(ev.id),
-                        &self.y_plus,
-                        self.stepper.derivative(),
-                        p,
-                        &mut self.x_probe[..n],
-                    );
                     h = h_next.min(h);
                 }
             }
         };
 
         let stepper_stats = self.stepper.stats();
-        stats.steps = stepper_stats.accepted_steps;
-        stats.rejected_steps = stepper_stats.rejected_steps;
-        stats.rhs_evaluations = stepper_stats.rhs_evaluations;
-        stats.dense_outputs = stepper_stats.dense_outputs;
+        rec.stats.steps = stepper_stats.accepted_steps;
+        rec.stats.rejected_steps = stepper_stats.rejected_steps;
+        rec.stats.rhs_evaluations = stepper_stats.rhs_evaluations;
+        rec.stats.dense_outputs = stepper_stats.dense_outputs;
         let final_aug: &[f64] = match stop {
             StopReason::TerminalEvent { .. } | StopReason::ZenoAccumulation { .. } => &self.y_plus,
             _ => self.stepper.state(),
         };
-        stats.zeno_transitions = zeno.log.len() as u64;
-        let sensitivities = (zeno.log.is_empty() && which != Sensitivities::None).then(|| {
+        rec.stats.zeno_transitions = rec.zeno.log.len() as u64;
+        let sensitivities = (rec.zeno.log.is_empty() && which != Sensitivities::None).then(|| {
             SensitivityMatrices::from_augmented(final_aug, n, system.parameter_count(), which)
         });
         Ok(Trajectory {
@@ -439,12 +390,12 @@ impl Simulator {
             t_final: t,
             mode_final: mode,
             state_final: final_aug[..n].to_vec(),
-            samples,
-            steps,
-            events: event_log,
-            zeno: zeno.log,
+            samples: rec.samples,
+            steps: rec.steps,
+            events: rec.events,
+            zeno: rec.zeno.log,
             sensitivities,
-            stats,
+            stats: rec.stats,
         })
     }
 }

@@ -1,16 +1,106 @@
 //! The pieces of a simulation run ([`Simulator`]'s run loop): its start, the earliest event in
-//! an accepted step, and the Zeno check after a jump.
+//! an accepted step, a jump and the Zeno check after it, and what the run records.
 
 use super::events::{self, DenseStep, event_rate};
 use super::variational::Extension;
 use super::zeno::{Zeno, ZenoWatch};
 use super::{
-    Dop853, NonFiniteEvaluation, Simulator, StopReason, ZenoRecord, ZenoSettings, non_finite,
+    Dop853, EventRecord, NonFiniteEvaluation, SimulationStats, Simulator, StopReason, TimeSeries,
+    ZenoRecord, ZenoSettings, non_finite,
 };
 use crate::error::{Error, Result};
 use crate::system::{EventId, HybridSystem, Mode};
 
+/// What a run records as it goes: samples, steps, events, statistics, Zeno transitions.
+pub(super) struct Records {
+    pub(super) samples: TimeSeries,
+    pub(super) steps: TimeSeries,
+    pub(super) events: Vec<EventRecord>,
+    pub(super) stats: SimulationStats,
+    pub(super) zeno: Zeno,
+}
+
+impl Records {
+    /// Empty records of a system with `n` states.
+    pub(super) fn new(n: usize) -> Self {
+        Self {
+            samples: TimeSeries::new(n),
+            steps: TimeSeries::new(n),
+            events: Vec::new(),
+            stats: SimulationStats::default(),
+            zeno: Zeno::default(),
+        }
+    }
+}
+
 impl Simulator {
+    /// The jump by `event` from mode `from` to `to` at `te` (the state before it in
+    /// `self.y_minus`, after it in `self.y_plus`, the extension's part by its saltation), then
+    /// the Zeno check and the next segment's start; the mode the run continues in, or the stop
+    /// where the jumps accumulate without a transition.
+    pub(super) fn jump<S: HybridSystem + ?Sized, E: Extension<S>>(
+        &mut self,
+        system: &S,
+        ext: &mut E,
+        p: &[f64],
+        (event, from, to, te): (EventId, Mode, Mode, f64),
+        rec: &mut Records,
+    ) -> Result<std::ops::ControlFlow<StopReason, Mode>> {
+        use std::ops::ControlFlow::{Break, Continue};
+        let n = system.state_dim();
+        if to.0 >= system.mode_count() {
+            return Err(Error::InvalidTransition {
+                t: te,
+                mode: from,
+                reason: format!("{event} leads to mode {to}, which does not exist"),
+            });
+        }
+        ext.jump(
+            system,
+            event,
+            from,
+            to,
+            te,
+            p,
+            &self.y_minus,
+            &mut self.y_plus,
+        )?;
+        rec.stats.jumps += 1;
+        if self.settings.record_events {
+            rec.events.push(EventRecord {
+                t: te,
+                event,
+                mode_before: from,
+                mode_after: Some(to),
+                state_before: self.y_minus[..n].to_vec(),
+                state_after: self.y_plus[..n].to_vec(),
+            });
+        }
+        let zeno = self.settings.zeno;
+        let mode = match self.zeno_check(system, p, (event, te), to, &mut rec.zeno, &zeno)? {
+            Continue(m) => m,
+            Break(stop) => return Ok(Break(stop)),
+        };
+        if self.settings.record_steps {
+            rec.steps.push(te, mode, &self.y_plus);
+        }
+        let mut rhs = |_t: f64, y: &[f64], dy: &mut [f64]| ext.rhs(system, mode, p, y, dy);
+        self.stepper
+            .start(&mut rhs, te, &self.y_plus)
+            .map_err(|e| non_finite(&e, mode, n))?;
+        Self::start_segment(
+            &mut self.events,
+            system,
+            mode,
+            Some(event),
+            &self.y_plus,
+            self.stepper.derivative(),
+            p,
+            &mut self.x_probe[..n],
+        );
+        Ok(Continue(mode))
+    }
+
     /// Prepares a run from `x0` at `t0` in `mode`: the stepper for the extension's dimension
     /// and the settings' tolerances, the work space, the first derivative, the events of the
     /// first segment; returns the first step (the settings' or the stepper's estimate, within
