@@ -11,7 +11,7 @@
 //! $\partial y_k / \partial p$ and $\partial y_k/\partial T_k = f_{m_k}(y_k)$.
 
 use super::end_condition::EndConditions;
-use super::signature::Signature;
+use super::signature::{SegmentEnd, Signature};
 use crate::error::{Error, Result};
 use crate::orbit::flow::SegmentFlow;
 use crate::problem::{JacobianHints, JacobianUse, ZeroFunction};
@@ -245,6 +245,59 @@ impl<S: HybridJacobians + ?Sized> super::OrbitEquations for Shooting<'_, S> {
 }
 
 impl<S: HybridJacobians + ?Sized> Shooting<'_, S> {
+    /// Records segment `k`'s linearisation (start `x`, duration `t`, parameters, end `y`,
+    /// $\Phi$) in the shared cache, if there is one.
+    fn cache_segment(&self, k: usize, (x, t): (&[f64], f64), p: &[f64], y: &[f64], phi: &[f64]) {
+        let Some(cache) = self.cache.as_ref() else {
+            return;
+        };
+        let mut c = cache.borrow_mut();
+        if c.len() != self.signature.len() {
+            c.resize(self.signature.len(), CachedSegment::default());
+        }
+        c[k] = CachedSegment {
+            start: x.to_vec(),
+            duration: t,
+            params: p.to_vec(),
+            end: y.to_vec(),
+            phi: phi.to_vec(),
+        };
+    }
+
+    /// The Jacobian entries of a segment's `n + 1` end conditions from `pos` on: their
+    /// derivative in the end state `y` applied to the segment's derivatives ($\Phi$, the
+    /// vector field at `y` for the duration, $\Phi_p$), plus their direct parameter terms and
+    /// the next segment's start.
+    fn end_rows(
+        &mut self,
+        end: SegmentEnd,
+        (y, p): (&[f64], &[f64]),
+        (phi, phi_p): (&[f64], &[f64]),
+        wrap: bool,
+        jac: &mut [f64],
+        pos: &mut usize,
+    ) {
+        let (n, np) = (self.n, self.np);
+        self.ends.linearise(self.system, end, y, p);
+        for i in 0..=n {
+            let row = |j: usize| self.ends.state_derivative(i, j);
+            for j in 0..n {
+                jac[*pos] = (0..n).map(|l| row(l) * phi[l + j * n]).sum();
+                *pos += 1;
+            }
+            jac[*pos] = (0..n).map(|l| row(l) * self.fy[l]).sum();
+            *pos += 1;
+            for q in 0..np {
+                let direct = self.ends.parameter_derivative(i, q);
+                jac[*pos] = direct + (0..n).map(|l| row(l) * phi_p[l + q * n]).sum::<f64>();
+                *pos += 1;
+            }
+            if i < n {
+                self.ends.write_target_entries(i, wrap, jac, pos);
+            }
+        }
+    }
+
     /// The residual and, if asked, the Jacobian with the parameter sensitivities `which` (the
     /// columns of parameters left out are zero, apart from direct terms); with `loose`, by the
     /// Newton-direction simulator and without updating the cache.
@@ -307,39 +360,10 @@ impl<S: HybridJacobians + ?Sized> Shooting<'_, S> {
                 .params
                 .as_ref()
                 .expect("parameter sensitivities requested");
-            if let Some(cache) = self.cache.as_ref().filter(|_| !loose) {
-                let mut c = cache.borrow_mut();
-                if c.len() != kk {
-                    c.resize(kk, CachedSegment::default());
-                }
-                c[k] = CachedSegment {
-                    start: x.to_vec(),
-                    duration: t,
-                    params: p.clone(),
-                    end: y.clone(),
-                    phi: phi.clone(),
-                };
+            if !loose {
+                self.cache_segment(k, (x, t), &p, y, phi);
             }
-            // Row operator: the end conditions' derivative in y applied to the segment's
-            // derivatives, plus their direct parameter terms.
-            self.ends.linearise(self.system, end, y, &p);
-            for i in 0..=n {
-                let row = |j: usize| self.ends.state_derivative(i, j);
-                for j in 0..n {
-                    jac[pos] = (0..n).map(|l| row(l) * phi[l + j * n]).sum();
-                    pos += 1;
-                }
-                jac[pos] = (0..n).map(|l| row(l) * self.fy[l]).sum();
-                pos += 1;
-                for q in 0..np {
-                    let direct = self.ends.parameter_derivative(i, q);
-                    jac[pos] = direct + (0..n).map(|l| row(l) * phi_p[l + q * n]).sum::<f64>();
-                    pos += 1;
-                }
-                if i < n {
-                    self.ends.write_target_entries(i, wrap, jac, &mut pos);
-                }
-            }
+            self.end_rows(end, (y, &p), (phi, phi_p), wrap, jac, &mut pos);
         }
         Ok(())
     }
