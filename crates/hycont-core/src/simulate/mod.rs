@@ -220,6 +220,11 @@ impl Simulator {
         }
     }
 
+    /// The event loop of [`Simulator::run`] and its sensitivity variants: steps, the earliest
+    /// event of each accepted step, samples, terminal events and jumps (the pieces in
+    /// `stepping.rs`), and the trajectory. Still one loop (177 lines): the step size, time,
+    /// mode and sample index it carries between iterations would otherwise travel through
+    /// every piece.
     #[allow(clippy::too_many_arguments, clippy::too_many_lines)]
     fn run_impl<S: HybridSystem + ?Sized, E: Extension<S>>(
         &mut self,

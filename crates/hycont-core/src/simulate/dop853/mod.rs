@@ -313,6 +313,10 @@ impl Dop853 {
     /// Attempts a step of size `h` from the current point; returns the scaled error estimate
     /// (accept when `<= 1`). The step stays pending until [`Dop853::commit`].
     ///
+    /// One function by design: its length is the method's twelve stages and two error
+    /// estimates written out in the tableau's order (Hairer's `dp86co`), which reads against
+    /// the published coefficients line by line.
+    ///
     /// # Errors
     /// If the right-hand side returns a non-finite value at a stage.
     pub fn attempt<F: FnMut(f64, &[f64], &mut [f64])>(
