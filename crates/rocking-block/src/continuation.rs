@@ -130,7 +130,7 @@ impl Recipe {
 /// study's events: SB where Amp reaches the static boundary $\pi/2 - \theta_b$, and GR where
 /// the run's default admissibility ends the branch ([`GRAZING_MARGIN`] reaches 0: past it
 /// $\varphi$ changes sign inside a flight). Orbits stand while Amp is below $\pi/2$: a branch whose Amp reaches it
-/// (the block overturns) ends there. Steps 0.02 (first), 1e-8 to 0.1.
+/// (the block overturns) ends there. Steps, points and tolerances: the study's [`Recipe`].
 ///
 /// # Errors
 /// Invalid parameters.
@@ -142,9 +142,8 @@ pub fn study_run<'a>(
 ) -> Result<OrbitRun<'a, RockingBlock>> {
     params.validate()?;
     let mut run = OrbitRun::new(&RockingBlock, free.id())?;
-    run.method(method)
-        .bounds(range.0, range.1)
-        .steps(0.02, 1e-8, 0.1);
+    Recipe::with_method(method).apply(&mut run);
+    run.bounds(range.0, range.1);
     let amp = run.add_measure("amp", Extremum::max_abs(0))?;
     debug_assert_eq!(amp, AMP);
     run.bound(amp, -FRAC_PI_2, FRAC_PI_2)?.add_event(

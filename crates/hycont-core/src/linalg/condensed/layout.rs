@@ -168,7 +168,7 @@ impl Condensed {
         let mut local_row = vec![NONE; ctx.row_owner.len()];
         // Position of each kept column among the current block's other columns (set while
         // that block's rows are routed).
-        let mut other_at = vec![NONE; ctx.red_col.iter().filter(|&&c| c != NONE).count()];
+        let mut other_at = vec![NONE; self.kept.len()];
         let mut current = NONE;
         for blk in &self.blocks {
             for (k, &j) in blk.cols.iter().enumerate() {
