@@ -48,8 +48,9 @@ impl<'a, P: ContinuationProblem<'a> + ?Sized> Palc<'_, 'a, P> {
     /// is amplified along the (parameter-free) null direction.
     ///
     /// With `accurate_predictor` (location, where the predictor interpolates two nearby
-    /// solutions to high order) the residual is checked before anything is factorised: a
-    /// predictor that already solves the equations is accepted after one factorisation there.
+    /// solutions to high order and is mostly a solution already) the exact factorisation is
+    /// done at the predictor and its residual checked first: a predictor that solves the
+    /// equations is accepted with that one factorisation; otherwise it starts the iterations.
     pub(super) fn correct(
         &mut self,
         u_pred: &[f64],
@@ -62,31 +63,38 @@ impl<'a, P: ContinuationProblem<'a> + ?Sized> Palc<'_, 'a, P> {
         let max_it = 2 * self.settings.target_iterations;
         let n = self.n;
         let mut u = u_pred.to_vec();
-        if accurate_predictor {
-            self.count_residual();
-            self.p
-                .problem()
-                .evaluate(&u, &mut self.res[..n - 1], None)?;
-            self.res[n - 1] = dot(row, &u) - dot(row, u0) - s;
-            if max_abs(&self.res) <= ns.residual_tol {
-                self.factor(&u, row, u0, s, JacobianUse::Exact)?;
-                return Ok((u, 0));
-            }
-        }
         let mut du = vec![0.0; n];
         let mut last_step = f64::INFINITY;
         let mut last_res = f64::INFINITY;
         // Chord iterations: the Jacobian is factorised at the predictor (and again only if the
-        // residual stops contracting fast); the other iterations evaluate the residual only.
+        // residual stops contracting fast); the other iterations evaluate the residual only,
+        // except where the contraction so far says the step lands on a solution: the exact
+        // factorisation the solution needs is done there directly (its residual decides
+        // convergence as any other; if it does not converge, it serves the next steps).
+        let mut exact = accurate_predictor;
+        if exact {
+            self.factor(&u, row, u0, s, JacobianUse::Exact)?;
+            if max_abs(&self.res) <= ns.residual_tol {
+                return Ok((u, 0));
+            }
+        } else {
+            self.factor(&u, row, u0, s, JacobianUse::NewtonDirection)?;
+        }
         let mut fresh = true;
-        self.factor(&u, row, u0, s, JacobianUse::NewtonDirection)?;
+        let mut expect_solution = false;
         for it in 0..=max_it {
             if !fresh {
-                self.count_residual();
-                self.p
-                    .problem()
-                    .evaluate(&u, &mut self.res[..n - 1], None)?;
-                self.res[n - 1] = dot(row, &u) - dot(row, u0) - s;
+                if expect_solution {
+                    self.factor(&u, row, u0, s, JacobianUse::Exact)?;
+                    exact = true;
+                } else {
+                    self.count_residual();
+                    self.p
+                        .problem()
+                        .evaluate(&u, &mut self.res[..n - 1], None)?;
+                    self.res[n - 1] = dot(row, &u) - dot(row, u0) - s;
+                    exact = false;
+                }
             }
             let res = max_abs(&self.res);
             let scale = 1.0 + max_abs(&u);
@@ -94,17 +102,21 @@ impl<'a, P: ContinuationProblem<'a> + ?Sized> Palc<'_, 'a, P> {
                 && (res <= ns.residual_tol
                     || (last_step <= ns.tol * scale && res <= 1e3 * last_step.max(ns.residual_tol)))
             {
-                // Converged: factorise at the solution for the tangent and the determinant.
-                self.factor(&u, row, u0, s, JacobianUse::Exact)?;
+                // Converged: the tangent and the determinant need the factorisation there.
+                if !exact {
+                    self.factor(&u, row, u0, s, JacobianUse::Exact)?;
+                }
                 return Ok((u, it));
             }
             if it == max_it || !res.is_finite() {
                 break;
             }
-            if !fresh && res > 0.2 * last_res {
+            if !fresh && !exact && res > 0.2 * last_res {
                 // Slow contraction: refresh the Jacobian.
                 self.factor(&u, row, u0, s, JacobianUse::NewtonDirection)?;
             }
+            // A chord iteration contracts the residual by about the same factor each step.
+            expect_solution = it > 0 && res * (res / last_res) <= 0.1 * ns.residual_tol;
             for (d, r) in du.iter_mut().zip(&self.res) {
                 *d = -r;
             }
