@@ -5,12 +5,14 @@
 
 mod condensed;
 pub(crate) mod dense;
+mod dense_lu;
 mod eigen;
 mod sparse_lu;
 
 use crate::error::{Error, Result};
 pub use condensed::ReducedRows;
 use condensed::{Condensation, Condensed};
+use dense_lu::{DENSE_UP_TO, DenseLu};
 pub use eigen::{eigenvalues, eigenvectors};
 use faer::sparse::SparseColMat;
 use sparse_lu::SparseLu;
@@ -34,6 +36,7 @@ pub struct EliminationBlock {
 enum Current {
     None,
     Full,
+    Dense,
     Condensed,
 }
 
@@ -46,6 +49,8 @@ enum Current {
 /// With [`EliminationBlock`]s the blocks' unknowns are condensed first; a block that is
 /// numerically singular on its own (not just the matrix) falls back to the LU of the whole
 /// matrix for that factorisation. Both give the same solves and determinant up to rounding.
+/// A square pattern of at most 32 unknowns without blocks is factorised densely (partial
+/// pivoting): at that size the arithmetic costs less than a sparse factorisation's bookkeeping.
 ///
 /// ```
 /// use hycont_core::linalg::{EliminationBlock, SparsePattern};
@@ -68,6 +73,8 @@ pub struct SparsePattern {
     entries: Vec<(usize, usize)>,
     /// The whole matrix's LU: built at once without blocks, on the first fallback with them.
     full: Option<SparseLu>,
+    /// The whole matrix's dense LU, instead of `full`, for small square patterns.
+    dense: Option<DenseLu>,
     condensed: Option<Condensed>,
     current: Current,
 }
@@ -78,11 +85,24 @@ impl SparsePattern {
     /// # Errors
     /// [`Error::InvalidSetting`] if an index is out of range.
     pub fn new(nrows: usize, ncols: usize, entries: &[(usize, usize)]) -> Result<Self> {
+        if nrows == ncols && (1..=DENSE_UP_TO).contains(&nrows) {
+            check_range(nrows, ncols, entries)?;
+            return Ok(Self {
+                nrows,
+                ncols,
+                entries: entries.to_vec(),
+                full: None,
+                dense: Some(DenseLu::new(nrows, entries)),
+                condensed: None,
+                current: Current::None,
+            });
+        }
         Ok(Self {
             nrows,
             ncols,
             entries: Vec::new(),
             full: Some(SparseLu::new(nrows, ncols, entries)?),
+            dense: None,
             condensed: None,
             current: Current::None,
         })
@@ -111,18 +131,13 @@ impl SparsePattern {
                 reason: "condensation needs a square matrix",
             });
         }
-        if entries.iter().any(|&(r, c)| r >= nrows || c >= ncols) {
-            return Err(Error::InvalidSetting {
-                name: "sparse pattern",
-                value: entries.len() as f64,
-                reason: "an entry is out of range",
-            });
-        }
+        check_range(nrows, ncols, entries)?;
         Ok(Self {
             nrows,
             ncols,
             entries: entries.to_vec(),
             full: None,
+            dense: None,
             condensed: Some(Condensed::new(nrows, entries, blocks)?),
             current: Current::None,
         })
@@ -178,6 +193,11 @@ impl SparsePattern {
             self.current = Current::Condensed;
             return Ok(());
         }
+        if let Some(d) = self.dense.as_mut() {
+            d.factorize(values)?;
+            self.current = Current::Dense;
+            return Ok(());
+        }
         if self.full.is_none() {
             self.full = Some(SparseLu::new(self.nrows, self.ncols, &self.entries)?);
         }
@@ -223,6 +243,11 @@ impl SparsePattern {
                     }
                 }
             }
+            (Current::Dense, _) => self
+                .dense
+                .as_mut()
+                .map_or_else(not_factorized, Ok)?
+                .solve(b, k, transpose)?,
             (_, _) => self
                 .full
                 .as_mut()
@@ -261,6 +286,11 @@ impl SparsePattern {
                 .as_ref()
                 .map_or_else(not_factorized, Ok)?
                 .determinant(),
+            (Current::Dense, _) => self
+                .dense
+                .as_ref()
+                .map_or_else(not_factorized, Ok)?
+                .determinant(),
             _ => Err(Error::SingularMatrix {
                 reason: "no factorisation to take the determinant of".into(),
             }),
@@ -294,6 +324,18 @@ impl SparsePattern {
         crate::error::check_len("right-hand sides", b, self.nrows() * k)?;
         self.solve_cols(b, k, false)
     }
+}
+
+/// Refuses entries outside an `nrows x ncols` matrix.
+fn check_range(nrows: usize, ncols: usize, entries: &[(usize, usize)]) -> Result<()> {
+    if entries.iter().any(|&(r, c)| r >= nrows || c >= ncols) {
+        return Err(Error::InvalidSetting {
+            name: "sparse pattern",
+            value: entries.len() as f64,
+            reason: "an entry is out of range",
+        });
+    }
+    Ok(())
 }
 
 fn not_factorized<T>() -> Result<T> {
