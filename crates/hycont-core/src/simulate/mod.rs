@@ -70,6 +70,11 @@ use variational::{Extension, Plain, Variational};
 pub struct Simulator {
     settings: SimulationSettings,
     stepper: Dop853,
+    /// Steppers of the other dimensions used lately (state alone, with sensitivities), kept
+    /// so that alternating runs do not allocate.
+    spare: Vec<Dop853>,
+    /// The variational extension of the last run with sensitivities, kept for its work space.
+    variational: Option<Variational>,
     y0: Vec<f64>,
     y_minus: Vec<f64>,
     y_plus: Vec<f64>,
@@ -88,6 +93,8 @@ impl Simulator {
         Ok(Self {
             settings,
             stepper: Dop853::new(0),
+            spare: Vec::new(),
+            variational: None,
             y0: Vec::new(),
             y_minus: Vec::new(),
             y_plus: Vec::new(),
@@ -157,10 +164,17 @@ impl Simulator {
             Sensitivities::State
             | Sensitivities::StateAndParameters
             | Sensitivities::StateAndSomeParameters(_) => {
-                let selected: Vec<usize> =
-                    (0..np).filter(|&q| which.includes_parameter(q)).collect();
-                let mut ext = Variational::new(n, np, selected);
-                self.run_impl(system, &mut ext, mode, t0, x0, p, t_end, which)
+                let selected = (0..np).filter(|&q| which.includes_parameter(q));
+                let mut ext = match self.variational.take() {
+                    Some(mut v) if v.fits(n, np) => {
+                        v.select(selected);
+                        v
+                    }
+                    _ => Variational::new(n, np, selected.collect()),
+                };
+                let out = self.run_impl(system, &mut ext, mode, t0, x0, p, t_end, which);
+                self.variational = Some(ext);
+                out
             }
         }
     }

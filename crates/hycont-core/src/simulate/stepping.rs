@@ -117,7 +117,12 @@ impl Simulator {
         let (n, na) = (system.state_dim(), ext.dim());
         let s = &self.settings;
         if self.stepper.dim() != na {
-            self.stepper = Dop853::new(na);
+            let at = self.spare.iter().position(|st| st.dim() == na);
+            let next = at.map_or_else(|| Dop853::new(na), |i| self.spare.swap_remove(i));
+            self.spare.push(std::mem::replace(&mut self.stepper, next));
+            if self.spare.len() > 3 {
+                self.spare.remove(0);
+            }
         }
         self.stepper.reset_stats();
         let n_err = if s.sensitivities_in_error { na } else { n };

@@ -70,6 +70,7 @@ impl<S: HybridSystem + ?Sized> Extension<S> for Plain {
 }
 
 /// The state with $\Phi$ and the columns of $\Phi_p$ of the selected parameters.
+#[derive(Debug, Clone)]
 pub(crate) struct Variational {
     n: usize,
     /// Parameters whose columns of $\Phi_p$ are integrated, in increasing order.
@@ -103,6 +104,17 @@ impl Variational {
             salt: vec![0.0; n * n],
             v: vec![0.0; n],
         }
+    }
+
+    /// Whether the work space is for state dimension `n` and `np` parameters.
+    pub(crate) fn fits(&self, n: usize, np: usize) -> bool {
+        self.n == n && self.hp.len() == np
+    }
+
+    /// Selects the parameters whose columns of $\Phi_p$ are integrated (increasing order).
+    pub(crate) fn select(&mut self, selected: impl Iterator<Item = usize>) {
+        self.selected.clear();
+        self.selected.extend(selected);
     }
 
     /// Columns of sensitivities carried: $n$ for $\Phi$ plus one per selected parameter.
