@@ -23,28 +23,115 @@ pub(crate) fn eliminate(
     pivots: &mut [f64],
 ) -> bool {
     let scale = a[..c * m].iter().fold(0.0_f64, |s, v| s.max(v.abs()));
-    let tiny = scale * f64::EPSILON * m as f64;
+    eliminate_above(a, (m, c, w), perm, pivots, scale * f64::EPSILON * m as f64)
+}
+
+/// [`eliminate`] with the smallest acceptable pivot magnitude given: `0` refuses only zero
+/// (and non-finite) pivots, as a plain LU.
+pub(crate) fn eliminate_above(
+    a: &mut [f64],
+    (m, c, w): (usize, usize, usize),
+    perm: &mut [usize],
+    pivots: &mut [f64],
+    tiny: f64,
+) -> bool {
+    match m {
+        4 => eliminate_rows::<4>(a, (c, w), perm, pivots, tiny),
+        8 => eliminate_rows::<8>(a, (c, w), perm, pivots, tiny),
+        12 => eliminate_rows::<12>(a, (c, w), perm, pivots, tiny),
+        16 => eliminate_rows::<16>(a, (c, w), perm, pivots, tiny),
+        20 => eliminate_rows::<20>(a, (c, w), perm, pivots, tiny),
+        24 => eliminate_rows::<24>(a, (c, w), perm, pivots, tiny),
+        _ => eliminate_any(a, (m, c, w), perm, pivots, tiny),
+    }
+}
+
+/// [`eliminate`] with the row count `M` known at compile time: each column update runs over
+/// all `M` rows with the multipliers padded by zeros above the pivot (`x - 0 a = x`: the same
+/// numbers as [`eliminate_any`], in a loop the compiler unrolls).
+fn eliminate_rows<const M: usize>(
+    a: &mut [f64],
+    (c, w): (usize, usize),
+    perm: &mut [usize],
+    pivots: &mut [f64],
+    tiny: f64,
+) -> bool {
     for (i, p) in perm.iter_mut().enumerate() {
         *p = i;
     }
     for k in 0..c {
-        let col = &a[k * m..(k + 1) * m];
-        let mut p = k;
-        for i in k + 1..m {
-            if col[i].abs() > col[p].abs() {
-                p = i;
-            }
-        }
-        let piv = col[p];
-        if !(piv.abs() > tiny && piv.is_finite()) {
+        let Some(piv) = pivot_row(a, M, k, w, perm, tiny) else {
             return false;
+        };
+        pivots[k] = piv;
+        let inv = 1.0 / piv;
+        let mut l = [0.0; M];
+        for (li, v) in l[k + 1..]
+            .iter_mut()
+            .zip(&mut a[k * M + k + 1..(k + 1) * M])
+        {
+            *v *= inv;
+            *li = *v;
         }
-        if p != k {
-            perm.swap(p, k);
-            for j in 0..w {
-                a.swap(k + j * m, p + j * m);
+        for col in a[(k + 1) * M..w * M].chunks_exact_mut(M) {
+            let akj = col[k];
+            if akj != 0.0 {
+                for (x, li) in col.iter_mut().zip(&l) {
+                    *x -= li * akj;
+                }
             }
         }
+    }
+    true
+}
+
+/// Partial pivoting in column `k` of the column-major `m x w` matrix `a`: swaps the row with
+/// the largest entry at or below the diagonal into row `k` (in all `w` columns and `perm`) and
+/// returns the pivot, or `None` if it is not larger than `tiny` in magnitude or not finite.
+#[inline(always)]
+fn pivot_row(
+    a: &mut [f64],
+    m: usize,
+    k: usize,
+    w: usize,
+    perm: &mut [usize],
+    tiny: f64,
+) -> Option<f64> {
+    let col = &a[k * m..(k + 1) * m];
+    let mut p = k;
+    for i in k + 1..m {
+        if col[i].abs() > col[p].abs() {
+            p = i;
+        }
+    }
+    let piv = col[p];
+    if !(piv.abs() > tiny && piv.is_finite()) {
+        return None;
+    }
+    if p != k {
+        perm.swap(p, k);
+        for j in 0..w {
+            a.swap(k + j * m, p + j * m);
+        }
+    }
+    Some(piv)
+}
+
+/// [`eliminate`] for any row count.
+fn eliminate_any(
+    a: &mut [f64],
+    (m, c, w): (usize, usize, usize),
+    perm: &mut [usize],
+    pivots: &mut [f64],
+    tiny: f64,
+) -> bool {
+    for (i, p) in perm.iter_mut().enumerate() {
+        *p = i;
+    }
+    for k in 0..c {
+        let Some(piv) = pivot_row(a, m, k, w, perm, tiny) else {
+            return false;
+        };
         pivots[k] = piv;
         let inv = 1.0 / piv;
         for v in &mut a[k * m + k + 1..(k + 1) * m] {
@@ -81,6 +168,49 @@ pub(crate) fn solve_upper(u: &[f64], m: usize, t: &mut [f64]) {
         if xk != 0.0 {
             for (ti, ui) in t[..k].iter_mut().zip(&u[k * m..k * m + k]) {
                 *ti -= ui * xk;
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{eliminate_any, eliminate_rows, solve_upper};
+    use proptest::prelude::*;
+
+    proptest! {
+        /// The kernel for a row count known at compile time gives the general kernel's numbers
+        /// exactly (same pivots, row order, factors and Schur complement), and the factors
+        /// reproduce the block: with $x$ from $U x = (L^{-1} P a_c)_{0..c}$, the pivot rows'
+        /// equations $A[P_i, :c]\, x = a_c[P_i]$ hold to roundoff.
+        #[test]
+        fn fixed_row_count_kernel_matches_the_general_one(
+            values in proptest::collection::vec(-1.0f64..1.0, 16 * 22),
+            c in 1usize..=12,
+        ) {
+            let (m, w) = (16, 22);
+            let mut fixed = values.clone();
+            let mut any = values.clone();
+            let (mut perm_f, mut perm_a) = (vec![0; m], vec![0; m]);
+            let (mut piv_f, mut piv_a) = (vec![0.0; c], vec![0.0; c]);
+            let scale = values[..c * m].iter().fold(0.0f64, |s, v| s.max(v.abs()));
+            let tiny = scale * f64::EPSILON * m as f64;
+            let ok_f = eliminate_rows::<16>(&mut fixed, (c, w), &mut perm_f, &mut piv_f, tiny);
+            let ok_a = eliminate_any(&mut any, (m, c, w), &mut perm_a, &mut piv_a, tiny);
+            prop_assert_eq!(ok_f, ok_a);
+            prop_assert_eq!(&perm_f, &perm_a);
+            prop_assert_eq!(&piv_f, &piv_a);
+            prop_assert_eq!(&fixed, &any);
+            if ok_f {
+                let mut x: Vec<f64> = (0..c).map(|i| fixed[i + c * m]).collect();
+                solve_upper(&fixed, m, &mut x);
+                // Backward error: roundoff times the size of the terms.
+                let size = 1.0 + x.iter().fold(0.0f64, |s, v| s.max(v.abs()));
+                for &r in &perm_f[..c] {
+                    let ax: f64 = (0..c).map(|j| values[r + j * m] * x[j]).sum();
+                    let b = values[r + c * m];
+                    prop_assert!((ax - b).abs() <= 1e-13 * size * c as f64, "{} vs {}", ax, b);
+                }
             }
         }
     }

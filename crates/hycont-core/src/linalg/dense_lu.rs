@@ -46,44 +46,19 @@ impl DenseLu {
         for (&p, v) in self.at.iter().zip(values) {
             self.lu[p] += v;
         }
-        for (i, p) in self.perm.iter_mut().enumerate() {
-            *p = i;
-        }
-        let a = &mut self.lu;
-        for k in 0..n {
-            let col = &a[k * n..(k + 1) * n];
-            let mut p = k;
-            for i in k + 1..n {
-                if col[i].abs() > col[p].abs() {
-                    p = i;
-                }
-            }
-            let piv = col[p];
-            if !(piv != 0.0 && piv.is_finite()) {
-                return Err(Error::SingularMatrix {
-                    reason: format!("pivot {piv} in column {k} of a dense LU"),
-                });
-            }
-            if p != k {
-                self.perm.swap(p, k);
-                for j in 0..n {
-                    a.swap(k + j * n, p + j * n);
-                }
-            }
-            let inv = 1.0 / piv;
-            for v in &mut a[k * n + k + 1..(k + 1) * n] {
-                *v *= inv;
-            }
-            let (left, right) = a.split_at_mut((k + 1) * n);
-            let lk = &left[k * n + k + 1..];
-            for col in right.chunks_exact_mut(n) {
-                let akj = col[k];
-                if akj != 0.0 {
-                    for (x, l) in col[k + 1..].iter_mut().zip(lk) {
-                        *x -= l * akj;
-                    }
-                }
-            }
+        let mut pivots = std::mem::take(&mut self.work);
+        let ok = super::dense::eliminate_above(
+            &mut self.lu,
+            (n, n, n),
+            &mut self.perm,
+            &mut pivots,
+            0.0,
+        );
+        self.work = pivots;
+        if !ok {
+            return Err(Error::SingularMatrix {
+                reason: "a zero pivot in a dense LU".into(),
+            });
         }
         self.ready = true;
         Ok(())
