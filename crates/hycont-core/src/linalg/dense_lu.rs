@@ -36,9 +36,14 @@ impl DenseLu {
 
     /// Factorises the matrix with the pattern's `values` (repeated entries add up).
     ///
+    /// Returns `false`, leaving no factorisation, if a pivot is zero or not finite: the caller
+    /// then factorises the matrix with the sparse LU, so that singular matrices behave as they
+    /// always did (its other elimination order may keep a roundoff-sized pivot, which inverse
+    /// iteration for a null vector needs, or it reports a zero determinant).
+    ///
     /// # Errors
-    /// [`Error::SingularMatrix`] if a pivot is zero or not finite.
-    pub(super) fn factorize(&mut self, values: &[f64]) -> Result<()> {
+    /// [`Error::DimensionMismatch`] if `values` does not match the pattern.
+    pub(super) fn factorize(&mut self, values: &[f64]) -> Result<bool> {
         crate::error::check_len("sparse values", values, self.at.len())?;
         let n = self.n;
         self.ready = false;
@@ -55,13 +60,8 @@ impl DenseLu {
             0.0,
         );
         self.work = pivots;
-        if !ok {
-            return Err(Error::SingularMatrix {
-                reason: "a zero pivot in a dense LU".into(),
-            });
-        }
-        self.ready = true;
-        Ok(())
+        self.ready = ok;
+        Ok(ok)
     }
 
     /// Solves $A X = B$ (or $A^\top X = B$) in place for the `k` columns of `b`.
@@ -176,7 +176,7 @@ mod tests {
             values.push(0.5);
             let mut dense = DenseLu::new(n, &entries);
             let mut sparse = SparseLu::new(n, n, &entries).unwrap();
-            dense.factorize(&values).unwrap();
+            prop_assert!(dense.factorize(&values).unwrap());
             sparse.factorize(&values).unwrap();
             let rhs = &seed[144..144 + n];
             for transpose in [false, true] {
@@ -202,13 +202,16 @@ mod tests {
         }
     }
 
-    /// A zero column is refused at factorisation, and solving without one is an error.
+    /// Without a factorisation, solves and the determinant are errors; a zero or non-finite
+    /// pivot leaves no factorisation (the caller falls back to the sparse LU).
     #[test]
-    fn singular_and_unfactorised_matrices_are_errors() {
+    fn singular_and_unfactorised_matrices() {
         let mut lu = DenseLu::new(2, &[(0, 0), (1, 0)]);
         assert!(lu.solve(&mut [1.0, 2.0], 1, false).is_err());
         assert!(lu.determinant().is_err());
-        assert!(lu.factorize(&[1.0, 2.0]).is_err());
+        assert!(!lu.factorize(&[f64::NAN, 2.0]).unwrap());
+        assert!(!lu.factorize(&[1.0, 2.0]).unwrap());
         assert!(lu.solve(&mut [1.0, 2.0], 1, false).is_err());
+        assert!(lu.determinant().is_err());
     }
 }

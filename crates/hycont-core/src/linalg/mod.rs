@@ -51,6 +51,7 @@ enum Current {
 /// matrix for that factorisation. Both give the same solves and determinant up to rounding.
 /// A square pattern of at most 32 unknowns without blocks is factorised densely (partial
 /// pivoting): at that size the arithmetic costs less than a sparse factorisation's bookkeeping.
+/// A zero pivot there (a singular matrix) falls back to the sparse LU for that factorisation.
 ///
 /// ```
 /// use hycont_core::linalg::{EliminationBlock, SparsePattern};
@@ -193,8 +194,9 @@ impl SparsePattern {
             self.current = Current::Condensed;
             return Ok(());
         }
-        if let Some(d) = self.dense.as_mut() {
-            d.factorize(values)?;
+        if let Some(d) = self.dense.as_mut()
+            && d.factorize(values)?
+        {
             self.current = Current::Dense;
             return Ok(());
         }
