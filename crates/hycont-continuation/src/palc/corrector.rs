@@ -86,15 +86,10 @@ impl<'a, P: ContinuationProblem<'a> + ?Sized> Palc<'_, 'a, P> {
             if !fresh {
                 if expect_solution {
                     self.factor(&u, row, u0, s, JacobianUse::Exact)?;
-                    exact = true;
                 } else {
-                    self.count_residual();
-                    self.p
-                        .problem()
-                        .evaluate(&u, &mut self.res[..n - 1], None)?;
-                    self.res[n - 1] = dot(row, &u) - dot(row, u0) - s;
-                    exact = false;
+                    self.residual(&u, row, u0, s)?;
                 }
+                exact = expect_solution;
             }
             let res = max_abs(&self.res);
             let scale = 1.0 + max_abs(&u);
@@ -138,6 +133,15 @@ impl<'a, P: ContinuationProblem<'a> + ?Sized> Palc<'_, 'a, P> {
             ),
             history: Vec::new(),
         }))
+    }
+
+    /// Writes $[F(u); r \cdot (u - u_0) - s]$.
+    fn residual(&mut self, u: &[f64], row: &[f64], u0: &[f64], s: f64) -> Result<()> {
+        let n = self.n;
+        self.count_residual();
+        self.p.problem().evaluate(u, &mut self.res[..n - 1], None)?;
+        self.res[n - 1] = dot(row, u) - dot(row, u0) - s;
+        Ok(())
     }
 
     pub(super) fn count_residual(&mut self) {
