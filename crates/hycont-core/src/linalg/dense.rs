@@ -56,15 +56,7 @@ fn eliminate_rows<const M: usize>(
     pivots: &mut [f64],
     tiny: f64,
 ) -> bool {
-    for (i, p) in perm.iter_mut().enumerate() {
-        *p = i;
-    }
-    for k in 0..c {
-        let Some(piv) = pivot_row(a, M, k, w, perm, tiny) else {
-            return false;
-        };
-        pivots[k] = piv;
-        let inv = 1.0 / piv;
+    pivoted_steps(a, (M, c, w), perm, pivots, tiny, |a, k, inv| {
         let mut l = [0.0; M];
         for (li, v) in l[k + 1..]
             .iter_mut()
@@ -81,40 +73,7 @@ fn eliminate_rows<const M: usize>(
                 }
             }
         }
-    }
-    true
-}
-
-/// Partial pivoting in column `k` of the column-major `m x w` matrix `a`: swaps the row with
-/// the largest entry at or below the diagonal into row `k` (in all `w` columns and `perm`) and
-/// returns the pivot, or `None` if it is not larger than `tiny` in magnitude or not finite.
-#[inline(always)]
-fn pivot_row(
-    a: &mut [f64],
-    m: usize,
-    k: usize,
-    w: usize,
-    perm: &mut [usize],
-    tiny: f64,
-) -> Option<f64> {
-    let col = &a[k * m..(k + 1) * m];
-    let mut p = k;
-    for i in k + 1..m {
-        if col[i].abs() > col[p].abs() {
-            p = i;
-        }
-    }
-    let piv = col[p];
-    if !(piv.abs() > tiny && piv.is_finite()) {
-        return None;
-    }
-    if p != k {
-        perm.swap(p, k);
-        for j in 0..w {
-            a.swap(k + j * m, p + j * m);
-        }
-    }
-    Some(piv)
+    })
 }
 
 /// [`eliminate`] for any row count.
@@ -125,15 +84,7 @@ fn eliminate_any(
     pivots: &mut [f64],
     tiny: f64,
 ) -> bool {
-    for (i, p) in perm.iter_mut().enumerate() {
-        *p = i;
-    }
-    for k in 0..c {
-        let Some(piv) = pivot_row(a, m, k, w, perm, tiny) else {
-            return false;
-        };
-        pivots[k] = piv;
-        let inv = 1.0 / piv;
+    pivoted_steps(a, (m, c, w), perm, pivots, tiny, |a, k, inv| {
         for v in &mut a[k * m + k + 1..(k + 1) * m] {
             *v *= inv;
         }
@@ -147,6 +98,45 @@ fn eliminate_any(
                 }
             }
         }
+    })
+}
+
+/// The elimination's outer loop: for each of the first `c` columns, partial pivoting (the row
+/// with the largest entry at or below the diagonal swapped into place, in all `w` columns and
+/// `perm`), then `step(a, k, 1 / pivot)`, which forms the multipliers and updates the columns
+/// to the right. `false` at a pivot not larger than `tiny` in magnitude or not finite.
+#[inline(always)]
+fn pivoted_steps(
+    a: &mut [f64],
+    (m, c, w): (usize, usize, usize),
+    perm: &mut [usize],
+    pivots: &mut [f64],
+    tiny: f64,
+    mut step: impl FnMut(&mut [f64], usize, f64),
+) -> bool {
+    for (i, p) in perm.iter_mut().enumerate() {
+        *p = i;
+    }
+    for k in 0..c {
+        let col = &a[k * m..(k + 1) * m];
+        let mut p = k;
+        for i in k + 1..m {
+            if col[i].abs() > col[p].abs() {
+                p = i;
+            }
+        }
+        let piv = col[p];
+        if !(piv.abs() > tiny && piv.is_finite()) {
+            return false;
+        }
+        if p != k {
+            perm.swap(p, k);
+            for j in 0..w {
+                a.swap(k + j * m, p + j * m);
+            }
+        }
+        pivots[k] = piv;
+        step(a, k, 1.0 / piv);
     }
     true
 }
