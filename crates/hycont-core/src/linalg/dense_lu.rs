@@ -2,7 +2,7 @@
 //! unknowns (shooting with a few segments, small reduced systems) the arithmetic of a dense
 //! factorisation costs less than a sparse one's bookkeeping.
 
-use super::permutation_sign;
+use super::{LogProduct, permutation_sign};
 use crate::error::{Error, Result};
 
 /// Largest dimension factorised densely.
@@ -129,14 +129,12 @@ impl DenseLu {
                 reason: "no factorisation to take the determinant of".into(),
             });
         }
-        let mut sign = permutation_sign(&self.perm);
-        let mut log = 0.0;
+        let mut det = LogProduct::new();
         for k in 0..self.n {
-            let u = self.lu[k + k * self.n];
-            sign *= u.signum();
-            log += u.abs().ln();
+            det.push(self.lu[k + k * self.n]);
         }
-        Ok((sign, log))
+        let (sign, log) = det.finish();
+        Ok((sign * permutation_sign(&self.perm), log))
     }
 }
 

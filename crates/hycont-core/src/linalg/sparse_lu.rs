@@ -3,7 +3,7 @@
 //! structure, the factors' storage and the scratch space (no allocation per factorisation once
 //! the factors have reached their size).
 
-use super::permutation_sign;
+use super::{LogProduct, permutation_sign};
 use crate::error::{Error, Result};
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::perm::PermRef;
@@ -205,9 +205,9 @@ impl SparseLu {
             });
         };
         let u = st.numeric.u_factor_unsorted();
-        let mut sign =
+        let sign =
             permutation_sign(&st.row_perm) * permutation_sign(st.symbolic.col_perm().arrays().0);
-        let mut log_abs = 0.0;
+        let mut det = LogProduct::new();
         for j in 0..self.nrows {
             let diag = u
                 .row_idx_of_col_raw(j)
@@ -219,9 +219,9 @@ impl SparseLu {
             if diag == 0.0 {
                 return Ok((0.0, f64::NEG_INFINITY));
             }
-            sign *= diag.signum();
-            log_abs += diag.abs().ln();
+            det.push(diag);
         }
-        Ok((sign, log_abs))
+        let (s, log_abs) = det.finish();
+        Ok((sign * s, log_abs))
     }
 }

@@ -134,8 +134,13 @@ impl Z2Symmetry {
     /// Writes $S x$ into `out`.
     pub fn apply(&self, x: &[f64], out: &mut [f64]) {
         let n = x.len();
-        for (i, o) in out.iter_mut().enumerate() {
-            *o = (0..n).map(|j| self.matrix[i + j * n] * x[j]).sum();
+        // Column by column: each out[i] adds its terms in the order j = 0, 1, .. (as a row
+        // sum from -0.0 would).
+        out.fill(-0.0);
+        for (col, &xj) in self.matrix.chunks_exact(n.max(1)).zip(x) {
+            for (o, s) in out.iter_mut().zip(col) {
+                *o += s * xj;
+            }
         }
     }
 }

@@ -123,8 +123,7 @@ impl Condensed {
             dense: vec![0.0; dense_len],
             border: vec![0.0; border_len],
             free_rows: free.iter().map(|&i| (i, red_row[i])).collect(),
-            col_sign: 1.0,
-            row_order: vec![0; n],
+            order_sign: 1.0,
             rhs: vec![0.0; n],
             red_rhs: vec![0.0; kept.len()],
             top: vec![0.0; top],
@@ -151,7 +150,8 @@ impl Condensed {
             .chain(specs.iter().flat_map(|s| s.cols.iter().copied()))
             .chain(me.kept.iter().copied())
             .collect();
-        me.col_sign = permutation_sign(&col_order);
+        // The blocks' pivoting orders are the identity until the first factorisation.
+        me.order_sign = permutation_sign(&col_order) * permutation_sign(&me.row_order());
         Ok(me)
     }
 

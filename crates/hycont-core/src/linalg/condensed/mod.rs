@@ -23,7 +23,7 @@ mod layout;
 
 use super::SparsePattern;
 use super::dense::{dot, eliminate, solve_upper, solve_upper_transpose};
-use super::permutation_sign;
+use super::{LogProduct, permutation_sign};
 use crate::error::Result;
 
 /// Where an entry's value goes.
@@ -145,9 +145,10 @@ pub(super) struct Condensed {
     free_rows: Vec<(usize, usize)>,
     /// Original column of each reduced column.
     kept: Vec<usize>,
-    col_sign: f64,
-    /// Work space: row order of the last factorisation, right-hand sides.
-    row_order: Vec<usize>,
+    /// Sign of the row and column orders $\Pi_r, \Pi_c$ with every block's pivoting order the
+    /// identity; a factorisation's row order adds its blocks' pivoting permutations.
+    order_sign: f64,
+    /// Work space: right-hand sides.
     rhs: Vec<f64>,
     red_rhs: Vec<f64>,
     top: Vec<f64>,
@@ -242,12 +243,13 @@ impl Condensed {
             schur_into(blk, &self.dense, &mut self.border, &mut self.red_vals);
         }
         self.reduced.factorize(&self.red_vals)?;
-        self.order_rows();
         Ok(Condensation::Done)
     }
 
     /// Row order `[E, P_1 .. P_B, rows left in each block, free rows]` of the factorisation.
-    fn order_rows(&mut self) {
+    /// Its sign is that of the order with identity pivoting (fixed by the layout) times the
+    /// blocks' pivoting permutations' (each acts on its block's own places in the order).
+    fn row_order(&self) -> Vec<usize> {
         let order = self
             .pins
             .iter()
@@ -263,20 +265,22 @@ impl Condensed {
                     .flat_map(|b| b.perm[b.c()..].iter().map(|&i| b.rows[i])),
             )
             .chain(self.free_rows.iter().map(|&(i, _)| i));
-        for (slot, i) in self.row_order.iter_mut().zip(order) {
-            *slot = i;
-        }
+        order.collect()
     }
 
     /// Sign and $\ln|\det|$ of the factorised matrix.
     pub(super) fn determinant(&self) -> Result<(f64, f64)> {
-        let (mut sign, mut log) = self.reduced.determinant()?;
-        sign *= permutation_sign(&self.row_order) * self.col_sign;
-        for p in &self.pivots {
-            sign *= p.signum();
-            log += p.abs().ln();
+        let (sign, log) = self.reduced.determinant()?;
+        let mut det = LogProduct::new();
+        for &p in &self.pivots {
+            det.push(p);
         }
-        Ok((sign, log))
+        let (pivot_sign, pivot_log) = det.finish();
+        let order_sign = self
+            .blocks
+            .iter()
+            .fold(self.order_sign, |s, b| s * permutation_sign(&b.perm));
+        Ok((sign * pivot_sign * order_sign, log + pivot_log))
     }
 
     /// Solves $A x = b$ in place.
