@@ -117,6 +117,8 @@ impl Condensed {
             entries: entries.len(),
             routes: Routes::default(),
             pin_entries: Vec::new(),
+            pin_rows: Vec::new(),
+            pin_starts: Vec::new(),
             pin_vals: Vec::new(),
             reduced: Box::new(SparsePattern::new(0, 0, &[])?),
             red_vals: Vec::new(),
@@ -140,7 +142,8 @@ impl Condensed {
             red_row: &red_row,
             red_col: &red_col,
         };
-        let dest = me.route(entries, &ctx, &mut red_entries);
+        let mut dest = me.route(entries, &ctx, &mut red_entries);
+        me.group_pin_entries(&mut dest);
         me.routes = Routes::new(&dest, top);
         let nred = me.kept.len();
         let next = next_level(&me.blocks, nred, &red_entries);
@@ -153,6 +156,31 @@ impl Condensed {
         // The blocks' pivoting orders are the identity until the first factorisation.
         me.order_sign = permutation_sign(&col_order) * permutation_sign(&me.row_order());
         Ok(me)
+    }
+
+    /// Orders the other entries of pinned columns by pin (stable: each pin's in entry order),
+    /// with `pin_starts` delimiting each pin's, and points their destinations there.
+    fn group_pin_entries(&mut self, dest: &mut [Dest]) {
+        let mut order: Vec<usize> = (0..self.pin_entries.len()).collect();
+        order.sort_by_key(|&i| self.pin_entries[i].0);
+        let mut new_index = vec![0; order.len()];
+        for (to, &from) in order.iter().enumerate() {
+            new_index[from] = to;
+        }
+        self.pin_starts = vec![0; self.pins.len() + 1];
+        for &(pin, _) in &self.pin_entries {
+            self.pin_starts[pin + 1] += 1;
+        }
+        for k in 0..self.pins.len() {
+            self.pin_starts[k + 1] += self.pin_starts[k];
+        }
+        self.pin_rows = order.iter().map(|&i| self.pin_entries[i].1).collect();
+        self.pin_entries = Vec::new();
+        for d in dest {
+            if let Dest::PinColumn(i) = d {
+                *i = new_index[*i];
+            }
+        }
     }
 
     /// Sets the destination of every entry.

@@ -134,8 +134,12 @@ pub(super) struct Condensed {
     routes: Routes,
     dense: Vec<f64>,
     border: Vec<f64>,
-    /// `(pin, row)` of the other entries of pinned columns, and their values (`pin_vals`).
+    /// `(pin, row)` of the other entries of pinned columns while routing; then grouped by pin:
+    /// the rows (`pin_rows[pin_starts[k]..pin_starts[k + 1]]` for pin `k`) and their values
+    /// (`pin_vals`).
     pin_entries: Vec<(usize, usize)>,
+    pin_rows: Vec<usize>,
+    pin_starts: Vec<usize>,
     pin_vals: Vec<f64>,
     /// The reduced system: itself condensed where the blocks' remaining rows pair up (see
     /// `layout::next_level`), else a plain sparse LU.
@@ -189,6 +193,15 @@ impl ReducedRows<'_> {
         self.columns
     }
 
+    /// Column `k` (indexing [`ReducedRows::columns`]) over the rows; `None` out of range.
+    #[must_use]
+    pub fn column(&self, k: usize) -> Option<&[f64]> {
+        (k < self.columns.len()).then(|| {
+            let at = self.c + (self.c + k) * self.m;
+            &self.data[at..at + self.rows()]
+        })
+    }
+
     /// Entry `(row, k)`, `k` indexing [`ReducedRows::columns`]; `None` out of range.
     #[must_use]
     pub fn value(&self, row: usize, k: usize) -> Option<f64> {
@@ -215,7 +228,7 @@ impl Condensed {
         self.dense.fill(0.0);
         self.border.fill(0.0);
         self.red_vals.fill(0.0);
-        self.pin_vals.resize(self.pin_entries.len(), 0.0);
+        self.pin_vals.resize(self.pin_rows.len(), 0.0);
         self.pin_vals.fill(0.0);
         let pin0 = self.top.len();
         self.pivots[pin0..].fill(0.0);
@@ -290,8 +303,15 @@ impl Condensed {
         for (k, p) in self.pins.iter().enumerate() {
             b[p.col] = self.rhs[p.row] / self.pivots[pin0 + k];
         }
-        for (&(k, r), a) in self.pin_entries.iter().zip(&self.pin_vals) {
-            self.rhs[r] -= a * b[self.pins[k].col];
+        for (k, p) in self.pins.iter().enumerate() {
+            // Held parameters: usually no change to carry into the other rows.
+            let x = b[p.col];
+            if x != 0.0 {
+                let at = self.pin_starts[k]..self.pin_starts[k + 1];
+                for (&r, a) in self.pin_rows[at.clone()].iter().zip(&self.pin_vals[at]) {
+                    self.rhs[r] -= a * x;
+                }
+            }
         }
         for blk in &self.blocks {
             let (m, c) = (blk.m(), blk.c());
@@ -403,8 +423,11 @@ impl Condensed {
         for p in &self.pins {
             d[p.row] = self.rhs[p.col];
         }
-        for (&(k, r), a) in self.pin_entries.iter().zip(&self.pin_vals) {
-            d[self.pins[k].row] -= a * d[r];
+        for (k, p) in self.pins.iter().enumerate() {
+            let at = self.pin_starts[k]..self.pin_starts[k + 1];
+            for (&r, a) in self.pin_rows[at.clone()].iter().zip(&self.pin_vals[at]) {
+                d[p.row] -= a * d[r];
+            }
         }
         for (k, p) in self.pins.iter().enumerate() {
             d[p.row] /= self.pivots[pin0 + k];
