@@ -179,7 +179,7 @@ pub struct ReducedRows<'a> {
     c: usize,
 }
 
-impl ReducedRows<'_> {
+impl<'a> ReducedRows<'a> {
     /// Number of rows left (the block's equations minus its local unknowns).
     #[must_use]
     pub fn rows(&self) -> usize {
@@ -195,7 +195,7 @@ impl ReducedRows<'_> {
 
     /// Column `k` (indexing [`ReducedRows::columns`]) over the rows; `None` out of range.
     #[must_use]
-    pub fn column(&self, k: usize) -> Option<&[f64]> {
+    pub fn column(&self, k: usize) -> Option<&'a [f64]> {
         (k < self.columns.len()).then(|| {
             let at = self.c + (self.c + k) * self.m;
             &self.data[at..at + self.rows()]

@@ -99,8 +99,8 @@ pub(super) fn factorised_floquet<S: HybridJacobians + ?Sized>(
         block += mesh.len() - 1;
         offset += nodes[k].len();
     }
-    // Every interval's rows over (first node, last node) columns, or give up.
-    let mut found = Vec::with_capacity(block);
+    // Every interval's columns of (first node, last node) over its n rows, or give up.
+    let mut found: Vec<Vec<&[f64]>> = Vec::with_capacity(block);
     for (k, mesh) in meshes.iter().enumerate() {
         let (b0, off) = offsets[k];
         for j in 0..mesh.len() - 1 {
@@ -109,22 +109,24 @@ pub(super) fn factorised_floquet<S: HybridJacobians + ?Sized>(
             };
             let first = off + j * ncol * n;
             let last = first + ncol * n;
-            let pos = |col: usize| rows.columns().binary_search(&col).ok();
-            let cols: Option<Vec<usize>> = (0..n)
-                .map(|c| pos(first + c))
-                .chain((0..n).map(|c| pos(last + c)))
+            let column = move |col: usize| {
+                let k = rows.columns().binary_search(&col).ok()?;
+                rows.column(k)
+            };
+            let cols: Option<Vec<&[f64]>> = (0..n)
+                .map(|c| column(first + c))
+                .chain((0..n).map(|c| column(last + c)))
                 .collect();
             match cols {
-                Some(cols) if rows.rows() == n => found.push((rows, cols)),
+                Some(cols) if rows.rows() == n => found.push(cols),
                 _ => return Ok(None),
             }
         }
     }
     let transfer = |k: usize, j: usize, y: &mut [f64]| {
-        let (rows, cols) = &found[offsets[k].0 + j];
-        // In range: `rows.rows() == n` and every column was found (a NaN would be refused).
-        let at = |i: usize, col: usize| rows.value(i, cols[col]).unwrap_or(f64::NAN);
-        small.solve(at, k, j, y)
+        // In range: every column was found, with `n` rows.
+        let cols = &found[offsets[k].0 + j];
+        small.solve(|i, col| cols[col][i], k, j, y)
     };
     floquet_from_transfers(system, orbit, meshes, nodes, transfer).map(Some)
 }
@@ -198,11 +200,13 @@ fn floquet_from_transfers<S: HybridJacobians + ?Sized>(
     let n = system.state_dim();
     let mut m = identity(n);
     let mut y = vec![0.0; n * n];
+    let mut product = vec![0.0; n * n];
     for (k, mesh) in meshes.iter().enumerate() {
         let mut phi = identity(n);
         for j in 0..mesh.len() - 1 {
             transfer(k, j, &mut y)?;
-            phi = matmul(n, &y, &phi);
+            matmul_into(n, &y, &phi, &mut product);
+            std::mem::swap(&mut phi, &mut product);
         }
         if phi.iter().any(|v: &f64| !v.is_finite()) {
             return Err(Error::SingularMatrix {
@@ -214,6 +218,18 @@ fn floquet_from_transfers<S: HybridJacobians + ?Sized>(
         m = matmul(n, &matmul(n, &s, &phi), &m);
     }
     Floquet::from_monodromy(system, &orbit.params, orbit.period(), m)
+}
+
+/// `out = a b` for column-major `n x n` matrices (no allocation: once per mesh interval).
+fn matmul_into(n: usize, a: &[f64], b: &[f64], out: &mut [f64]) {
+    for (out_col, b_col) in out.chunks_exact_mut(n).zip(b.chunks_exact(n)) {
+        out_col.fill(0.0);
+        for (a_col, &blj) in a.chunks_exact(n).zip(b_col) {
+            for (o, x) in out_col.iter_mut().zip(a_col) {
+                *o += x * blj;
+            }
+        }
+    }
 }
 
 fn identity(n: usize) -> Vec<f64> {
