@@ -97,6 +97,7 @@ pub struct Collocation<'a, S: ?Sized> {
     xi: Vec<f64>,
     f: Vec<f64>,
     a: Vec<f64>,
+    a_row: Vec<f64>,
     fp: Vec<f64>,
 }
 
@@ -144,6 +145,7 @@ impl<'a, S: HybridJacobians + ?Sized> Collocation<'a, S> {
             xi: vec![0.0; n],
             f: vec![0.0; n],
             a: vec![0.0; n * n],
+            a_row: vec![0.0; n],
             fp: vec![0.0; n * np],
         })
     }
@@ -369,11 +371,15 @@ impl<S: HybridJacobians + ?Sized> Collocation<'_, S> {
         // and the parameters' columns.
         let width = jac.len() / n;
         for (i, out) in jac.chunks_exact_mut(width).enumerate() {
+            // Row i of A (column-major) gathered once for the ncol + 1 nodes.
+            for (r, comp) in self.a_row.iter_mut().zip(0..n) {
+                *r = self.a[i + comp * n];
+            }
             let (nodes_out, rest) = out.split_at_mut(nodes.len());
             for (node_out, (&lv, &dv)) in nodes_out.chunks_exact_mut(n).zip(lc.iter().zip(dlc)) {
                 let s = ht * lv;
-                for (o, comp) in node_out.iter_mut().zip(0..n) {
-                    *o = s * self.a[i + comp * n];
+                for (o, a) in node_out.iter_mut().zip(&self.a_row) {
+                    *o = s * a;
                 }
                 node_out[i] += dv;
             }
