@@ -116,6 +116,7 @@ impl Condensed {
         let mut me = Self {
             entries: entries.len(),
             routes: Routes::default(),
+            dense_covered_once: false,
             pin_entries: Vec::new(),
             pin_rows: Vec::new(),
             pin_starts: Vec::new(),
@@ -145,6 +146,13 @@ impl Condensed {
         let mut dest = me.route(entries, &ctx, &mut red_entries);
         me.group_pin_entries(&mut dest);
         me.routes = Routes::new(&dest, top);
+        let mut covered = vec![0u8; dense_len];
+        for run in &me.routes.dense {
+            for c in &mut covered[run.at..run.at + run.len as usize] {
+                *c = c.saturating_add(1);
+            }
+        }
+        me.dense_covered_once = covered.iter().all(|&c| c == 1);
         let nred = me.kept.len();
         let next = next_level(&me.blocks, nred, &red_entries);
         me.reduced = Box::new(SparsePattern::with_blocks(nred, nred, &red_entries, &next)?);
@@ -300,8 +308,9 @@ fn place_blocks(
         blk.at = dense_len;
         dense_len += blk.m() * blk.w();
         blk.schur_entries = red_entries.len();
-        for s in 0..blk.m() - blk.c() {
-            red_entries.extend(blk.other.iter().map(|&rc| (blk.schur_row + s, rc)));
+        // Column by column, as the block stores them (the next level copies them as runs).
+        for &rc in &blk.other {
+            red_entries.extend((0..blk.m() - blk.c()).map(|s| (blk.schur_row + s, rc)));
         }
         rows.sort_unstable();
         rows.dedup();

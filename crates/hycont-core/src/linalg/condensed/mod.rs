@@ -41,32 +41,43 @@ enum Dest {
     PinColumn(usize),
 }
 
-/// `(entry, position)` pairs by destination (one tight loop each when values are scattered);
-/// pivots of pins are stored after the blocks' pivots.
+/// `len` consecutive entries from `entry` whose values go to consecutive positions from `at`.
+#[derive(Debug, Clone, Copy)]
+struct Run {
+    entry: u32,
+    len: u32,
+    at: usize,
+}
+
+/// The entries by destination, as runs (an interval's collocation block listed in storage
+/// order is a few runs; scattered entries are runs of one); pivots of pins are stored after the
+/// blocks' pivots.
 #[derive(Debug, Default)]
 struct Routes {
-    dense: Vec<(u32, usize)>,
-    border: Vec<(u32, usize)>,
-    reduced: Vec<(u32, usize)>,
-    pivot: Vec<(u32, usize)>,
-    pin_column: Vec<(u32, usize)>,
+    dense: Vec<Run>,
+    border: Vec<Run>,
+    reduced: Vec<Run>,
+    pivot: Vec<Run>,
+    pin_column: Vec<Run>,
 }
 
 impl Routes {
     fn new(dest: &[Dest], pin0: usize) -> Self {
-        // Most entries go to the dense blocks: room for all of them.
-        let mut r = Self {
-            dense: Vec::with_capacity(dest.len()),
-            ..Self::default()
-        };
+        let mut r = Self::default();
         for (e, d) in dest.iter().enumerate() {
             let e = u32::try_from(e).expect("at most 2^32 entries");
-            match *d {
-                Dest::Dense(p) => r.dense.push((e, p)),
-                Dest::Border(p) => r.border.push((e, p)),
-                Dest::Reduced(p) => r.reduced.push((e, p)),
-                Dest::Pivot(p) => r.pivot.push((e, pin0 + p)),
-                Dest::PinColumn(p) => r.pin_column.push((e, p)),
+            let (list, at) = match *d {
+                Dest::Dense(p) => (&mut r.dense, p),
+                Dest::Border(p) => (&mut r.border, p),
+                Dest::Reduced(p) => (&mut r.reduced, p),
+                Dest::Pivot(p) => (&mut r.pivot, pin0 + p),
+                Dest::PinColumn(p) => (&mut r.pin_column, p),
+            };
+            match list.last_mut() {
+                Some(run) if run.entry + run.len == e && run.at + run.len as usize == at => {
+                    run.len += 1;
+                }
+                _ => list.push(Run { entry: e, len: 1, at }),
             }
         }
         r
@@ -106,7 +117,7 @@ struct Block {
     at: usize,
     /// First reduced row of the rows left after elimination.
     schur_row: usize,
-    /// First reduced entry of those rows (row-major, `other.len()` per row).
+    /// First reduced entry of those rows (column-major: `m - c` per kept column).
     schur_entries: usize,
     /// Start of the block's `cols.len()` values in `top` (and its pivots in `pivots`).
     top: usize,
@@ -132,6 +143,9 @@ pub(super) struct Condensed {
     pins: Vec<Pin>,
     entries: usize,
     routes: Routes,
+    /// Whether the entries cover every place of the blocks' storage exactly once (then they
+    /// are copied in, without clearing the storage first).
+    dense_covered_once: bool,
     dense: Vec<f64>,
     border: Vec<f64>,
     /// `(pin, row)` of the other entries of pinned columns while routing; then grouped by pin:
@@ -225,7 +239,9 @@ impl Condensed {
     /// Condenses the blocks and factorises the reduced system.
     pub(super) fn factorize(&mut self, values: &[f64]) -> Result<Condensation> {
         crate::error::check_len("sparse values", values, self.entries)?;
-        self.dense.fill(0.0);
+        if !self.dense_covered_once {
+            self.dense.fill(0.0);
+        }
         self.border.fill(0.0);
         self.red_vals.fill(0.0);
         self.pin_vals.resize(self.pin_rows.len(), 0.0);
@@ -233,15 +249,25 @@ impl Condensed {
         let pin0 = self.top.len();
         self.pivots[pin0..].fill(0.0);
         let r = &self.routes;
+        if self.dense_covered_once {
+            for run in &r.dense {
+                let (e, len) = (run.entry as usize, run.len as usize);
+                self.dense[run.at..run.at + len].copy_from_slice(&values[e..e + len]);
+            }
+        }
+        let dense: &[Run] = if self.dense_covered_once { &[] } else { &r.dense };
         for (to, list) in [
-            (&mut self.dense, &r.dense),
-            (&mut self.border, &r.border),
-            (&mut self.red_vals, &r.reduced),
-            (&mut self.pivots, &r.pivot),
-            (&mut self.pin_vals, &r.pin_column),
+            (&mut self.dense, dense),
+            (&mut self.border, &r.border[..]),
+            (&mut self.red_vals, &r.reduced[..]),
+            (&mut self.pivots, &r.pivot[..]),
+            (&mut self.pin_vals, &r.pin_column[..]),
         ] {
-            for &(e, p) in list {
-                to[p] += values[e as usize];
+            for run in list {
+                let (e, len) = (run.entry as usize, run.len as usize);
+                for (x, v) in to[run.at..run.at + len].iter_mut().zip(&values[e..e + len]) {
+                    *x += v;
+                }
             }
         }
         if self.pivots[pin0..].iter().any(|p| !(p.abs() > 0.0)) {
@@ -441,10 +467,11 @@ impl Condensed {
 fn schur_into(blk: &Block, dense: &[f64], border: &mut [f64], red: &mut [f64]) {
     let (m, c, o) = (blk.m(), blk.c(), blk.other.len());
     let a = &dense[blk.at..blk.at + m * blk.w()];
-    for s in 0..m - c {
-        let row = &mut red[blk.schur_entries + s * o..blk.schur_entries + (s + 1) * o];
-        for (k, x) in row.iter_mut().enumerate() {
-            *x += a[c + s + (c + k) * m];
+    // The rows left, column by column (`m - c` entries each, as listed in the reduced system).
+    let left = &mut red[blk.schur_entries..blk.schur_entries + o * (m - c)];
+    for (k, col) in left.chunks_exact_mut((m - c).max(1)).enumerate() {
+        for (x, v) in col.iter_mut().zip(&a[(c + k) * m + c..(c + k + 1) * m]) {
+            *x += v;
         }
     }
     for bd in &blk.borders {

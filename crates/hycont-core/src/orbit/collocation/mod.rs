@@ -97,7 +97,6 @@ pub struct Collocation<'a, S: ?Sized> {
     xi: Vec<f64>,
     f: Vec<f64>,
     a: Vec<f64>,
-    a_row: Vec<f64>,
     fp: Vec<f64>,
 }
 
@@ -145,7 +144,6 @@ impl<'a, S: HybridJacobians + ?Sized> Collocation<'a, S> {
             xi: vec![0.0; n],
             f: vec![0.0; n],
             a: vec![0.0; n * n],
-            a_row: vec![0.0; n],
             fp: vec![0.0; n * np],
         })
     }
@@ -214,6 +212,10 @@ impl<S: HybridJacobians + ?Sized> ZeroFunction for Collocation<'_, S> {
         out
     }
 
+    /// Each mesh interval's entries in the column-major order of its dense block (its `ncol * n`
+    /// equations over the interior nodes, the first and the last node, the duration and the
+    /// parameters), so that a condensing factorisation copies them as runs; then each segment's
+    /// boundary rows.
     fn jacobian_pattern(&self) -> Vec<(usize, usize)> {
         let (n, np, ncol) = (self.n, self.np, self.basis.ncol);
         let kk = self.signature.len();
@@ -227,19 +229,15 @@ impl<S: HybridJacobians + ?Sized> ZeroFunction for Collocation<'_, S> {
             let r0 = self.row_offset(k);
             let ntst = self.meshes[k].len() - 1;
             for j in 0..ntst {
-                for c in 0..ncol {
-                    for i in 0..n {
-                        let row = r0 + (j * ncol + c) * n + i;
-                        for node in 0..=ncol {
-                            for comp in 0..n {
-                                out.push((row, off + (j * ncol + node) * n + comp));
-                            }
-                        }
-                        out.push((row, self.duration_index(k)));
-                        for q in 0..np {
-                            out.push((row, self.param_index(q)));
-                        }
-                    }
+                let rows = r0 + j * ncol * n..r0 + (j + 1) * ncol * n;
+                let node_cols = (0..=ncol)
+                    .map(|g| node_of_group(g, ncol))
+                    .flat_map(|node| (0..n).map(move |comp| off + (j * ncol + node) * n + comp));
+                let cols = node_cols
+                    .chain(std::iter::once(self.duration_index(k)))
+                    .chain((0..np).map(|q| self.param_index(q)));
+                for col in cols {
+                    out.extend(rows.clone().map(|row| (row, col)));
                 }
             }
             // Boundary rows: n continuity + 1 end condition.
@@ -277,8 +275,8 @@ impl<S: HybridJacobians + ?Sized> ZeroFunction for Collocation<'_, S> {
         let p = u[self.param_index(0)..self.param_index(0) + np].to_vec();
         let mut jac = jacobian;
         let mut pos = 0usize;
-        // Entries of a collocation row: the interval's nodes, the duration, the parameters.
-        let width = (ncol + 1) * n + 1 + np;
+        // An interval's block: `ncol * n` rows by the nodes, the duration, the parameters.
+        let block = ncol * n * ((ncol + 1) * n + 1 + np);
         for k in 0..self.signature.len() {
             let mode = self.signature.segments()[k].mode;
             let (off, r0) = (self.segment_offset(k), self.row_offset(k));
@@ -288,15 +286,15 @@ impl<S: HybridJacobians + ?Sized> ZeroFunction for Collocation<'_, S> {
                 let h = self.meshes[k][j + 1] - self.meshes[k][j];
                 let base = off + j * ncol * n;
                 let nodes = &u[base..base + (ncol + 1) * n];
+                let mut out = jac.as_deref_mut().map(|jv| &mut jv[pos..pos + block]);
                 for c in 0..ncol {
                     let row = r0 + (j * ncol + c) * n;
                     let point = Point { mode, c, h, t: t_k };
                     let res = &mut residual[row..row + n];
-                    let rows = jac.as_deref_mut().map(|j| &mut j[pos..pos + n * width]);
-                    self.collocation_point(point, nodes, &p, res, rows);
-                    if jac.is_some() {
-                        pos += n * width;
-                    }
+                    self.collocation_point(point, nodes, &p, res, out.as_deref_mut());
+                }
+                if jac.is_some() {
+                    pos += block;
                 }
             }
             let rb = r0 + ntst * ncol * n;
@@ -310,6 +308,29 @@ impl<S: HybridJacobians + ?Sized> ZeroFunction for Collocation<'_, S> {
             );
         }
         Ok(())
+    }
+}
+
+/// The node whose `n` columns come `g`-th in an interval's block: the interior nodes
+/// `1..ncol` first (the unknowns condensation eliminates), then node `0`, then node `ncol`.
+fn node_of_group(g: usize, ncol: usize) -> usize {
+    if g + 1 < ncol {
+        g + 1
+    } else if g + 1 == ncol {
+        0
+    } else {
+        ncol
+    }
+}
+
+/// The inverse of [`node_of_group`].
+fn group_of_node(node: usize, ncol: usize) -> usize {
+    if node == 0 {
+        ncol - 1
+    } else if node == ncol {
+        ncol
+    } else {
+        node - 1
     }
 }
 
@@ -334,7 +355,7 @@ impl<S: HybridJacobians + ?Sized> Collocation<'_, S> {
         res: &mut [f64],
         jac: Option<&mut [f64]>,
     ) {
-        let (n, np) = (self.n, self.np);
+        let n = self.n;
         let (lc, dlc) = (&self.basis.l[at.c], &self.basis.dl[at.c]);
         // xi = p(z_c)
         self.xi.fill(0.0);
@@ -364,28 +385,35 @@ impl<S: HybridJacobians + ?Sized> Collocation<'_, S> {
                 *r += dv * xv;
             }
         }
-        let Some(jac) = jac else {
+        let Some(block) = jac else {
             return;
         };
-        // Row i: d/dx_node = L_node'(z_c) e_i - h T L_node(z_c) A[i, :], then the duration's
-        // and the parameters' columns.
-        let width = jac.len() / n;
-        for (i, out) in jac.chunks_exact_mut(width).enumerate() {
-            // Row i of A (column-major) gathered once for the ncol + 1 nodes.
-            for (r, comp) in self.a_row.iter_mut().zip(0..n) {
-                *r = self.a[i + comp * n];
-            }
-            let (nodes_out, rest) = out.split_at_mut(nodes.len());
-            for (node_out, (&lv, &dv)) in nodes_out.chunks_exact_mut(n).zip(lc.iter().zip(dlc)) {
-                let s = ht * lv;
-                for (o, a) in node_out.iter_mut().zip(&self.a_row) {
+        // Rows (c, i) of the interval's column-major block (`ncol * n` rows): column (node,
+        // comp) is L_node'(z_c) e_comp - h T L_node(z_c) A[:, comp] on the point's n rows; then
+        // the duration's column -h f and the parameters' -h T f_p.
+        let ncol = self.basis.ncol;
+        let rows = ncol * n;
+        let (h, at) = (at.h, at.c * n);
+        for (node, (&lv, &dv)) in lc.iter().zip(dlc).enumerate() {
+            let s = ht * lv;
+            let g = group_of_node(node, ncol);
+            for comp in 0..n {
+                let col = &mut block[(g * n + comp) * rows + at..][..n];
+                for (o, a) in col.iter_mut().zip(&self.a[comp * n..(comp + 1) * n]) {
                     *o = s * a;
                 }
-                node_out[i] += dv;
+                col[comp] += dv;
             }
-            rest[0] = -at.h * self.f[i];
-            for (o, q) in rest[1..].iter_mut().zip(0..np) {
-                *o = ht * self.fp[i + q * n];
+        }
+        let mut rest = block[(ncol + 1) * n * rows..].chunks_exact_mut(rows);
+        if let Some(col) = rest.next() {
+            for (o, f) in col[at..at + n].iter_mut().zip(&self.f) {
+                *o = -h * f;
+            }
+        }
+        for (col, fp) in rest.zip(self.fp.chunks_exact(n)) {
+            for (o, d) in col[at..at + n].iter_mut().zip(fp) {
+                *o = ht * d;
             }
         }
     }
