@@ -7,6 +7,11 @@ use crate::linalg::{EliminationBlock, SparsePattern, permutation_sign};
 
 const NONE: usize = usize::MAX;
 
+/// The most blocks of one level merged into one block of the next (see `next_level`): on a
+/// chain of collocation intervals each level then reduces the chain fourfold, in fewer levels
+/// (each with its own copies and fills) than pairs would need.
+const GROUP: usize = 4;
+
 fn bad(blocks: &[EliminationBlock], reason: &'static str) -> Error {
     Error::InvalidSetting {
         name: "elimination blocks",
@@ -355,11 +360,12 @@ impl Block {
     }
 }
 
-/// Blocks for the reduced system: pairs of this level's blocks whose remaining rows share
-/// columns that no other block's remaining rows read (border rows may), each eliminating those
-/// columns. On a chain of intervals (collocation) these are every other mesh point's nodes,
-/// and the levels that follow halve the chain again: AUTO's reduction, as nested condensation.
-/// Greedy in column order; columns that fit no pair stay for the sparse LU.
+/// Blocks of this level merged into groups of at most [`GROUP`] whose remaining rows share
+/// columns that no block outside the group reads (border rows may); each group eliminates
+/// those columns. On a chain of intervals (collocation) a group is [`GROUP`] consecutive
+/// intervals eliminating the nodes between them, and the levels that follow reduce the chain
+/// again: AUTO's reduction, as nested condensation. Greedy in column order; columns that fit
+/// no group stay for the next level.
 fn next_level(
     blocks: &[Block],
     nred: usize,
@@ -383,8 +389,9 @@ fn next_level(
             _ => shared[c] = true,
         }
     }
+    // Groups: (member blocks, eliminated columns); `group_of` each block's group.
     let mut group_of = vec![NONE; blocks.len()];
-    let mut groups: Vec<(usize, usize, Vec<usize>)> = Vec::new();
+    let mut groups: Vec<(Vec<usize>, Vec<usize>)> = Vec::new();
     for c in 0..nred {
         let (a, b) = readers[c];
         if shared[c] || a == NONE || b == NONE {
@@ -394,17 +401,30 @@ fn next_level(
             (g, h) if g == NONE && h == NONE => {
                 group_of[a] = groups.len();
                 group_of[b] = groups.len();
-                groups.push((a, b, vec![c]));
+                groups.push((vec![a, b], vec![c]));
             }
-            (g, h) if g == h => groups[g].2.push(c),
+            (g, h) if g == h => groups[g].1.push(c),
+            (g, h) if h == NONE && groups[g].0.len() < GROUP => {
+                group_of[b] = g;
+                groups[g].0.push(b);
+                groups[g].1.push(c);
+            }
+            (g, h) if g == NONE && groups[h].0.len() < GROUP => {
+                group_of[a] = h;
+                groups[h].0.push(a);
+                groups[h].1.push(c);
+            }
             _ => {}
         }
     }
     groups
         .into_iter()
-        .map(|(a, b, cols)| EliminationBlock {
-            rows: left(&blocks[a]).chain(left(&blocks[b])).collect(),
-            cols,
+        .map(|(mut members, cols)| {
+            members.sort_unstable();
+            EliminationBlock {
+                rows: members.iter().flat_map(|&b| left(&blocks[b])).collect(),
+                cols,
+            }
         })
         .filter(|g| g.rows.len() >= g.cols.len())
         .collect()

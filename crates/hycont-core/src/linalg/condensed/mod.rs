@@ -155,8 +155,8 @@ pub(super) struct Condensed {
     pin_rows: Vec<usize>,
     pin_starts: Vec<usize>,
     pin_vals: Vec<f64>,
-    /// The reduced system: itself condensed where the blocks' remaining rows pair up (see
-    /// `layout::next_level`), else a plain sparse LU.
+    /// The reduced system: itself condensed where groups of blocks' remaining rows share
+    /// columns no other block reads (see `layout::next_level`), else a plain sparse LU.
     reduced: Box<SparsePattern>,
     red_vals: Vec<f64>,
     /// `(row, reduced row)` of the rows outside every block.
