@@ -42,7 +42,9 @@ pub(crate) fn max_abs(v: &[f64]) -> f64 {
         let y = x.abs();
         lanes[0] = if y > lanes[0] { y } else { lanes[0] };
     }
-    lanes.into_iter().fold(0.0, |s, l| if l > s { l } else { s })
+    lanes
+        .into_iter()
+        .fold(0.0, |s, l| if l > s { l } else { s })
 }
 
 /// [`eliminate`] with the smallest acceptable pivot magnitude given: `0` refuses only zero

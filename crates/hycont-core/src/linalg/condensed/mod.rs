@@ -77,7 +77,11 @@ impl Routes {
                 Some(run) if run.entry + run.len == e && run.at + run.len as usize == at => {
                     run.len += 1;
                 }
-                _ => list.push(Run { entry: e, len: 1, at }),
+                _ => list.push(Run {
+                    entry: e,
+                    len: 1,
+                    at,
+                }),
             }
         }
         r
@@ -255,7 +259,11 @@ impl Condensed {
                 self.dense[run.at..run.at + len].copy_from_slice(&values[e..e + len]);
             }
         }
-        let dense: &[Run] = if self.dense_covered_once { &[] } else { &r.dense };
+        let dense: &[Run] = if self.dense_covered_once {
+            &[]
+        } else {
+            &r.dense
+        };
         for (to, list) in [
             (&mut self.dense, dense),
             (&mut self.border, &r.border[..]),

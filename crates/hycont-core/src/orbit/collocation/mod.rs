@@ -311,15 +311,68 @@ impl<S: HybridJacobians + ?Sized> ZeroFunction for Collocation<'_, S> {
     }
 }
 
+/// The nodes' columns of one collocation point's rows in its interval's block.
+struct NodeColumns<'b> {
+    block: &'b mut [f64],
+    /// The block's rows (`ncol * n`) and the point's first row.
+    rows: usize,
+    at: usize,
+    /// $A = f_x$ at the point (column-major), $L_i(z_c)$, $L_i'(z_c)$, $-h T$.
+    a: &'b [f64],
+    l: &'b [f64],
+    dl: &'b [f64],
+    ht: f64,
+}
+
+impl NodeColumns<'_> {
+    /// Column (node, comp) on the point's rows: $L_i'(z_c) e_{comp} - h T L_i(z_c) A_{:, comp}$,
+    /// with the state dimension `N` known at compile time (whole columns of `A` at once).
+    fn write<const N: usize>(self) {
+        let ncol = self.l.len() - 1;
+        let mut a = [[0.0; N]; N];
+        for (col, src) in a.iter_mut().zip(self.a.chunks_exact(N)) {
+            col.copy_from_slice(src);
+        }
+        for (node, (&lv, &dv)) in self.l.iter().zip(self.dl).enumerate() {
+            let s = self.ht * lv;
+            let g = group_of_node(node, ncol);
+            for (comp, a_col) in a.iter().enumerate() {
+                let start = (g * N + comp) * self.rows + self.at;
+                let col: &mut [f64; N] = (&mut self.block[start..start + N])
+                    .try_into()
+                    .expect("N rows");
+                for (o, x) in col.iter_mut().zip(a_col) {
+                    *o = s * x;
+                }
+                col[comp] += dv;
+            }
+        }
+    }
+
+    /// [`NodeColumns::write`] for any state dimension.
+    fn write_any(self, n: usize) {
+        let ncol = self.l.len() - 1;
+        for (node, (&lv, &dv)) in self.l.iter().zip(self.dl).enumerate() {
+            let s = self.ht * lv;
+            let g = group_of_node(node, ncol);
+            for comp in 0..n {
+                let col = &mut self.block[(g * n + comp) * self.rows + self.at..][..n];
+                for (o, x) in col.iter_mut().zip(&self.a[comp * n..(comp + 1) * n]) {
+                    *o = s * x;
+                }
+                col[comp] += dv;
+            }
+        }
+    }
+}
+
 /// The node whose `n` columns come `g`-th in an interval's block: the interior nodes
 /// `1..ncol` first (the unknowns condensation eliminates), then node `0`, then node `ncol`.
 fn node_of_group(g: usize, ncol: usize) -> usize {
-    if g + 1 < ncol {
-        g + 1
-    } else if g + 1 == ncol {
-        0
-    } else {
-        ncol
+    match (g + 1).cmp(&ncol) {
+        std::cmp::Ordering::Less => g + 1,
+        std::cmp::Ordering::Equal => 0,
+        std::cmp::Ordering::Greater => ncol,
     }
 }
 
@@ -394,16 +447,23 @@ impl<S: HybridJacobians + ?Sized> Collocation<'_, S> {
         let ncol = self.basis.ncol;
         let rows = ncol * n;
         let (h, at) = (at.h, at.c * n);
-        for (node, (&lv, &dv)) in lc.iter().zip(dlc).enumerate() {
-            let s = ht * lv;
-            let g = group_of_node(node, ncol);
-            for comp in 0..n {
-                let col = &mut block[(g * n + comp) * rows + at..][..n];
-                for (o, a) in col.iter_mut().zip(&self.a[comp * n..(comp + 1) * n]) {
-                    *o = s * a;
-                }
-                col[comp] += dv;
-            }
+        let nodes = NodeColumns {
+            block: &mut *block,
+            rows,
+            at,
+            a: &self.a,
+            l: lc,
+            dl: dlc,
+            ht,
+        };
+        match n {
+            1 => nodes.write::<1>(),
+            2 => nodes.write::<2>(),
+            3 => nodes.write::<3>(),
+            4 => nodes.write::<4>(),
+            5 => nodes.write::<5>(),
+            6 => nodes.write::<6>(),
+            _ => nodes.write_any(n),
         }
         let mut rest = block[(ncol + 1) * n * rows..].chunks_exact_mut(rows);
         if let Some(col) = rest.next() {
@@ -467,5 +527,73 @@ impl<S: HybridJacobians + ?Sized> super::OrbitEquations for Collocation<'_, S> {
     }
     fn first_parameter(&self) -> usize {
         self.param_index(0)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{NodeColumns, group_of_node, node_of_group};
+
+    /// The block's column groups list every node once: interior nodes first, then the first
+    /// and the last node.
+    #[test]
+    fn node_groups_are_a_permutation_with_interior_nodes_first() {
+        for ncol in 1..=7 {
+            let order: Vec<usize> = (0..=ncol).map(|g| node_of_group(g, ncol)).collect();
+            let mut want: Vec<usize> = (1..ncol).collect();
+            want.extend([0, ncol]);
+            assert_eq!(order, want);
+            for (g, &node) in order.iter().enumerate() {
+                assert_eq!(group_of_node(node, ncol), g);
+            }
+        }
+    }
+
+    /// The kernel with the state dimension known at compile time writes the general kernel's
+    /// numbers, into the same places, and nothing else.
+    fn same_columns<const N: usize>() {
+        let ncol = 3;
+        let rows = ncol * N;
+        let a: Vec<f64> = (0..N * N).map(|i| (i as f64 * 0.37).sin()).collect();
+        let l = [0.1, -0.4, 0.9, 0.4];
+        let dl = [-2.0, 1.5, 0.25, 0.25];
+        let len = rows * (ncol + 1) * N;
+        let (mut fixed, mut any) = (vec![f64::NAN; len], vec![f64::NAN; len]);
+        for (block, generic) in [(&mut fixed, false), (&mut any, true)] {
+            let cols = NodeColumns {
+                block,
+                rows,
+                at: N,
+                a: &a,
+                l: &l,
+                dl: &dl,
+                ht: -0.3,
+            };
+            if generic {
+                cols.write_any(N);
+            } else {
+                cols.write::<N>();
+            }
+        }
+        let same = |x: f64, y: f64| x == y || (x.is_nan() && y.is_nan());
+        assert!(fixed.iter().zip(&any).all(|(x, y)| same(*x, *y)), "N = {N}");
+        // Only the point's rows (N..2N of each column) are written.
+        for (i, x) in fixed.iter().enumerate() {
+            assert_eq!(
+                x.is_nan(),
+                !(N..2 * N).contains(&(i % rows)),
+                "N = {N}, {i}"
+            );
+        }
+    }
+
+    #[test]
+    fn fixed_size_node_columns_match_the_general_kernel() {
+        same_columns::<1>();
+        same_columns::<2>();
+        same_columns::<3>();
+        same_columns::<4>();
+        same_columns::<5>();
+        same_columns::<6>();
     }
 }
