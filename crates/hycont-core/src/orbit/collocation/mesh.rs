@@ -40,24 +40,23 @@ pub(super) fn eval_piecewise(
 fn high_derivatives(nodes: &[f64], mesh: &[f64], basis: &Basis, n: usize) -> Vec<f64> {
     let ncol = basis.ncol;
     let ntst = mesh.len() - 1;
-    // ncol-th derivative (in tau) on each interval.
-    let d: Vec<Vec<f64>> = (0..ntst)
-        .map(|j| {
-            let h = mesh[j + 1] - mesh[j];
-            (0..n)
-                .map(|comp| {
-                    (0..=ncol)
-                        .map(|i| basis.dn[i] * nodes[(j * ncol + i) * n + comp])
-                        .sum::<f64>()
-                        / h.powi(ncol as i32)
-                })
-                .collect()
-        })
-        .collect();
+    // ncol-th derivative (in tau) on each interval, `n` per interval.
+    let mut d = vec![0.0; ntst * n];
+    for (j, dj) in d.chunks_exact_mut(n).enumerate() {
+        let scale = (mesh[j + 1] - mesh[j]).powi(ncol as i32);
+        let interval = &nodes[j * ncol * n..(j * ncol + ncol + 1) * n];
+        for (comp, x) in dj.iter_mut().enumerate() {
+            let sum: f64 = (0..=ncol)
+                .map(|i| basis.dn[i] * interval[i * n + comp])
+                .sum();
+            *x = sum / scale;
+        }
+    }
+    let d = |j: usize| &d[j * n..(j + 1) * n];
     let jump = |a: usize, b: usize| -> f64 {
         let dist = 0.5 * (mesh[a + 1] - mesh[a] + mesh[b + 1] - mesh[b]);
         (0..n)
-            .map(|c| ((d[b][c] - d[a][c]) / dist).abs())
+            .map(|c| ((d(b)[c] - d(a)[c]) / dist).abs())
             .fold(0.0, f64::max)
     };
     (0..ntst)

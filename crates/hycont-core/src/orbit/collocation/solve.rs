@@ -177,11 +177,22 @@ fn per_segment<'m, T: 'm>(
 ) -> impl Iterator<Item = T> + 'm {
     let n = like.starts[0].len();
     let basis = Basis::new(ncol);
-    let (nodes, _) = collocation_unpack(like, meshes, ncol, u);
-    nodes
+    // Each segment's nodes, read in place (see `unpack_nodes`).
+    let mut pos = 0;
+    let nodes: Vec<&[f64]> = meshes
+        .iter()
+        .map(|m| {
+            let len = ((m.len() - 1) * ncol + 1) * n;
+            pos += len;
+            &u[pos - len..pos]
+        })
+        .collect();
+    let out: Vec<T> = nodes
         .into_iter()
         .zip(meshes)
-        .map(move |(nd, m)| f(&nd, m, &basis, n))
+        .map(|(nd, m)| f(nd, m, &basis, n))
+        .collect();
+    out.into_iter()
 }
 
 /// The estimated largest discretisation error of the collocation solution at unknowns `u`
