@@ -6,7 +6,7 @@ use super::{LogProduct, permutation_sign};
 use crate::error::{Error, Result};
 
 /// Largest dimension factorised densely.
-pub(super) const DENSE_UP_TO: usize = 32;
+pub(super) const DENSE_UP_TO: usize = 48;
 
 /// $P A = L U$ of an `n x n` pattern, column-major, $L$ unit lower triangular below the
 /// diagonal and $U$ on and above it; `perm[i]` is the row of $A$ that is row `i` of $PA$.

@@ -49,7 +49,7 @@ enum Current {
 /// With [`EliminationBlock`]s the blocks' unknowns are condensed first; a block that is
 /// numerically singular on its own (not just the matrix) falls back to the LU of the whole
 /// matrix for that factorisation. Both give the same solves and determinant up to rounding.
-/// A square pattern of at most 32 unknowns without blocks is factorised densely (partial
+/// A square pattern of at most 48 unknowns without blocks is factorised densely (partial
 /// pivoting): at that size the arithmetic costs less than a sparse factorisation's bookkeeping.
 /// A zero pivot there (a singular matrix) falls back to the sparse LU for that factorisation.
 ///
