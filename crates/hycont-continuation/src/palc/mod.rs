@@ -188,11 +188,21 @@ impl<'p, 'a, P: ContinuationProblem<'a> + ?Sized> Palc<'p, 'a, P> {
 
     /// The weighted inner product $\langle a, b \rangle_W = \sum_i w_i a_i b_i$ of arclength.
     fn wdot(&self, a: &[f64], b: &[f64]) -> f64 {
-        a.iter()
-            .zip(b)
-            .zip(&self.w)
+        let n = a.len().min(b.len()).min(self.w.len());
+        let (a, b, w) = (&a[..n], &b[..n], &self.w[..n]);
+        // Four interleaved partial sums (independent additions), as `predict::dot`.
+        let mut s = [0.0f64; 4];
+        let (ca, cb, cw) = (a.chunks_exact(4), b.chunks_exact(4), w.chunks_exact(4));
+        let tail: f64 = (ca.remainder().iter().zip(cb.remainder()))
+            .zip(cw.remainder())
             .map(|((x, y), w)| w * x * y)
-            .sum()
+            .sum();
+        for ((x, y), w) in ca.zip(cb).zip(cw) {
+            for l in 0..4 {
+                s[l] += w[l] * x[l] * y[l];
+            }
+        }
+        (s[0] + s[1]) + (s[2] + s[3]) + tail
     }
 
     fn wnormalize(&self, v: &mut [f64]) {

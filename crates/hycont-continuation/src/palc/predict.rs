@@ -1,12 +1,38 @@
 //! Small vector helpers and the predictors of PALC: the generic direction, orientation, and the
 //! cubic Hermite interpolant of two charts.
 
+/// The largest magnitude (NaNs ignored, as a fold with `f64::max`), in independent lanes.
 pub(super) fn max_abs(v: &[f64]) -> f64 {
-    v.iter().fold(0.0f64, |m, x| m.max(x.abs()))
+    let mut lanes = [0.0f64; 4];
+    let chunks = v.chunks_exact(4);
+    let tail = chunks.remainder();
+    for c in chunks {
+        for (l, x) in lanes.iter_mut().zip(c) {
+            let y = x.abs();
+            *l = if y > *l { y } else { *l };
+        }
+    }
+    for x in tail {
+        let y = x.abs();
+        lanes[0] = if y > lanes[0] { y } else { lanes[0] };
+    }
+    lanes.into_iter().fold(0.0, |m, l| if l > m { l } else { m })
 }
 
+/// $\sum_i a_i b_i$ in four interleaved partial sums (independent additions: the vectors
+/// have as many entries as the problem has unknowns).
 pub(super) fn dot(a: &[f64], b: &[f64]) -> f64 {
-    a.iter().zip(b).map(|(x, y)| x * y).sum()
+    let n = a.len().min(b.len());
+    let (a, b) = (&a[..n], &b[..n]);
+    let mut s = [0.0f64; 4];
+    let (ca, cb) = (a.chunks_exact(4), b.chunks_exact(4));
+    let tail: f64 = ca.remainder().iter().zip(cb.remainder()).map(|(x, y)| x * y).sum();
+    for (x, y) in ca.zip(cb) {
+        for l in 0..4 {
+            s[l] += x[l] * y[l];
+        }
+    }
+    (s[0] + s[1]) + (s[2] + s[3]) + tail
 }
 
 /// A fixed, generic unit vector of length `n`.
