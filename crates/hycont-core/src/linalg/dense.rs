@@ -163,18 +163,19 @@ fn pivoted_steps(
 }
 
 /// Solves $U^\top y = g$ in place (`u` column-major with leading dimension `m`, `c x c` upper
-/// triangle used).
-pub(crate) fn solve_upper_transpose(u: &[f64], m: usize, y: &mut [f64]) {
+/// triangle used; `inv` the reciprocals of its diagonal: a multiplication instead of a
+/// division on the substitution's critical path).
+pub(crate) fn solve_upper_transpose(u: &[f64], m: usize, inv: &[f64], y: &mut [f64]) {
     for k in 0..y.len() {
         let col = &u[k * m..k * m + k];
-        y[k] = (y[k] - dot(col, &y[..k])) / u[k + k * m];
+        y[k] = (y[k] - dot(col, &y[..k])) * inv[k];
     }
 }
 
 /// Solves $U x = t$ in place (as [`solve_upper_transpose`]).
-pub(crate) fn solve_upper(u: &[f64], m: usize, t: &mut [f64]) {
+pub(crate) fn solve_upper(u: &[f64], m: usize, inv: &[f64], t: &mut [f64]) {
     for k in (0..t.len()).rev() {
-        let xk = t[k] / u[k + k * m];
+        let xk = t[k] * inv[k];
         t[k] = xk;
         if xk != 0.0 {
             for (ti, ui) in t[..k].iter_mut().zip(&u[k * m..k * m + k]) {
@@ -184,9 +185,16 @@ pub(crate) fn solve_upper(u: &[f64], m: usize, t: &mut [f64]) {
     }
 }
 
+/// `inv[k] = 1 / pivots[k]`.
+pub(crate) fn reciprocals(pivots: &[f64], inv: &mut [f64]) {
+    for (i, p) in inv.iter_mut().zip(pivots) {
+        *i = 1.0 / p;
+    }
+}
+
 #[cfg(test)]
 mod tests {
-    use super::{eliminate_any, eliminate_rows, max_abs, solve_upper};
+    use super::{eliminate_any, eliminate_rows, max_abs, reciprocals, solve_upper};
     use proptest::prelude::*;
 
     proptest! {
@@ -224,7 +232,9 @@ mod tests {
             prop_assert_eq!(&fixed, &any);
             if ok_f {
                 let mut x: Vec<f64> = (0..c).map(|i| fixed[i + c * m]).collect();
-                solve_upper(&fixed, m, &mut x);
+                let mut inv = vec![0.0; c];
+                reciprocals(&piv_f, &mut inv);
+                solve_upper(&fixed, m, &inv, &mut x);
                 // Backward error: roundoff times the size of the terms.
                 let size = 1.0 + x.iter().fold(0.0f64, |s, v| s.max(v.abs()));
                 for &r in &perm_f[..c] {

@@ -18,6 +18,8 @@ pub(super) struct DenseLu {
     lu: Vec<f64>,
     perm: Vec<usize>,
     work: Vec<f64>,
+    /// Reciprocals of $U$'s diagonal.
+    inv: Vec<f64>,
     ready: bool,
 }
 
@@ -30,6 +32,7 @@ impl DenseLu {
             lu: vec![0.0; n * n],
             perm: (0..n).collect(),
             work: vec![0.0; n],
+            inv: vec![0.0; n],
             ready: false,
         }
     }
@@ -59,6 +62,7 @@ impl DenseLu {
             &mut pivots,
             0.0,
         );
+        super::dense::reciprocals(&pivots, &mut self.inv);
         self.work = pivots;
         self.ready = ok;
         Ok(ok)
@@ -100,7 +104,7 @@ impl DenseLu {
                 }
             }
         }
-        super::dense::solve_upper(a, n, y);
+        super::dense::solve_upper(a, n, &self.inv, y);
         b.copy_from_slice(y);
     }
 
@@ -109,7 +113,7 @@ impl DenseLu {
         let (n, a) = (self.n, &self.lu);
         let v = &mut self.work;
         v.copy_from_slice(d);
-        super::dense::solve_upper_transpose(a, n, v);
+        super::dense::solve_upper_transpose(a, n, &self.inv, v);
         for k in (0..n).rev() {
             let below = &a[k * n + k + 1..(k + 1) * n];
             v[k] -= super::dense::dot(below, &v[k + 1..]);

@@ -136,6 +136,7 @@ impl Condensed {
             red_rhs: vec![0.0; kept.len()],
             top: vec![0.0; top],
             pivots: vec![0.0; top + pins.len()],
+            inv_pivots: vec![0.0; top],
             pins,
             blocks,
             kept,

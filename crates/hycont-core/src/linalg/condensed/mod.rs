@@ -22,7 +22,7 @@
 mod layout;
 
 use super::SparsePattern;
-use super::dense::{dot, eliminate, solve_upper, solve_upper_transpose};
+use super::dense::{dot, eliminate, reciprocals, solve_upper, solve_upper_transpose};
 use super::{LogProduct, permutation_sign};
 use crate::error::Result;
 
@@ -176,6 +176,8 @@ pub(super) struct Condensed {
     top: Vec<f64>,
     /// The blocks' pivots (at each block's `top`), then the pins'.
     pivots: Vec<f64>,
+    /// The blocks' pivots' reciprocals.
+    inv_pivots: Vec<f64>,
 }
 
 /// Outcome of a condensed factorisation.
@@ -287,7 +289,9 @@ impl Condensed {
             if !eliminate(a, (blk.m(), blk.c(), blk.w()), &mut blk.perm, pivots) {
                 return Ok(Condensation::SingularBlock);
             }
-            schur_into(blk, &self.dense, &mut self.border, &mut self.red_vals);
+            let inv = &mut self.inv_pivots[blk.top..blk.top + blk.c()];
+            reciprocals(pivots, inv);
+            schur_into(blk, &self.dense, inv, &mut self.border, &mut self.red_vals);
         }
         self.reduced.factorize(&self.red_vals)?;
         Ok(Condensation::Done)
@@ -401,7 +405,7 @@ impl Condensed {
                     }
                 }
             }
-            solve_upper(a, m, t);
+            solve_upper(a, m, &self.inv_pivots[blk.top..blk.top + c], t);
             for (&j, &x) in blk.cols.iter().zip(t.iter()) {
                 b[j] = x;
             }
@@ -423,7 +427,7 @@ impl Condensed {
             for (vk, &j) in v.iter_mut().zip(&blk.cols) {
                 *vk = self.rhs[j];
             }
-            solve_upper_transpose(a, m, v);
+            solve_upper_transpose(a, m, &self.inv_pivots[blk.top..blk.top + c], v);
             for (k, &rc) in blk.other.iter().enumerate() {
                 self.red_rhs[rc] -= dot(&a[(c + k) * m..(c + k) * m + c], v);
             }
@@ -472,7 +476,7 @@ impl Condensed {
 
 /// The block's contributions to the reduced system: its rows left after elimination, and the
 /// border rows' updates $-y^\top W'$ with $U^\top y = g$ (`y` kept for the solves).
-fn schur_into(blk: &Block, dense: &[f64], border: &mut [f64], red: &mut [f64]) {
+fn schur_into(blk: &Block, dense: &[f64], inv: &[f64], border: &mut [f64], red: &mut [f64]) {
     let (m, c, o) = (blk.m(), blk.c(), blk.other.len());
     let a = &dense[blk.at..blk.at + m * blk.w()];
     // The rows left, column by column (`m - c` entries each, as listed in the reduced system).
@@ -484,7 +488,7 @@ fn schur_into(blk: &Block, dense: &[f64], border: &mut [f64], red: &mut [f64]) {
     }
     for bd in &blk.borders {
         let y = &mut border[bd.at..bd.at + c];
-        solve_upper_transpose(a, m, y);
+        solve_upper_transpose(a, m, inv, y);
         let row = &mut red[bd.entries..bd.entries + o];
         for (k, x) in row.iter_mut().enumerate() {
             *x -= dot(&a[(c + k) * m..(c + k) * m + c], y);

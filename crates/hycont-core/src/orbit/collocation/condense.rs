@@ -13,7 +13,7 @@ use super::Mesh;
 use super::basis::Basis;
 use crate::error::{Error, Result};
 use crate::linalg::SparsePattern;
-use crate::linalg::dense::{eliminate, solve_upper};
+use crate::linalg::dense::{eliminate, reciprocals, solve_upper};
 use crate::orbit::PeriodicOrbit;
 use crate::orbit::floquet::{Floquet, matmul, saltation};
 use crate::system::HybridJacobians;
@@ -179,9 +179,12 @@ impl Transfer {
         ) {
             return Err(singular(k, j));
         }
+        let mut inv = [0.0; 8];
+        let inv = if n <= 8 { &mut inv[..n] } else { &mut vec![0.0; n][..] };
+        reciprocals(&self.pivots, inv);
         let (u, rhs) = self.small.split_at_mut(n * n);
         for col in rhs.chunks_exact_mut(n) {
-            solve_upper(u, n, col);
+            solve_upper(u, n, inv, col);
         }
         y.copy_from_slice(rhs);
         Ok(())
