@@ -14,14 +14,15 @@ pub(crate) fn dot(a: &[f64], b: &[f64]) -> f64 {
 /// Schur complement. `perm` receives the row order (row `i` of the result is row `perm[i]` of
 /// the input), `pivots` the `c` pivots.
 ///
-/// Returns `false` if a pivot is not larger than `m` units of roundoff of the largest entry of
-/// the first `c` columns (the columns are numerically dependent); `a` is then partly eliminated.
+/// Returns the sign of the row order `perm` (counted from the row swaps), or `None` if a pivot
+/// is not larger than `m` units of roundoff of the largest entry of the first `c` columns (the
+/// columns are numerically dependent); `a` is then partly eliminated.
 pub(crate) fn eliminate(
     a: &mut [f64],
     (m, c, w): (usize, usize, usize),
     perm: &mut [usize],
     pivots: &mut [f64],
-) -> bool {
+) -> Option<f64> {
     let scale = max_abs(&a[..c * m]);
     eliminate_above(a, (m, c, w), perm, pivots, scale * f64::EPSILON * m as f64)
 }
@@ -55,7 +56,7 @@ pub(crate) fn eliminate_above(
     perm: &mut [usize],
     pivots: &mut [f64],
     tiny: f64,
-) -> bool {
+) -> Option<f64> {
     match m {
         4 => eliminate_rows::<4>(a, (c, w), perm, pivots, tiny),
         8 => eliminate_rows::<8>(a, (c, w), perm, pivots, tiny),
@@ -76,7 +77,7 @@ fn eliminate_rows<const M: usize>(
     perm: &mut [usize],
     pivots: &mut [f64],
     tiny: f64,
-) -> bool {
+) -> Option<f64> {
     pivoted_steps(a, (M, c, w), perm, pivots, tiny, |a, k, inv| {
         let mut l = [0.0; M];
         for (li, v) in l[k + 1..]
@@ -104,7 +105,7 @@ fn eliminate_any(
     perm: &mut [usize],
     pivots: &mut [f64],
     tiny: f64,
-) -> bool {
+) -> Option<f64> {
     pivoted_steps(a, (m, c, w), perm, pivots, tiny, |a, k, inv| {
         for v in &mut a[k * m + k + 1..(k + 1) * m] {
             *v *= inv;
@@ -125,7 +126,8 @@ fn eliminate_any(
 /// The elimination's outer loop: for each of the first `c` columns, partial pivoting (the row
 /// with the largest entry at or below the diagonal swapped into place, in all `w` columns and
 /// `perm`), then `step(a, k, 1 / pivot)`, which forms the multipliers and updates the columns
-/// to the right. `false` at a pivot not larger than `tiny` in magnitude or not finite.
+/// to the right. The sign of `perm`, or `None` at a pivot not larger than `tiny` in magnitude
+/// or not finite.
 #[inline(always)]
 fn pivoted_steps(
     a: &mut [f64],
@@ -134,10 +136,11 @@ fn pivoted_steps(
     pivots: &mut [f64],
     tiny: f64,
     mut step: impl FnMut(&mut [f64], usize, f64),
-) -> bool {
+) -> Option<f64> {
     for (i, p) in perm.iter_mut().enumerate() {
         *p = i;
     }
+    let mut sign = 1.0;
     for k in 0..c {
         let col = &a[k * m..(k + 1) * m];
         let mut p = k;
@@ -148,9 +151,10 @@ fn pivoted_steps(
         }
         let piv = col[p];
         if !(piv.abs() > tiny && piv.is_finite()) {
-            return false;
+            return None;
         }
         if p != k {
+            sign = -sign;
             perm.swap(p, k);
             for j in 0..w {
                 a.swap(k + j * m, p + j * m);
@@ -159,7 +163,7 @@ fn pivoted_steps(
         pivots[k] = piv;
         step(a, k, 1.0 / piv);
     }
-    true
+    Some(sign)
 }
 
 /// Solves $U^\top y = g$ in place (`u` column-major with leading dimension `m`, `c x c` upper
@@ -227,10 +231,13 @@ mod tests {
             let ok_f = eliminate_rows::<16>(&mut fixed, (c, w), &mut perm_f, &mut piv_f, tiny);
             let ok_a = eliminate_any(&mut any, (m, c, w), &mut perm_a, &mut piv_a, tiny);
             prop_assert_eq!(ok_f, ok_a);
+            if let Some(sign) = ok_f {
+                prop_assert_eq!(sign, crate::linalg::permutation_sign(&perm_f));
+            }
             prop_assert_eq!(&perm_f, &perm_a);
             prop_assert_eq!(&piv_f, &piv_a);
             prop_assert_eq!(&fixed, &any);
-            if ok_f {
+            if ok_f.is_some() {
                 let mut x: Vec<f64> = (0..c).map(|i| fixed[i + c * m]).collect();
                 let mut inv = vec![0.0; c];
                 reciprocals(&piv_f, &mut inv);

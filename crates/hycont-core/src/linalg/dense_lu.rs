@@ -2,7 +2,7 @@
 //! unknowns (shooting with a few segments, small reduced systems) the arithmetic of a dense
 //! factorisation costs less than a sparse one's bookkeeping.
 
-use super::{LogProduct, permutation_sign};
+use super::LogProduct;
 use crate::error::{Error, Result};
 
 /// Largest dimension factorised densely.
@@ -20,6 +20,8 @@ pub(super) struct DenseLu {
     work: Vec<f64>,
     /// Reciprocals of $U$'s diagonal.
     inv: Vec<f64>,
+    /// Sign of `perm`.
+    sign: f64,
     ready: bool,
 }
 
@@ -33,6 +35,7 @@ impl DenseLu {
             perm: (0..n).collect(),
             work: vec![0.0; n],
             inv: vec![0.0; n],
+            sign: 1.0,
             ready: false,
         }
     }
@@ -55,7 +58,7 @@ impl DenseLu {
             self.lu[p] += v;
         }
         let mut pivots = std::mem::take(&mut self.work);
-        let ok = super::dense::eliminate_above(
+        let sign = super::dense::eliminate_above(
             &mut self.lu,
             (n, n, n),
             &mut self.perm,
@@ -64,8 +67,9 @@ impl DenseLu {
         );
         super::dense::reciprocals(&pivots, &mut self.inv);
         self.work = pivots;
-        self.ready = ok;
-        Ok(ok)
+        self.ready = sign.is_some();
+        self.sign = sign.unwrap_or(1.0);
+        Ok(self.ready)
     }
 
     /// Solves $A X = B$ (or $A^\top X = B$) in place for the `k` columns of `b`.
@@ -138,7 +142,7 @@ impl DenseLu {
             det.push(self.lu[k + k * self.n]);
         }
         let (sign, log) = det.finish();
-        Ok((sign * permutation_sign(&self.perm), log))
+        Ok((sign * self.sign, log))
     }
 }
 

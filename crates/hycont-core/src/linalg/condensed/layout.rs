@@ -352,6 +352,7 @@ impl Block {
             other: Vec::new(),
             other_cols: Vec::new(),
             perm: (0..s.rows.len()).collect(),
+            sign: 1.0,
             at: 0,
             schur_row,
             schur_entries: 0,

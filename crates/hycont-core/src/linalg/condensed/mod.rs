@@ -21,9 +21,9 @@
 
 mod layout;
 
+use super::LogProduct;
 use super::SparsePattern;
 use super::dense::{dot, eliminate, reciprocals, solve_upper, solve_upper_transpose};
-use super::{LogProduct, permutation_sign};
 use crate::error::Result;
 
 /// Where an entry's value goes.
@@ -115,8 +115,9 @@ struct Block {
     other: Vec<usize>,
     /// The same columns' original indices.
     other_cols: Vec<usize>,
-    /// Row order after pivoting (local indices into `rows`).
+    /// Row order after pivoting (local indices into `rows`), and its sign.
     perm: Vec<usize>,
+    sign: f64,
     /// Start of the column-major `rows.len() x (cols.len() + other.len())` storage in `dense`.
     at: usize,
     /// First reduced row of the rows left after elimination.
@@ -286,9 +287,11 @@ impl Condensed {
         for blk in &mut self.blocks {
             let a = &mut self.dense[blk.at..blk.at + blk.m() * blk.w()];
             let pivots = &mut self.pivots[blk.top..blk.top + blk.c()];
-            if !eliminate(a, (blk.m(), blk.c(), blk.w()), &mut blk.perm, pivots) {
+            let Some(sign) = eliminate(a, (blk.m(), blk.c(), blk.w()), &mut blk.perm, pivots)
+            else {
                 return Ok(Condensation::SingularBlock);
-            }
+            };
+            blk.sign = sign;
             let inv = &mut self.inv_pivots[blk.top..blk.top + blk.c()];
             reciprocals(pivots, inv);
             schur_into(blk, &self.dense, inv, &mut self.border, &mut self.red_vals);
@@ -327,10 +330,7 @@ impl Condensed {
             det.push(p);
         }
         let (pivot_sign, pivot_log) = det.finish();
-        let order_sign = self
-            .blocks
-            .iter()
-            .fold(self.order_sign, |s, b| s * permutation_sign(&b.perm));
+        let order_sign = self.blocks.iter().fold(self.order_sign, |s, b| s * b.sign);
         Ok((sign * pivot_sign * order_sign, log + pivot_log))
     }
 

@@ -69,7 +69,7 @@ pub(super) fn condensed_floquet<S: HybridJacobians + ?Sized>(
                 }
             }
         }
-        if !eliminate(&mut block, (rows, inner, width), &mut perm, &mut pivots) {
+        if eliminate(&mut block, (rows, inner, width), &mut perm, &mut pivots).is_none() {
             return Err(singular(k, j));
         }
         small.solve(|i, col| block[inner + i + (inner + col) * rows], k, j, y)
@@ -171,16 +171,22 @@ impl Transfer {
                 self.small[i + (n + col) * n] = -s(i, col);
             }
         }
-        if !eliminate(
+        if eliminate(
             &mut self.small,
             (n, n, 2 * n),
             &mut self.perm,
             &mut self.pivots,
-        ) {
+        )
+        .is_none()
+        {
             return Err(singular(k, j));
         }
         let mut inv = [0.0; 8];
-        let inv = if n <= 8 { &mut inv[..n] } else { &mut vec![0.0; n][..] };
+        let inv = if n <= 8 {
+            &mut inv[..n]
+        } else {
+            &mut vec![0.0; n][..]
+        };
         reciprocals(&self.pivots, inv);
         let (u, rhs) = self.small.split_at_mut(n * n);
         for col in rhs.chunks_exact_mut(n) {
