@@ -16,7 +16,9 @@ pub(super) fn max_abs(v: &[f64]) -> f64 {
         let y = x.abs();
         lanes[0] = if y > lanes[0] { y } else { lanes[0] };
     }
-    lanes.into_iter().fold(0.0, |m, l| if l > m { l } else { m })
+    lanes
+        .into_iter()
+        .fold(0.0, |m, l| if l > m { l } else { m })
 }
 
 /// $\sum_i a_i b_i$ in four interleaved partial sums (independent additions: the vectors
@@ -26,7 +28,12 @@ pub(super) fn dot(a: &[f64], b: &[f64]) -> f64 {
     let (a, b) = (&a[..n], &b[..n]);
     let mut s = [0.0f64; 4];
     let (ca, cb) = (a.chunks_exact(4), b.chunks_exact(4));
-    let tail: f64 = ca.remainder().iter().zip(cb.remainder()).map(|(x, y)| x * y).sum();
+    let tail: f64 = ca
+        .remainder()
+        .iter()
+        .zip(cb.remainder())
+        .map(|(x, y)| x * y)
+        .sum();
     for (x, y) in ca.zip(cb) {
         for l in 0..4 {
             s[l] += x[l] * y[l];
