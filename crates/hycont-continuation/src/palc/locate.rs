@@ -231,22 +231,20 @@ impl Itp {
 mod tests {
     use super::Itp;
 
-    /// ITP brackets the root of a smooth function to the tolerance in no more evaluations
-    /// than bisection's $\lceil \log_2(w_0 / \mathrm{tol}) \rceil$ plus one (its guarantee),
-    /// and far fewer for a smooth one: $x^3 - 0.3$ on $[0, 1]$ (root $0.3^{1/3}$), to 1e-12.
-    #[test]
-    fn itp_converges_within_bisections_bound() {
-        let f = |x: f64| x * x * x - 0.3;
+    /// Brackets the zero of `f` in $[0, 1]$ to `tol` as [`super::Palc::locate`] does (trials
+    /// kept strictly inside the bracket), calling `on_trial` with each trial; returns the final
+    /// bracket and the number of trials.
+    fn bracket(f: impl Fn(f64) -> f64, tol: f64, mut on_trial: impl FnMut(f64)) -> (f64, f64, f64) {
         let (mut lo, mut hi) = (0.0, 1.0);
         let (mut glo, mut ghi) = (f(lo), f(hi));
-        let tol = 1e-12;
         let itp = Itp::new(hi - lo, tol);
         let mut j = 0.0;
-        while hi - lo > tol {
+        while hi - lo > tol && j <= 100.0 {
             let margin = (0.25 * itp.eps).min(0.25 * (hi - lo));
             let x = itp
                 .trial((lo, glo), (hi, ghi), j)
                 .clamp(lo + margin, hi - margin);
+            on_trial(x);
             let g = f(x);
             if g.signum() == glo.signum() {
                 (lo, glo) = (x, g);
@@ -254,8 +252,17 @@ mod tests {
                 (hi, ghi) = (x, g);
             }
             j += 1.0;
-            assert!(j <= 41.0, "more than bisection's 40 + 1 evaluations");
         }
+        (lo, hi, j)
+    }
+
+    /// ITP brackets the root of a smooth function to the tolerance in no more evaluations
+    /// than bisection's $\lceil \log_2(w_0 / \mathrm{tol}) \rceil$ plus one (its guarantee),
+    /// and far fewer for a smooth one: $x^3 - 0.3$ on $[0, 1]$ (root $0.3^{1/3}$), to 1e-12.
+    #[test]
+    fn itp_converges_within_bisections_bound() {
+        let (lo, hi, j) = bracket(|x| x * x * x - 0.3, 1e-12, |_| {});
+        assert!(j <= 41.0, "more than bisection's 40 + 1 evaluations");
         let root = 0.3f64.cbrt();
         assert!(lo <= root + 1e-15 && root <= hi + 1e-15, "{lo} {hi} {root}");
         assert!(j < 15.0, "superlinear: {j} evaluations");
@@ -269,24 +276,12 @@ mod tests {
     /// then below the tolerance (6 trials).
     #[test]
     fn trials_keep_off_an_exactly_interpolated_zero() {
-        let root = 0.3;
-        let f = |x: f64| x - root;
-        let (mut lo, mut hi) = (0.0, 1.0);
-        let (mut glo, mut ghi) = (f(lo), f(hi));
-        let tol = 1e-10;
-        let itp = Itp::new(hi - lo, tol);
-        let mut j = 0.0;
-        while hi - lo > tol {
-            let x = itp.trial((lo, glo), (hi, ghi), j);
-            assert!((x - root).abs() >= 0.004 * tol, "trial {x} at the zero");
-            let g = f(x);
-            if g.signum() == glo.signum() {
-                (lo, glo) = (x, g);
-            } else {
-                (hi, ghi) = (x, g);
-            }
-            j += 1.0;
-        }
+        let (root, tol) = (0.3, 1e-10);
+        let (lo, hi, j) = bracket(
+            |x| x - root,
+            tol,
+            |x| assert!((x - root).abs() >= 0.004 * tol, "trial {x} at the zero"),
+        );
         assert!(lo <= root && root <= hi, "{lo} {hi}");
         assert!(j <= 6.0, "{j} trials");
     }

@@ -1,25 +1,7 @@
 //! Small vector helpers and the predictors of PALC: the generic direction, orientation, and the
 //! cubic Hermite interpolant of two charts.
 
-/// The largest magnitude (NaNs ignored, as a fold with `f64::max`), in independent lanes.
-pub(super) fn max_abs(v: &[f64]) -> f64 {
-    let mut lanes = [0.0f64; 4];
-    let chunks = v.chunks_exact(4);
-    let tail = chunks.remainder();
-    for c in chunks {
-        for (l, x) in lanes.iter_mut().zip(c) {
-            let y = x.abs();
-            *l = if y > *l { y } else { *l };
-        }
-    }
-    for x in tail {
-        let y = x.abs();
-        lanes[0] = if y > lanes[0] { y } else { lanes[0] };
-    }
-    lanes
-        .into_iter()
-        .fold(0.0, |m, l| if l > m { l } else { m })
-}
+pub(super) use hycont_core::linalg::max_norm as max_abs;
 
 /// $\sum_i a_i b_i$ in four interleaved partial sums (independent additions: the vectors
 /// have as many entries as the problem has unknowns).

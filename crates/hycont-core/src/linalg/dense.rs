@@ -23,29 +23,8 @@ pub(crate) fn eliminate(
     perm: &mut [usize],
     pivots: &mut [f64],
 ) -> Option<f64> {
-    let scale = max_abs(&a[..c * m]);
+    let scale = super::max_norm(&a[..c * m]);
     eliminate_above(a, (m, c, w), perm, pivots, scale * f64::EPSILON * m as f64)
-}
-
-/// The largest magnitude among `v` (NaNs ignored, as a fold with `f64::max`; 0 if empty), in
-/// four independent lanes the compiler vectorises (max is exact: the order does not matter).
-pub(crate) fn max_abs(v: &[f64]) -> f64 {
-    let mut lanes = [0.0_f64; 4];
-    let chunks = v.chunks_exact(4);
-    let tail = chunks.remainder();
-    for chunk in chunks {
-        for (l, x) in lanes.iter_mut().zip(chunk) {
-            let y = x.abs();
-            *l = if y > *l { y } else { *l };
-        }
-    }
-    for x in tail {
-        let y = x.abs();
-        lanes[0] = if y > lanes[0] { y } else { lanes[0] };
-    }
-    lanes
-        .into_iter()
-        .fold(0.0, |s, l| if l > s { l } else { s })
 }
 
 /// [`eliminate`] with the smallest acceptable pivot magnitude given: `0` refuses only zero
@@ -198,20 +177,10 @@ pub(crate) fn reciprocals(pivots: &[f64], inv: &mut [f64]) {
 
 #[cfg(test)]
 mod tests {
-    use super::{eliminate_any, eliminate_rows, max_abs, reciprocals, solve_upper};
+    use super::{eliminate_any, eliminate_rows, reciprocals, solve_upper};
     use proptest::prelude::*;
 
     proptest! {
-        /// The lane-wise maximum is the fold with `f64::max` (NaNs ignored), for every length
-        /// and remainder.
-        #[test]
-        fn max_abs_is_the_fold(
-            v in proptest::collection::vec(prop_oneof![-1e3f64..1e3, Just(f64::NAN)], 0..40),
-        ) {
-            let want = v.iter().fold(0.0f64, |s, x| s.max(x.abs()));
-            prop_assert_eq!(max_abs(&v), want);
-        }
-
         /// The kernel for a row count known at compile time gives the general kernel's numbers
         /// exactly (same pivots, row order, factors and Schur complement), and the factors
         /// reproduce the block: with $x$ from $U x = (L^{-1} P a_c)_{0..c}$, the pivot rows'

@@ -346,6 +346,33 @@ fn not_factorized<T>() -> Result<T> {
     })
 }
 
+/// The max norm $\max_i |v_i|$ (NaNs ignored, as a fold with `f64::max`; 0 for an empty slice),
+/// in four independent lanes the compiler vectorises (the maximum is exact, so the order does
+/// not matter): Newton's and continuation's convergence tests over all unknowns.
+///
+/// ```
+/// assert_eq!(hycont_core::linalg::max_norm(&[1.0, -3.0, f64::NAN, 2.0]), 3.0);
+/// ```
+#[must_use]
+pub fn max_norm(v: &[f64]) -> f64 {
+    let mut lanes = [0.0_f64; 4];
+    let chunks = v.chunks_exact(4);
+    let tail = chunks.remainder();
+    for chunk in chunks {
+        for (l, x) in lanes.iter_mut().zip(chunk) {
+            let y = x.abs();
+            *l = if y > *l { y } else { *l };
+        }
+    }
+    for x in tail {
+        let y = x.abs();
+        lanes[0] = if y > lanes[0] { y } else { lanes[0] };
+    }
+    lanes
+        .into_iter()
+        .fold(0.0, |s, l| if l > s { l } else { s })
+}
+
 /// Sign and $\ln|\prod_k p_k|$ of a product of factors (pivots), accumulated as a mantissa
 /// in $[1, 2)$ and a binary exponent: one multiplication per factor instead of a logarithm,
 /// without overflow or underflow.
@@ -436,7 +463,7 @@ fn permutation_sign(perm: &[usize]) -> f64 {
 
 #[cfg(test)]
 mod tests {
-    use super::{LogProduct, permutation_sign};
+    use super::{LogProduct, max_norm, permutation_sign};
     use proptest::prelude::*;
 
     /// The parity by definition: the number of inversions.
@@ -453,6 +480,16 @@ mod tests {
     }
 
     proptest! {
+        /// The lane-wise maximum is the fold with `f64::max` (NaNs ignored), for every length
+        /// and remainder.
+        #[test]
+        fn max_norm_is_the_fold(
+            v in proptest::collection::vec(prop_oneof![-1e3f64..1e3, Just(f64::NAN)], 0..40),
+        ) {
+            let want = v.iter().fold(0.0f64, |s, x| s.max(x.abs()));
+            prop_assert_eq!(max_norm(&v), want);
+        }
+
         /// Both the bit-set path (up to 64 entries) and the general one give the parity of the
         /// inversion count.
         #[test]

@@ -4,6 +4,7 @@
 
 use super::Problem;
 use crate::error::{Error, Result};
+use crate::linalg::max_norm;
 
 /// Settings of [`newton`]: a validated builder with `Default`.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
@@ -112,10 +113,6 @@ impl NewtonSolution {
     }
 }
 
-fn max_abs(v: &[f64]) -> f64 {
-    v.iter().fold(0.0f64, |m, x| m.max(x.abs()))
-}
-
 /// Solves the square problem $F(u) = 0$ from `u0` by damped Newton: full steps while the residual
 /// decreases sufficiently, halved (down to `min_damping`) otherwise. Converged when a step is
 /// below `tol` and the residual at the new point below `residual_tol`.
@@ -156,13 +153,13 @@ pub fn newton(
         } else {
             problem.factorize(&u, &mut f)?;
         }
-        let res = max_abs(&f);
+        let res = max_norm(&f);
         for (d, v) in du.iter_mut().zip(&f) {
             *d = -v;
         }
         problem.solve_in_place(&mut du)?;
-        let step = max_abs(&du);
-        let scale = 1.0 + max_abs(&u);
+        let step = max_norm(&du);
+        let scale = 1.0 + max_norm(&u);
         let (trial_res, damping) = match damped_step(
             problem,
             (&u, &du),
@@ -218,7 +215,7 @@ pub fn newton(
         reason: format!(
             "no convergence in {} iterations (residual {:e})",
             settings.max_iterations,
-            max_abs(&f)
+            max_norm(&f)
         ),
         history,
     })
@@ -252,7 +249,7 @@ fn damped_step(
         }
         let ok =
             problem.evaluate(trial, trial_f, None).is_ok() && trial_f.iter().all(|v| v.is_finite());
-        let trial_res = if ok { max_abs(trial_f) } else { f64::INFINITY };
+        let trial_res = if ok { max_norm(trial_f) } else { f64::INFINITY };
         if trial_res <= (1.0 - 1e-4 * damping) * res || trial_res <= settings.residual_tol {
             return Damped::Accepted {
                 residual: trial_res,
