@@ -119,9 +119,17 @@ impl Floquet {
 /// $C = A B$ for column-major $n \times n$ matrices, by nalgebra (three times faster than a
 /// plain loop at $n = 4$: `cargo bench -p hycont-core --bench dense`).
 pub(crate) fn matmul(n: usize, a: &[f64], b: &[f64]) -> Vec<f64> {
+    let mut c = vec![0.0; n * n];
+    matmul_into(n, a, b, &mut c);
+    c
+}
+
+/// [`matmul`] into `c` (no allocation).
+pub(crate) fn matmul_into(n: usize, a: &[f64], b: &[f64], c: &mut [f64]) {
     let a = nalgebra::DMatrixView::from_slice(a, n, n);
     let b = nalgebra::DMatrixView::from_slice(b, n, n);
-    (a * b).data.into()
+    // beta = 0: `c` is not read.
+    nalgebra::DMatrixViewMut::from_slice(c, n, n).gemm(1.0, &a, &b, 0.0);
 }
 
 /// The saltation matrix $S_k$ at the end of segment `k` of `orbit`, whose state before the jump

@@ -15,7 +15,7 @@ use crate::error::{Error, Result};
 use crate::linalg::SparsePattern;
 use crate::linalg::dense::{eliminate, reciprocals, solve_upper};
 use crate::orbit::PeriodicOrbit;
-use crate::orbit::floquet::{Floquet, matmul, saltation};
+use crate::orbit::floquet::{Floquet, matmul, matmul_into, saltation};
 use crate::system::HybridJacobians;
 
 /// Multipliers by eliminating each interval's interior nodes afresh.
@@ -143,6 +143,8 @@ struct Transfer {
     small: Vec<f64>,
     perm: Vec<usize>,
     pivots: Vec<f64>,
+    /// The pivots' reciprocals.
+    inv: Vec<f64>,
 }
 
 impl Transfer {
@@ -152,6 +154,7 @@ impl Transfer {
             small: vec![0.0; 2 * n * n],
             perm: vec![0; n],
             pivots: vec![0.0; n],
+            inv: vec![0.0; n],
         }
     }
 
@@ -181,16 +184,10 @@ impl Transfer {
         {
             return Err(singular(k, j));
         }
-        let mut inv = [0.0; 8];
-        let inv = if n <= 8 {
-            &mut inv[..n]
-        } else {
-            &mut vec![0.0; n][..]
-        };
-        reciprocals(&self.pivots, inv);
+        reciprocals(&self.pivots, &mut self.inv);
         let (u, rhs) = self.small.split_at_mut(n * n);
         for col in rhs.chunks_exact_mut(n) {
-            solve_upper(u, n, inv, col);
+            solve_upper(u, n, &self.inv, col);
         }
         y.copy_from_slice(rhs);
         Ok(())
@@ -227,18 +224,6 @@ fn floquet_from_transfers<S: HybridJacobians + ?Sized>(
         m = matmul(n, &matmul(n, &s, &phi), &m);
     }
     Floquet::from_monodromy(system, &orbit.params, orbit.period(), m)
-}
-
-/// `out = a b` for column-major `n x n` matrices (no allocation: once per mesh interval).
-fn matmul_into(n: usize, a: &[f64], b: &[f64], out: &mut [f64]) {
-    for (out_col, b_col) in out.chunks_exact_mut(n).zip(b.chunks_exact(n)) {
-        out_col.fill(0.0);
-        for (a_col, &blj) in a.chunks_exact(n).zip(b_col) {
-            for (o, x) in out_col.iter_mut().zip(a_col) {
-                *o += x * blj;
-            }
-        }
-    }
 }
 
 fn identity(n: usize) -> Vec<f64> {

@@ -168,31 +168,25 @@ pub fn collocation_unpack(
 }
 
 /// `f(nodes, mesh, basis, n)` of each segment of the collocation solution at unknowns `u`.
-fn per_segment<'m, T: 'm>(
+fn per_segment<T>(
     like: &PeriodicOrbit,
-    meshes: &'m [Mesh],
+    meshes: &[Mesh],
     ncol: usize,
     u: &[f64],
     f: fn(&[f64], &[f64], &Basis, usize) -> T,
-) -> impl Iterator<Item = T> + 'm {
+) -> Vec<T> {
     let n = like.starts[0].len();
     let basis = Basis::new(ncol);
-    // Each segment's nodes, read in place (see `unpack_nodes`).
+    // Each segment's nodes, read in place (as `unpack_nodes` lays them out).
     let mut pos = 0;
-    let nodes: Vec<&[f64]> = meshes
+    meshes
         .iter()
         .map(|m| {
             let len = ((m.len() - 1) * ncol + 1) * n;
             pos += len;
-            &u[pos - len..pos]
+            f(&u[pos - len..pos], m, &basis, n)
         })
-        .collect();
-    let out: Vec<T> = nodes
-        .into_iter()
-        .zip(meshes)
-        .map(|(nd, m)| f(nd, m, &basis, n))
-        .collect();
-    out.into_iter()
+        .collect()
 }
 
 /// The estimated largest discretisation error of the collocation solution at unknowns `u`
@@ -209,7 +203,9 @@ pub fn collocation_error_estimate(
     ncol: usize,
     u: &[f64],
 ) -> f64 {
-    per_segment(like, meshes, ncol, u, error_estimate).fold(0.0, f64::max)
+    per_segment(like, meshes, ncol, u, error_estimate)
+        .into_iter()
+        .fold(0.0, f64::max)
 }
 
 /// Meshes with the same intervals per segment that equidistribute the error estimate of the
@@ -221,7 +217,7 @@ pub fn collocation_adapted_meshes(
     ncol: usize,
     u: &[f64],
 ) -> Vec<Mesh> {
-    per_segment(like, meshes, ncol, u, adapted_mesh).collect()
+    per_segment(like, meshes, ncol, u, adapted_mesh)
 }
 
 /// Meshes equidistributing the error estimate of the solution at unknowns `u` with enough
