@@ -206,3 +206,55 @@ fn the_branch_point_curve_stays_at_mu_zero() {
         assert_abs_diff_eq!(o.starts[0][0].abs(), p[A].sqrt(), epsilon = 1e-8);
     }
 }
+
+/// A run both ways is the backward run reversed, then the forward one: the two directions share
+/// one driver (its layout and its first chart, the tangent and the determinant's sign reversed
+/// for the second direction), and give the same points and special points as two separate runs,
+/// with the same location work. A wrong sign of the reused determinant would change the fold
+/// test's sign in the first forward step (a location, discarded or not); on the full orbit's
+/// problem the branch point at mu = 0 is the determinant's sign change.
+#[test]
+fn a_run_both_ways_is_the_two_separate_runs() {
+    for half in [true, false] {
+        let mut run = run();
+        run.half_orbits(half);
+        let start = circle(1.0, -0.3, 0.0);
+        let both = run.run("both", &start, RunDirection::Both).unwrap().branch;
+        let down = run.run("down", &start, RunDirection::Down).unwrap().branch;
+        let up = run.run("up", &start, RunDirection::Up).unwrap().branch;
+        // (Each run's points end with its end point; the start once.)
+        let separate: Vec<f64> = (down.points.iter().rev())
+            .chain(up.points.iter().skip(1))
+            .map(|p| p[MU])
+            .collect();
+        let joined: Vec<f64> = both.points.iter().map(|p| p[MU]).collect();
+        assert_eq!(joined.len(), separate.len());
+        for (a, b) in joined.iter().zip(&separate) {
+            assert_abs_diff_eq!(a, b, epsilon = 1e-14);
+        }
+        let specials = |b: &hycont_continuation::Branch| -> Vec<(SpecialKind, f64)> {
+            b.special_points
+                .iter()
+                .map(|s| (s.kind, s.point[MU]))
+                .collect()
+        };
+        let mut expected = specials(&down);
+        expected.reverse();
+        expected.extend(specials(&up));
+        assert_eq!(specials(&both), expected);
+        let bp: Vec<f64> = both
+            .special(SpecialKind::BranchPoint)
+            .map(|s| s.point[MU])
+            .collect();
+        assert_eq!(bp.len(), 1, "half orbits: {half}");
+        assert_abs_diff_eq!(bp[0], 0.0, epsilon = 1e-8);
+        let (s, d, u) = (both.statistics, down.statistics, up.statistics);
+        assert_eq!(
+            s.location_jacobians,
+            d.location_jacobians + u.location_jacobians
+        );
+        assert_eq!(s.discarded_tests, d.discarded_tests + u.discarded_tests);
+        // The second direction's first chart is the first's: no work for it.
+        assert!(s.jacobians < d.jacobians + u.jacobians);
+    }
+}

@@ -10,9 +10,10 @@ use super::saved::OrbitBranch;
 use crate::branch::{Branch, BranchPoint, EndReason, SpecialKind, SpecialPoint};
 use crate::error::{Error, Result};
 use crate::observe::{Observer, Silent};
+use crate::palc::Palc;
 use crate::quantity::{Label, MeasureId, Quantity};
 use crate::settings::{BoundOn, ContinuationSettings};
-use crate::{ContinuationProblem, MonitorEvent, continue_along, continue_branch};
+use crate::{ContinuationProblem, MonitorEvent};
 use hycont_core::orbit::{
     AdmissibilityMargin, Discretisation, Margin, Measure, MeasureSet, OrbitMethod, PeriodicOrbit,
 };
@@ -498,11 +499,14 @@ impl<'a, S: HybridJacobians + ?Sized> OrbitRun<'a, S> {
             .filter(|e| e.kind == SpecialKind::UserPoint)
             .collect();
         let observer = self.observer.as_mut();
-        let go = |sign: f64, cp: &mut P, observer: &mut dyn Observer| -> Result<Branch> {
+        // One driver for both directions: they share the layout and, from a start without a
+        // direction, the first chart.
+        let mut palc = Palc::new(cp, settings.clone())?;
+        let mut go = |sign: f64, observer: &mut dyn Observer| -> Result<Branch> {
             Ok(match start {
-                None => continue_branch(cp, name, u0, sign, settings, observer)?,
+                None => palc.run(name, u0, None, sign, observer)?,
                 Some((point, t)) => {
-                    let mut b = continue_along(cp, name, u0, t, sign, settings, observer)?;
+                    let mut b = palc.run(name, u0, Some(t), sign, observer)?;
                     b.points.insert(0, point.clone());
                     b
                 }
@@ -515,17 +519,17 @@ impl<'a, S: HybridJacobians + ?Sized> OrbitRun<'a, S> {
                 } else {
                     -1.0
                 };
-                let mut b = go(sign, cp, observer)?;
+                let mut b = go(sign, observer)?;
                 mark_start(&mut b, None, &user_points);
                 closed(b)
             }
             RunDirection::Both => {
-                let mut back = go(-1.0, cp, observer)?;
+                let mut back = go(-1.0, observer)?;
                 if back.end == EndReason::Closed {
                     mark_start(&mut back, None, &user_points);
                     closed(back)
                 } else {
-                    let mut fwd = go(1.0, cp, observer)?;
+                    let mut fwd = go(1.0, observer)?;
                     mark_start(&mut fwd, Some(&mut back), &user_points);
                     Branch::joined(name, back, fwd)
                 }

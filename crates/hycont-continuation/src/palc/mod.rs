@@ -58,6 +58,9 @@ pub(crate) struct Palc<'p, 'a, P: ContinuationProblem<'a> + ?Sized> {
     stats: RunStatistics,
     /// Whether evaluations count as location work.
     locating: bool,
+    /// The last run's first chart from a start without a direction (its start, discretisation
+    /// revision and chart): a run the other way from the same start begins there too.
+    first: Option<(Vec<f64>, usize, Chart)>,
     _marker: std::marker::PhantomData<&'a ()>,
 }
 
@@ -114,6 +117,7 @@ impl<'p, 'a, P: ContinuationProblem<'a> + ?Sized> Palc<'p, 'a, P> {
             slots,
             stats: RunStatistics::default(),
             locating: false,
+            first: None,
             _marker: std::marker::PhantomData,
         })
     }
@@ -271,6 +275,14 @@ impl<'p, 'a, P: ContinuationProblem<'a> + ?Sized> Palc<'p, 'a, P> {
                 c.t.iter_mut().for_each(|x| *x = -*x);
             }
             c
+        } else if let Some(mut c) = self.reusable_first_chart(u0) {
+            // The other direction from the same start: the same chart, the tangent reversed.
+            if orientation(&c.t, pi) * direction < 0.0 {
+                c.t.iter_mut().for_each(|x| *x = -*x);
+                // The determinant's last row is the tangent's: reversing it flips the sign.
+                c.det.0 = -c.det.0;
+            }
+            return Ok(c);
         } else {
             let mut row = vec![0.0; self.n];
             row[pi] = 1.0;
@@ -292,7 +304,18 @@ impl<'p, 'a, P: ContinuationProblem<'a> + ?Sized> Palc<'p, 'a, P> {
         // the following charts (each uses its predecessor's tangent).
         let own = self.row_of(&a.t);
         a.det = self.tangent(&a.u, &own)?.1;
+        if initial_tangent.is_none() {
+            let revision = self.p.discretisation_revision();
+            self.first = Some((u0.to_vec(), revision, a.clone()));
+        }
         Ok(a)
+    }
+
+    /// The first chart of the last run from `u0` without a direction, if it was on the current
+    /// discretisation.
+    fn reusable_first_chart(&self, u0: &[f64]) -> Option<Chart> {
+        let (start, revision, chart) = self.first.as_ref()?;
+        (start == u0 && *revision == self.p.discretisation_revision()).then(|| chart.clone())
     }
 
     /// The next chart from `a` by a step `h` from the predictor `pred`: `Ok(None)` when the
@@ -499,6 +522,7 @@ impl<'p, 'a, P: ContinuationProblem<'a> + ?Sized> Palc<'p, 'a, P> {
         observer: &mut dyn Observer,
     ) -> Result<Branch> {
         self.check_start(u0, initial_tangent, direction)?;
+        self.stats = RunStatistics::default();
         let revision = self.p.discretisation_revision();
         let mut a = self.first_chart(u0, initial_tangent, direction)?;
         let mut label = 1;
