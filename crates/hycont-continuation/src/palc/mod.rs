@@ -28,8 +28,9 @@ mod critical;
 mod locate;
 mod predict;
 mod slots;
+mod start;
 
-use predict::{extrapolate, generic, max_abs, orientation};
+use predict::{extrapolate, max_abs};
 use slots::{Slot, Source};
 
 /// A solved chart with everything the test functions need.
@@ -248,76 +249,6 @@ impl<'p, 'a, P: ContinuationProblem<'a> + ?Sized> Palc<'p, 'a, P> {
         }
     }
 
-    /// The first chart. Without a given direction: `u0` corrected with the parameter fixed
-    /// (where that fails, on a generic hyperplane through it: a branch that does not move in the
-    /// parameter there), its tangent oriented by `direction`. With one (branch switching,
-    /// restarts): a predictor step `h0` along it first, so that a start at a branch point leaves
-    /// it along the requested branch.
-    fn first_chart(
-        &mut self,
-        u0: &[f64],
-        initial_tangent: Option<&[f64]>,
-        direction: f64,
-    ) -> Result<Chart> {
-        let pi = self.p.parameter_index();
-        let mut a = if let Some(t) = initial_tangent {
-            let mut dir = t.to_vec();
-            self.wnormalize(&mut dir);
-            if direction < 0.0 {
-                dir.iter_mut().for_each(|x| *x = -*x);
-            }
-            let h0 = self.settings.h0;
-            let pred: Vec<f64> = u0.iter().zip(&dir).map(|(x, t)| x + h0 * t).collect();
-            let row = self.row_of(&dir);
-            let (u, it) = self.correct(&pred, &row, u0, h0, false)?;
-            let mut c = self.chart(u, &row, it)?;
-            if self.wdot(&c.t, &dir) < 0.0 {
-                c.t.iter_mut().for_each(|x| *x = -*x);
-            }
-            c
-        } else if let Some(mut c) = self.reusable_first_chart(u0) {
-            // The other direction from the same start: the same chart, the tangent reversed.
-            if orientation(&c.t, pi) * direction < 0.0 {
-                c.t.iter_mut().for_each(|x| *x = -*x);
-                // The determinant's last row is the tangent's: reversing it flips the sign.
-                c.det.0 = -c.det.0;
-            }
-            return Ok(c);
-        } else {
-            let mut row = vec![0.0; self.n];
-            row[pi] = 1.0;
-            let (row, (u, it)) = match self.correct(u0, &row, u0, 0.0, false) {
-                Ok(x) => (row, x),
-                Err(_) => {
-                    let g = generic(self.n);
-                    let x = self.correct(u0, &g, u0, 0.0, false)?;
-                    (g, x)
-                }
-            };
-            let mut c = self.chart(u, &row, it)?;
-            if orientation(&c.t, pi) * direction < 0.0 {
-                c.t.iter_mut().for_each(|x| *x = -*x);
-            }
-            c
-        };
-        // The determinant with the chart's own oriented tangent as the last row, consistent with
-        // the following charts (each uses its predecessor's tangent).
-        let own = self.row_of(&a.t);
-        a.det = self.tangent(&a.u, &own)?.1;
-        if initial_tangent.is_none() {
-            let revision = self.p.discretisation_revision();
-            self.first = Some((u0.to_vec(), revision, a.clone()));
-        }
-        Ok(a)
-    }
-
-    /// The first chart of the last run from `u0` without a direction, if it was on the current
-    /// discretisation.
-    fn reusable_first_chart(&self, u0: &[f64]) -> Option<Chart> {
-        let (start, revision, chart) = self.first.as_ref()?;
-        (start == u0 && *revision == self.p.discretisation_revision()).then(|| chart.clone())
-    }
-
     /// The next chart from `a` by a step `h` from the predictor `pred`: `Ok(None)` when the
     /// step is rejected (the corrector fails or the tangent turns by more than the largest
     /// angle) and may be retried shorter; an error when it fails at the smallest step.
@@ -437,40 +368,6 @@ impl<'p, 'a, P: ContinuationProblem<'a> + ?Sized> Palc<'p, 'a, P> {
             } => Some(EndReason::Inadmissible(kind)),
             _ => None,
         }
-    }
-
-    /// Checks a run's start: a usable direction, a finite start (and tangent) of the right
-    /// length, inside the continuation bounds.
-    fn check_start(
-        &self,
-        u0: &[f64],
-        initial_tangent: Option<&[f64]>,
-        direction: f64,
-    ) -> Result<()> {
-        if !(direction.is_finite() && direction != 0.0) {
-            return Err(Error::InvalidSetting {
-                name: "direction",
-                value: direction,
-                reason: "must be finite and non-zero: > 0 continues with increasing parameter (or along the tangent), < 0 against it",
-            });
-        }
-        hycont_core::error::check_len("initial point", u0, self.n)?;
-        hycont_core::error::check_finite("initial point", u0)?;
-        if let Some(t) = initial_tangent {
-            hycont_core::error::check_len("initial tangent", t, self.n)?;
-            hycont_core::error::check_finite("initial tangent", t)?;
-        }
-        let (min, max) = self.settings.continuation_bounds();
-        let value = u0[self.p.parameter_index()];
-        if !(min <= value && value <= max) {
-            return Err(Error::StartOutsideBounds {
-                parameter: self.p.parameter_name(),
-                value,
-                min,
-                max,
-            });
-        }
-        Ok(())
     }
 
     /// The special points of the step `h` from `a` to `b`, labelled from `*label + 1` on, into
