@@ -12,7 +12,7 @@ use hycont_continuation::observe::Observer;
 use hycont_continuation::{
     CurveSpec, MeasureId, OrbitBranch, OrbitMethod, OrbitRun, RunDirection, SpecialKind,
 };
-use hycont_core::orbit::{Extremum, ShootingSettings};
+use hycont_core::orbit::{Extremum, PeriodicOrbit, ShootingSettings};
 use serde::{Deserialize, Serialize};
 use std::f64::consts::FRAC_PI_2;
 
@@ -182,12 +182,52 @@ pub fn study_branches_with(
     observer: &mut dyn Observer,
 ) -> Result<Vec<OrbitBranch>> {
     recipe.validate()?;
+    let start = study_start(block)?;
+    study_branches_from(free, block, recipe, &start, observer)
+}
+
+/// The start of the study's branches in both figures: the Fig. 2 orbit, the symmetric orbit at
+/// omega = 1.3, alpha = 0.66 (found by [`orbit`]'s search over seeds on the impact surface).
+/// Figs. 3 and 4 both start there: computed once, it serves both
+/// ([`study_branches_from`]).
+///
+/// # Errors
+/// An invalid block; no symmetric orbit found.
+pub fn study_start(block: &Block) -> Result<PeriodicOrbit> {
+    Ok(orbit(&block.at(1.3, 0.66), OrbitKind::Symmetric, None)?
+        .solution
+        .orbit)
+}
+
+/// [`study_branches_with`] from a given start, the Fig. 2 orbit of `block` ([`study_start`]).
+///
+/// ```
+/// use hycont_continuation::observe::Silent;
+/// use rocking_block::block::Block;
+/// use rocking_block::continuation::{Free, Recipe, study_branches_from, study_start};
+/// let block = Block::default();
+/// let start = study_start(&block).unwrap();
+/// let recipe = Recipe::default();
+/// let fig3 = study_branches_from(Free::Omega, &block, &recipe, &start, &mut Silent).unwrap();
+/// let fig4 = study_branches_from(Free::Alpha, &block, &recipe, &start, &mut Silent).unwrap();
+/// assert_eq!(fig3[0].branch.name, fig4[0].branch.name);
+/// ```
+///
+/// # Errors
+/// As [`study_branches_with`].
+pub fn study_branches_from(
+    free: Free,
+    block: &Block,
+    recipe: &Recipe,
+    start: &PeriodicOrbit,
+    observer: &mut dyn Observer,
+) -> Result<Vec<OrbitBranch>> {
+    recipe.validate()?;
     let params = block.at(1.3, 0.66);
-    let sym = orbit(&params, OrbitKind::Symmetric, None)?.solution.orbit;
     let mut run = study_run(free, &params, free.range(), recipe.method)?;
     recipe.apply(&mut run);
     run.observer(Box::new(observer));
-    let mut out = vec![run.run("symmetric", &sym, RunDirection::Both)?];
+    let mut out = vec![run.run("symmetric", start, RunDirection::Both)?];
     let Some(bp) = out[0].special(SpecialKind::BranchPoint).next() else {
         return Ok(out);
     };
@@ -220,8 +260,9 @@ pub struct Curve {
 /// Numerical failures.
 pub fn study_curves(block: &Block, observer: &mut dyn Observer) -> Result<Vec<Curve>> {
     let params = block.at(1.3, 0.66);
-    let fig3 = study_branches(Free::Omega, block, observer)?;
-    let fig4 = study_branches(Free::Alpha, block, observer)?;
+    let (start, recipe) = (study_start(block)?, Recipe::default());
+    let fig3 = study_branches_from(Free::Omega, block, &recipe, &start, observer)?;
+    let fig4 = study_branches_from(Free::Alpha, block, &recipe, &start, observer)?;
     let label = |b: &OrbitBranch, k: SpecialKind, last: bool| -> Result<usize> {
         let mut it = b.special(k);
         let s = if last { it.last() } else { it.next() };
