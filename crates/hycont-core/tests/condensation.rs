@@ -352,3 +352,40 @@ fn a_collocation_problem_condenses_to_the_plain_lu_steps() {
         collocation_floquet_factorised(&Relaxation, orbit, &sol.meshes, &sol.nodes, ncol, &plain);
     assert!(by_plain.unwrap().is_none());
 }
+
+/// Collocation writes every Jacobian value of its pattern (`ZeroFunction::writes_every_entry`),
+/// so the problem hands it its value buffer without zeroing it: a buffer full of NaN from
+/// "the last evaluation" gives exactly the values of a fresh, zeroed one. (A single entry the
+/// part left unwritten would stay NaN.)
+#[test]
+fn collocation_writes_every_jacobian_value() {
+    use common::Relaxation;
+    use hycont_core::orbit::{CollocationSettings, collocation_problem, solve_collocation};
+    use hycont_core::problem::NewtonSettings;
+    use hycont_core::simulate::SimulationSettings;
+    let a = 3.0;
+    let guess = Relaxation::orbit([0.6, 1.0], 1.2 * Relaxation::period(a), a)
+        .with_interior_points(&Relaxation, 1, 0.9, &SimulationSettings::default())
+        .unwrap();
+    for ncol in [1, 3, 4] {
+        let settings = CollocationSettings {
+            ntst: 5,
+            ncol,
+            adapt: 0,
+        };
+        let sol =
+            solve_collocation(&Relaxation, &guess, settings, &NewtonSettings::default()).unwrap();
+        let mut problem =
+            collocation_problem(&Relaxation, &sol.solution.orbit, sol.meshes.clone(), ncol)
+                .unwrap();
+        let u = problem.initial_unknowns(&sol.unknowns());
+        let mut res = vec![0.0; problem.equations()];
+        let mut fresh = Vec::new();
+        problem.evaluate(&u, &mut res, Some(&mut fresh)).unwrap();
+        let mut stale = vec![f64::NAN; fresh.len()];
+        problem.evaluate(&u, &mut res, Some(&mut stale)).unwrap();
+        assert_eq!(fresh.len(), problem.jacobian_entries().len());
+        assert!(stale.iter().all(|v| v.is_finite()), "ncol {ncol}");
+        assert_eq!(stale, fresh);
+    }
+}

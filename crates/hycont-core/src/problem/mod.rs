@@ -428,12 +428,17 @@ impl<'a> Problem<'a> {
         check_len("unknowns", u, self.unknowns())?;
         check_len("residual", residual, self.equations())?;
         let mut jac = jacobian;
+        // The parts' values first (kept from the last evaluation where a part writes them all),
+        // then the monitors' gradients, appended.
         if let Some(j) = jac.as_deref_mut() {
-            j.clear();
+            let parts: usize = self.parts.iter().map(|p| p.pattern.len()).sum();
+            j.truncate(parts);
+            j.resize(parts, 0.0);
         }
         let any_held = jac.is_some() && use_held && self.mark_held(u)?;
         let hinted = any_held || purpose != JacobianUse::Exact;
         let mut local_u = Vec::new();
+        let mut start = 0;
         for part in &mut self.parts {
             local_u.clear();
             local_u.extend(part.unknowns.iter().map(|&i| u[i]));
@@ -441,9 +446,12 @@ impl<'a> Problem<'a> {
             let res = &mut residual[part.row..part.row + rows];
             match jac.as_deref_mut() {
                 Some(j) => {
-                    let start = j.len();
-                    j.resize(start + part.pattern.len(), 0.0);
-                    let out = Some(&mut j[start..]);
+                    let at = &mut j[start..start + part.pattern.len()];
+                    start += part.pattern.len();
+                    if !part.function.writes_every_entry() {
+                        at.fill(0.0);
+                    }
+                    let out = Some(at);
                     if hinted {
                         self.held_local.clear();
                         self.held_local

@@ -41,6 +41,15 @@ pub trait ZeroFunction {
         self.evaluate(u, residual, jacobian)
     }
 
+    /// Whether [`ZeroFunction::evaluate`] (and [`ZeroFunction::evaluate_hinted`], under any
+    /// hints) writes every Jacobian value of the pattern. The problem then hands the part its
+    /// values as they are (from the last evaluation) instead of zeroing them first; the default,
+    /// `false`, suits parts that leave some entries at zero (structural zeros of a particular
+    /// evaluation, or entries skipped under hints).
+    fn writes_every_entry(&self) -> bool {
+        false
+    }
+
     /// Groups of local unknowns that, among this part's equations, only one group of equations
     /// reads (see [`LocalBlock`]). The problem condenses them by small dense eliminations before
     /// its sparse factorisation; the default declares none.
