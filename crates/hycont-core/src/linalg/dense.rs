@@ -47,9 +47,10 @@ pub(crate) fn eliminate_above(
     }
 }
 
-/// [`eliminate`] with the row count `M` known at compile time: each column update runs over
-/// all `M` rows with the multipliers padded by zeros above the pivot (`x - 0 a = x`: the same
-/// numbers as [`eliminate_any`], in a loop the compiler unrolls).
+/// [`eliminate`] with the row count `M` (a multiple of 4) known at compile time: each column
+/// update runs over the 4-row chunks from the one holding row `k + 1` down, in loops the
+/// compiler unrolls, with the multipliers padded by zeros above the pivot (`x - 0 a = x`: the
+/// same numbers as [`eliminate_any`] for finite entries).
 fn eliminate_rows<const M: usize>(
     a: &mut [f64],
     (c, w): (usize, usize),
@@ -66,15 +67,33 @@ fn eliminate_rows<const M: usize>(
             *v *= inv;
             *li = *v;
         }
-        for col in a[(k + 1) * M..w * M].chunks_exact_mut(M) {
-            let akj = col[k];
-            if akj != 0.0 {
-                for (x, li) in col.iter_mut().zip(&l) {
-                    *x -= li * akj;
-                }
-            }
+        match (k + 1) / 4 {
+            0 => update_from::<M, 0>(a, k, w, &l),
+            1 => update_from::<M, 4>(a, k, w, &l),
+            2 => update_from::<M, 8>(a, k, w, &l),
+            3 => update_from::<M, 12>(a, k, w, &l),
+            4 => update_from::<M, 16>(a, k, w, &l),
+            5 => update_from::<M, 20>(a, k, w, &l),
+            _ => {} // k + 1 >= 24 >= M: no rows below the pivot.
         }
     })
+}
+
+/// The update of columns `k + 1..w` by pivot row `k` on rows `S..M` (multipliers `l`, zero
+/// at and above row `k`): `S` known at compile time, so the loop is unrolled.
+#[inline(always)]
+fn update_from<const M: usize, const S: usize>(a: &mut [f64], k: usize, w: usize, l: &[f64; M]) {
+    if S >= M {
+        return;
+    }
+    for col in a[(k + 1) * M..w * M].chunks_exact_mut(M) {
+        let akj = col[k];
+        if akj != 0.0 {
+            for (x, li) in col[S..].iter_mut().zip(&l[S..]) {
+                *x -= li * akj;
+            }
+        }
+    }
 }
 
 /// [`eliminate`] for any row count.
