@@ -99,33 +99,37 @@ pub(super) fn factorised_floquet<S: HybridJacobians + ?Sized>(
         block += mesh.len() - 1;
         offset += nodes[k].len();
     }
-    // Every interval's columns of (first node, last node) over its n rows, or give up.
-    let mut found: Vec<Vec<&[f64]>> = Vec::with_capacity(block);
+    // Every interval's columns of (first node, last node) over its n rows, `2 n` per interval
+    // in one list, or give up.
+    let mut found: Vec<&[f64]> = Vec::with_capacity(2 * n * block);
     for (k, mesh) in meshes.iter().enumerate() {
         let (b0, off) = offsets[k];
         for j in 0..mesh.len() - 1 {
             let Some(rows) = jacobian.reduced_rows(b0 + j) else {
                 return Ok(None);
             };
+            if rows.rows() != n {
+                return Ok(None);
+            }
             let first = off + j * ncol * n;
-            let last = first + ncol * n;
-            let column = move |col: usize| {
-                let k = rows.columns().binary_search(&col).ok()?;
-                rows.column(k)
-            };
-            let cols: Option<Vec<&[f64]>> = (0..n)
-                .map(|c| column(first + c))
-                .chain((0..n).map(|c| column(last + c)))
-                .collect();
-            match cols {
-                Some(cols) if rows.rows() == n => found.push(cols),
-                _ => return Ok(None),
+            // A node's n columns are consecutive among the sorted columns the rows read.
+            for node in [first, first + ncol * n] {
+                let Ok(at) = rows.columns().binary_search(&node) else {
+                    return Ok(None);
+                };
+                for c in 0..n {
+                    match (rows.columns().get(at + c), rows.column(at + c)) {
+                        (Some(&col), Some(values)) if col == node + c => found.push(values),
+                        _ => return Ok(None),
+                    }
+                }
             }
         }
     }
     let transfer = |k: usize, j: usize, y: &mut [f64]| {
         // In range: every column was found, with `n` rows.
-        let cols = &found[offsets[k].0 + j];
+        let at = 2 * n * (offsets[k].0 + j);
+        let cols = &found[at..at + 2 * n];
         small.solve(|i, col| cols[col][i], k, j, y)
     };
     floquet_from_transfers(system, orbit, meshes, nodes, transfer).map(Some)
