@@ -272,7 +272,11 @@ impl<'a, S: HybridJacobians + ?Sized> OrbitRun<'a, S> {
         }
         let b = self.continue_in(&mut cp, name, &u0, None, spec.direction, &settings)?;
         let inner = cp.orbit_problem();
-        self.saved(inner, inner.full_branch(&b), Some((spec.second, condition)))
+        self.saved(
+            inner,
+            inner.into_full_branch(b),
+            Some((spec.second, condition)),
+        )
     }
 
     /// The events along a curve: `spec`'s user points and the run's terminal events except

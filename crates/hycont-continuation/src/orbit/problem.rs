@@ -302,33 +302,41 @@ impl<'a, S: HybridJacobians + ?Sized> OrbitContinuation<'a, S> {
     /// segments followed by their images (the tangent renormalised); otherwise a copy.
     #[must_use]
     pub fn full_point(&self, point: &BranchPoint) -> BranchPoint {
+        let mut p = point.clone();
+        self.to_full(&mut p);
+        p
+    }
+
+    /// [`OrbitContinuation::full_point`] in place.
+    fn to_full(&self, point: &mut BranchPoint) {
         let Some(sym) = &self.half_of else {
-            return point.clone();
+            return;
         };
         let disc = self.revision(point.discretisation);
         let mut t = disc.repeat_unknowns(&self.like, &point.tangent, Some(sym));
         normalize(&mut t);
-        BranchPoint {
-            u: disc.repeat_unknowns(&self.like, &point.u, Some(sym)),
-            tangent: t,
-            ..point.clone()
-        }
+        point.tangent = t;
+        point.u = disc.repeat_unknowns(&self.like, &point.u, Some(sym));
     }
 
     /// A branch of this problem with every point (special points included) in the unknowns of
     /// the full orbit's problem (see [`OrbitContinuation::full_point`]).
     #[must_use]
     pub fn full_branch(&self, branch: &Branch) -> Branch {
-        let mut out = branch.clone();
-        if self.half_of.is_some() {
-            for p in &mut out.points {
-                *p = self.full_point(p);
-            }
-            for s in &mut out.special_points {
-                s.point = self.full_point(&s.point);
-            }
+        self.into_full_branch(branch.clone())
+    }
+
+    /// [`OrbitContinuation::full_branch`] of a branch given away (its points converted in
+    /// place, without copies).
+    #[must_use]
+    pub fn into_full_branch(&self, mut branch: Branch) -> Branch {
+        for p in &mut branch.points {
+            self.to_full(p);
         }
-        out
+        for s in &mut branch.special_points {
+            self.to_full(&mut s.point);
+        }
+        branch
     }
 
     /// The continuation problem of the period-doubled orbit at a located period-doubling point

@@ -404,7 +404,7 @@ impl<'a, S: HybridJacobians + ?Sized> OrbitRun<'a, S> {
         let (mut cp, u0) = self.problem(start)?;
         let settings = self.settings.clone();
         let branch = self.continue_in(&mut cp, name, &u0, None, direction, &settings)?;
-        self.saved(&cp, cp.full_branch(&branch), None)
+        self.saved(&cp, cp.into_full_branch(branch), None)
     }
 
     /// Continues from the point labelled `label` of a saved branch, in `direction` (`None`: the
