@@ -1,7 +1,8 @@
 //! Continuation benchmarks (issue: continuation). Run with `cargo bench -p rocking-block --bench continuation`.
 //!
-//! All branches of Figs. 3 and 4 with every special point located (the target: both together in
-//! under 0.5 s), and all curves of Fig. 6 (target: under 2 s). Reference: AUTO-07p continues the symmetric omega branch (223 points, NTST 40,
+//! All branches of Figs. 3 and 4 with every special point located, from their common start (the
+//! Fig. 2 orbit, found once; issue 13's target: both together under 0.05 s), and all curves of
+//! Fig. 6 (target: under 2 s). Reference: AUTO-07p continues the symmetric omega branch (223 points, NTST 40,
 //! NCOL 4) in 0.32-0.39 s on the project machine, ~1.5 ms a point.
 
 use criterion::{Criterion, criterion_group, criterion_main};
