@@ -13,6 +13,7 @@
 
 mod newton;
 mod parts;
+mod pattern;
 
 pub use newton::{NewtonIteration, NewtonSettings, NewtonSolution, newton};
 pub use parts::{
@@ -20,7 +21,7 @@ pub use parts::{
 };
 
 use crate::error::{Error, Result, check_finite, check_len};
-use crate::linalg::{EliminationBlock, SparsePattern};
+use crate::linalg::SparsePattern;
 
 /// Handle of a part of a [`Problem`].
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -284,83 +285,6 @@ impl<'a> Problem<'a> {
             }
         }
         u
-    }
-
-    /// The Jacobian's `(row, col)` entries, in the order [`Problem::evaluate`] produces values.
-    #[must_use]
-    pub fn jacobian_entries(&self) -> Vec<(usize, usize)> {
-        self.global_pattern()
-    }
-
-    fn global_pattern(&self) -> Vec<(usize, usize)> {
-        let len = self.parts.iter().map(|p| p.pattern.len()).sum::<usize>()
-            + self
-                .monitors
-                .iter()
-                .map(|m| m.unknowns.len() + 1)
-                .sum::<usize>();
-        let mut entries = Vec::with_capacity(len);
-        for part in &self.parts {
-            for &(r, c) in &part.pattern {
-                entries.push((part.row + r, part.unknowns[c]));
-            }
-        }
-        let row0 = self.equations() - self.monitors.len();
-        let slots = self.active_slots();
-        for (k, m) in self.monitors.iter().enumerate() {
-            for &c in &m.unknowns {
-                entries.push((row0 + k, c));
-            }
-            if let Some(slot) = slots[k] {
-                entries.push((row0 + k, slot));
-            }
-        }
-        entries
-    }
-
-    /// The parts' [`LocalBlock`]s in the problem's rows and unknowns.
-    #[must_use]
-    pub fn elimination_blocks(&self) -> Vec<EliminationBlock> {
-        self.parts
-            .iter()
-            .flat_map(|part| {
-                // Indices outside the part become out of range (refused by the pattern).
-                let rows = part.function.equations();
-                part.function
-                    .local_blocks()
-                    .into_iter()
-                    .map(move |b| EliminationBlock {
-                        rows: b
-                            .equations
-                            .map(|r| if r < rows { part.row + r } else { usize::MAX })
-                            .collect(),
-                        cols: b
-                            .unknowns
-                            .map(|c| part.unknowns.get(c).copied().unwrap_or(usize::MAX))
-                            .collect(),
-                    })
-            })
-            .collect()
-    }
-
-    /// The sparse pattern of the Jacobian (built, with its symbolic analysis, on first use);
-    /// a square problem condenses its parts' [`LocalBlock`]s.
-    ///
-    /// # Errors
-    /// If the pattern is invalid, or a part's local blocks are (out of range, overlapping, read
-    /// by another block's equations).
-    pub fn pattern(&mut self) -> Result<&mut SparsePattern> {
-        if self.pattern.is_none() {
-            let entries = self.global_pattern();
-            let (m, n) = (self.equations(), self.unknowns());
-            let blocks = if m == n {
-                self.elimination_blocks()
-            } else {
-                Vec::new()
-            };
-            self.pattern = Some(SparsePattern::with_blocks(m, n, &entries, &blocks)?);
-        }
-        Ok(self.pattern.as_mut().expect("pattern built above"))
     }
 
     /// Evaluates $F(u)$ and, if asked, the Jacobian values in pattern order.

@@ -379,6 +379,8 @@ pub(crate) fn solve_collocation_unchecked<S: HybridJacobians + ?Sized>(
     let sizes = vec![settings.ntst * settings.ncol + 1; kk];
     let mut history = Vec::new();
     let mut residual = 0.0;
+    // The adapted meshes have as many intervals: each pass hands its problem's pattern on.
+    let mut previous: Option<Problem<'_>> = None;
     for pass in 0..=settings.adapt {
         if pass > 0 {
             // Move to the adapted meshes, interpolating the current solution.
@@ -393,7 +395,11 @@ pub(crate) fn solve_collocation_unchecked<S: HybridJacobians + ?Sized>(
         }
         let (mut problem, _) =
             collocation_problem_impl(system, &orbit, meshes.clone(), settings.ncol)?;
+        if let Some(p) = previous.as_mut() {
+            p.hand_pattern_to(&mut problem);
+        }
         let sol = newton(&mut problem, &pack_nodes(&nodes, &orbit), newton_settings)?;
+        previous = Some(problem);
         let (nd, ob) = unpack_nodes(&sol.u, &orbit, &sizes, n);
         nodes = nd;
         orbit = ob;
