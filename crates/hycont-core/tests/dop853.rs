@@ -124,3 +124,35 @@ fn nan_rhs_is_reported_with_time_and_state() {
         "{text}"
     );
 }
+
+/// The step-size controller is Hairer's PI formula
+/// $h_{new} = h \min(6, \max(0.333, 0.9\, \mathrm{err}^{-(1/8 - \beta/5)}\, \mathrm{err}_{old}^\beta))$
+/// with $\mathrm{err}_{old} \ge 10^{-4}$ the last accepted error (initially $10^{-4}$), no growth
+/// right after a rejection, and $h \max(0.333, 0.9\, \mathrm{err}^{-1/8})$ on a rejection: the
+/// stepper against the formula, step by step, to a few units of roundoff.
+#[test]
+fn step_size_controller_is_hairers_pi_formula() {
+    let beta = 0.03;
+    let mut st = Dop853::new(1);
+    st.set_controller_beta(beta);
+    let accepted = |err: f64, old: f64| {
+        (0.9 * err.powf(-(1.0 / 8.0 - 0.2 * beta)) * old.max(1e-4).powf(beta)).clamp(0.333, 6.0)
+    };
+    // (h, err, expected new h)
+    let steps = [
+        (1.0, 0.5, accepted(0.5, 1e-4)),
+        (2.0, 0.2, 2.0 * accepted(0.2, 0.5)),
+        (1.0, 3.0, (0.9 * 3.0f64.powf(-1.0 / 8.0)).max(0.333)),
+        (0.5, 0.01, 0.5 * accepted(0.01, 0.2).min(1.0)),
+        (1.0, 1e-9, accepted(1e-9, 0.01)),
+        (1.0, 0.7, accepted(0.7, 1e-9)),
+        (1.0, 1e6, 0.333),
+    ];
+    for (h, err, want) in steps {
+        let got = st.next_step_size(h, err);
+        assert!(
+            (got - want).abs() <= 1e-14 * want,
+            "h {h}, err {err}: {got} vs {want}"
+        );
+    }
+}
