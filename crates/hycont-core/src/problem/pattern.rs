@@ -38,7 +38,7 @@ impl Problem<'_> {
         entries
     }
 
-    /// The parts' [`LocalBlock`]s in the problem's rows and unknowns.
+    /// The parts' [`LocalBlock`](crate::problem::LocalBlock)s in the problem's rows and unknowns.
     #[must_use]
     pub fn elimination_blocks(&self) -> Vec<EliminationBlock> {
         self.parts
@@ -64,7 +64,7 @@ impl Problem<'_> {
     }
 
     /// The sparse pattern of the Jacobian (built, with its symbolic analysis, on first use);
-    /// a square problem condenses its parts' [`LocalBlock`]s.
+    /// a square problem condenses its parts' [`LocalBlock`](crate::problem::LocalBlock)s.
     ///
     /// # Errors
     /// If the pattern is invalid, or a part's local blocks are (out of range, overlapping, read
