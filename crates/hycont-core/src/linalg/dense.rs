@@ -80,7 +80,9 @@ fn eliminate_rows<const M: usize>(
 }
 
 /// The update of columns `k + 1..w` by pivot row `k` on rows `S..M` (multipliers `l`, zero
-/// at and above row `k`): `S` known at compile time, so the loop is unrolled.
+/// at and above row `k`): `S` known at compile time, so the loop is unrolled. (The same loop as
+/// [`eliminate_any`]'s, kept apart: one helper for both, with the start and the multipliers as
+/// slices, measured 3-7 % slower on a 16 x 22 block.)
 #[inline(always)]
 fn update_from<const M: usize, const S: usize>(a: &mut [f64], k: usize, w: usize, l: &[f64; M]) {
     if S >= M {
