@@ -41,6 +41,36 @@ pub enum Error {
         /// Upper bound.
         max: f64,
     },
+    /// The corrected start of a run (a fresh start, a restart, the first point of a switched
+    /// branch or of a curve) is not a physical orbit: one of its segments leaves its mode's
+    /// domain ([`hycont_core::orbit::check_admissible`]). A branch from it would hold no
+    /// physical orbit until it crossed back, so the run is refused.
+    #[error(
+        "the start is not a physical orbit: segment {segment}{}: {violation} (value {value} at t = {t} into the segment); start from an admissible orbit, or turn admissibility off to continue it anyway",
+        event.map(|e| format!(" ({e})")).unwrap_or_default()
+    )]
+    InadmissibleStart {
+        /// The segment.
+        segment: usize,
+        /// The event whose surface is involved (`None` for a duration).
+        event: Option<hycont_core::EventId>,
+        /// What is wrong.
+        violation: hycont_core::orbit::Violation,
+        /// Time from the segment's start.
+        t: f64,
+        /// The violated condition's value (negative).
+        value: f64,
+    },
+    /// A point of a branch fails a re-check ([`crate::OrbitBranch::check_points`]).
+    #[error("point {label} of branch {branch} is not an orbit it should be: {reason}")]
+    InvalidPoint {
+        /// The point's label.
+        label: usize,
+        /// The branch's name.
+        branch: String,
+        /// What fails.
+        reason: String,
+    },
     /// A restart label does not exist in the branch.
     #[error("no point labelled {label} in branch {branch}")]
     NoSuchLabel {

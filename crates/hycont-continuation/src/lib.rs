@@ -80,7 +80,8 @@ pub use error::{Error, Result};
 pub use hycont_core::orbit::{Discretisation, OrbitMethod};
 pub use observe::Observer;
 pub use orbit::{
-    CurveSpec, OrbitBranch, OrbitContinuation, OrbitRun, RunDirection, SharedMeasures, can_switch,
+    CurveSpec, OrbitBranch, OrbitContinuation, OrbitRun, POINT_RESIDUAL_TOL, RunDirection,
+    SharedMeasures, can_switch,
 };
 pub use quantity::{Label, MeasureId, Quantity};
 pub use settings::{Bound, BoundOn, ContinuationSettings, Detect};
@@ -184,6 +185,15 @@ pub trait ContinuationProblem<'a> {
     ) -> hycont_core::Result<PointInfo> {
         let _ = jacobian;
         self.analyse(u)
+    }
+    /// Checks the corrected start of a run (after the first corrector solve, before any step),
+    /// e.g. that an orbit is physical; an error refuses the run. Default: accepts every start.
+    ///
+    /// # Errors
+    /// What is wrong with the start.
+    fn check_start(&mut self, u: &[f64]) -> Result<()> {
+        let _ = u;
+        Ok(())
     }
     /// Events to detect and locate (default: none).
     fn monitor_events(&self) -> Vec<MonitorEvent> {

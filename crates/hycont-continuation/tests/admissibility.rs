@@ -167,3 +167,67 @@ fn branches_end_where_the_orbits_touch_the_walls() {
     assert_eq!(branch.branch.end, EndReason::Bound);
     assert!(branch.first(SpecialKind::Grazing).is_err());
 }
+
+/// A start past the walls (a = 4: the circle of radius 2 crosses both) solves the orbit
+/// equations, but no simulation follows it: with admissibility on, a run from it and a restart
+/// from such a point of a branch computed with admissibility off are refused, by either
+/// discretisation, naming the segment and the violation; with admissibility off, the run goes.
+#[test]
+fn runs_refuse_a_start_past_the_walls() {
+    use hycont_continuation::Error as RunError;
+    use hycont_core::orbit::{CollocationSettings, OrbitMethod};
+    let sys = FiniteDifferences::new(Walled);
+    for method in [
+        OrbitMethod::Shooting(ShootingSettings::default()),
+        OrbitMethod::Collocation(CollocationSettings::default()),
+    ] {
+        let mut run = OrbitRun::new(&sys, A).unwrap();
+        run.method(method.clone()).bounds(0.5, 5.0).max_points(20);
+        let refused = |r: Result<_, RunError>| match r {
+            Err(RunError::InadmissibleStart {
+                segment: 0,
+                violation,
+                value,
+                ..
+            }) => {
+                assert!(
+                    matches!(
+                        violation,
+                        Violation::InteriorCrossing | Violation::EndOutside
+                    ),
+                    "{violation:?}"
+                );
+                assert!(value < -0.5, "{value}");
+            }
+            other => panic!("expected the start refused, got {:?}", other.map(|_| ())),
+        };
+        refused(run.run("past", &circle(4.0), RunDirection::Up));
+        // Inside the walls the same run starts (and ends at the grazing).
+        assert!(run.run("inside", &circle(1.0), RunDirection::Up).is_ok());
+        // Admissibility off: the branch past the walls is computed ...
+        run.admissibility(false).unwrap();
+        let off = run.run("past", &circle(4.0), RunDirection::Up).unwrap();
+        // Its points are orbits, but not physical ones: the re-check says which.
+        assert!(off.check_points(&sys, false).is_ok());
+        match off.check_points(&sys, true) {
+            Err(RunError::InvalidPoint { reason, .. }) => {
+                assert!(reason.contains("not admissible"), "{reason}");
+            }
+            other => panic!("expected the points refused, got {other:?}"),
+        }
+        // A point moved off its orbit fails the orbit equations.
+        let mut moved = off.clone();
+        moved.branch.points[1].u[0] += 1e-3;
+        match moved.check_points(&sys, false) {
+            Err(RunError::InvalidPoint { reason, .. }) => {
+                assert!(reason.contains("do not hold"), "{reason}");
+            }
+            other => panic!("expected the moved point refused, got {other:?}"),
+        }
+        let last = off.branch.points.last().unwrap().label;
+        assert!(run.restart("again", &off, last, None).is_ok());
+        // ... and a run with admissibility on refuses to restart from it.
+        run.admissibility(true).unwrap();
+        refused(run.restart("again", &off, last, None));
+    }
+}

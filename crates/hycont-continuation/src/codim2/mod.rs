@@ -192,6 +192,13 @@ impl<'a, S: HybridJacobians + ?Sized> Codim2<'a, S> {
         &self.inner
     }
 
+    /// Whether runs refuse a start whose orbit is not admissible (see
+    /// [`OrbitContinuation::require_admissible`]).
+    pub fn require_admissible(&mut self, on: bool) -> &mut Self {
+        self.inner.require_admissible(on);
+        self
+    }
+
     /// The condition.
     #[must_use]
     pub fn condition(&self) -> CurveCondition {
@@ -226,6 +233,9 @@ impl<'a, S: HybridJacobians + ?Sized> ContinuationProblem<'a> for Codim2<'a, S> 
     }
     fn analyse(&mut self, u: &[f64]) -> hycont_core::Result<PointInfo> {
         self.inner.analyse(u)
+    }
+    fn check_start(&mut self, u: &[f64]) -> Result<()> {
+        self.inner.check_start(u)
     }
     fn monitor_events(&self) -> Vec<MonitorEvent> {
         self.inner.monitor_events()

@@ -265,6 +265,7 @@ impl<'a, S: HybridJacobians + ?Sized> OrbitRun<'a, S> {
             self.measures.clone(),
             self.curve_events(condition, kind, spec)?,
         )?;
+        cp.require_admissible(self.admissibility_on());
         let mut settings = self.curve_settings.clone();
         settings.bounds.extend(self.settings.bounds.iter().copied());
         if let Some((lo, hi)) = spec.bounds {

@@ -9,9 +9,11 @@ mod run;
 mod saved;
 mod switching;
 mod symmetric;
+mod verify;
 
 pub use curves::CurveSpec;
 pub(crate) use problem::check_parameter;
 pub use problem::{OrbitContinuation, SharedMeasures, can_switch};
 pub use run::{OrbitRun, RunDirection};
 pub use saved::OrbitBranch;
+pub use verify::POINT_RESIDUAL_TOL;

@@ -18,7 +18,7 @@ use crate::switch::branch_switch_direction;
 use crate::{ContinuationProblem, MonitorEvent, PointInfo};
 use hycont_core::orbit::{
     Closure, Discretisation, Floquet, LinearizationCache, MeasureSet, OrbitEquations, OrbitMethod,
-    PeriodicOrbit, orbit_problem, symmetric_floquet,
+    PeriodicOrbit, check_admissible_collapsed, orbit_problem, symmetric_floquet,
 };
 use hycont_core::problem::{Activity, Problem, ZeroFunction};
 use hycont_core::{HybridJacobians, ParamId, Z2Symmetry};
@@ -67,6 +67,8 @@ pub struct OrbitContinuation<'a, S: ?Sized> {
     /// Whether the problem is the plain orbit problem, which can be rebuilt on another mesh
     /// (not one wrapped or extended for a two-parameter curve).
     pub(super) adaptable: bool,
+    /// Whether a run's start must be admissible ([`OrbitContinuation::require_admissible`]).
+    pub(super) admissible_start: bool,
 }
 
 impl<S: ?Sized> std::fmt::Debug for OrbitContinuation<'_, S> {
@@ -199,7 +201,24 @@ impl<'a, S: HybridJacobians + ?Sized> OrbitContinuation<'a, S> {
             measures,
             events,
             half_of,
+            admissible_start: false,
         })
+    }
+
+    /// Whether runs of this problem refuse a start whose orbit is not admissible (default: no;
+    /// [`crate::OrbitRun`] turns it on with its admissibility): the corrected start is checked
+    /// by [`hycont_core::orbit::check_admissible`] (a segment held collapsed on a grazing curve
+    /// may have zero duration), and a violation is [`Error::InadmissibleStart`].
+    pub fn require_admissible(&mut self, on: bool) -> &mut Self {
+        self.admissible_start = on;
+        self
+    }
+
+    /// Whether the problem's orbits are checked at a run's start
+    /// ([`OrbitContinuation::require_admissible`]).
+    #[must_use]
+    pub fn requires_admissible(&self) -> bool {
+        self.admissible_start
     }
 
     /// The zero problem (e.g. to add parts for two-parameter curves; the problem then keeps
@@ -362,6 +381,7 @@ impl<'a, S: HybridJacobians + ?Sized> OrbitContinuation<'a, S> {
             self.measures.clone(),
             self.events.clone(),
         )?;
+        doubled.admissible_start = self.admissible_start;
         let u0 = disc.repeat_unknowns(&self.like, &point.u, None);
         let mut t = disc.repeat_unknowns(&self.like, &point.tangent, None);
         normalize(&mut t);
@@ -492,6 +512,29 @@ impl<'a, S: HybridJacobians + ?Sized> ContinuationProblem<'a> for OrbitContinuat
     }
     fn restore_discretisation(&mut self, revision: usize) -> Result<bool> {
         self.restore(revision)
+    }
+    fn check_start(&mut self, u: &[f64]) -> Result<()> {
+        if !self.admissible_start {
+            return Ok(());
+        }
+        let orbit = self.orbit(u);
+        let collapsed: Vec<usize> = self.collapsed.into_iter().collect();
+        match check_admissible_collapsed(self.system, &orbit, &collapsed) {
+            Err(hycont_core::Error::Inadmissible {
+                segment,
+                event,
+                violation,
+                t,
+                value,
+            }) => Err(Error::InadmissibleStart {
+                segment,
+                event,
+                violation,
+                t,
+                value,
+            }),
+            other => Ok(other?),
+        }
     }
     fn monitor_events(&self) -> Vec<MonitorEvent> {
         let mut events = vec![MonitorEvent {

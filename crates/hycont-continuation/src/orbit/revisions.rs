@@ -60,14 +60,16 @@ impl<S: HybridJacobians + ?Sized> OrbitContinuation<'_, S> {
             .into());
         }
         let disc = revisions.swap_remove(revision);
-        Self::on_discretisation(
+        let mut full = Self::on_discretisation(
             self.system,
             like,
             disc,
             ParamId(self.param),
             self.measures.clone(),
             self.events.clone(),
-        )
+        )?;
+        full.admissible_start = self.admissible_start;
+        Ok(full)
     }
 
     /// Moves a collocation problem (a one-parameter one) to meshes that equidistribute the

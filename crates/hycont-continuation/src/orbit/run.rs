@@ -376,14 +376,26 @@ impl<'a, S: HybridJacobians + ?Sized> OrbitRun<'a, S> {
         } else {
             start
         };
-        OrbitContinuation::new(
+        let (mut cp, u0) = OrbitContinuation::new(
             self.system,
             start,
             &self.method,
             self.free,
             self.measures.clone(),
             self.events.clone(),
-        )
+        )?;
+        cp.require_admissible(self.admissibility_on());
+        Ok((cp, u0))
+    }
+
+    /// Whether the run's admissibility is on ([`OrbitRun::admissibility`]): its branches end
+    /// where their orbits stop being admissible, and its starts must be admissible.
+    #[must_use]
+    pub fn admissibility_on(&self) -> bool {
+        self.admissibility.is_some_and(|(graze, domain)| {
+            let ons = [Quantity::from(graze), Quantity::from(domain)];
+            self.events.iter().any(|e| ons.contains(&e.on))
+        })
     }
 
     /// The branch through `start` (a periodic orbit or a good guess, e.g.
@@ -451,6 +463,7 @@ impl<'a, S: HybridJacobians + ?Sized> OrbitRun<'a, S> {
             self.measures.clone(),
             self.events.clone(),
         )?;
+        cp.require_admissible(self.admissibility_on());
         let nbase = cp.problem().base_unknowns();
         let mut u0 = point.u[..nbase].to_vec();
         u0.push(point.u[nbase - saved.template.params.len() + self.free.index()]);
@@ -469,7 +482,7 @@ impl<'a, S: HybridJacobians + ?Sized> OrbitRun<'a, S> {
         let (template, _) = cp.full_layout()?;
         let mut revisions = cp.full_revisions().into_iter();
         let discretisation = revisions.next().expect("a problem has a discretisation");
-        Ok(OrbitBranch {
+        let saved = OrbitBranch {
             branch,
             free: cp.parameter(),
             second: curve.map(|c| c.0),
@@ -477,7 +490,14 @@ impl<'a, S: HybridJacobians + ?Sized> OrbitRun<'a, S> {
             template,
             discretisation,
             rediscretised: revisions.collect(),
-        })
+        };
+        // The test suites' invariant: every point of every branch is an orbit, and a physical
+        // one where the run's admissibility is on.
+        #[cfg(feature = "invariants")]
+        if let Err(e) = saved.check_points(self.system, self.admissibility_on()) {
+            panic!("branch invariant violated: {e}");
+        }
+        Ok(saved)
     }
 
     /// Runs `cp` from `u0` in `direction` with `settings` (along `start.1` from the point

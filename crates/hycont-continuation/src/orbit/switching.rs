@@ -50,7 +50,7 @@ impl<'a, S: HybridJacobians + ?Sized> OrbitRun<'a, S> {
         if branch.second.is_some() {
             return Err(wrong("the branch is a two-parameter curve"));
         }
-        let full = OrbitContinuation::on_discretisation(
+        let mut full = OrbitContinuation::on_discretisation(
             self.system,
             branch.template.clone(),
             branch.discretisation_of(&special.point)?.clone(),
@@ -58,10 +58,10 @@ impl<'a, S: HybridJacobians + ?Sized> OrbitRun<'a, S> {
             self.measures.clone(),
             self.events.clone(),
         )?;
+        full.require_admissible(self.admissibility_on());
         let settings = self.settings.clone();
         match special.kind {
             SpecialKind::BranchPoint => {
-                let mut full = full;
                 let p = &special.point;
                 let phi = branch_switch_direction(&mut full, &p.u, &p.tangent)?;
                 let start = BranchPoint {

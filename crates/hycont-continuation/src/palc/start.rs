@@ -29,6 +29,7 @@ impl<'a, P: ContinuationProblem<'a> + ?Sized> Palc<'_, 'a, P> {
             let pred: Vec<f64> = u0.iter().zip(&dir).map(|(x, t)| x + h0 * t).collect();
             let row = self.row_of(&dir);
             let (u, it) = self.correct(&pred, &row, u0, h0, false)?;
+            self.p.check_start(&u)?;
             let mut c = self.chart(u, &row, it)?;
             if self.wdot(&c.t, &dir) < 0.0 {
                 c.t.iter_mut().for_each(|x| *x = -*x);
@@ -53,6 +54,7 @@ impl<'a, P: ContinuationProblem<'a> + ?Sized> Palc<'_, 'a, P> {
                     (g, x)
                 }
             };
+            self.p.check_start(&u)?;
             let mut c = self.chart(u, &row, it)?;
             if orientation(&c.t, pi) * direction < 0.0 {
                 c.t.iter_mut().for_each(|x| *x = -*x);

@@ -49,6 +49,20 @@ pub enum Violation {
     EndOutside,
 }
 
+impl std::fmt::Display for Violation {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            Violation::Duration => "its duration is not positive",
+            Violation::InteriorCrossing => "it touches or crosses an event surface inside",
+            Violation::WrongDirection => {
+                "it reaches its end event against the event's direction (or tangentially)"
+            }
+            Violation::StartOutside => "it starts beyond the surface of the event that ends it",
+            Violation::EndOutside => "it ends beyond another event's surface",
+        })
+    }
+}
+
 /// Which admissibility margin an [`AdmissibilityMargin`] reports.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
 pub enum Margin {
@@ -264,7 +278,27 @@ pub fn check_admissible<S: HybridJacobians + ?Sized>(
     system: &S,
     orbit: &PeriodicOrbit,
 ) -> Result<()> {
-    if let Some(k) = orbit.durations.iter().position(|d| !(*d > 0.0)) {
+    check_admissible_collapsed(system, orbit, &[])
+}
+
+/// [`check_admissible`] of an orbit whose segments `collapsed` have collapsed onto their end's
+/// surface: a point of a grazing curve held by a segment's zero duration (and on a symmetric
+/// orbit its image's), whose duration is zero by construction (zero to `1e-8` is not refused;
+/// their other conditions are checked).
+///
+/// # Errors
+/// As [`check_admissible`].
+pub fn check_admissible_collapsed<S: HybridJacobians + ?Sized>(
+    system: &S,
+    orbit: &PeriodicOrbit,
+    collapsed: &[usize],
+) -> Result<()> {
+    if let Some(k) = orbit
+        .durations
+        .iter()
+        .enumerate()
+        .position(|(k, d)| !(*d > 0.0 || (collapsed.contains(&k) && d.abs() <= 1e-8)))
+    {
         return Err(Error::Inadmissible {
             segment: k,
             event: None,
@@ -289,7 +323,9 @@ pub fn check_admissible<S: HybridJacobians + ?Sized>(
     let tol = ADMISSIBILITY_TOL * scale;
     match conditions(system, &events, orbit, &sc)
         .into_iter()
-        .find(|c| c.value < -tol)
+        .find(|c| {
+            c.value < -tol && !(collapsed.contains(&c.segment) && c.violation == Violation::Duration)
+        })
     {
         None => Ok(()),
         Some(c) => Err(Error::Inadmissible {

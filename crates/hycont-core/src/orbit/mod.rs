@@ -21,6 +21,7 @@ mod symmetry;
 
 pub use admissibility::{
     ADMISSIBILITY_TOL, AdmissibilityMargin, Margin, Violation, check_admissible,
+    check_admissible_collapsed,
 };
 pub use collocation::{
     Collocation, CollocationSettings, CollocationSolution, MAX_NTST, Mesh,
