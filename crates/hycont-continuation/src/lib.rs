@@ -9,7 +9,7 @@
 //! collocation; $\mathbb{Z}_2$-symmetric orbits on their half orbit, at half the cost, with
 //! symmetry-breaking branch points detected from the half map), two-parameter curves of special
 //! points by [`Codim2`] ([`OrbitRun::curve_at`] from a special point of a branch,
-//! [`OrbitRun::curve_from`] further along a saved curve); `examples/symmetric_branch.rs` in the
+//! [`OrbitRun::curve_from`] further along a saved curve); `examples/symmetric_branch/` in the
 //! `hycont` package shows a half-orbit branch and a switch to the asymmetric branch. The
 //! augmented Jacobians are factorised with the problem's condensed local blocks (collocation's
 //! interval interiors) and handed to [`ContinuationProblem::analyse_factorised`].

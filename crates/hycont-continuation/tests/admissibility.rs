@@ -182,7 +182,7 @@ fn runs_refuse_a_start_past_the_walls() {
         OrbitMethod::Collocation(CollocationSettings::default()),
     ] {
         let mut run = OrbitRun::new(&sys, A).unwrap();
-        run.method(method.clone()).bounds(0.5, 5.0).max_points(20);
+        run.method(method).bounds(0.5, 5.0).max_points(20);
         let refused = |r: Result<_, RunError>| match r {
             Err(RunError::InadmissibleStart {
                 segment: 0,

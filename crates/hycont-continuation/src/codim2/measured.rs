@@ -1,8 +1,9 @@
 //! The defining equation of an event curve: a measure of the orbit held at a level (e.g. an
-//! amplitude at a boundary, a grazing margin at zero), or a segment's duration held at zero.
+//! amplitude at a boundary), one touch held at zero (a grazing or boundary condition,
+//! [`hycont_core::orbit::Touch`]), or a segment's duration held at zero.
 
 use crate::orbit::SharedMeasures;
-use hycont_core::orbit::{Discretisation, PeriodicOrbit};
+use hycont_core::orbit::{Discretisation, PeriodicOrbit, Touch};
 use hycont_core::problem::ZeroFunction;
 use hycont_core::{HybridJacobians, Result};
 
@@ -13,6 +14,9 @@ pub(crate) enum Held {
     Measure { index: usize, level: f64 },
     /// The duration of a segment at zero (its unknown, exactly).
     Duration { column: usize },
+    /// A touch at zero (its exact gradient); a turning point is looked for where it was found
+    /// last.
+    Touch(Touch),
 }
 
 /// One equation over the problem's base unknowns. A measure depends on the orbit (segment
@@ -30,14 +34,23 @@ pub(crate) struct MeasuredCondition<'a, S: ?Sized> {
 }
 
 impl<S: HybridJacobians + ?Sized> MeasuredCondition<'_, S> {
-    fn value(&self, u: &[f64]) -> Result<f64> {
+    fn value(&mut self, u: &[f64]) -> Result<f64> {
         Ok(self.value_and_gradient(u)?.0)
     }
 
     /// The value and, where the measure knows it exactly, its gradient over
     /// [`MeasuredCondition::columns`] (the orbit's coordinates, in the same order).
-    fn value_and_gradient(&self, u: &[f64]) -> Result<(f64, Option<Vec<f64>>)> {
+    fn value_and_gradient(&mut self, u: &[f64]) -> Result<(f64, Option<Vec<f64>>)> {
         match self.held {
+            Held::Touch(touch) => {
+                let orbit = self.disc.unpack(&self.like, u);
+                let v = touch.evaluate(self.system, &orbit)?;
+                self.held = Held::Touch(touch.near(v.fraction));
+                Ok((
+                    v.value,
+                    Some(v.gradient).filter(|g| g.len() == self.columns.len()),
+                ))
+            }
             Held::Measure { index, level } => {
                 let orbit = self.disc.unpack(&self.like, u);
                 let (v, g) = self
@@ -59,7 +72,7 @@ impl<S: HybridJacobians + ?Sized> ZeroFunction for MeasuredCondition<'_, S> {
     }
     fn jacobian_pattern(&self) -> Vec<(usize, usize)> {
         match self.held {
-            Held::Measure { .. } => self.columns.iter().map(|&c| (0, c)).collect(),
+            Held::Measure { .. } | Held::Touch(_) => self.columns.iter().map(|&c| (0, c)).collect(),
             Held::Duration { column } => vec![(0, column)],
         }
     }
@@ -85,7 +98,8 @@ impl<S: HybridJacobians + ?Sized> ZeroFunction for MeasuredCondition<'_, S> {
         // Forward differences (step ~ sqrt(eps) relative): the gradient only steers Newton and
         // the tangent; the equation itself is evaluated exactly.
         let mut w = u.to_vec();
-        for (slot, &c) in self.columns.iter().enumerate() {
+        let columns = self.columns.clone();
+        for (slot, &c) in columns.iter().enumerate() {
             let h = 1e-7 * u[c].abs().max(1e-1);
             w[c] = u[c] + h;
             let fp = self.value(&w)?;

@@ -24,7 +24,7 @@ use crate::error::{Error, Result};
 use crate::orbit::{OrbitContinuation, SharedMeasures};
 use crate::quantity::{MeasureId, Quantity};
 use crate::{ContinuationProblem, MonitorEvent, PointInfo};
-use hycont_core::orbit::{Closure, Discretisation, PeriodicOrbit};
+use hycont_core::orbit::{Closure, Discretisation, PeriodicOrbit, Touch};
 use hycont_core::problem::Activity;
 use hycont_core::{HybridJacobians, ParamId};
 use measured::{Held, MeasuredCondition};
@@ -53,6 +53,20 @@ pub enum CurveCondition {
         /// The segment.
         segment: usize,
     },
+    /// One grazing or boundary condition held at zero ([`Touch`]: a turning point on an
+    /// event surface, a tangential impact, a segment ending on a surface): where a margin
+    /// measure vanished at the curve's start, the condition that attained it, smooth where
+    /// the margin is not.
+    Touch {
+        /// The condition.
+        touch: Touch,
+        /// The margin it attained at the curve's start (zero along the curve: its events are
+        /// not detected there).
+        measure: Option<MeasureId>,
+        /// The kind of the special point the curve started at (e.g. GR, or DB for a domain
+        /// boundary).
+        kind: crate::SpecialKind,
+    },
 }
 
 impl CurveCondition {
@@ -66,6 +80,18 @@ impl CurveCondition {
             CurveCondition::SymmetryBreaking => K::BranchPoint,
             CurveCondition::Measure { .. } => K::BoundaryTouch,
             CurveCondition::Collapse { .. } => K::Grazing,
+            CurveCondition::Touch { kind, .. } => kind,
+        }
+    }
+
+    /// The measure whose value the condition holds (an event on it would mark every point):
+    /// the held measure, or the margin a touch attained at the start.
+    #[must_use]
+    pub fn defining_measure(self) -> Option<MeasureId> {
+        match self {
+            CurveCondition::Measure { measure, .. } => Some(measure),
+            CurveCondition::Touch { measure, .. } => measure,
+            _ => None,
         }
     }
 }
@@ -120,7 +146,7 @@ impl<'a, S: HybridJacobians + ?Sized> Codim2<'a, S> {
             });
         }
         let base = disc.pack(system, orbit)?;
-        let factor = closure_factor(condition, orbit, measures.len())?;
+        let factor = closure_factor(system, condition, orbit, measures.len())?;
         let u_base = base.clone();
         let mut inner = OrbitContinuation::build(
             system,
@@ -150,6 +176,7 @@ impl<'a, S: HybridJacobians + ?Sized> Codim2<'a, S> {
             CurveCondition::Collapse { segment } => Some(Held::Duration {
                 column: disc.segment_values(orbit) + segment,
             }),
+            CurveCondition::Touch { touch, .. } => Some(Held::Touch(touch)),
             _ => None,
         };
         if let Some(held) = held {
@@ -266,7 +293,8 @@ pub fn curve_settings() -> crate::ContinuationSettings {
 /// fold; $-1$: a multiplier $-1$, period doubling on the full orbit or symmetry breaking on
 /// the half orbit), `None` for the conditions held by a measured part; an error where the
 /// condition does not apply to `orbit` (with `measures` measures besides the two built in).
-fn closure_factor(
+fn closure_factor<S: hycont_core::HybridSystem + ?Sized>(
+    system: &S,
     condition: CurveCondition,
     orbit: &PeriodicOrbit,
     measures: usize,
@@ -304,6 +332,10 @@ fn closure_factor(
                     count,
                 });
             }
+            None
+        }
+        CurveCondition::Touch { touch, .. } => {
+            touch.validate(system, orbit)?;
             None
         }
         CurveCondition::Collapse { segment } => {

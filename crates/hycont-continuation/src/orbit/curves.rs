@@ -76,7 +76,14 @@ impl<'a, S: HybridJacobians + ?Sized> OrbitRun<'a, S> {
     /// - a period doubling (PD): on the full orbit;
     /// - an event on a measure (SB, GR, a user label): the measure held at its level (a grazing
     ///   by a collapsing segment: that segment's duration held at zero); symmetric orbits on
-    ///   their half orbit.
+    ///   their half orbit. A margin held at zero (the admissibility events GR and DB, a
+    ///   [`hycont_core::orbit::GrazingMargin`]) is the smallest of several conditions and not
+    ///   smooth where two meet (e.g. a turning point reaching a segment's end): the curve holds
+    ///   the one condition that attains it at the start instead
+    ///   ([`hycont_core::orbit::Touch`]: a turning point on the surface, a tangential impact's
+    ///   approach rate, a segment's end on the surface; [`CurveCondition::Touch`]), a smooth
+    ///   function of the orbit with an exact gradient, so the curve is followed with ordinary
+    ///   steps.
     ///
     /// Along the curve: folds, `spec`'s user points, and the run's terminal events (other than
     /// the one defining the curve) are detected; the run's bounds and `spec`'s bound on the
@@ -237,6 +244,25 @@ impl<'a, S: HybridJacobians + ?Sized> OrbitRun<'a, S> {
                      grazing curve from the other side (the margin's event on longer segments)",
                 ));
             }
+            // A margin held at zero: the condition that attains it, smooth where the margin is
+            // not (where another condition meets it, e.g. a turning point reaching a segment's
+            // end).
+            CurveCondition::Measure {
+                measure,
+                level: 0.0,
+            } => {
+                match self
+                    .measures
+                    .touch(self.system, &start, measure.index() - 2)?
+                {
+                    Some(touch) => CurveCondition::Touch {
+                        touch,
+                        measure: Some(measure),
+                        kind,
+                    },
+                    None => condition,
+                }
+            }
             CurveCondition::Collapse { .. } => {
                 let segment = start
                     .durations
@@ -263,7 +289,11 @@ impl<'a, S: HybridJacobians + ?Sized> OrbitRun<'a, S> {
             spec.second,
             condition,
             self.measures.clone(),
-            self.curve_events(condition, kind, spec)?,
+            self.curve_events(
+                condition.defining_measure().map(Quantity::Measure),
+                kind,
+                spec,
+            )?,
         )?;
         cp.require_admissible(self.admissibility_on());
         let mut settings = self.curve_settings.clone();
@@ -281,18 +311,14 @@ impl<'a, S: HybridJacobians + ?Sized> OrbitRun<'a, S> {
     }
 
     /// The events along a curve: `spec`'s user points and the run's terminal events except
-    /// the one on the measure that defines the curve and, on a curve of a `kind` point, the
+    /// those on the measure `defining` the curve and, on a curve of a `kind` point, the
     /// admissibility event of that kind (its margin vanishes along the curve).
     fn curve_events(
         &self,
-        condition: CurveCondition,
+        defining: Option<Quantity>,
         kind: SpecialKind,
         spec: &CurveSpec,
     ) -> Result<Vec<MonitorEvent>> {
-        let defining = match condition {
-            CurveCondition::Measure { measure, .. } => Some(Quantity::Measure(measure)),
-            _ => None,
-        };
         let same_kind_admissibility = |e: &MonitorEvent| {
             self.admissibility.is_some_and(|(graze, domain)| {
                 e.kind == kind

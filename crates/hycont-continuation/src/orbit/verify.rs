@@ -55,10 +55,9 @@ impl OrbitBranch {
             let mut residual = vec![0.0; eq.equations()];
             eq.evaluate(&p.u[..base], &mut residual, None)?;
             let scale = 1.0 + p.u.iter().fold(0.0f64, |m, v| m.max(v.abs()));
-            let (row, worst) = residual
-                .iter()
-                .enumerate()
-                .fold((0, 0.0f64), |m, (i, r)| if r.abs() > m.1 { (i, r.abs()) } else { m });
+            let (row, worst) = residual.iter().enumerate().fold((0, 0.0f64), |m, (i, r)| {
+                if r.abs() > m.1 { (i, r.abs()) } else { m }
+            });
             if !(worst <= POINT_RESIDUAL_TOL * scale) {
                 return Err(bad(
                     p.label,

@@ -21,10 +21,10 @@
 //! Durations are checked by [`check_admissible`] only: a continuation ends at a collapsing
 //! segment by its own shortest-segment monitor.
 
-use super::PeriodicOrbit;
 use super::measure::Measure;
 use super::scan::{OrbitScan, ScanNeeds, Turn, Watch, scan};
 use super::signature::SegmentEnd;
+use super::{PeriodicOrbit, Touch};
 use crate::Z2Symmetry;
 use crate::error::{Error, Result};
 use crate::simulate::SimulationSettings;
@@ -267,6 +267,29 @@ impl<S: HybridJacobians + ?Sized> Measure<S> for AdmissibilityMargin {
             .iter()
             .all(|(e, _)| symmetry.events.get(e.0).is_some())
     }
+    /// The condition that attains the margin: an interior turning point
+    /// ([`Touch::Turn`]), a terminal approach rate ([`Touch::Approach`]) or an event's value at
+    /// a segment's end ([`Touch::End`]); `None` where it is a duration (a collapsing segment)
+    /// or nothing bounds the margin.
+    fn touch(&self, system: &S, orbit: &PeriodicOrbit, scan: &OrbitScan) -> Option<Touch> {
+        let c = conditions(system, &self.events, orbit, scan)
+            .into_iter()
+            .filter(|c| c.margin == Some(self.margin))
+            .min_by(|a, b| a.value.total_cmp(&b.value))?;
+        let event = c.event?;
+        Some(match c.violation {
+            Violation::InteriorCrossing => Touch::at_turn(system, orbit, c.segment, event, c.t),
+            Violation::WrongDirection => Touch::Approach {
+                segment: c.segment,
+                event,
+            },
+            Violation::EndOutside => Touch::End {
+                segment: c.segment,
+                event,
+            },
+            Violation::Duration | Violation::StartOutside => return None,
+        })
+    }
 }
 
 /// Checks that `orbit` is admissible (see the module docs), integrating it once.
@@ -324,9 +347,9 @@ pub fn check_admissible_collapsed<S: HybridJacobians + ?Sized>(
     match conditions(system, &events, orbit, &sc)
         .into_iter()
         .find(|c| {
-            c.value < -tol && !(collapsed.contains(&c.segment) && c.violation == Violation::Duration)
-        })
-    {
+            c.value < -tol
+                && !(collapsed.contains(&c.segment) && c.violation == Violation::Duration)
+        }) {
         None => Ok(()),
         Some(c) => Err(Error::Inadmissible {
             segment: c.segment,

@@ -53,7 +53,7 @@
 //! ```
 
 use super::scan::{OrbitScan, ScanNeeds, Turn, Watch, scan};
-use super::{Closure, PeriodicOrbit, SegmentEnd};
+use super::{Closure, PeriodicOrbit, SegmentEnd, Touch};
 use crate::error::{Error, Result, check_finite};
 use crate::simulate::SimulationSettings;
 use crate::system::{EventId, HybridJacobians, HybridSystem, Z2Symmetry};
@@ -81,6 +81,14 @@ pub trait Measure<S: ?Sized> {
     /// e.g. because the value is one of them; `None` (the default) where it is not (the
     /// two-parameter curves then take differences).
     fn gradient(&self, system: &S, orbit: &PeriodicOrbit, scan: &OrbitScan) -> Option<Vec<f64>> {
+        let _ = (system, orbit, scan);
+        None
+    }
+    /// Where the value is attained, as one smooth condition ([`Touch`]), for a measure that is
+    /// the smallest of several conditions (a margin): a two-parameter curve holding the measure
+    /// at zero holds this touch instead, which stays smooth where the smallest condition
+    /// changes. Default: `None` (the measure is held itself).
+    fn touch(&self, system: &S, orbit: &PeriodicOrbit, scan: &OrbitScan) -> Option<Touch> {
         let _ = (system, orbit, scan);
         None
     }
@@ -115,6 +123,9 @@ impl<S: ?Sized, M: Measure<S>> Measure<S> for Borrowed<'_, M> {
     }
     fn gradient(&self, system: &S, orbit: &PeriodicOrbit, scan: &OrbitScan) -> Option<Vec<f64>> {
         self.0.gradient(system, orbit, scan)
+    }
+    fn touch(&self, system: &S, orbit: &PeriodicOrbit, scan: &OrbitScan) -> Option<Touch> {
+        self.0.touch(system, orbit, scan)
     }
 }
 
@@ -347,6 +358,24 @@ impl<S: HybridJacobians + ?Sized> Measure<S> for GrazingMargin {
             }
         }
         Ok(margin)
+    }
+    /// The turning point that attains the margin.
+    fn touch(&self, system: &S, orbit: &PeriodicOrbit, scan: &OrbitScan) -> Option<Touch> {
+        let mut best: Option<(f64, Touch)> = None;
+        for &e in &self.events {
+            let sigma = system.event_spec(e).direction.sign_before()?;
+            let wanted = if sigma > 0.0 { Turn::Min } else { Turn::Max };
+            for p in scan
+                .critical_of(Watch::Event(e))
+                .filter(|p| p.turn == wanted)
+            {
+                let v = sigma * p.value;
+                if best.as_ref().is_none_or(|b| v < b.0) {
+                    best = Some((v, Touch::at_turn(system, orbit, p.segment, e, p.t)));
+                }
+            }
+        }
+        best.map(|b| b.1)
     }
     /// Invariant when the events are closed under the symmetry's event map (the mirrored
     /// segments then have the same margins).
@@ -636,6 +665,35 @@ impl<S: HybridJacobians + ?Sized> MeasureSet<'_, S> {
             check_finite("measure gradient", g)?;
         }
         Ok((value, gradient))
+    }
+
+    /// Where measure `index` is attained on `orbit`, as one smooth condition
+    /// ([`Measure::touch`]); `None` for a measure that is not a margin, and on a half orbit
+    /// that had to be unfolded to be measured.
+    ///
+    /// # Errors
+    /// As [`MeasureSet::evaluate_one`].
+    pub fn touch(&self, system: &S, orbit: &PeriodicOrbit, index: usize) -> Result<Option<Touch>> {
+        if index >= self.measures.len() {
+            return Err(Error::InvalidMeasure {
+                reason: format!("measure {index} does not exist ({} measures)", self.len()),
+            });
+        }
+        let m = &self.measures[index];
+        let unfold = orbit.signature.closure() == Closure::Symmetric
+            && system
+                .symmetry()
+                .is_some_and(|sym| !m.invariant_under(system, &sym));
+        if unfold {
+            return Ok(None);
+        }
+        let needs = m.needs();
+        let scanned = if needs.is_empty() {
+            OrbitScan::default()
+        } else {
+            scan(system, orbit, &needs, &self.settings)?
+        };
+        Ok(m.touch(system, orbit, &scanned))
     }
 
     fn evaluate_indices(

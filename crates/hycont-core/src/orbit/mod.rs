@@ -18,6 +18,7 @@ mod scan;
 mod shooting;
 mod signature;
 mod symmetry;
+mod touch;
 
 pub use admissibility::{
     ADMISSIBILITY_TOL, AdmissibilityMargin, Margin, Violation, check_admissible,
@@ -44,6 +45,7 @@ pub use symmetry::{
     SolvedOrbit, SymmetricSearch, SymmetricSolution, find_symmetric_orbit, solve_orbit,
     solve_symmetric_collocation, solve_symmetric_shooting, symmetric_floquet,
 };
+pub use touch::{Touch, TouchValue};
 
 use crate::error::Result;
 use crate::problem::{NewtonIteration, NewtonSettings, Problem, newton};
