@@ -153,6 +153,13 @@ pub enum Error {
         /// What is wrong, naming the bad value.
         reason: String,
     },
+    /// A system's $\mathbb{Z}_2$ symmetry is not one ([`crate::Z2Symmetry::validate`],
+    /// [`crate::Z2Symmetry::check_at`]).
+    #[error("invalid symmetry: {reason}")]
+    InvalidSymmetry {
+        /// What is wrong, naming the bad entry or map.
+        reason: String,
+    },
     /// An event transition was requested by the system that it cannot carry out.
     #[error("event transition at t = {t} from mode {mode} is invalid: {reason}")]
     InvalidTransition {

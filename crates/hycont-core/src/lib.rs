@@ -55,5 +55,5 @@ pub use simulate::{
 pub use system::{
     DerivativeCheck, DerivativeKind, DerivativeMismatch, Direction, EventAction, EventId,
     EventSpec, FiniteDifferences, HybridJacobians, HybridSystem, Mode, ParamId, Z2Symmetry,
-    check_derivatives,
+    check_derivatives, checked_symmetry,
 };

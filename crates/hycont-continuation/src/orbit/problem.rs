@@ -162,18 +162,8 @@ impl<'a, S: HybridJacobians + ?Sized> OrbitContinuation<'a, S> {
         like.validate(system)?;
         let half_of = match like.signature.closure() {
             Closure::Periodic => None,
-            Closure::Symmetric => {
-                Some(
-                    system
-                        .symmetry()
-                        .ok_or_else(|| hycont_core::Error::InvalidSignature {
-                            segment: 0,
-                            reason:
-                                "a half orbit (symmetric closure) needs a system with a symmetry"
-                                    .into(),
-                        })?,
-                )
-            }
+            // A half orbit's symmetry is checked at its segment starts before it is used.
+            Closure::Symmetric => Some(like.symmetry_at_starts(system)?),
         };
         let cache = matches!(disc, Discretisation::Shooting(_)).then(LinearizationCache::default);
         let eq = disc.equations(system, &like, cache.clone())?;

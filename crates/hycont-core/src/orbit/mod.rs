@@ -47,7 +47,7 @@ pub use symmetry::{
 };
 pub use touch::{Touch, TouchValue};
 
-use crate::error::Result;
+use crate::error::{Error, Result};
 use crate::problem::{NewtonIteration, NewtonSettings, Problem, newton};
 use crate::simulate::{Sensitivities, SimulationSettings, Simulator};
 use crate::system::{HybridJacobians, Mode};
@@ -211,6 +211,7 @@ pub fn solve_shooting<S: HybridJacobians + ?Sized>(
     newton_settings: &NewtonSettings,
 ) -> Result<OrbitSolution> {
     guess.validate(system)?;
+    refuse_half_orbit(guess, "solve_symmetric_shooting")?;
     let mut problem = shooting_problem(system, guess, settings)?;
     let sol = newton(&mut problem, &pack(guess), newton_settings)?;
     let orbit = unpack(guess, &sol.u);
@@ -222,6 +223,21 @@ pub fn solve_shooting<S: HybridJacobians + ?Sized>(
         newton: sol.history,
         residual: sol.residual,
     })
+}
+
+/// Refuses a half orbit ([`Closure::Symmetric`]) where a full orbit is solved: its
+/// multipliers would be those of the half monodromy, not the orbit's.
+pub(crate) fn refuse_half_orbit(guess: &PeriodicOrbit, instead: &str) -> Result<()> {
+    if guess.signature.closure() == Closure::Symmetric {
+        return Err(Error::InvalidSignature {
+            segment: 0,
+            reason: format!(
+                "a half orbit (symmetric closure) is solved by solve_orbit or {instead}, which \
+                 report the full orbit's and the half map's multipliers"
+            ),
+        });
+    }
+    Ok(())
 }
 
 /// Floquet multipliers of `orbit` from its segments' flow Jacobians and saltation matrices.

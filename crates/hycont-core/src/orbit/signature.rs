@@ -70,12 +70,8 @@ impl Signature {
         let k = segments.len();
         let symmetry = match closure {
             Closure::Periodic => None,
-            Closure::Symmetric => {
-                Some(system.symmetry().ok_or_else(|| Error::InvalidSignature {
-                    segment: 0,
-                    reason: "a symmetric closure needs a system with a symmetry".into(),
-                })?)
-            }
+            // A symmetric closure needs a valid symmetry (else Error::InvalidSymmetry).
+            Closure::Symmetric => Some(crate::system::checked_symmetry(system)?),
         };
         if k == 0 {
             return Err(Error::InvalidSignature {

@@ -12,14 +12,15 @@ use super::{
 use crate::error::{Error, Result, check_finite, check_len};
 use crate::problem::NewtonSettings;
 use crate::simulate::{SimulationSettings, Simulator};
-use crate::system::{HybridJacobians, HybridSystem, Z2Symmetry};
+use crate::system::{HybridJacobians, HybridSystem, Z2Symmetry, checked_symmetry};
 use serde::{Deserialize, Serialize};
 
 fn symmetry_of<S: HybridSystem + ?Sized>(system: &S) -> Result<Z2Symmetry> {
-    system.symmetry().ok_or_else(|| Error::InvalidSignature {
-        segment: 0,
-        reason: "the system has no symmetry".into(),
-    })
+    checked_symmetry(system)
+}
+
+fn symmetry_at<S: HybridSystem + ?Sized>(system: &S, orbit: &PeriodicOrbit) -> Result<Z2Symmetry> {
+    orbit.symmetry_at_starts(system)
 }
 
 fn image_segment(sym: &Z2Symmetry, n: usize, seg: &SegmentSpec) -> SegmentSpec {
@@ -37,6 +38,20 @@ fn image_segment(sym: &Z2Symmetry, n: usize, seg: &SegmentSpec) -> SegmentSpec {
 }
 
 impl PeriodicOrbit {
+    /// The system's symmetry, checked ([`Z2Symmetry::validate`]) and checked to commute with
+    /// the system at the orbit's segment starts, each in its mode ([`Z2Symmetry::check_at`]):
+    /// what the half-orbit solves and continuation do before using it.
+    ///
+    /// # Errors
+    /// [`Error::InvalidSymmetry`] naming what is wrong or does not commute.
+    pub fn symmetry_at_starts<S: HybridSystem + ?Sized>(&self, system: &S) -> Result<Z2Symmetry> {
+        let sym = checked_symmetry(system)?;
+        for (seg, x) in self.signature.segments().iter().zip(&self.starts) {
+            sym.check_at(system, seg.mode, &[x], &self.params)?;
+        }
+        Ok(sym)
+    }
+
     /// The $S$-image of the orbit: modes and events mapped, start states $S x_k$, same durations.
     ///
     /// # Errors
@@ -73,7 +88,7 @@ impl PeriodicOrbit {
     /// segment $k + K$ the image of segment $k$.
     #[must_use]
     pub fn is_symmetric<S: HybridSystem + ?Sized>(&self, system: &S, tol: f64) -> bool {
-        let Some(sym) = system.symmetry() else {
+        let Ok(sym) = checked_symmetry(system) else {
             return false;
         };
         let kk = self.segment_count();
@@ -217,6 +232,8 @@ pub fn solve_symmetric_shooting<S: HybridJacobians + ?Sized>(
             reason: "the half-orbit guess needs a symmetric closure".into(),
         });
     }
+    half_guess.validate(system)?;
+    symmetry_at(system, half_guess)?;
     let mut problem = super::shooting_problem(system, half_guess, settings)?;
     let sol = crate::problem::newton(&mut problem, &super::pack(half_guess), newton_settings)?;
     let half = super::unpack(half_guess, &sol.u);
@@ -254,7 +271,14 @@ pub fn solve_symmetric_collocation<S: HybridJacobians + ?Sized>(
             reason: "the half-orbit guess needs a symmetric closure".into(),
         });
     }
-    let sol = super::solve_collocation(system, half_guess, settings, newton_settings)?;
+    half_guess.validate(system)?;
+    symmetry_at(system, half_guess)?;
+    let sol = super::collocation::solve_collocation_admissible(
+        system,
+        half_guess,
+        settings,
+        newton_settings,
+    )?;
     let half = sol.solution.orbit.clone();
     let (half_floquet, floquet) =
         symmetric_floquet(system, &half, &sol.solution.floquet.monodromy)?;
@@ -344,6 +368,12 @@ pub fn find_symmetric_orbit<S: HybridJacobians + ?Sized>(
     check_len("parameters", params, system.parameter_count())?;
     check_finite("parameters", params)?;
     let n = system.state_dim();
+    let first = half.segments()[0].mode;
+    for x0 in &search.seeds {
+        check_len("seed", x0, n)?;
+        check_finite("seed", x0)?;
+        sym.check_at(system, first, &[x0], params)?;
+    }
     let mut candidates = Vec::new();
     let mut image = vec![0.0; n];
     let mut sim = Simulator::new(search.scan.clone())?;
@@ -407,7 +437,8 @@ pub struct SolvedOrbit {
 
 /// Solves the orbit near `guess` by `method`; a guess that is symmetric to `symmetric_tol`
 /// ([`PeriodicOrbit::is_symmetric`]) is solved on its half orbit, with half the unknowns, and
-/// reports the half map's multipliers too.
+/// reports the half map's multipliers too; so is a half orbit ([`Closure::Symmetric`]) given
+/// as the guess. The solution is always the full orbit with the full period's multipliers.
 ///
 /// # Errors
 /// As [`super::solve_shooting`] and [`super::solve_collocation`].
@@ -419,8 +450,13 @@ pub fn solve_orbit<S: HybridJacobians + ?Sized>(
     symmetric_tol: f64,
 ) -> Result<SolvedOrbit> {
     use super::OrbitMethod;
-    if guess.is_symmetric(system, symmetric_tol) {
-        let half = guess.half_of_symmetric(system, symmetric_tol)?;
+    let half_given = guess.signature.closure() == Closure::Symmetric;
+    if half_given || guess.is_symmetric(system, symmetric_tol) {
+        let half = if half_given {
+            guess.clone()
+        } else {
+            guess.half_of_symmetric(system, symmetric_tol)?
+        };
         let sol = match *method {
             OrbitMethod::Shooting(s) => solve_symmetric_shooting(system, &half, s, newton)?,
             OrbitMethod::Collocation(c) => solve_symmetric_collocation(system, &half, c, newton)?,

@@ -118,33 +118,6 @@ pub struct EventSpec {
     pub action: EventAction,
 }
 
-/// A linear $\mathbb{Z}_2$ symmetry $S$ of a hybrid system ($S^2 = I$): $S f_m(x) = f_{\sigma(m)}(Sx)$,
-/// events and resets map accordingly.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct Z2Symmetry {
-    /// $S$, column-major $n \times n$.
-    pub matrix: Vec<f64>,
-    /// $\sigma$: the image of each mode.
-    pub modes: Vec<Mode>,
-    /// The image of each event.
-    pub events: Vec<EventId>,
-}
-
-impl Z2Symmetry {
-    /// Writes $S x$ into `out`.
-    pub fn apply(&self, x: &[f64], out: &mut [f64]) {
-        let n = x.len();
-        // Column by column: each out[i] adds its terms in the order j = 0, 1, .. (as a row
-        // sum from -0.0 would).
-        out.fill(-0.0);
-        for (col, &xj) in self.matrix.chunks_exact(n.max(1)).zip(x) {
-            for (o, s) in out.iter_mut().zip(col) {
-                *o += s * xj;
-            }
-        }
-    }
-}
-
 /// A hybrid dynamical system: modes, vector fields, events and resets.
 ///
 /// Hot-path methods write into caller-provided buffers and must not allocate.
@@ -338,6 +311,8 @@ pub trait HybridJacobians: HybridSystem {
 }
 
 mod derivatives;
+mod symmetry;
 pub use derivatives::{
     DerivativeCheck, DerivativeKind, DerivativeMismatch, FiniteDifferences, check_derivatives,
 };
+pub use symmetry::{Z2Symmetry, checked_symmetry};

@@ -355,6 +355,18 @@ pub fn solve_collocation<S: HybridJacobians + ?Sized>(
     settings: CollocationSettings,
     newton_settings: &NewtonSettings,
 ) -> Result<CollocationSolution> {
+    crate::orbit::refuse_half_orbit(guess, "solve_symmetric_collocation")?;
+    solve_collocation_admissible(system, guess, settings, newton_settings)
+}
+
+/// [`solve_collocation`] of a full or a half orbit (whose multipliers are then the half
+/// monodromy's, for [`crate::orbit::solve_symmetric_collocation`] to complete).
+pub(crate) fn solve_collocation_admissible<S: HybridJacobians + ?Sized>(
+    system: &S,
+    guess: &PeriodicOrbit,
+    settings: CollocationSettings,
+    newton_settings: &NewtonSettings,
+) -> Result<CollocationSolution> {
     let sol = solve_collocation_unchecked(system, guess, settings, newton_settings)?;
     crate::orbit::check_admissible(system, &sol.solution.orbit)?;
     Ok(sol)
