@@ -137,6 +137,8 @@ pub enum Error {
     NewtonFailed {
         /// Why, with the number of iterations done.
         reason: String,
+        /// What kind of failure it is.
+        failure: crate::problem::NewtonFailure,
         /// The iterations done (those recorded; may be empty when the solver keeps none).
         history: Vec<crate::problem::NewtonIteration>,
     },

@@ -12,7 +12,7 @@ use hycont_core::orbit::{
     solve_shooting, unpack,
 };
 use hycont_core::problem::{
-    Activity, NewtonSettings, Problem, UnknownMonitor, ZeroFunction, newton,
+    Activity, NewtonFailure, NewtonSettings, Problem, UnknownMonitor, ZeroFunction, newton,
 };
 use hycont_core::{Error, EventId, Mode, SimulationSettings};
 
@@ -258,9 +258,54 @@ fn newton_failure_reports_its_history() {
     // x^2 + 1 = 0 has no real root.
     let mut problem = scalar_problem(|x| x * x + 1.0, |x| 2.0 * x);
     match newton(&mut problem, &[0.7], &NewtonSettings::default()).unwrap_err() {
-        Error::NewtonFailed { history, reason } => {
+        Error::NewtonFailed {
+            history,
+            reason,
+            failure,
+        } => {
             assert!(!history.is_empty(), "{reason}");
             assert!(history.iter().all(|h| h.residual >= 1.0));
+            // x^2 + 1 >= 1: no step can bring the residual down for long.
+            assert!(
+                matches!(
+                    failure,
+                    NewtonFailure::NoDescent | NewtonFailure::IterationLimit
+                ),
+                "{failure:?}: {reason}"
+            );
+        }
+        other => panic!("{other}"),
+    }
+}
+
+/// Newton's failures say why. $x^2 = 0$ has a double root, where the Jacobian $2x$ vanishes:
+/// Newton halves $x$ each step, so after 20 steps the residual $x^2 \approx 10^{-12}$ is below
+/// its tolerance while the step $x/2 \approx 5 \cdot 10^{-7}$ is not: a solution that is not
+/// isolated. $x - 1 = 0$ with a Jacobian ten times too large moves a tenth of the way each
+/// step: the residual falls by 0.9 per step, slowly.
+#[test]
+fn newton_failures_say_why() {
+    let mut double = scalar_problem(|x| x * x, |x| 2.0 * x);
+    match newton(&mut double, &[1.0], &NewtonSettings::default()).unwrap_err() {
+        Error::NewtonFailed {
+            failure, reason, ..
+        } => {
+            assert_eq!(failure, NewtonFailure::StepsNotConverging, "{reason}");
+            assert!(reason.contains("not isolated"), "{reason}");
+        }
+        other => panic!("{other}"),
+    }
+    let mut wrong = scalar_problem(|x| x - 1.0, |_| 10.0);
+    let settings = NewtonSettings {
+        chord_contraction: 0.0,
+        ..NewtonSettings::default()
+    };
+    match newton(&mut wrong, &[0.0], &settings).unwrap_err() {
+        Error::NewtonFailed {
+            failure, reason, ..
+        } => {
+            assert_eq!(failure, NewtonFailure::SlowContraction, "{reason}");
+            assert!(reason.contains("0.900"), "{reason}");
         }
         other => panic!("{other}"),
     }

@@ -82,6 +82,7 @@ impl<'a, P: ContinuationProblem<'a> + ?Sized> Palc<'_, 'a, P> {
         }
         let mut fresh = true;
         let mut expect_solution = false;
+        let mut history = Vec::new();
         for it in 0..=max_it {
             if !fresh {
                 if expect_solution {
@@ -118,6 +119,12 @@ impl<'a, P: ContinuationProblem<'a> + ?Sized> Palc<'_, 'a, P> {
             self.pattern.solve_in_place(&mut du)?;
             last_step = max_abs(&du);
             last_res = res;
+            history.push(hycont_core::problem::NewtonIteration {
+                residual: res,
+                step: last_step,
+                damping: 1.0,
+                factorized: fresh || exact,
+            });
             if last_step > 1e3 * scale {
                 break;
             }
@@ -126,12 +133,25 @@ impl<'a, P: ContinuationProblem<'a> + ?Sized> Palc<'_, 'a, P> {
             }
             fresh = false;
         }
+        let tol = ns.tol * (1.0 + max_abs(&u));
+        let last = max_abs(&self.res);
+        let (failure, why) = if last_step > 1e3 * (1.0 + max_abs(&u)) {
+            (
+                hycont_core::problem::NewtonFailure::Diverging,
+                format!(
+                    "the corrector's step {last_step:e} left the chart (residual {last_res:e})"
+                ),
+            )
+        } else {
+            hycont_core::problem::NewtonFailure::diagnose(&history, last, ns.residual_tol, tol)
+        };
         Err(Error::Core(hycont_core::Error::NewtonFailed {
             reason: format!(
-                "the corrector did not converge in {} iterations (last step {last_step:e}, residual {last_res:e})",
-                max_it + 1
+                "the corrector did not converge in {} iterations: {why}",
+                history.len()
             ),
-            history: Vec::new(),
+            failure,
+            history,
         }))
     }
 

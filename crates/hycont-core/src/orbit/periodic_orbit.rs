@@ -117,14 +117,37 @@ impl PeriodicOrbit {
     /// state agrees to `tol` (relative, max-norm); the jumps in between define the signature,
     /// durations and start states. The trajectory must have recorded its events.
     ///
+    /// A tail that is not a periodic orbit is refused: a simulation that stopped at a Zeno
+    /// accumulation or a terminal event, a cycle with a Zeno transition in it or after it (the
+    /// tail is not the cycle), a cycle shorter than the one before it by the simulator's Zeno
+    /// ratio ([`crate::ZenoSettings::max_ratio`]) and a cycle with a segment shorter than event
+    /// location resolves ($10^{-10} \max(1, |t|)$): jumps accumulating, not repeating.
+    ///
     /// # Errors
-    /// [`Error::NotPeriodic`] if no repetition is found within `tol`.
+    /// [`Error::NotPeriodic`] naming the reason: no repetition within `tol`, or one of the
+    /// above.
     pub fn from_simulation<S: HybridSystem + ?Sized>(
         system: &S,
         trajectory: &Trajectory,
         params: &[f64],
         tol: f64,
     ) -> Result<Self> {
+        let not_periodic = |reason: String| Err(Error::NotPeriodic { reason });
+        match trajectory.stop {
+            StopReason::ZenoAccumulation { event, t } => {
+                return not_periodic(format!(
+                    "the simulation stopped where jumps of {event} accumulate (Zeno) at t = {t}: \
+                     its tail converges to a point of accumulation, not to a periodic orbit"
+                ));
+            }
+            StopReason::TerminalEvent { event, t } => {
+                return not_periodic(format!(
+                    "the simulation ended at the terminal {event} at t = {t}: its tail is not \
+                     periodic"
+                ));
+            }
+            StopReason::EndReached | StopReason::StepLimit { .. } => {}
+        }
         let ev = &trajectory.events;
         let jumps: Vec<_> = ev.iter().filter(|e| e.mode_after.is_some()).collect();
         let Some(last) = jumps.last() else {
@@ -148,6 +171,39 @@ impl PeriodicOrbit {
             });
         };
         let cycle = &jumps[i_prev..=i_last];
+        let (t0, t1) = (cycle[0].t, last.t);
+        if let Some(z) = trajectory.zeno.iter().find(|z| z.t >= t0) {
+            return not_periodic(format!(
+                "a Zeno transition at t = {} (to mode {}) follows the repeating jumps at t = {t0} \
+                 and {t1}: the tail is not that cycle",
+                z.t, z.mode_after
+            ));
+        }
+        // Jumps that accumulate repeat their states ever more closely in ever shorter cycles:
+        // the cycle before this one, if recorded, lasts about as long in a periodic tail, and
+        // longer by the simulator's Zeno ratio (0.95) or more where jumps accumulate.
+        let len = i_last - i_prev;
+        if i_prev >= len {
+            let before = t0 - jumps[i_prev - len].t;
+            let ratio = (t1 - t0) / before;
+            if ratio < crate::simulate::ZenoSettings::default().max_ratio {
+                return not_periodic(format!(
+                    "the repeating jumps at t = {t0} and {t1} come {:e} apart, {ratio:.3} times \
+                     the cycle before: the jumps accumulate rather than repeat",
+                    t1 - t0
+                ));
+            }
+        }
+        for (k, w) in cycle.windows(2).enumerate() {
+            let d = w[1].t - w[0].t;
+            if !(d > 1e-10 * w[1].t.abs().max(1.0)) {
+                return not_periodic(format!(
+                    "segment {k} of the repeating cycle lasts {d:e} (from t = {}): shorter \
+                     than events are located, so the jumps accumulate rather than repeat",
+                    w[0].t
+                ));
+            }
+        }
         let mut segments = Vec::new();
         let mut starts = Vec::new();
         let mut durations = Vec::new();

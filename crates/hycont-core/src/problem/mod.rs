@@ -15,7 +15,7 @@ mod newton;
 mod parts;
 mod pattern;
 
-pub use newton::{NewtonIteration, NewtonSettings, NewtonSolution, newton};
+pub use newton::{NewtonFailure, NewtonIteration, NewtonSettings, NewtonSolution, newton};
 pub use parts::{
     JacobianHints, JacobianUse, LocalBlock, MonitorFunction, UnknownMonitor, ZeroFunction,
 };

@@ -81,6 +81,108 @@ impl NewtonSettings {
     }
 }
 
+/// Why Newton's method failed ([`crate::Error::NewtonFailed`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[non_exhaustive]
+pub enum NewtonFailure {
+    /// No damped step (down to the smallest damping) reduces the residual: the Newton
+    /// direction does not descend. The start is too far from a solution or there is none
+    /// nearby, the Jacobian does not match the residual, or the residual cannot be evaluated at
+    /// the trial points (the message gives the evaluation's error).
+    NoDescent,
+    /// The residual is below its tolerance but the steps do not fall below theirs: the
+    /// Jacobian is singular or nearly so at the solution, which is not isolated (e.g. a
+    /// segment of zero duration, an orbit that is not one, a degenerate start).
+    StepsNotConverging,
+    /// The residual fell, but slowly (linear contraction): an inaccurate or nearly singular
+    /// Jacobian.
+    SlowContraction,
+    /// The steps grew without bound.
+    Diverging,
+    /// The iteration limit was reached otherwise (the residual stagnates or oscillates).
+    IterationLimit,
+}
+
+impl std::fmt::Display for NewtonFailure {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            NewtonFailure::NoDescent => "no descent",
+            NewtonFailure::StepsNotConverging => "steps not converging",
+            NewtonFailure::SlowContraction => "slow contraction",
+            NewtonFailure::Diverging => "diverging",
+            NewtonFailure::IterationLimit => "iteration limit",
+        })
+    }
+}
+
+impl NewtonFailure {
+    /// Why iterations that reached their limit did not converge, with a message: `history`
+    /// holds the residuals before each step and the steps, `last_residual` the residual after
+    /// the last step, `residual_tol` its tolerance and `tol` the step tolerance (scaled).
+    #[must_use]
+    pub fn diagnose(
+        history: &[NewtonIteration],
+        last_residual: f64,
+        residual_tol: f64,
+        tol: f64,
+    ) -> (Self, String) {
+        diagnose(history, last_residual, residual_tol, tol)
+    }
+}
+
+fn diagnose(
+    history: &[NewtonIteration],
+    last_residual: f64,
+    residual_tol: f64,
+    tol: f64,
+) -> (NewtonFailure, String) {
+    let last_step = history.last().map_or(f64::NAN, |h| h.step);
+    if last_residual <= residual_tol {
+        return (
+            NewtonFailure::StepsNotConverging,
+            format!(
+                "the residual {last_residual:e} is below its tolerance but the steps stay at \
+                 {last_step:e} (tolerance {tol:e}): the Jacobian is (nearly) singular there, so \
+                 the solution is not isolated (a zero-duration segment, a degenerate orbit?)"
+            ),
+        );
+    }
+    if !last_step.is_finite() || last_step > 1e6 * (1.0 + tol) {
+        return (
+            NewtonFailure::Diverging,
+            format!("the steps diverge (last {last_step:e}, residual {last_residual:e})"),
+        );
+    }
+    // Residuals over the last iterations, with the final one.
+    let mut r: Vec<f64> = history.iter().map(|h| h.residual).collect();
+    r.push(last_residual);
+    let tail = &r[r.len().saturating_sub(4)..];
+    let falling = tail.windows(2).all(|w| w[1] < w[0]);
+    if falling && tail.len() >= 3 {
+        let q = (tail[tail.len() - 1] / tail[0]).powf(1.0 / (tail.len() - 1) as f64);
+        if q >= 0.5 {
+            return (
+                NewtonFailure::SlowContraction,
+                format!(
+                    "the residual falls only by a factor {q:.3} per iteration (now \
+                     {last_residual:e}): an inaccurate or nearly singular Jacobian"
+                ),
+            );
+        }
+        return (
+            NewtonFailure::IterationLimit,
+            format!(
+                "the residual still falls by a factor {q:.3} per iteration (now {last_residual:e}): \
+                 too few iterations, or a start too far away"
+            ),
+        );
+    }
+    (
+        NewtonFailure::IterationLimit,
+        format!("no convergence: the residual stagnates at {last_residual:e}"),
+    )
+}
+
 /// One Newton iteration, for the history kept in results and errors.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct NewtonIteration {
@@ -175,18 +277,22 @@ pub fn newton(
                 known_residual = false;
                 continue;
             }
-            Damped::Failed { damping } => {
+            Damped::Failed { damping, error } => {
                 history.push(NewtonIteration {
                     residual: res,
                     step,
                     damping,
                     factorized: true,
                 });
+                let why = error.map_or_else(String::new, |e| {
+                    format!("; the residual could not be evaluated at a trial point: {e}")
+                });
                 return Err(Error::NewtonFailed {
                     reason: format!(
-                        "no damped step reduces the residual {res:e} (smallest damping {damping}) at iteration {}",
+                        "no damped step reduces the residual {res:e} (smallest damping {damping}) at iteration {}{why}",
                         history.len()
                     ),
+                    failure: NewtonFailure::NoDescent,
                     history,
                 });
             }
@@ -211,12 +317,14 @@ pub fn newton(
             && settings.chord_contraction > 0.0
             && trial_res <= settings.chord_contraction * res;
     }
+    let tol = settings.tol * (1.0 + max_norm(&u));
+    let (failure, why) = diagnose(&history, max_norm(&f), settings.residual_tol, tol);
     Err(Error::NewtonFailed {
         reason: format!(
-            "no convergence in {} iterations (residual {:e})",
-            settings.max_iterations,
-            max_norm(&f)
+            "did not converge in {} iterations: {why}",
+            settings.max_iterations
         ),
+        failure,
         history,
     })
 }
@@ -227,8 +335,9 @@ enum Damped {
     Accepted { residual: f64, damping: f64 },
     /// A chord step that does not reduce the residual enough (refactorise, do not damp).
     PoorChord,
-    /// No damping down to the smallest reduces the residual.
-    Failed { damping: f64 },
+    /// No damping down to the smallest reduces the residual (`error`: the last evaluation
+    /// that failed, if one did).
+    Failed { damping: f64, error: Option<Error> },
 }
 
 /// The first of the damped steps `u + damping du`, `damping` = 1, 1/2, 1/4, ... down to
@@ -243,12 +352,18 @@ fn damped_step(
     settings: &NewtonSettings,
 ) -> Damped {
     let mut damping = 1.0;
+    let mut error = None;
     loop {
         for ((t, x), d) in trial.iter_mut().zip(u).zip(du) {
             *t = x + damping * d;
         }
-        let ok =
-            problem.evaluate(trial, trial_f, None).is_ok() && trial_f.iter().all(|v| v.is_finite());
+        let ok = match problem.evaluate(trial, trial_f, None) {
+            Ok(()) => trial_f.iter().all(|v| v.is_finite()),
+            Err(e) => {
+                error = Some(e);
+                false
+            }
+        };
         let trial_res = if ok { max_norm(trial_f) } else { f64::INFINITY };
         if trial_res <= (1.0 - 1e-4 * damping) * res || trial_res <= settings.residual_tol {
             return Damped::Accepted {
@@ -260,7 +375,7 @@ fn damped_step(
             return Damped::PoorChord;
         }
         if damping <= settings.min_damping {
-            return Damped::Failed { damping };
+            return Damped::Failed { damping, error };
         }
         damping *= 0.5;
     }
