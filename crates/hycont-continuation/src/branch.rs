@@ -118,6 +118,27 @@ pub struct BranchPoint {
     /// re-discretised, [`crate::ContinuationProblem::rediscretise`]).
     #[serde(default, skip_serializing_if = "is_zero")]
     pub discretisation: usize,
+    /// The keys of the branch's measure names, against which measure handles are checked
+    /// (restored from [`Branch::monitor_names`] when a branch is read; empty: unchecked).
+    #[serde(skip)]
+    pub(crate) measure_keys: MeasureKeys,
+}
+
+/// The keys of a branch's measure names ([`crate::MeasureId`]), shared by its points: derived
+/// data, not serialised and not compared.
+#[derive(Debug, Clone, Default)]
+pub(crate) struct MeasureKeys(std::sync::Arc<[u64]>);
+
+impl PartialEq for MeasureKeys {
+    fn eq(&self, _: &Self) -> bool {
+        true
+    }
+}
+
+impl MeasureKeys {
+    fn of(names: &[String]) -> Self {
+        Self(names.iter().map(|n| crate::quantity::name_key(n)).collect())
+    }
 }
 
 #[allow(clippy::trivially_copy_pass_by_ref)] // serde's skip_serializing_if passes a reference
@@ -154,6 +175,7 @@ impl BranchPoint {
             step,
             discretisation_error: info.discretisation_error,
             discretisation: 0,
+            measure_keys: MeasureKeys::default(),
         }
     }
 
@@ -165,18 +187,43 @@ impl BranchPoint {
         self.unstable == 0
     }
 
-    /// The value of a parameter or measure at this point, if the branch has it.
+    /// The value of a parameter or measure at this point, if the branch has it (`None` also
+    /// for a measure handle of another run, whose measure at that index has another name).
     #[must_use]
     pub fn get(&self, q: impl Into<Quantity>) -> Option<f64> {
-        match q.into() {
-            Quantity::Parameter(p) => self.params.get(p.index()).copied(),
-            Quantity::Measure(m) => self.monitors.get(m.index()).copied(),
-        }
+        self.value(q).ok()
+    }
+
+    /// The value of a parameter or measure at this point.
+    ///
+    /// # Errors
+    /// [`Error::NoSuchQuantity`] for a parameter or measure the branch does not have;
+    /// [`Error::ForeignHandle`] for a measure handle of another run (its measure at that
+    /// index has another name).
+    pub fn value(&self, q: impl Into<Quantity>) -> Result<f64> {
+        let q = q.into();
+        let (values, index) = match q {
+            Quantity::Parameter(p) => (&self.params, p.index()),
+            Quantity::Measure(m) => {
+                let key = self.measure_keys.0.get(m.index()).copied().unwrap_or(0);
+                if !m.fits_key(key) {
+                    return Err(Error::ForeignHandle {
+                        quantity: q,
+                        reason: "the branch's measure at that index has another name (a handle of another run?)".into(),
+                    });
+                }
+                (&self.monitors, m.index())
+            }
+        };
+        values.get(index).copied().ok_or(Error::NoSuchQuantity {
+            quantity: q,
+            count: values.len(),
+        })
     }
 }
 
 /// `point[p]`: the value of parameter `p` (panics if the branch has no such parameter; see
-/// [`BranchPoint::get`]).
+/// [`BranchPoint::value`] for an error instead).
 impl std::ops::Index<ParamId> for BranchPoint {
     type Output = f64;
     fn index(&self, p: ParamId) -> &f64 {
@@ -184,12 +231,16 @@ impl std::ops::Index<ParamId> for BranchPoint {
     }
 }
 
-/// `point[m]`: the value of measure `m` (panics if the branch has no such measure; see
-/// [`BranchPoint::get`]).
+/// `point[m]`: the value of measure `m`. Panics if the branch has no such measure or `m` is a
+/// handle of another run (its measure at that index has another name): never another
+/// measure's value; [`BranchPoint::value`] gives the error instead.
 impl std::ops::Index<MeasureId> for BranchPoint {
     type Output = f64;
     fn index(&self, m: MeasureId) -> &f64 {
-        &self.monitors[m.index()]
+        match self.value(m) {
+            Ok(_) => &self.monitors[m.index()],
+            Err(e) => panic!("point {}: {e}", self.label),
+        }
     }
 }
 
@@ -239,6 +290,7 @@ pub enum EndReason {
 
 /// A branch: its points, special points, and how it ended.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(from = "BranchData")]
 pub struct Branch {
     /// A name (e.g. `symmetric`).
     pub name: String,
@@ -259,6 +311,40 @@ pub struct Branch {
     /// The work it took.
     #[serde(default)]
     pub statistics: RunStatistics,
+}
+
+/// A branch as stored: read into a [`Branch`], its points' measure handles are tied to its
+/// measure names again.
+#[derive(Deserialize)]
+struct BranchData {
+    name: String,
+    parameter: String,
+    parameter_index: usize,
+    parameter_names: Vec<String>,
+    monitor_names: Vec<String>,
+    points: Vec<BranchPoint>,
+    special_points: Vec<SpecialPoint>,
+    end: EndReason,
+    #[serde(default)]
+    statistics: RunStatistics,
+}
+
+impl From<BranchData> for Branch {
+    fn from(d: BranchData) -> Self {
+        let mut b = Branch {
+            name: d.name,
+            parameter: d.parameter,
+            parameter_index: d.parameter_index,
+            parameter_names: d.parameter_names,
+            monitor_names: d.monitor_names,
+            points: d.points,
+            special_points: d.special_points,
+            end: d.end,
+            statistics: d.statistics,
+        };
+        b.attach_measure_keys();
+        b
+    }
 }
 
 /// The work a continuation run did: evaluations of the problem, split into stepping along the
@@ -304,6 +390,20 @@ impl std::ops::Add for RunStatistics {
 }
 
 impl Branch {
+    /// Ties every point's measure handles to [`Branch::monitor_names`] (see
+    /// [`crate::MeasureId`]): a handle of another run, whose measure at that index has another
+    /// name, is then not read.
+    pub fn attach_measure_keys(&mut self) {
+        let keys = MeasureKeys::of(&self.monitor_names);
+        for p in self
+            .points
+            .iter_mut()
+            .chain(self.special_points.iter_mut().map(|s| &mut s.point))
+        {
+            p.measure_keys = keys.clone();
+        }
+    }
+
     /// The point (regular or special) with the given label.
     ///
     /// # Errors
@@ -324,13 +424,31 @@ impl Branch {
     /// # Errors
     /// [`Error::NoSuchLabel`] if no special point has it (a regular point does not count).
     pub fn special_at(&self, label: usize) -> Result<&SpecialPoint> {
-        self.special_points
+        if let Some(s) = self.special_points.iter().find(|s| s.point.label == label) {
+            return Ok(s);
+        }
+        let specials: Vec<String> = self
+            .special_points
             .iter()
-            .find(|s| s.point.label == label)
-            .ok_or_else(|| Error::NoSuchLabel {
+            .map(|s| format!("{} ({})", s.point.label, s.kind))
+            .collect();
+        let specials = if specials.is_empty() {
+            "it has none".to_string()
+        } else {
+            format!("its special points are {}", specials.join(", "))
+        };
+        if self.points.iter().any(|p| p.label == label) {
+            Err(Error::NotASpecialPoint {
+                label,
+                branch: self.name.clone(),
+                specials,
+            })
+        } else {
+            Err(Error::NoSuchLabel {
                 label,
                 branch: self.name.clone(),
             })
+        }
     }
 
     /// The special points of one kind.

@@ -71,13 +71,25 @@ pub enum Error {
         /// What fails.
         reason: String,
     },
-    /// A restart label does not exist in the branch.
+    /// A label does not exist in the branch.
     #[error("no point labelled {label} in branch {branch}")]
     NoSuchLabel {
         /// The label asked for.
         label: usize,
         /// The branch's name.
         branch: String,
+    },
+    /// A label names a regular point where a special point is needed (a switch, a curve).
+    #[error(
+        "point {label} of branch {branch} is a regular point, not a special point ({specials})"
+    )]
+    NotASpecialPoint {
+        /// The label asked for.
+        label: usize,
+        /// The branch's name.
+        branch: String,
+        /// The branch's special points, labelled.
+        specials: String,
     },
     /// A branch has no special point of the kind asked for.
     #[error("branch {branch} has no {kind} point")]
@@ -102,6 +114,14 @@ pub enum Error {
         quantity: crate::Quantity,
         /// How many parameters or measures there are.
         count: usize,
+    },
+    /// A measure handle of another run: the measure at its index has another name here.
+    #[error("{quantity} is not a measure of this run or branch: {reason}")]
+    ForeignHandle {
+        /// The handle given.
+        quantity: crate::Quantity,
+        /// What is there instead.
+        reason: String,
     },
     /// A special point at which the asked operation is not defined.
     #[error("cannot {operation} at label {label} of branch {branch}: it is {kind} ({reason})")]

@@ -17,7 +17,7 @@ use serde::{Deserialize, Serialize};
 use std::f64::consts::FRAC_PI_2;
 
 /// Amp, $\max|\varphi|$ over the orbit (the true extremum), among a branch's measures.
-pub const AMP: MeasureId = MeasureId::new(4);
+pub const AMP: MeasureId = MeasureId::named(4, "amp");
 /// The grazing margin of every branch ([`OrbitRun::admissibility`], on by default): the
 /// flights' interior dips to the impact surface, the impacts' approach rates and the margins to
 /// overturning; its zero ends a branch with GR.

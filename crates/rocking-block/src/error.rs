@@ -97,6 +97,9 @@ impl Error {
                 | Error::Read { .. }
                 | Error::Continuation(
                     C::NoSuchLabel { .. }
+                        | C::NotASpecialPoint { .. }
+                        | C::ForeignHandle { .. }
+                        | C::InadmissibleStart { .. }
                         | C::StartOutsideBounds { .. }
                         | C::InvalidSetting { .. }
                         | C::InvalidLabel { .. }

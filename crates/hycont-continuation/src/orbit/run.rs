@@ -260,7 +260,7 @@ impl<'a, S: HybridJacobians + ?Sized> OrbitRun<'a, S> {
             reason: "cannot be added while a problem of this run is alive",
         })?;
         let index = set.add(name, measure)?;
-        Ok(MeasureId::new(2 + index))
+        Ok(MeasureId::named(2 + index, name))
     }
 
     /// A special point of kind `kind` where `on` crosses `level` (COCO's `coco_add_event`):
@@ -344,17 +344,27 @@ impl<'a, S: HybridJacobians + ?Sized> OrbitRun<'a, S> {
         Ok(self)
     }
 
-    /// Checks a parameter or measure handle against the run.
+    /// Checks a parameter or measure handle against the run (a measure handle of another run,
+    /// whose measure at that index has another name, is [`Error::ForeignHandle`]).
     pub(super) fn check_quantity(&self, q: Quantity) -> Result<()> {
-        let count = match q {
+        let m = match q {
             Quantity::Parameter(p) => return check_parameter(self.system, p),
-            Quantity::Measure(_) => 2 + self.measures.len(),
+            Quantity::Measure(m) => m,
         };
-        match q {
-            Quantity::Measure(m) if m.index() >= count => {
-                Err(Error::NoSuchQuantity { quantity: q, count })
-            }
-            _ => Ok(()),
+        let count = 2 + self.measures.len();
+        let name = match m.index() {
+            0 => "period",
+            1 => "shortest_segment",
+            i if i < count => self.measures.names()[i - 2].as_str(),
+            _ => return Err(Error::NoSuchQuantity { quantity: q, count }),
+        };
+        if m.fits(name) {
+            Ok(())
+        } else {
+            Err(Error::ForeignHandle {
+                quantity: q,
+                reason: format!("this run's measure #{} is {name:?}", m.index()),
+            })
         }
     }
 

@@ -495,6 +495,7 @@ impl<'p, 'a, P: ContinuationProblem<'a> + ?Sized> Palc<'p, 'a, P> {
         }
         self.restore(revision)?;
         branch.statistics = self.stats;
+        branch.attach_measure_keys();
         Ok(branch)
     }
 }

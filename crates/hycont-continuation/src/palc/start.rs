@@ -2,9 +2,11 @@
 //! the same start).
 
 use super::predict::{generic, orientation};
+use super::slots::{Slot, Source};
 use super::{Chart, Palc};
 use crate::ContinuationProblem;
 use crate::error::{Error, Result};
+use crate::quantity::Quantity;
 
 impl<'a, P: ContinuationProblem<'a> + ?Sized> Palc<'_, 'a, P> {
     /// The first chart. Without a given direction: `u0` corrected with the parameter fixed
@@ -61,6 +63,7 @@ impl<'a, P: ContinuationProblem<'a> + ?Sized> Palc<'_, 'a, P> {
             }
             c
         };
+        self.check_start_bounds(&a)?;
         // The determinant with the chart's own oriented tangent as the last row, consistent with
         // the following charts (each uses its predecessor's tangent).
         let own = self.row_of(&a.t);
@@ -70,6 +73,45 @@ impl<'a, P: ContinuationProblem<'a> + ?Sized> Palc<'_, 'a, P> {
             self.first = Some((u0.to_vec(), revision, a.clone()));
         }
         Ok(a)
+    }
+
+    /// Checks that the first chart lies inside every bound (of the continued parameter, other
+    /// parameters and measures; to $10^{-9}$ relative): a run from outside would return points
+    /// outside the window asked for.
+    fn check_start_bounds(&self, c: &Chart) -> Result<()> {
+        let pi = self.p.parameter_index();
+        let bounds: Vec<(Source, Quantity, f64)> = self
+            .slots
+            .iter()
+            .filter_map(|s| match *s {
+                Slot::Bound { source, on, level } => Some((source, on, level)),
+                _ => None,
+            })
+            .collect();
+        // Each bound is two slots: its minimum, then its maximum.
+        for pair in bounds.chunks_exact(2) {
+            let ((source, on, min), max) = (pair[0], pair[1].2);
+            let value = match source {
+                Source::Continued => c.u[pi],
+                Source::Param(i) => c.info.params[i],
+                Source::Monitor(i) => c.info.monitors[i],
+            };
+            let tol = 1e-9 * (1.0 + value.abs());
+            if !(value >= min - tol && value <= max + tol) {
+                let name = match (source, on) {
+                    (Source::Continued, _) => self.p.parameter_name(),
+                    (Source::Param(i), _) => self.p.parameter_names()[i].clone(),
+                    (Source::Monitor(i), _) => self.p.monitor_names()[i].clone(),
+                };
+                return Err(Error::StartOutsideBounds {
+                    parameter: name,
+                    value,
+                    min,
+                    max,
+                });
+            }
+        }
+        Ok(())
     }
 
     /// The first chart of the last run from `u0` without a direction, if it was on the current
