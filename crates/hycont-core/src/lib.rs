@@ -48,9 +48,9 @@ pub use error::{Error, Result};
 /// Floquet vectors, orbit states).
 pub use nalgebra;
 pub use simulate::{
-    Dop853, EventRecord, NonFiniteEvaluation, ParamSet, SampleTimes, Sensitivities,
-    SensitivityMatrices, SimulationSettings, SimulationStats, Simulator, StepperStats, StopReason,
-    TimeSeries, Trajectory, ZenoRecord, ZenoSettings,
+    Dop853, EventConditioning, EventRecord, NonFiniteEvaluation, ParamSet, SampleTimes,
+    Sensitivities, SensitivityMatrices, SimulationSettings, SimulationStats, Simulator,
+    StepperStats, StopReason, TimeSeries, Trajectory, ZenoRecord, ZenoSettings,
 };
 pub use system::{
     DerivativeCheck, DerivativeKind, DerivativeMismatch, Direction, EventAction, EventId,

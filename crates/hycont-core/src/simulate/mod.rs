@@ -5,6 +5,7 @@
 //! prescribed times and optionally integrates the variational equations (with saltation matrices
 //! at jumps). See [`SimulationSettings`] for the knobs and [`Trajectory`] for the result.
 
+mod conditioning;
 mod dop853;
 mod events;
 mod settings;
@@ -14,6 +15,7 @@ mod trajectory;
 mod variational;
 mod zeno;
 
+pub use conditioning::EventConditioning;
 pub use dop853::{Dop853, NonFiniteEvaluation, StepperStats};
 pub use settings::{ParamSet, SampleTimes, Sensitivities, SimulationSettings, ZenoSettings};
 pub use trajectory::{
@@ -358,6 +360,20 @@ impl Simulator {
             if s.record_steps {
                 rec.steps.push(te, mode, &self.y_minus);
             }
+            let conditioning = if s.record_events {
+                conditioning::conditioning(
+                    system,
+                    ev.id,
+                    p,
+                    &self.stepper,
+                    (t, t_new),
+                    (te, &self.y_minus),
+                    (s.rtol, s.atol, s.event_tolerance),
+                    &mut self.x_probe[..n],
+                )
+            } else {
+                EventConditioning::default()
+            };
             match system.event_spec(ev.id).action {
                 EventAction::Terminal => {
                     if s.record_events {
@@ -368,6 +384,7 @@ impl Simulator {
                             mode_after: None,
                             state_before: self.y_minus[..n].to_vec(),
                             state_after: self.y_minus[..n].to_vec(),
+                            conditioning,
                         });
                     }
                     self.y_plus.copy_from_slice(&self.y_minus);
@@ -379,7 +396,14 @@ impl Simulator {
                 }
                 EventAction::Jump { to } => {
                     t = te;
-                    match self.jump(system, ext, p, (ev.id, mode, to, te), &mut rec)? {
+                    match self.jump(
+                        system,
+                        ext,
+                        p,
+                        (ev.id, mode, to, te),
+                        conditioning,
+                        &mut rec,
+                    )? {
                         std::ops::ControlFlow::Continue(m) => mode = m,
                         std::ops::ControlFlow::Break(stop) => {
                             mode = to;

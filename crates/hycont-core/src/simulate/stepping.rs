@@ -44,6 +44,7 @@ impl Simulator {
         ext: &mut E,
         p: &[f64],
         (event, from, to, te): (EventId, Mode, Mode, f64),
+        conditioning: super::EventConditioning,
         rec: &mut Records,
     ) -> Result<std::ops::ControlFlow<StopReason, Mode>> {
         use std::ops::ControlFlow::{Break, Continue};
@@ -74,6 +75,7 @@ impl Simulator {
                 mode_after: Some(to),
                 state_before: self.y_minus[..n].to_vec(),
                 state_after: self.y_plus[..n].to_vec(),
+                conditioning,
             });
         }
         let zeno = self.settings.zeno;

@@ -111,6 +111,11 @@ pub struct EventRecord {
     pub state_before: Vec<f64>,
     /// State just after the reset (equal to `state_before` for a terminal event).
     pub state_after: Vec<f64>,
+    /// How well the crossing is determined: the event function's rate there and the
+    /// estimated errors of the time and the rate (large near a tangential crossing; see
+    /// [`super::EventConditioning`]).
+    #[serde(default)]
+    pub conditioning: super::EventConditioning,
 }
 
 /// A switch to another mode after jumps accumulated (Zeno behaviour).
