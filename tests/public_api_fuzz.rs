@@ -1,7 +1,12 @@
 //! The public API under random misuse: random handles (modes, events, parameters, measures,
 //! monitors, segments, labels, cells), random lengths, NaN and infinities, degenerate
-//! signatures. Every call returns `Ok` or a typed error; none panics. 10,000 cases per entry
-//! point (`PROPTEST_CASES` overrides), on the bouncing ball on a vibrating table
+//! signatures, random symmetries, random simulations read as orbits, measure handles of other
+//! runs. Every call returns `Ok` or a typed error; none panics; and no `Ok` carries a wrong
+//! result: a symmetric solution is an orbit, an orbit read off a simulation closes to its
+//! tolerance, a measure handle reads only the measure it names, and every branch a run returns
+//! with admissibility on holds physical orbits only (`OrbitBranch::check_points`; the test
+//! suites' `invariants` feature also re-checks every branch computed here). 10,000 cases per
+//! entry point (`PROPTEST_CASES` overrides), on the bouncing ball on a vibrating table
 //! (`examples/vibrating_table/model.rs`). Work that succeeds is kept small (short horizons, few
 //! Newton iterations, few points) so that the cases stay cheap.
 
@@ -14,11 +19,15 @@ use hycont::hycont_continuation::{
 };
 use hycont::hycont_sample::basin::{Axis, Counts, Distribution, Study, shard_range};
 use hycont::orbit::{
-    CollocationSettings, Measure, PeriodicOrbit, SegmentEnd, SegmentSpec, SegmentValue,
-    ShootingSettings, Signature, solve_collocation, solve_shooting,
+    Closure, CollocationSettings, Discretisation, Measure, OrbitMethod, PeriodicOrbit, SegmentEnd,
+    SegmentSpec, SegmentValue, ShootingSettings, Signature, SymmetricSearch, find_symmetric_orbit,
+    solve_collocation, solve_orbit, solve_shooting,
 };
 use hycont::problem::{Activity, MonitorId, NewtonSettings, Problem, UnknownMonitor};
-use hycont::{EventId, FiniteDifferences, Mode, ParamId, SimulationSettings, Simulator};
+use hycont::{
+    EventId, EventSpec, FiniteDifferences, HybridJacobians, HybridSystem, Mode, ParamId,
+    SimulationSettings, Simulator, Z2Symmetry, checked_symmetry,
+};
 use model::{A, FLIGHT, IMPACT, Table, WRAP};
 // The model names both parameters; the runs here vary the amplitude.
 const _: ParamId = model::OMEGA;
@@ -56,6 +65,16 @@ fn values(len: std::ops::Range<usize>) -> impl Strategy<Value = Vec<f64>> {
 }
 
 const P: [f64; 4] = [1.3, 1.0, 0.5, 1.0];
+
+/// Measure names for named handles: the built-in ones and others.
+const NAMES: [&str; 6] = [
+    "period",
+    "shortest_segment",
+    "admissible_grazing",
+    "admissible_domain",
+    "amp",
+    "x",
+];
 
 fn table() -> &'static FiniteDifferences<Table> {
     static FD: OnceLock<FiniteDifferences<Table>> = OnceLock::new();
@@ -148,8 +167,150 @@ fn quantity() -> impl Strategy<Value = Quantity> {
     ]
 }
 
+/// The table with a symmetry of the fuzzer's choice (the identity is the only valid one).
+struct Symmetric(Z2Symmetry);
+
+impl HybridSystem for Symmetric {
+    fn state_dim(&self) -> usize {
+        Table.state_dim()
+    }
+    fn parameter_names(&self) -> &[&'static str] {
+        Table.parameter_names()
+    }
+    fn mode_count(&self) -> usize {
+        Table.mode_count()
+    }
+    fn mode_name(&self, m: Mode) -> &'static str {
+        Table.mode_name(m)
+    }
+    fn events(&self, m: Mode) -> &[EventId] {
+        Table.events(m)
+    }
+    fn event_spec(&self, e: EventId) -> EventSpec {
+        Table.event_spec(e)
+    }
+    fn vector_field(&self, m: Mode, x: &[f64], p: &[f64], out: &mut [f64]) {
+        Table.vector_field(m, x, p, out);
+    }
+    fn event(&self, e: EventId, x: &[f64], p: &[f64]) -> f64 {
+        Table.event(e, x, p)
+    }
+    fn reset(&self, e: EventId, x: &[f64], p: &[f64], out: &mut [f64]) {
+        Table.reset(e, x, p, out);
+    }
+    fn symmetry(&self) -> Option<Z2Symmetry> {
+        Some(self.0.clone())
+    }
+}
+
+fn symmetry() -> impl Strategy<Value = Z2Symmetry> {
+    let entry = prop_oneof![
+        3 => prop::sample::select(vec![-1.0, 0.0, 1.0, 2.0]),
+        1 => value(),
+    ];
+    let identity = Z2Symmetry {
+        matrix: vec![1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0],
+        modes: vec![FLIGHT],
+        events: vec![IMPACT, WRAP],
+    };
+    prop_oneof![
+        1 => Just(identity),
+        4 => (
+            prop::sample::select(vec![0usize, 4, 9, 16]).prop_flat_map(move |len| {
+                prop::collection::vec(entry.clone(), len..=len)
+            }),
+            prop::collection::vec((0usize..2).prop_map(Mode), 0..3),
+            prop::collection::vec((0usize..3).prop_map(EventId), 0..4),
+        )
+            .prop_map(|(matrix, modes, events)| Z2Symmetry { matrix, modes, events }),
+    ]
+}
+
+/// The largest residual of `orbit`'s (periodic) shooting equations, relative to its size.
+fn closure_residual<S: HybridJacobians + ?Sized>(system: &S, orbit: &PeriodicOrbit) -> f64 {
+    let disc = Discretisation::Shooting(ShootingSettings::default());
+    let Ok(mut eq) = disc.equations(system, orbit, None) else {
+        return f64::INFINITY;
+    };
+    let Ok(u) = disc.pack(system, orbit) else {
+        return f64::INFINITY;
+    };
+    let mut r = vec![0.0; eq.equations()];
+    if eq.evaluate(&u, &mut r, None).is_err() {
+        return f64::INFINITY;
+    }
+    let scale = 1.0 + u.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    r.iter().fold(0.0f64, |m, v| m.max(v.abs())) / scale
+}
+
 proptest! {
     #![proptest_config(config())]
+
+    /// Symmetries: random matrices (of any size, S^2 = I or not, NaN), mode and event maps.
+    /// Checks, half-orbit signatures, the search, solves of half orbits and runs never panic;
+    /// a symmetric orbit found or solved is an orbit (its full shooting equations hold).
+    #[test]
+    fn symmetries(sym in symmetry(), segs in segments(), seeds in prop::collection::vec(values(3..4), 0..3),
+                  half_period in value(), method in 0u8..2, go in 0u8..20) {
+        let sys = FiniteDifferences::new(Symmetric(sym));
+        let _ = checked_symmetry(&sys);
+        let _ = good_orbit().is_symmetric(&sys, 1e-6);
+        let _ = good_orbit().doubled().half_of_symmetric(&sys, 1e-6);
+        let newton = NewtonSettings { max_iterations: 4, ..NewtonSettings::default() };
+        if let Ok(half) = Signature::with_closure(&sys, segs, Closure::Symmetric) {
+            let mut search = SymmetricSearch::new(seeds);
+            search.half_period = Some(half_period);
+            search.max_duration = 5.0;
+            search.candidates = 1;
+            search.newton = newton;
+            if let Ok(sol) = find_symmetric_orbit(&sys, &half, &P, &search) {
+                prop_assert!(closure_residual(&sys, &sol.full.orbit) < 1e-6);
+            }
+        }
+        let method = if method == 0 {
+            OrbitMethod::Shooting(ShootingSettings::default())
+        } else {
+            OrbitMethod::Collocation(CollocationSettings { ntst: 4, ncol: 2, adapt: 0 })
+        };
+        let doubled = good_orbit().doubled();
+        for guess in [Some(doubled.clone()), doubled.half_of_symmetric(&sys, 1e-6).ok()].into_iter().flatten() {
+            if let Ok(solved) = solve_orbit(&sys, &guess, &method, &newton, 1e-6) {
+                prop_assert!(solved.solution.orbit.signature.closure() == Closure::Periodic);
+                if matches!(method, OrbitMethod::Shooting(_)) {
+                    prop_assert!(closure_residual(&sys, &solved.solution.orbit) < 1e-6);
+                }
+            }
+        }
+        if go == 0 {
+            let mut run = OrbitRun::new(&sys, A).unwrap();
+            run.bounds(1.2, 1.7).max_points(3);
+            if let Ok(b) = run.run("s", &doubled, RunDirection::Up) {
+                prop_assert!(b.check_points(&sys, true).is_ok());
+            }
+        }
+    }
+
+    /// Simulations read as orbits: random (table) parameters, starts, horizons and
+    /// tolerances, so that tails chatter to rest (Zeno), stop at the step limit, repeat or not.
+    /// An orbit read off one has positive durations and closes to the tolerance asked for.
+    #[test]
+    fn orbits_from_simulations(a in 0.0f64..2.5, omega in 0.5f64..1.5, e in 0.0f64..1.0,
+                               x0 in values(3..4), horizon in 0.0f64..60.0, tol in 1e-12f64..1e-2,
+                               wild in 0u8..10) {
+        let p = [a, omega, e, 1.0];
+        let x0: Vec<f64> = if wild == 0 {
+            x0
+        } else {
+            x0.iter().map(|v| if v.is_finite() { v.abs().min(3.0) } else { 0.5 }).collect()
+        };
+        let mut sim = Simulator::new(SimulationSettings::default().max_steps(20_000)).unwrap();
+        let Ok(traj) = sim.run(&Table, FLIGHT, 0.0, &x0, &p, horizon) else { return Ok(()) };
+        if let Ok(orbit) = PeriodicOrbit::from_simulation(&Table, &traj, &p, tol) {
+            prop_assert!(orbit.durations.iter().all(|d| d.is_finite() && *d > 0.0));
+            let residual = closure_residual(table(), &orbit);
+            prop_assert!(residual <= 10.0 * tol + 1e-6, "residual {residual:e} for tol {tol:e}");
+        }
+    }
 
     /// `Simulator::run`: random modes, lengths, non-finite states and parameters, reversed or
     /// non-finite time spans.
@@ -219,11 +380,31 @@ proptest! {
         }
     }
 
+    /// Runs from perturbed starts (some solve to orbits that are not physical): with
+    /// admissibility on, a run refuses the start or returns physical orbits only.
+    #[test]
+    fn runs_are_physical(scale in values(4..5), shift in 0.0f64..3.0, go in 0u8..10) {
+        if go != 0 {
+            return Ok(());
+        }
+        let mut start = good_orbit().clone();
+        for (x, s) in start.starts.iter_mut().flatten().zip(scale.iter().cycle()) {
+            *x *= 1.0 + 0.5 * s.clamp(-1.0, 1.0);
+        }
+        start.params[0] += shift - 1.5;
+        let mut run = OrbitRun::new(table(), A).unwrap();
+        run.bounds(0.5, 3.0).max_points(4).steps(0.02, 1e-4, 0.1);
+        if let Ok(b) = run.run("p", &start, RunDirection::Both) {
+            prop_assert!(b.check_points(table(), true).is_ok());
+        }
+    }
+
     /// Saved branches: random labels and kinds for queries, restarts, switches and curves (a
     /// few points where the label is a special point).
     #[test]
     fn branch_queries(label in 0usize..80, kind in kind(), q in quantity(), second in 0usize..6,
-                      lo in value(), hi in value(), go in 0u8..100) {
+                      lo in value(), hi in value(), go in 0u8..100, name in 0usize..6,
+                      slot in 0usize..6) {
         let b = good_branch();
         let _ = b.point(label);
         let _ = b.special_at(label);
@@ -232,6 +413,12 @@ proptest! {
         let _ = b.direction_at(label);
         if let Ok(p) = b.point(label) {
             let _ = p.get(q);
+            // A named handle reads only the measure of its name.
+            let named = MeasureId::named(slot, NAMES[name]);
+            if let Ok(v) = p.value(named) {
+                prop_assert_eq!(&b.branch.monitor_names[slot], NAMES[name]);
+                prop_assert_eq!(v.to_bits(), p.monitors[named.index()].to_bits());
+            }
         }
         let mut run = OrbitRun::new(table(), A).unwrap();
         run.max_points(3)
