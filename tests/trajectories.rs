@@ -139,3 +139,69 @@ fn a_terminal_event_is_not_a_periodic_orbit() {
     assert!(matches!(stop, StopReason::TerminalEvent { .. }), "{stop:?}");
     assert!(reason.contains("terminal"), "{reason}");
 }
+
+/// The relay $\dot x = -\operatorname{sign} x$: from $x = 1$ it reaches 0 at $t = 1$, where each
+/// side's flow points into the other: the switches accumulate at once (a sliding motion the
+/// model has no mode for), and its Zeno transition puts it back on one side at the same
+/// instant. The simulator stops with `Error::Stalled` after `MAX_JUMPS_AT_ONE_INSTANT` jumps
+/// at $t = 1$ instead of looping to its step limit (or its memory's).
+#[test]
+fn jumps_without_time_advancing_stall_with_an_error() {
+    struct Relay;
+    impl HybridSystem for Relay {
+        fn state_dim(&self) -> usize {
+            1
+        }
+        fn parameter_names(&self) -> &[&'static str] {
+            &[]
+        }
+        fn mode_count(&self) -> usize {
+            2
+        }
+        fn mode_name(&self, m: Mode) -> &'static str {
+            ["positive", "negative"][m.0]
+        }
+        fn events(&self, m: Mode) -> &[EventId] {
+            [&[EventId(0)], &[EventId(1)]][m.0]
+        }
+        fn event_spec(&self, e: EventId) -> EventSpec {
+            EventSpec {
+                name: "switch",
+                direction: if e.0 == 0 {
+                    Direction::Falling
+                } else {
+                    Direction::Rising
+                },
+                action: EventAction::Jump { to: Mode(1 - e.0) },
+            }
+        }
+        fn vector_field(&self, m: Mode, _: &[f64], _: &[f64], out: &mut [f64]) {
+            out[0] = if m.0 == 0 { -1.0 } else { 1.0 };
+        }
+        fn event(&self, _: EventId, x: &[f64], _: &[f64]) -> f64 {
+            x[0]
+        }
+        fn zeno_transition(
+            &self,
+            _: Mode,
+            _: EventId,
+            x: &[f64],
+            _: &[f64],
+            out: &mut [f64],
+        ) -> Option<Mode> {
+            out.copy_from_slice(x);
+            Some(Mode(0))
+        }
+    }
+    let mut sim = Simulator::new(SimulationSettings::default()).unwrap();
+    match sim.run(&Relay, Mode(0), 0.0, &[1.0], &[], 5.0) {
+        Err(Error::Stalled { jumps, t, .. }) => {
+            assert!(jumps > hycont::simulate::MAX_JUMPS_AT_ONE_INSTANT);
+            assert!((t - 1.0).abs() < 1e-9, "{t}");
+        }
+        other => panic!(
+            "expected the stall reported, got {:?}",
+            other.map(|t| t.stop)
+        ),
+    }
+}

@@ -118,6 +118,22 @@ pub enum Error {
         /// Mode being integrated.
         mode: Mode,
     },
+    /// A simulation's jumps (Zeno transitions included) repeat without time advancing: the
+    /// system's resets or Zeno transitions lead straight back into the same jumps
+    /// ([`crate::simulate::MAX_JUMPS_AT_ONE_INSTANT`] at one instant).
+    #[error(
+        "the simulation stalls at t = {t}: {jumps} jumps without time advancing (the last by {event} from mode {mode}); the system's resets or Zeno transitions lead straight back into the same jumps"
+    )]
+    Stalled {
+        /// The instant.
+        t: f64,
+        /// The jumps counted there.
+        jumps: usize,
+        /// The last jump's event.
+        event: crate::system::EventId,
+        /// The mode it left.
+        mode: Mode,
+    },
     /// A periodic-orbit signature is inconsistent with the system or the data.
     #[error("invalid orbit signature at segment {segment}: {reason}")]
     InvalidSignature {

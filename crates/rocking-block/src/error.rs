@@ -13,6 +13,18 @@ pub enum Error {
     /// does not have.
     #[error("continuation: {0}")]
     Continuation(hycont_continuation::Error),
+    /// A simulation reached its step limit before its end time.
+    #[error(
+        "the simulation reached its step limit of {steps} steps at t = {t} (of {t_end}); simulate fewer periods"
+    )]
+    StepLimit {
+        /// Where it stopped.
+        t: f64,
+        /// Where it should have ended.
+        t_end: f64,
+        /// The limit.
+        steps: u64,
+    },
     /// No orbit of the kind asked for was found.
     #[error("{0}")]
     NoOrbit(String),

@@ -191,10 +191,10 @@ impl Parameters {
     }
 
     /// Whether a block at rest can ever lift off on the forcing's limit cycle ($|r| \le 1$):
-    /// $\alpha\omega^2\tan\theta_b > 1$.
+    /// $\alpha\omega^2\tan\theta_b > 1$ by more than [`LIFT_OFF_MARGIN`].
     #[must_use]
     pub fn lift_off_possible(&self) -> bool {
-        self.alpha * self.omega * self.omega * self.theta_b.tan() > 1.0
+        self.alpha * self.omega * self.omega * self.theta_b.tan() > 1.0 + LIFT_OFF_MARGIN
     }
 
     /// The forcing period $2\pi/\omega$.
@@ -238,11 +238,21 @@ pub fn initial_mode(x: &[f64; 4], params: &Parameters) -> Mode {
     }
 }
 
+/// How far the forcing must exceed the lift-off threshold, $|\alpha\omega^2 r\tan\theta_b| > 1$,
+/// for a block at rest to lift off: a few dozen rounding errors of that product. At the
+/// threshold itself ($\alpha\omega^2\tan\theta_b = 1$, the peak $r = \pm 1$) the exact
+/// excess is zero and the block stays at rest, as it does just below; computed in floating
+/// point the product can exceed 1 by rounding alone, and a lift-off without excess acceleration
+/// falls straight back onto its corner, a chattering that never ends (each Zeno transition
+/// lifted it off again at the same instant). The lift-off events and the Zeno transition use
+/// this margin alike.
+pub const LIFT_OFF_MARGIN: f64 = 64.0 * f64::EPSILON;
+
 fn rest_or_lift_off(alpha: f64, omega: f64, theta_b: f64, r: f64) -> Mode {
     let c = alpha * omega * omega * r * theta_b.tan();
-    if c > 1.0 {
+    if c > 1.0 + LIFT_OFF_MARGIN {
         PLUS
-    } else if c < -1.0 {
+    } else if c < -1.0 - LIFT_OFF_MARGIN {
         MINUS
     } else {
         REST
@@ -416,8 +426,8 @@ impl HybridSystem for RockingBlock {
             IMPACT_PLUS | IMPACT_MINUS => x[0],
             OVERTURN_POS => x[0] - FRAC_PI_2,
             OVERTURN_NEG => x[0] + FRAC_PI_2,
-            LIFT_OFF_PLUS => p[1] * p[0] * p[0] * x[2] * p[3].tan() - 1.0,
-            _ => p[1] * p[0] * p[0] * x[2] * p[3].tan() + 1.0,
+            LIFT_OFF_PLUS => p[1] * p[0] * p[0] * x[2] * p[3].tan() - (1.0 + LIFT_OFF_MARGIN),
+            _ => p[1] * p[0] * p[0] * x[2] * p[3].tan() + (1.0 + LIFT_OFF_MARGIN),
         }
     }
 

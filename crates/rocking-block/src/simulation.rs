@@ -95,10 +95,16 @@ pub struct SimulationReport {
     pub stats: SimulationStats,
 }
 
+/// The most integration steps a simulation takes (the library's default): one that needs more
+/// is an error ([`crate::Error::StepLimit`]), not a trajectory cut short.
+pub const MAX_STEPS: u64 = 50_000_000;
+
 /// Simulates the block and returns the report and the full trajectory.
 ///
 /// # Errors
-/// Invalid parameters or tolerances, non-finite initial conditions, or an integration failure.
+/// Invalid parameters or tolerances, non-finite initial conditions, an integration failure
+/// (a stall included, [`hycont_core::Error::Stalled`]), or more than [`MAX_STEPS`] steps
+/// ([`crate::Error::StepLimit`]).
 ///
 /// ```
 /// use rocking_block::{simulate, Outcome, Parameters, SimulationRequest};
@@ -138,6 +144,7 @@ pub fn simulate(req: &SimulationRequest) -> Result<(SimulationReport, Trajectory
     let settings = SimulationSettings::default()
         .rtol(req.rtol)
         .atol(req.atol)
+        .max_steps(MAX_STEPS)
         .samples(SampleTimes::new(0.0, period / per as f64));
     let mut sim = Simulator::new(settings)?;
     let mut x0 = initial_state(req.phi0, req.psi0, req.beta);
@@ -145,7 +152,15 @@ pub fn simulate(req: &SimulationRequest) -> Result<(SimulationReport, Trajectory
     x0[3] = s0;
     let mode = initial_mode(&x0, &req.params);
     let p = req.params.to_vec();
-    let traj = sim.run(&RockingBlock, mode, 0.0, &x0, &p, req.periods * period)?;
+    let t_end = req.periods * period;
+    let traj = sim.run(&RockingBlock, mode, 0.0, &x0, &p, t_end)?;
+    if let StopReason::StepLimit { t } = traj.stop {
+        return Err(crate::Error::StepLimit {
+            t,
+            t_end,
+            steps: MAX_STEPS,
+        });
+    }
 
     let outcome = match traj.stop {
         StopReason::TerminalEvent { event, .. } if event == OVERTURN_POS => Outcome::OverturnPos,

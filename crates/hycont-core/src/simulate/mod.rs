@@ -18,6 +18,7 @@ mod zeno;
 pub use conditioning::EventConditioning;
 pub use dop853::{Dop853, NonFiniteEvaluation, StepperStats};
 pub use settings::{ParamSet, SampleTimes, Sensitivities, SimulationSettings, ZenoSettings};
+pub use stepping::MAX_JUMPS_AT_ONE_INSTANT;
 pub use trajectory::{
     EventRecord, SensitivityMatrices, SimulationStats, StopReason, TimeSeries, Trajectory,
     ZenoRecord,

@@ -18,7 +18,14 @@ pub(super) struct Records {
     pub(super) events: Vec<EventRecord>,
     pub(super) stats: SimulationStats,
     pub(super) zeno: Zeno,
+    /// The instant of the latest jumps and how many happened at it.
+    instant: (f64, usize),
 }
+
+/// The most jumps (Zeno transitions included) a run makes at one instant before it is
+/// [`Error::Stalled`]: a system whose resets or Zeno transitions lead straight back into the
+/// same jumps would otherwise loop without time advancing until the step limit.
+pub const MAX_JUMPS_AT_ONE_INSTANT: usize = 10_000;
 
 impl Records {
     /// Empty records of a system with `n` states.
@@ -29,7 +36,28 @@ impl Records {
             events: Vec::new(),
             stats: SimulationStats::default(),
             zeno: Zeno::default(),
+            instant: (f64::NAN, 0),
         }
+    }
+
+    /// Counts a jump at `t`: an error once [`MAX_JUMPS_AT_ONE_INSTANT`] happened without time
+    /// advancing (by more than rounding).
+    fn count_jump(&mut self, t: f64, event: EventId, mode: Mode) -> Result<()> {
+        let same = (t - self.instant.0).abs() <= 4.0 * f64::EPSILON * t.abs().max(1.0);
+        self.instant = if same {
+            (self.instant.0, self.instant.1 + 1)
+        } else {
+            (t, 1)
+        };
+        if self.instant.1 > MAX_JUMPS_AT_ONE_INSTANT {
+            return Err(Error::Stalled {
+                t,
+                jumps: self.instant.1,
+                event,
+                mode,
+            });
+        }
+        Ok(())
     }
 }
 
@@ -67,6 +95,7 @@ impl Simulator {
             &mut self.y_plus,
         )?;
         rec.stats.jumps += 1;
+        rec.count_jump(te, event, from)?;
         if self.settings.record_events {
             rec.events.push(EventRecord {
                 t: te,
