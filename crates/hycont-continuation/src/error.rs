@@ -9,7 +9,7 @@ pub enum Error {
     #[error(transparent)]
     Core(#[from] hycont_core::Error),
     /// A setting is out of range.
-    #[error("invalid continuation setting {name} = {value}: {reason}")]
+    #[error("invalid continuation setting {name} = {}: {reason}", hycont_core::error::num(*value))]
     InvalidSetting {
         /// Name of the setting.
         name: &'static str,
@@ -30,7 +30,7 @@ pub enum Error {
     },
     /// The start of a run lies outside the bounds of the continued parameter (a run would
     /// otherwise return points outside the window asked for).
-    #[error("the start {parameter} = {value} lies outside the bounds [{min}, {max}]")]
+    #[error("the start {parameter} = {} lies outside the bounds [{}, {}]", hycont_core::error::num(*value), hycont_core::error::num(*min), hycont_core::error::num(*max))]
     StartOutsideBounds {
         /// The continued parameter's name.
         parameter: String,

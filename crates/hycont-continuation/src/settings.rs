@@ -57,7 +57,9 @@ impl Default for Detect {
 /// Settings of [`crate::continue_branch`].
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct ContinuationSettings {
-    /// First step (arclength, default `0.01`).
+    /// First step (arclength, default `0.01`), taken within `[h_min, h_max]`
+    /// ([`ContinuationSettings::first_step`]): bounds that exclude it (e.g. a smaller `h_max`
+    /// alone) move the first step to the nearest of them.
     pub h0: f64,
     /// Smallest step before giving up (default `1e-7`).
     pub h_min: f64,
@@ -149,6 +151,12 @@ impl ContinuationSettings {
         self
     }
 
+    /// The first step a run takes: [`ContinuationSettings::h0`] within `[h_min, h_max]`.
+    #[must_use]
+    pub fn first_step(&self) -> f64 {
+        self.h0.max(self.h_min).min(self.h_max)
+    }
+
     /// Bounds the continuation parameter to `[min, max]`.
     #[must_use]
     pub fn parameter_bounds(mut self, min: f64, max: f64) -> Self {
@@ -238,8 +246,15 @@ impl ContinuationSettings {
         if !(self.h_max >= self.h_min) {
             return bad("h_max", self.h_max, "must be >= h_min");
         }
-        if !(self.h0 >= self.h_min && self.h0 <= self.h_max) {
-            return bad("h0", self.h0, "must be in [h_min, h_max]");
+        if !(self.h0 > 0.0 && self.h0.is_finite()) {
+            return bad(
+                "h0",
+                self.h0,
+                "must be > 0 and finite (it is taken within [h_min, h_max])",
+            );
+        }
+        if !self.h_max.is_finite() {
+            return bad("h_max", self.h_max, "must be finite");
         }
         if !(self.growth >= 1.0 && self.growth <= 4.0) {
             return bad("growth", self.growth, "must be in [1, 4]");

@@ -581,7 +581,12 @@ fn detectors_can_be_switched_off_and_settings_are_validated() {
     }
     .unwrap();
     assert_eq!(b.special(SpecialKind::Fold).count(), 0);
-    let bad = ContinuationSettings::default().steps(0.1, 1e-3, 0.01);
+    // A first step outside [h_min, h_max] is taken at the nearest of them ...
+    let clamped = ContinuationSettings::default().steps(0.1, 1e-3, 0.01);
+    assert!(clamped.validate().is_ok());
+    assert_eq!(clamped.first_step(), 0.01);
+    // ... but a window with h_max below h_min is refused.
+    let bad = ContinuationSettings::default().steps(0.005, 1e-2, 1e-3);
     assert!(
         {
             let u0 = t.start(&[1.0], 1.0);

@@ -19,7 +19,7 @@ pub enum Error {
         found: usize,
     },
     /// An input contained NaN or an infinity.
-    #[error("{what}[{index}] = {value} is not finite")]
+    #[error("{what}[{index}] = {} is not finite", num(*value))]
     NonFinite {
         /// What was checked (e.g. "initial state", "parameters").
         what: &'static str,
@@ -29,7 +29,7 @@ pub enum Error {
         value: f64,
     },
     /// A setting is out of its valid range.
-    #[error("invalid setting {name} = {value}: {reason}")]
+    #[error("invalid setting {name} = {}: {reason}", num(*value))]
     InvalidSetting {
         /// Name of the setting.
         name: &'static str,
@@ -39,7 +39,7 @@ pub enum Error {
         reason: &'static str,
     },
     /// A model parameter is out of its valid range.
-    #[error("parameter {name} = {value} is out of range: {reason}")]
+    #[error("parameter {name} = {} is out of range: {reason}", num(*value))]
     ParameterOutOfRange {
         /// Name of the parameter.
         name: &'static str,
@@ -49,7 +49,7 @@ pub enum Error {
         reason: &'static str,
     },
     /// The integration interval is empty or reversed.
-    #[error("end time {t_end} is before start time {t0}")]
+    #[error("end time {} is before start time {}", num(*t_end), num(*t0))]
     InvalidTimeSpan {
         /// Start time.
         t0: f64,
@@ -109,7 +109,7 @@ pub enum Error {
         state: Vec<f64>,
     },
     /// The step size fell below what floating point can resolve.
-    #[error("step size {h} underflowed at t = {t} in mode {mode}")]
+    #[error("step size {} underflowed at t = {} in mode {mode}", num(*h), num(*t))]
     StepSizeUnderflow {
         /// Time at which it happened.
         t: f64,
@@ -188,6 +188,29 @@ pub enum Error {
         /// Explanation.
         reason: String,
     },
+}
+
+/// A number for a message: as Rust prints it where that is short, in exponent notation where it
+/// is not (`1e308`, not 309 digits; `1e-10`, not `0.0000000001`).
+///
+/// ```
+/// use hycont_core::error::num;
+/// assert_eq!(num(2.0), "2");
+/// assert_eq!(num(1.3), "1.3");
+/// assert_eq!(num(1e308), "1e308");
+/// assert_eq!(num(-1e-10), "-1e-10");
+/// assert_eq!(num(f64::NAN), "NaN");
+/// ```
+#[must_use]
+pub fn num(v: f64) -> String {
+    let a = v.abs();
+    if !v.is_finite() {
+        format!("{v:?}")
+    } else if v == 0.0 || (1e-5..1e16).contains(&a) {
+        format!("{v}")
+    } else {
+        format!("{v:e}")
+    }
 }
 
 /// Shorthand for `Result<T, hycont_core::Error>`.

@@ -408,6 +408,29 @@ pub struct Progress {
     /// Set to stop early (e.g. on Ctrl-C): trials not yet started are skipped and the counts so
     /// far are returned, with their exact trial ranges.
     pub stop: AtomicBool,
+    /// A budget: the run stops as on [`Progress::stop`] once `done` reaches it (checked before
+    /// each chunk of trials, so a run counts whole chunks: with one thread exactly the chunks
+    /// up to the first that reaches it). `None`: no budget.
+    pub budget: Option<u64>,
+}
+
+impl Progress {
+    /// A progress that stops once `budget` trials are done (see [`Progress::budget`]).
+    #[must_use]
+    pub fn with_budget(budget: u64) -> Self {
+        Self {
+            budget: Some(budget),
+            ..Self::default()
+        }
+    }
+
+    /// Whether the run is asked to stop: by [`Progress::stop`], or its budget is spent.
+    pub fn stopping(&self) -> bool {
+        self.stop.load(Ordering::Relaxed)
+            || self
+                .budget
+                .is_some_and(|b| self.done.load(Ordering::Relaxed) >= b)
+    }
 }
 
 /// Runs trials `range` of `study` with `classifier` in parallel (rayon's pool), counting classes
@@ -481,8 +504,11 @@ pub fn run_binned<C: Classifier>(
             let mut acc = empty();
             let mut scratch = empty();
             loop {
+                if progress.stopping() {
+                    break;
+                }
                 let c = next.fetch_add(1, Ordering::Relaxed);
-                if c >= chunk_count || progress.stop.load(Ordering::Relaxed) {
+                if c >= chunk_count {
                     break;
                 }
                 let (a, b) = chunk(c);

@@ -8,6 +8,7 @@ use crate::classes::{Class, RockingClassifier, base_class};
 use crate::error::{Error, Result};
 use hycont_sample::basin::{Axis, Counts, Distribution, Study};
 use serde_json::{Value, json};
+use std::f64::consts::FRAC_PI_2;
 
 /// The trial variables in the order the classifier reads them.
 pub const VARIABLES: [&str; 5] = ["omega", "alpha", "beta", "phi0", "psi0"];
@@ -40,6 +41,19 @@ pub fn validate(study: &Study, block: &Block) -> Result<()> {
     let (w, a) = (range(&study.variables[0]), range(&study.variables[1]));
     block.at(w.0, a.0).validate()?;
     block.at(w.1, a.1).validate()?;
+    // Every start must be a standing block, as `simulate` requires of its start.
+    let (lo, hi) = range(&study.variables[3]);
+    if !(lo.abs() < FRAC_PI_2 && hi.abs() < FRAC_PI_2) {
+        return Err(Error::InvalidArgument {
+            name: "phi0",
+            value: if lo == hi {
+                format!("{lo:?}")
+            } else {
+                format!("{lo:?}:{hi:?}")
+            },
+            reason: "must lie within |phi0| < pi/2 (at |phi0| >= pi/2 the block has overturned)",
+        });
+    }
     Ok(())
 }
 

@@ -136,14 +136,14 @@ impl Parameters {
                 reason,
             })
         };
-        if !(self.omega > 0.0 && self.omega.is_finite()) {
-            return bad("omega", self.omega, "must be > 0 and finite");
+        if !(self.omega >= 1.0 / MAX_SCALE && self.omega <= MAX_SCALE) {
+            return bad("omega", self.omega, "must be in [1e-4, 1e4]");
         }
-        if !(self.alpha >= 0.0 && self.alpha.is_finite()) {
-            return bad("alpha", self.alpha, "must be >= 0 and finite");
+        if !(self.alpha >= 0.0 && self.alpha <= MAX_SCALE) {
+            return bad("alpha", self.alpha, "must be in [0, 1e4]");
         }
-        if !(self.xi >= 0.0 && self.xi.is_finite()) {
-            return bad("xi", self.xi, "must be >= 0 and finite");
+        if !(self.xi >= 0.0 && self.xi <= MAX_SCALE) {
+            return bad("xi", self.xi, "must be in [0, 1e4]");
         }
         if !(self.theta_b > 0.0 && self.theta_b < FRAC_PI_2) {
             return bad("theta_b", self.theta_b, "must be in (0, pi/2)");
@@ -237,6 +237,13 @@ pub fn initial_mode(x: &[f64; 4], params: &Parameters) -> Mode {
         rest_or_lift_off(params.alpha, params.omega, params.theta_b, r)
     }
 }
+
+/// The largest forcing frequency, amplitude and damping (dimensionless) a block takes, and
+/// the reciprocal of the smallest forcing frequency: far beyond any physical block (the
+/// study's are of order 1), and within what the model's terms ($\alpha\omega^2$, $\xi\psi$,
+/// the period $2\pi/\omega$) and the integrator resolve, so that an extreme value is refused
+/// by name instead of failing the integration.
+pub const MAX_SCALE: f64 = 1e4;
 
 /// How far the forcing must exceed the lift-off threshold, $|\alpha\omega^2 r\tan\theta_b| > 1$,
 /// for a block at rest to lift off: a few dozen rounding errors of that product. At the

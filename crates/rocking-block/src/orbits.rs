@@ -30,6 +30,19 @@ pub enum OrbitKind {
     Simulate,
 }
 
+impl OrbitKind {
+    /// The kind in words (as the command line names it).
+    #[must_use]
+    pub fn name(self) -> &'static str {
+        match self {
+            OrbitKind::Symmetric => "symmetric",
+            OrbitKind::AsymmetricPos => "asymmetric-pos",
+            OrbitKind::AsymmetricNeg => "asymmetric-neg",
+            OrbitKind::Simulate => "simulated",
+        }
+    }
+}
+
 /// A computed orbit.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct RockingOrbit {
@@ -207,7 +220,8 @@ pub fn orbit(
     kind: OrbitKind,
     initial: Option<(f64, f64, f64)>,
 ) -> Result<RockingOrbit> {
-    match kind {
+    params.validate()?;
+    let found = match kind {
         OrbitKind::Symmetric => symmetric_orbit(params),
         OrbitKind::AsymmetricPos => asymmetric_orbit(params, true),
         OrbitKind::AsymmetricNeg => asymmetric_orbit(params, false),
@@ -215,7 +229,25 @@ pub fn orbit(
             let (phi0, psi0, beta) = initial.unwrap_or((0.01, 0.0, FRAC_PI_2));
             orbit_from_simulation(params, phi0, psi0, beta, 300.0)
         }
-    }
+    };
+    // Where the search or the solve fails, say for which block and forcing.
+    found.map_err(|e| match e {
+        crate::Error::Core(
+            c @ (hycont_core::Error::NotPeriodic { .. }
+            | hycont_core::Error::NewtonFailed { .. }
+            | hycont_core::Error::SingularMatrix { .. }
+            | hycont_core::Error::StepSizeUnderflow { .. }
+            | hycont_core::Error::NonFiniteVectorField { .. }),
+        ) => crate::Error::NoOrbit(format!(
+            "no {} orbit at omega = {}, alpha = {} (xi = {}, theta_b = {}): {c}",
+            kind.name(),
+            params.omega,
+            params.alpha,
+            params.xi,
+            params.theta_b
+        )),
+        other => other,
+    })
 }
 
 impl RockingOrbit {

@@ -42,6 +42,10 @@ pub fn ensure_parent(path: &Path) -> Result<()> {
 /// The error of `write`, or [`Error::Io`] if the directory cannot be created or the rename
 /// fails.
 pub fn write_with(path: &Path, write: impl FnOnce(&Path) -> Result<()>) -> Result<()> {
+    if is_special(path) {
+        // A device or a pipe (e.g. /dev/null, /dev/stdout): written through, never replaced.
+        return write(path);
+    }
     ensure_parent(path)?;
     let tmp = temp_path(path);
     match write(&tmp) {
@@ -129,6 +133,10 @@ pub fn write_picture(
             write_atomic(png, crate::plot::svg_to_png(&text, png)?)?;
         }
         match svg {
+            Some(svg) if is_special(svg) => {
+                let text = std::fs::read(&drawn).map_err(io_error(&drawn))?;
+                std::fs::write(svg, text).map_err(io_error(svg))
+            }
             Some(svg) => std::fs::rename(&drawn, svg).map_err(io_error(svg)),
             None => Ok(()),
         }
@@ -213,13 +221,68 @@ pub fn check_file(path: &Path) -> Result<()> {
     }
 }
 
-/// Whether two paths name the same file (an output that would replace an input).
+/// Whether `path` exists and is neither a regular file nor a directory (a device, a pipe, a
+/// socket): outputs are written through such files, not replaced.
+#[must_use]
+pub fn is_special(path: &Path) -> bool {
+    std::fs::metadata(path).is_ok_and(|m| !m.is_file() && !m.is_dir())
+}
+
+/// The file `path` names: its canonical path where it exists, else its directory's canonical
+/// path joined with its name (the file it would create), else the absolute path.
+fn identity(path: &Path) -> PathBuf {
+    if let Ok(p) = std::fs::canonicalize(path) {
+        return p;
+    }
+    let parent = match path.parent() {
+        Some(dir) if !dir.as_os_str().is_empty() => dir,
+        _ => Path::new("."),
+    };
+    match (std::fs::canonicalize(parent), path.file_name()) {
+        (Ok(dir), Some(name)) => dir.join(name),
+        _ => std::path::absolute(path).unwrap_or_else(|_| path.to_path_buf()),
+    }
+}
+
+/// Whether two paths name the same file (an output that would replace an input), also when
+/// neither exists yet.
 #[must_use]
 pub fn same_file(a: &Path, b: &Path) -> bool {
-    match (std::fs::canonicalize(a), std::fs::canonicalize(b)) {
-        (Ok(x), Ok(y)) => x == y,
-        _ => a == b,
+    identity(a) == identity(b)
+}
+
+/// Checks a command's files before any work: every output can be written (its directory takes
+/// new files; an existing one is not a directory), none is one of the `inputs`, and no two
+/// outputs (named by their flags) are the same file. Devices and pipes (e.g. `/dev/null`) are
+/// written through, so several outputs may share one.
+///
+/// # Errors
+/// [`Error::InvalidArgument`] naming the output's flag and path; [`Error::Io`] for an
+/// unwritable directory.
+pub fn check_outputs(inputs: &[&Path], outputs: &[(&'static str, &Path)]) -> Result<()> {
+    for (i, &(flag, path)) in outputs.iter().enumerate() {
+        let bad = |reason| {
+            Err(Error::InvalidArgument {
+                name: flag,
+                value: path.display().to_string(),
+                reason,
+            })
+        };
+        if std::fs::metadata(path).is_ok_and(|m| m.is_dir()) {
+            return bad("is a directory; name a file to write");
+        }
+        if is_special(path) {
+            continue;
+        }
+        if inputs.iter().any(|input| same_file(input, path)) {
+            return bad("is an input file of this command; write to another file");
+        }
+        if outputs[..i].iter().any(|(_, other)| same_file(other, path)) {
+            return bad("names the same file as another output of this command");
+        }
+        check_file(path)?;
     }
+    Ok(())
 }
 
 #[cfg(test)]

@@ -131,6 +131,14 @@ pub fn simulate(req: &SimulationRequest) -> Result<(SimulationReport, Trajectory
             .into());
         }
     }
+    let radius = r0.hypot(s0);
+    if !(radius > 0.0 && radius <= 2.0) {
+        return Err(crate::Error::InvalidArgument {
+            name: "r0/s0",
+            value: format!("({r0:?}, {s0:?})"),
+            reason: "the forcing oscillator's state must be on or near its unit circle (0 < r0^2 + s0^2 <= 4)",
+        });
+    }
     if !(req.periods >= 0.0 && req.periods.is_finite()) {
         return Err(crate::Error::InvalidArgument {
             name: "periods",
@@ -139,6 +147,29 @@ pub fn simulate(req: &SimulationRequest) -> Result<(SimulationReport, Trajectory
         });
     }
     check_samples(req.periods, req.points_per_period.max(1))?;
+    let tolerances = [
+        (
+            "rtol",
+            req.rtol,
+            1e-14,
+            "must be in [1e-14, 1e-2] (met by the integrator, and a trajectory worth the name)",
+        ),
+        (
+            "atol",
+            req.atol,
+            1e-20,
+            "must be in [1e-20, 1e-2] (met by the integrator, and a trajectory worth the name)",
+        ),
+    ];
+    for (name, value, lo, reason) in tolerances {
+        if !(value >= lo && value <= 1e-2) {
+            return Err(crate::Error::InvalidArgument {
+                name,
+                value: format!("{value:?}"),
+                reason,
+            });
+        }
+    }
     let period = req.params.forcing_period();
     let per = req.points_per_period.max(1);
     let settings = SimulationSettings::default()
@@ -228,6 +259,13 @@ pub fn check_start(phi0: f64, psi0: f64, beta: f64) -> Result<()> {
             }
             .into());
         }
+    }
+    if psi0.abs() > 1e6 {
+        return Err(crate::Error::InvalidArgument {
+            name: "psi0",
+            value: format!("{psi0:?}"),
+            reason: "must satisfy |psi0| <= 1e6 (faster, the block overturns within a step the integrator can take)",
+        });
     }
     if phi0.abs() >= std::f64::consts::FRAC_PI_2 {
         return Err(crate::Error::InvalidArgument {

@@ -17,25 +17,47 @@ fn scratch(name: &str) -> PathBuf {
     dir
 }
 
-/// Starts `args`, sends `signal` after `after` seconds, and returns the output.
-fn interrupted(args: &[&str], signal: &str, after: f64) -> Output {
+/// Starts `args`, sends `signal` (`"INT"`, `"TERM"`, `"HUP"`) once the process has installed
+/// its handler for it (read off `/proc/PID/status`, so that the signal is never delivered
+/// before the run can keep its counts, however loaded the machine), and returns the output.
+/// The run must be long enough not to finish first (e.g. a study of 10^9 trials).
+fn interrupted(args: &[&str], signal: &str) -> Output {
     let child = bin()
         .args(args)
         .stdout(std::process::Stdio::piped())
         .stderr(std::process::Stdio::piped())
         .spawn()
         .unwrap();
-    std::thread::sleep(std::time::Duration::from_secs_f64(after));
-    let status = std::process::Command::new("kill")
-        .args([signal, &child.id().to_string()])
+    let bit = match signal {
+        "HUP" => 1,
+        "INT" => 2,
+        "TERM" => 15,
+        other => panic!("no signal {other}"),
+    } - 1;
+    let status = format!("/proc/{}/status", child.id());
+    let caught = || {
+        std::fs::read_to_string(&status)
+            .ok()
+            .and_then(|text| {
+                let mask = text.lines().find_map(|l| l.strip_prefix("SigCgt:"))?;
+                u64::from_str_radix(mask.trim(), 16).ok()
+            })
+            .is_some_and(|mask| mask & (1 << bit) != 0)
+    };
+    while !caught() {
+        std::thread::sleep(std::time::Duration::from_millis(10));
+    }
+    let sent = std::process::Command::new("kill")
+        .args([format!("-{signal}"), child.id().to_string()])
         .status()
         .unwrap();
-    assert!(status.success());
+    assert!(sent.success());
     child.wait_with_output().unwrap()
 }
 
-/// Ctrl-C during a shard: the partial shard holds whole chunks of trials with exact ranges;
-/// `--resume` runs the rest, and the shard equals the uninterrupted one byte for byte.
+/// A shard stopped early (`--stop-after`, which stops as an interrupt does, after a number of
+/// trials rather than a time): the partial shard holds whole chunks of trials with exact
+/// ranges; `--resume` runs the rest, and the shard equals the uninterrupted one byte for byte.
 #[test]
 fn an_interrupted_shard_resumes_to_the_uninterrupted_shard() {
     let dir = scratch("shard");
@@ -52,18 +74,20 @@ fn an_interrupted_shard_resumes_to_the_uninterrupted_shard() {
             out.display().to_string(),
         ]
     };
-    // One thread (results do not depend on it) keeps the run long enough to be interrupted on
-    // fast machines: 20,000 trials take seconds.
+    // One thread (results do not depend on it): it stops after 8 chunks of 256 trials.
     let mut run: Vec<String> = args(&a);
-    run.extend(["--threads".into(), "1".into()]);
+    run.extend(["--threads", "1", "--stop-after", "2000"].map(String::from));
     let run: Vec<&str> = run.iter().map(String::as_str).collect();
-    let out = interrupted(&run, "-INT", 0.5);
+    let out = bin().args(&run).output().unwrap();
     fails(&out, 1, "figure --resume");
     let partial = a.join("fig10.shard-0-of-2.partial.json");
     assert!(!a.join("fig10.shard-0-of-2.json").exists());
     let v = json(&partial);
     let ranges = v["counts"][0]["ranges"].as_array().unwrap();
-    assert!(!ranges.is_empty(), "some trials were counted");
+    assert_eq!(
+        ranges,
+        &serde_json::json!([[0, 2048]]).as_array().unwrap().clone()
+    );
     bin()
         .arg("figure")
         .arg("--resume")
@@ -98,37 +122,69 @@ fn a_terminated_run_never_replaces_a_complete_result() {
         .run_ok();
     let before = std::fs::read(dir.join("fig10.json")).unwrap();
     let out = interrupted(
-        &[
-            "figure",
-            "10",
-            "--trials",
-            "40000",
-            "--threads",
-            "1",
-            "--out",
-            &d,
-        ],
-        "-TERM",
-        0.5,
+        &["figure", "10", "--trials", "1000000000", "--out", &d],
+        "TERM",
     );
     fails(&out, 1, "interrupted");
     assert_eq!(std::fs::read(dir.join("fig10.json")).unwrap(), before);
     let partial = json(&dir.join("fig10.partial.json"));
-    assert_eq!(partial["trials"], 40000);
+    assert_eq!(partial["trials"], 1_000_000_000u64);
     std::fs::remove_dir_all(&dir).ok();
 }
 
-/// A run into a directory that cannot be written fails at once, before sampling.
+/// A run into a directory that cannot be written fails at once, before sampling: a study of
+/// 10^12 trials (years of work) returns.
 #[test]
 fn an_unwritable_output_fails_before_any_work() {
-    let start = std::time::Instant::now();
     let out = bin()
-        .args(["figure", "10", "--trials", "100000", "--shard", "0/2"])
+        .args([
+            "figure",
+            "10",
+            "--trials",
+            "1000000000000",
+            "--shard",
+            "0/2",
+        ])
         .args(["--out", "/proc/rocking-block-results"])
         .output()
         .unwrap();
     fails(&out, 1, "cannot write /proc/rocking-block-results");
-    assert!(start.elapsed().as_secs_f64() < 2.0);
+}
+
+/// A partial file is never replaced by one holding less: a fresh run of the same study that
+/// stops earlier leaves the partial of one that got further (it holds every trial the fresh
+/// run counted); a run of another study writes beside it.
+#[test]
+fn a_partial_is_never_replaced_by_one_holding_less() {
+    let dir = scratch("partials");
+    let d = dir.display().to_string();
+    let run = |stop: &str, seed: &str| {
+        bin()
+            .args(["figure", "7", "--trials", "3000", "--threads", "1"])
+            .args(["--seed", seed, "--stop-after", stop, "--out", &d])
+            .output()
+            .unwrap()
+    };
+    let partial = dir.join("fig7.partial.json");
+    fails(&run("2560", "1"), 1, "interrupted");
+    let further = std::fs::read(&partial).unwrap();
+    fails(&run("256", "1"), 1, "fig7.partial.json");
+    assert_eq!(std::fs::read(&partial).unwrap(), further);
+    let out = run("256", "2");
+    fails(&out, 1, "interrupted");
+    assert_eq!(std::fs::read(&partial).unwrap(), further);
+    let beside: Vec<_> = std::fs::read_dir(&dir)
+        .unwrap()
+        .flatten()
+        .map(|e| e.file_name().to_string_lossy().into_owned())
+        .filter(|n| {
+            n.starts_with("fig7.") && n.ends_with(".partial.json") && n != "fig7.partial.json"
+        })
+        .collect();
+    assert_eq!(beside.len(), 1, "{beside:?}");
+    let text = String::from_utf8_lossy(&out.stderr);
+    assert!(text.contains(&beside[0]), "{text}");
+    std::fs::remove_dir_all(&dir).ok();
 }
 
 /// Shards of a 600-trial Fig. 10 and corrupted copies of the first.
@@ -243,7 +299,7 @@ fn an_output_that_is_the_input_is_refused() {
         .arg(dir.join(".").join("trials.csv"))
         .output()
         .unwrap();
-    fails(&out, 2, "is the input file");
+    fails(&out, 2, "is an input file of this command");
     assert_eq!(std::fs::read_to_string(&csv).unwrap(), text);
     std::fs::write(&csv, "omega,alpha,beta,phi0,psi0\n1.3,0.66,NaN,0.01,0\n").unwrap();
     let out = bin()

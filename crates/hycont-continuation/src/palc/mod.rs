@@ -437,7 +437,7 @@ impl<'p, 'a, P: ContinuationProblem<'a> + ?Sized> Palc<'p, 'a, P> {
         };
         observer.point(&branch.points[0], self.parameter(&a.u));
         let start = (a.u.clone(), a.info.clone());
-        let mut h = self.settings.h0;
+        let mut h = self.settings.first_step();
         let mut travelled = 0.0;
         // The chart before `a` and the step from it, for the predictor; `None` after a
         // rejected step (the tangent predictor is then used).

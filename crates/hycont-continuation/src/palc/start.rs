@@ -27,7 +27,7 @@ impl<'a, P: ContinuationProblem<'a> + ?Sized> Palc<'_, 'a, P> {
             if direction < 0.0 {
                 dir.iter_mut().for_each(|x| *x = -*x);
             }
-            let h0 = self.settings.h0;
+            let h0 = self.settings.first_step();
             let pred: Vec<f64> = u0.iter().zip(&dir).map(|(x, t)| x + h0 * t).collect();
             let row = self.row_of(&dir);
             let (u, it) = self.correct(&pred, &row, u0, h0, false)?;

@@ -135,7 +135,7 @@ pub struct ContinueArgs {
     #[arg(long, requires = "label")]
     pub restart: Option<PathBuf>,
     /// Label of the point of the saved run to restart from.
-    #[arg(long, requires = "restart", allow_negative_numbers = true)]
+    #[arg(long, requires = "restart", allow_hyphen_values = true)]
     pub label: Option<usize>,
     /// Write the run (branch with unknowns, for restarts) to this JSON file.
     #[arg(long)]
@@ -158,9 +158,10 @@ pub struct RecipeArgs {
     /// Discretisation.
     #[arg(long, value_enum, default_value_t = MethodArg::Shooting)]
     pub method: MethodArg,
-    /// First arclength step.
-    #[arg(long, default_value_t = Recipe::default().h0, allow_hyphen_values = true)]
-    pub h0: f64,
+    /// First arclength step (default 0.02, or the nearest of --h-min and --h-max where they
+    /// exclude it).
+    #[arg(long, allow_hyphen_values = true)]
+    pub h0: Option<f64>,
     /// Smallest arclength step before the run gives up.
     #[arg(long = "h-min", default_value_t = Recipe::default().h_min, allow_hyphen_values = true)]
     pub h_min: f64,
@@ -171,15 +172,15 @@ pub struct RecipeArgs {
     #[arg(
         long = "max-points",
         default_value_t = Recipe::default().max_points,
-        allow_negative_numbers = true
+        allow_hyphen_values = true
     )]
     pub max_points: usize,
     /// Collocation: mesh intervals per segment (--method collocation; a restart by collocation
     /// keeps the saved mesh).
-    #[arg(long, allow_negative_numbers = true)]
+    #[arg(long, allow_hyphen_values = true)]
     pub ntst: Option<usize>,
     /// Collocation: collocation points per interval, 1 to 7 (--method collocation).
-    #[arg(long, allow_negative_numbers = true)]
+    #[arg(long, allow_hyphen_values = true)]
     pub ncol: Option<usize>,
     /// Newton tolerance of the corrector: the step relative to 1 + |u| (the residual must
     /// also be below 1e-10).
@@ -190,7 +191,7 @@ pub struct RecipeArgs {
     #[arg(
         long = "adapt-every",
         default_value_t = Recipe::default().adapt_every,
-        allow_negative_numbers = true
+        allow_hyphen_values = true
     )]
     pub adapt_every: usize,
     /// Collocation: re-adapt the mesh at points whose error estimate (largest interior error of
@@ -230,7 +231,7 @@ pub struct CurveArgs {
     pub restart: PathBuf,
     /// Label of the special point (SN, PD, BP, SB or GR) of the saved run to start from; of any
     /// point of a saved curve.
-    #[arg(long, allow_negative_numbers = true)]
+    #[arg(long, allow_hyphen_values = true)]
     pub label: usize,
     /// The second parameter (the other is the saved run's).
     #[arg(long, value_enum)]
@@ -281,10 +282,10 @@ pub struct OrbitArgs {
     #[arg(long, value_enum, default_value_t = MethodArg::Collocation)]
     pub method: MethodArg,
     /// Collocation: mesh intervals per segment.
-    #[arg(long, default_value_t = 20, allow_negative_numbers = true)]
+    #[arg(long, default_value_t = 20, allow_hyphen_values = true)]
     pub ntst: usize,
     /// Collocation: points per interval.
-    #[arg(long, default_value_t = 4, allow_negative_numbers = true)]
+    #[arg(long, default_value_t = 4, allow_hyphen_values = true)]
     pub ncol: usize,
     /// Initial angle for --kind simulate.
     #[arg(long, default_value_t = 0.01, allow_hyphen_values = true)]
@@ -312,22 +313,28 @@ pub struct FigureArgs {
     /// Sampling figures: trials per basin (default: Fig. 7 2,000 per omega, Fig. 9 2,000 per
     /// beta, Fig. 10 100,000, enough for the study's trends in about a minute for `all`; the
     /// study: 20,000 for Fig. 7, 2,000,000 for Fig. 10).
-    #[arg(long, allow_negative_numbers = true)]
+    #[arg(long, allow_hyphen_values = true)]
     pub trials: Option<u64>,
     /// Sampling figures: seed (results are identical for a seed whatever the threads).
-    #[arg(long, default_value_t = 1, allow_negative_numbers = true)]
+    #[arg(long, default_value_t = 1, allow_hyphen_values = true)]
     pub seed: u64,
     /// Worker threads (default: all cores).
-    #[arg(long, allow_negative_numbers = true)]
+    #[arg(long, allow_hyphen_values = true)]
     pub threads: Option<usize>,
     /// Sampling figures 7, 9, 10: run only shard I of N (0-based, `I/N`) of the trials and write
     /// DIR/figN.shard-I-of-N.json, for `rocking-block merge` (cluster array jobs).
     #[arg(long)]
     pub shard: Option<String>,
     /// Complete an interrupted sampling run or shard from its `*.partial.json` file (written on
-    /// Ctrl-C, SIGTERM or by an incomplete merge): runs the missing trials only.
-    #[arg(long)]
+    /// Ctrl-C, SIGTERM or by an incomplete merge): runs the missing trials only (the file
+    /// fixes the trials, seed and shard: they cannot be given with it).
+    #[arg(long, conflicts_with_all = ["trials", "seed", "shard"])]
     pub resume: Option<PathBuf>,
+    /// Sampling figures: stop once this many trials of the run are counted (those of a resumed
+    /// file included; whole chunks of 256 per thread), as an interrupt would: the counts go to
+    /// the partial file, to be completed with --resume (e.g. to fit a run into a time slot).
+    #[arg(long, allow_hyphen_values = true)]
+    pub stop_after: Option<u64>,
     /// An interrupted run also replaces figN.json and figN.svg by the figure of the trials
     /// counted so far (otherwise only the partial file is written).
     #[arg(long)]
@@ -400,7 +407,7 @@ pub struct SimulateArgs {
     pub atol: f64,
     /// Dense samples per forcing period for --csv, --svg and max_abs_phi (default 200 when a
     /// file is asked for, else 0).
-    #[arg(long, allow_negative_numbers = true)]
+    #[arg(long, allow_hyphen_values = true)]
     pub points_per_period: Option<usize>,
     /// Print the result as JSON on stdout.
     #[arg(long)]

@@ -39,13 +39,13 @@ pub struct BasinArgs {
     #[arg(long)]
     pub bin: Vec<String>,
     /// Trials.
-    #[arg(long, default_value_t = 2000, allow_negative_numbers = true)]
+    #[arg(long, default_value_t = 2000, allow_hyphen_values = true)]
     pub trials: u64,
     /// Seed (results are identical for a seed whatever the threads).
-    #[arg(long, default_value_t = 1, allow_negative_numbers = true)]
+    #[arg(long, default_value_t = 1, allow_hyphen_values = true)]
     pub seed: u64,
     /// Worker threads (default: all cores).
-    #[arg(long, allow_negative_numbers = true)]
+    #[arg(long, allow_hyphen_values = true)]
     pub threads: Option<usize>,
     /// Run only shard I of N (0-based, `I/N`) and write DIR/basin.shard-I-of-N.json, for
     /// `rocking-block merge`.
@@ -54,6 +54,11 @@ pub struct BasinArgs {
     /// Complete an interrupted run or shard from its `*.partial.json` file.
     #[arg(long, conflicts_with_all = ["omega", "alpha", "beta", "phi0", "psi0", "bin", "trials", "seed", "shard"])]
     pub resume: Option<PathBuf>,
+    /// Stop once this many trials of the run are counted (those of a resumed file included;
+    /// whole chunks of 256 per thread), as an interrupt would: the counts go to the partial
+    /// file, to be completed with --resume.
+    #[arg(long, allow_hyphen_values = true)]
+    pub stop_after: Option<u64>,
     /// An interrupted run also writes the result of the trials counted so far.
     #[arg(long)]
     pub force: bool,
@@ -307,6 +312,14 @@ impl CountFile for BasinFile {
         })?;
         Ok([vec![json_path, csv_path], pictures].concat())
     }
+    fn read(path: &Path) -> Result<Self> {
+        BasinFile::read(path)
+    }
+    fn subsumes(&self, other: &Self) -> bool {
+        (&self.study, self.block, self.trials, self.shard)
+            == (&other.study, other.block, other.trials, other.shard)
+            && super::shard_file::covers(&self.counts, &other.counts, &self.range())
+    }
     fn write(&self, path: &Path) -> Result<()> {
         let text = serde_json::to_string(self).expect("basin counts serialise");
         crate::output::write_atomic(path, text)
@@ -394,7 +407,10 @@ pub(super) fn run_basin(
             }
         }
     };
-    let progress = Arc::new(Progress::default());
+    let progress = Arc::new(Progress {
+        budget: args.stop_after,
+        ..Progress::default()
+    });
     stop_on_signals(&progress);
     let dir = OutDir::new(&args.out).with_format(args.format);
     let files = sample(file, &dir, args.force, &progress)?;

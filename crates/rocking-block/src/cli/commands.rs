@@ -143,14 +143,7 @@ fn classify_file(
 ) -> Result<()> {
     use crate::classes::{ClassifierSettings, classify};
     use rayon::prelude::*;
-    if crate::output::same_file(input, output) {
-        return Err(Error::InvalidArgument {
-            name: "output",
-            value: output.display().to_string(),
-            reason: "is the input file; write the classes to another file",
-        });
-    }
-    crate::output::check_file(output)?;
+    crate::output::check_outputs(&[input], &[("output", output)])?;
     let text = std::fs::read_to_string(input).map_err(read_err(input))?;
     let rows = crate::classes::parse_trials(&text).map_err(|reason| Error::InvalidFile {
         path: input.to_path_buf(),
@@ -216,9 +209,12 @@ pub(super) fn run_simulate(
             .points_per_period
             .unwrap_or(if wants_files { 200 } else { 0 }),
     };
-    for path in args.csv.iter().chain(&args.svg).chain(&args.png) {
-        crate::output::check_file(path)?;
-    }
+    let outputs: Vec<(&'static str, &std::path::Path)> =
+        [("csv", &args.csv), ("svg", &args.svg), ("png", &args.png)]
+            .into_iter()
+            .filter_map(|(flag, p)| p.as_deref().map(|p| (flag, p)))
+            .collect();
+    crate::output::check_outputs(&[], &outputs)?;
     let (report, traj) = simulate(&req)?;
     if let Some(path) = &args.csv {
         let mut text = String::from("t,mode,phi,psi,r,s\n");

@@ -24,6 +24,8 @@ pub(super) fn run_continue(
             reason: "a restart continues the saved run's block and forcing; give them for fresh starts only",
         });
     }
+    let inputs: Vec<&std::path::Path> = args.restart.iter().map(|p| p.as_path()).collect();
+    crate::output::check_outputs(&inputs, &output_flags(&args.out, &args.svg, &args.png))?;
     let (branch, dimensional) = continue_branch(args, free)?;
     let record = invocation
         .clone()
@@ -56,6 +58,18 @@ pub(super) fn run_continue(
     }
 }
 
+/// The outputs `--out`, `--svg` and `--png` that are given, with their flags.
+pub(super) fn output_flags<'a>(
+    out: &'a Option<std::path::PathBuf>,
+    svg: &'a Option<std::path::PathBuf>,
+    png: &'a Option<std::path::PathBuf>,
+) -> Vec<(&'static str, &'a std::path::Path)> {
+    [("out", out), ("svg", svg), ("png", png)]
+        .into_iter()
+        .filter_map(|(flag, p)| p.as_deref().map(|p| (flag, p)))
+        .collect()
+}
+
 impl RecipeArgs {
     /// The recipe asked for (validated).
     ///
@@ -80,9 +94,22 @@ impl RecipeArgs {
                 })
             }
         };
+        // A first step given must lie in the window; the default follows the window given.
+        if let Some(h0) = self.h0
+            && !(h0 >= self.h_min && h0 <= self.h_max)
+        {
+            return Err(Error::InvalidArgument {
+                name: "h0",
+                value: hycont_core::error::num(h0),
+                reason: "must be in [--h-min, --h-max]",
+            });
+        }
+        let h0 = self
+            .h0
+            .unwrap_or_else(|| Recipe::default().h0.max(self.h_min).min(self.h_max));
         let recipe = Recipe {
             method,
-            h0: self.h0,
+            h0,
             h_min: self.h_min,
             h_max: self.h_max,
             max_points: self.max_points,

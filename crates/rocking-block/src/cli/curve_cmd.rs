@@ -14,6 +14,10 @@ pub(super) fn run_curve(
     invocation: &Provenance,
     out: &mut dyn Write,
 ) -> Result<()> {
+    crate::output::check_outputs(
+        &[args.restart.as_path()],
+        &super::continue_cmd::output_flags(&args.out, &args.svg, &args.png),
+    )?;
     let saved = read_saved_run(&args.restart)?;
     let free = Free::of(saved.free).ok_or_else(|| Error::InvalidFile {
         path: args.restart.clone(),

@@ -135,7 +135,10 @@ pub(super) fn run_figure(
     set_threads(args.threads)?;
     crate::output::check_dir(&args.out)?;
     let dir = OutDir::new(&args.out).with_format(args.format);
-    let progress = Arc::new(Progress::default());
+    let progress = Arc::new(Progress {
+        budget: args.stop_after,
+        ..Progress::default()
+    });
     stop_on_signals(&progress);
     if let Some(file) = resume {
         let from = args.resume.clone().unwrap_or_default();
@@ -228,6 +231,11 @@ pub(super) trait CountFile: Sized {
     fn merge(&mut self, other: &Self) -> std::result::Result<(), String>;
     /// The file as a whole run (shard 0 of 1), for a merge.
     fn whole(self) -> Self;
+    /// Reads and checks a file of this kind.
+    fn read(path: &Path) -> Result<Self>;
+    /// Whether this file is of the same run and shard as `other` and has counted every trial
+    /// `other` has (writing it over `other` loses nothing).
+    fn subsumes(&self, other: &Self) -> bool;
     /// Whether every table has counted every trial of the shard.
     fn is_complete(&self) -> bool {
         let (done, total) = self.progress();
@@ -277,7 +285,10 @@ pub(super) fn sample<F: CountFile>(
         file.write(&complete)?;
         return Ok(vec![complete]);
     }
-    file.write(&partial)?;
+    let (partial, write) = partial_path(&file, partial);
+    if write {
+        file.write(&partial)?;
+    }
     if force && whole {
         file.render(out)?;
     }
@@ -294,6 +305,28 @@ pub(super) fn sample<F: CountFile>(
             partial.display()
         ),
     })
+}
+
+/// Where an interrupted run keeps its counts, and whether it must write them: at `partial`,
+/// replacing what is there only if this run has counted every trial of it; where a partial
+/// file of the same run there has counted every trial this one has, that file keeps them
+/// (nothing to write); otherwise (another study's file, or counts neither holds all of) beside
+/// it, with this process's id in the name, so that no counted trial is lost.
+fn partial_path<F: CountFile>(file: &F, partial: PathBuf) -> (PathBuf, bool) {
+    match F::read(&partial) {
+        Err(_) if !partial.exists() => return (partial, true),
+        Ok(existing) if file.subsumes(&existing) => return (partial, true),
+        Ok(existing) if existing.subsumes(file) => return (partial, false),
+        // Another study's counts, a file that is not a count file of this kind, or counts
+        // that overlap this run's only in part: not replaced.
+        _ => {}
+    }
+    let name = partial
+        .file_name()
+        .map_or_else(String::new, |n| n.to_string_lossy().into_owned());
+    let stem = name.strip_suffix(".partial.json").unwrap_or(&name);
+    let beside = partial.with_file_name(format!("{stem}.{}.partial.json", std::process::id()));
+    (beside, true)
 }
 
 impl CountFile for ShardFile {
@@ -344,6 +377,25 @@ impl CountFile for ShardFile {
             shard: (0, 1),
             ..self
         }
+    }
+    fn read(path: &Path) -> Result<Self> {
+        ShardFile::read(path)
+    }
+    fn subsumes(&self, other: &Self) -> bool {
+        let range = self.range();
+        (self.figure, self.trials, self.seed, self.shard, self.block)
+            == (
+                other.figure,
+                other.trials,
+                other.seed,
+                other.shard,
+                other.block,
+            )
+            && self
+                .counts
+                .iter()
+                .zip(&other.counts)
+                .all(|(a, b)| super::shard_file::covers(a, b, &range))
     }
 }
 

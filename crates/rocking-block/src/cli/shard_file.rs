@@ -38,6 +38,27 @@ pub struct ShardFile {
     pub provenance: Option<Provenance>,
 }
 
+/// Whether table `a` has counted every trial of `range` that table `b` has (every trial `a`
+/// lacks, `b` lacks too).
+pub(super) fn covers(a: &Counts, b: &Counts, range: &std::ops::Range<u64>) -> bool {
+    let b_missing = b.missing(range.clone());
+    a.missing(range.clone()).iter().all(|m| {
+        // [m.start, m.end) lies in the union of b's missing intervals (sorted, disjoint).
+        let mut at = m.start;
+        for g in &b_missing {
+            if g.start <= at && at < g.end {
+                at = g.end;
+            }
+        }
+        at >= m.end
+    })
+}
+
+/// The trials a table has counted (the lengths of its ranges).
+fn covered(c: &Counts) -> u64 {
+    c.ranges.iter().map(|(a, b)| b.saturating_sub(*a)).sum()
+}
+
 fn bad(path: &Path, reason: String) -> Error {
     Error::InvalidFile {
         path: path.to_path_buf(),
@@ -97,6 +118,7 @@ impl ShardFile {
             ));
         }
         let range = self.range();
+        let shared = crate::figures::sampling::tables_share_trials(self.figure);
         for (k, (c, e)) in self.counts.iter().zip(&expected).enumerate() {
             if c.classes != e.classes || c.counts.len() != e.counts.len() {
                 return Err(format!(
@@ -117,6 +139,16 @@ impl ShardFile {
                 return Err(format!(
                     "table {k} counts trials {a}..{b}, outside the shard's trials {}..{}",
                     range.start, range.end
+                ));
+            }
+            // Tables that bin the same trials must have counted the same ones.
+            if shared && k > 0 && c.missing(range.clone()) != self.counts[0].missing(range.clone())
+            {
+                return Err(format!(
+                    "table {k} counts {} trials, table 0 {} (or others): the figure's tables \
+                     bin the same trials",
+                    covered(c),
+                    covered(&self.counts[0])
                 ));
             }
         }
