@@ -341,3 +341,40 @@ fn check_gradient<S: HybridJacobians>(sys: &S, orbit: &PeriodicOrbit, touch: Tou
         i += 1;
     }
 }
+
+/// The case: the impact pair at `omega = 0.6`, `a = 1.5`, beyond its physical end
+/// (a = 1.3603, where its flight dips to the other wall) solves the orbit equations, but a run
+/// from it (or a restart at it) with admissibility on is refused by either discretisation,
+/// naming the segment and the wall crossed; it used to return some 60 non-physical points.
+#[test]
+fn a_start_beyond_the_physical_end_is_refused() {
+    use hycont::hycont_continuation::Error as RunError;
+    use hycont::orbit::Violation;
+    use pair::A;
+    let sys = pair::ImpactPair;
+    let start = impact_pair(&sys);
+    for method in methods() {
+        let mut off = OrbitRun::new(&sys, A).unwrap();
+        off.method(method).bounds(0.9, 1.6).admissibility(false).unwrap();
+        off.add_user_points(A, [1.5]).unwrap();
+        let past = off.run("past", &start, RunDirection::Up).unwrap();
+        let uz = past.first(SpecialKind::UserPoint).unwrap().point.label;
+        let beyond = past.orbit_at(uz).unwrap();
+        let mut run = OrbitRun::new(&sys, A).unwrap();
+        run.method(method).bounds(0.9, 1.6);
+        for result in [
+            run.run("beyond", &beyond, RunDirection::Both),
+            run.restart("beyond", &past, uz, None),
+        ] {
+            match result {
+                Err(RunError::InadmissibleStart {
+                    segment: 0,
+                    event: Some(e),
+                    violation: Violation::InteriorCrossing,
+                    ..
+                }) => assert_eq!(e, pair::LEFT),
+                other => panic!("{method:?}: expected the start refused, got {:?}", other.err()),
+            }
+        }
+    }
+}
