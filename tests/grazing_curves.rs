@@ -355,7 +355,10 @@ fn a_start_beyond_the_physical_end_is_refused() {
     let start = impact_pair(&sys);
     for method in methods() {
         let mut off = OrbitRun::new(&sys, A).unwrap();
-        off.method(method).bounds(0.9, 1.6).admissibility(false).unwrap();
+        off.method(method)
+            .bounds(0.9, 1.6)
+            .admissibility(false)
+            .unwrap();
         off.add_user_points(A, [1.5]).unwrap();
         let past = off.run("past", &start, RunDirection::Up).unwrap();
         let uz = past.first(SpecialKind::UserPoint).unwrap().point.label;
@@ -373,7 +376,10 @@ fn a_start_beyond_the_physical_end_is_refused() {
                     violation: Violation::InteriorCrossing,
                     ..
                 }) => assert_eq!(e, pair::LEFT),
-                other => panic!("{method:?}: expected the start refused, got {:?}", other.err()),
+                other => panic!(
+                    "{method:?}: expected the start refused, got {:?}",
+                    other.err()
+                ),
             }
         }
     }

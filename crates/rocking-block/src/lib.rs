@@ -26,6 +26,7 @@ pub mod figures;
 pub mod model;
 pub mod orbits;
 pub mod output;
+pub mod parameters;
 pub mod plot;
 pub mod provenance;
 pub mod report;

@@ -3,6 +3,7 @@
 //! builds ([`OrbitContinuation`]).
 
 mod curves;
+mod drive;
 mod problem;
 mod revisions;
 mod run;

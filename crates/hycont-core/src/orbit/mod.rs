@@ -13,12 +13,14 @@ mod end_condition;
 mod floquet;
 mod flow;
 mod measure;
+mod measure_set;
 mod periodic_orbit;
 mod scan;
 mod shooting;
 mod signature;
 mod symmetry;
 mod touch;
+mod turning;
 
 pub use admissibility::{
     ADMISSIBILITY_TOL, AdmissibilityMargin, Margin, Violation, check_admissible,
@@ -34,9 +36,10 @@ pub use collocation::{
 pub use discretisation::{Discretisation, OrbitEquations, OrbitMethod, orbit_problem};
 pub use floquet::{Floquet, NEUTRAL_BAND, saltation_matrix};
 pub use measure::{
-    Extremum, ExtremumKind, GrazingMargin, Measure, MeasureSet, SegmentDuration, SegmentPoint,
-    SegmentValue, TimeAverage,
+    Extremum, ExtremumKind, GrazingMargin, Measure, SegmentDuration, SegmentPoint, SegmentValue,
+    TimeAverage,
 };
+pub use measure_set::MeasureSet;
 pub use periodic_orbit::PeriodicOrbit;
 pub use scan::{BOUNDARY_BAND, CriticalPoint, OrbitScan, ScanNeeds, Turn, Watch, scan};
 pub use shooting::{CachedSegment, LinearizationCache, Shooting, ShootingSettings};
