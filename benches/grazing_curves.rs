@@ -37,6 +37,8 @@ fn start() -> PeriodicOrbit {
 }
 
 fn grazing_curve(c: &mut Criterion) {
+    // What users run: without the test suites' re-check of every branch.
+    hycont::hycont_continuation::check_branches(false);
     let orbit = start();
     let methods = [
         (

@@ -68,6 +68,8 @@ fn pd_label(branch: &OrbitBranch) -> usize {
 }
 
 fn workflow(c: &mut Criterion) {
+    // What users run: without the test suites' re-check of every branch.
+    hycont::hycont_continuation::check_branches(false);
     let table = FiniteDifferences::new(Table);
     let orbit = start(&table);
     let methods = [

@@ -84,6 +84,26 @@ pub use orbit::{
     SharedMeasures, can_switch,
 };
 pub use quantity::{Label, MeasureId, Quantity};
+
+/// Whether every branch and curve an [`OrbitRun`] returns is re-checked point by point (the
+/// `invariants` feature, on in the test suites).
+#[cfg(feature = "invariants")]
+static CHECK_BRANCHES: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(true);
+
+/// With the `invariants` feature (the test suites' invariant: every branch and curve an
+/// [`OrbitRun`] returns is re-checked by [`OrbitBranch::check_points`], and a violation panics):
+/// turns the re-check off or on for the process (default on). Benchmarks, built with the test
+/// suites' features, turn it off to measure what users run.
+#[cfg(feature = "invariants")]
+pub fn check_branches(on: bool) {
+    CHECK_BRANCHES.store(on, std::sync::atomic::Ordering::Relaxed);
+}
+
+/// Whether the re-check of [`check_branches`] is on.
+#[cfg(feature = "invariants")]
+pub(crate) fn checking_branches() -> bool {
+    CHECK_BRANCHES.load(std::sync::atomic::Ordering::Relaxed)
+}
 pub use settings::{Bound, BoundOn, ContinuationSettings, Detect};
 pub use switch::branch_switch_direction;
 

@@ -15,6 +15,8 @@ use rocking_block::continuation::{
 use std::hint::black_box;
 
 fn figures_3_and_4(c: &mut Criterion) {
+    // What users run: without the test suites' re-check of every branch.
+    hycont_continuation::check_branches(false);
     for free in [Free::Omega, Free::Alpha] {
         let t = std::time::Instant::now();
         let branches = study_branches(free, &Block::default(), &mut Silent).unwrap();
@@ -65,6 +67,8 @@ fn figures_3_and_4(c: &mut Criterion) {
 /// 2.4e-10 and the multipliers within 1e-10 (half orbit: 3e-10). (hycont's collocation on that
 /// mesh takes 1.5 ms/point, as AUTO.)
 fn symmetric_omega_branch(c: &mut Criterion) {
+    // What users run: without the test suites' re-check of every branch.
+    hycont_continuation::check_branches(false);
     use hycont_continuation::RunDirection;
     use rocking_block::continuation::{default_method, study_run};
     use rocking_block::model::Parameters;
@@ -128,6 +132,8 @@ fn symmetric_omega_branch(c: &mut Criterion) {
 /// 1.34 ms/point at NTST 40, fixed cost of a run (start and 2 points) 10 ms. Prints ms/point and
 /// corrector iterations per point; the criterion medians are of whole branches.
 fn per_point(c: &mut Criterion) {
+    // What users run: without the test suites' re-check of every branch.
+    hycont_continuation::check_branches(false);
     use hycont_continuation::{OrbitMethod, RunDirection};
     use hycont_core::orbit::CollocationSettings;
     use rocking_block::continuation::{default_method, study_run};
@@ -174,6 +180,8 @@ fn per_point(c: &mut Criterion) {
 }
 
 fn figure_6_curves(c: &mut Criterion) {
+    // What users run: without the test suites' re-check of every branch.
+    hycont_continuation::check_branches(false);
     let t = std::time::Instant::now();
     let curves = study_curves(&Block::default(), &mut Silent).unwrap();
     let elapsed = t.elapsed();

@@ -17,6 +17,8 @@ use rocking_block::{Parameters, RockingBlock};
 use std::hint::black_box;
 
 fn symmetric_orbit_solves(c: &mut Criterion) {
+    // What users run: without the test suites' re-check of every branch.
+    hycont_continuation::check_branches(false);
     let params = Parameters::new(1.3, 0.66);
     let flights = orbit(&params, OrbitKind::Symmetric, None)
         .unwrap()

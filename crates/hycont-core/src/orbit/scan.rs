@@ -299,11 +299,17 @@ pub fn scan<S: HybridJacobians + ?Sized>(
 ) -> Result<OrbitScan> {
     check_needs(system, needs)?;
     let n = system.state_dim();
-    let mut sim = Simulator::new(settings.clone().record_events(true).zeno(ZenoSettings {
-        min_contracting: usize::MAX,
-        min_interval: 0.0,
-        ..ZenoSettings::default()
-    }))?;
+    let mut sim = Simulator::new(
+        settings
+            .clone()
+            .record_events(true)
+            .event_conditioning(false)
+            .zeno(ZenoSettings {
+                min_contracting: usize::MAX,
+                min_interval: 0.0,
+                ..ZenoSettings::default()
+            }),
+    )?;
     let mut out = OrbitScan {
         integrated: needs.integrals.clone(),
         ..OrbitScan::default()

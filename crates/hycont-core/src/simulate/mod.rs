@@ -361,7 +361,7 @@ impl Simulator {
             if s.record_steps {
                 rec.steps.push(te, mode, &self.y_minus);
             }
-            let conditioning = if s.record_events {
+            let conditioning = if s.record_events && s.conditioning {
                 conditioning::conditioning(
                     system,
                     ev.id,

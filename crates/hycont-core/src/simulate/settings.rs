@@ -178,6 +178,7 @@ pub struct SimulationSettings {
     pub(crate) samples: Option<SampleTimes>,
     pub(crate) record_steps: bool,
     pub(crate) record_events: bool,
+    pub(crate) conditioning: bool,
     pub(crate) sensitivities_in_error: bool,
     pub(crate) controller_beta: f64,
     pub(crate) zeno: ZenoSettings,
@@ -185,7 +186,8 @@ pub struct SimulationSettings {
 
 impl Default for SimulationSettings {
     /// `rtol = 1e-10`, `atol = 1e-12`, no maximum step, automatic initial step, at most
-    /// 50,000,000 steps, events located to `1e-13 * max(1, |t|)`, no samples, events recorded,
+    /// 50,000,000 steps, events located to `1e-13 * max(1, |t|)`, no samples, events recorded
+    /// with their conditioning,
     /// steps not recorded, sensitivities under error control, PI step control with
     /// $\beta = 0.03$, default [`ZenoSettings`].
     fn default() -> Self {
@@ -199,6 +201,7 @@ impl Default for SimulationSettings {
             samples: None,
             record_steps: false,
             record_events: true,
+            conditioning: true,
             sensitivities_in_error: true,
             controller_beta: 0.03,
             zeno: ZenoSettings::default(),
@@ -207,6 +210,16 @@ impl Default for SimulationSettings {
 }
 
 impl SimulationSettings {
+    /// Whether recorded events carry their conditioning ([`crate::EventConditioning`]; default
+    /// on). Off, a few evaluations per event are saved (the library's own scans and solves,
+    /// which do not read it, turn it off) and the records carry
+    /// [`crate::EventConditioning::default`].
+    #[must_use]
+    pub fn event_conditioning(mut self, on: bool) -> Self {
+        self.conditioning = on;
+        self
+    }
+
     /// Relative tolerance of the local error (must be in $(0, 1)$).
     #[must_use]
     pub fn rtol(mut self, rtol: f64) -> Self {
