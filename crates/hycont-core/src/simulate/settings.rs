@@ -168,6 +168,8 @@ impl Default for ZenoSettings {
 /// assert!(SimulationSettings::default().rtol(-1.0).validate().is_err());
 /// ```
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+// Independent switches of what a run records and controls, each with its builder method.
+#[allow(clippy::struct_excessive_bools)]
 pub struct SimulationSettings {
     pub(crate) rtol: f64,
     pub(crate) atol: f64,
