@@ -180,10 +180,15 @@ pub struct SimulationSettings {
     pub(crate) samples: Option<SampleTimes>,
     pub(crate) record_steps: bool,
     pub(crate) record_events: bool,
+    #[serde(default = "on")]
     pub(crate) conditioning: bool,
     pub(crate) sensitivities_in_error: bool,
     pub(crate) controller_beta: f64,
     pub(crate) zeno: ZenoSettings,
+}
+
+fn on() -> bool {
+    true
 }
 
 impl Default for SimulationSettings {
