@@ -12,34 +12,14 @@ mod model;
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use hycont::hycont_continuation::{CurveSpec, OrbitRun, RunDirection, SpecialKind};
-use hycont::orbit::{CollocationSettings, OrbitMethod, PeriodicOrbit, ShootingSettings};
-use hycont::{SimulationSettings, Simulator};
-use model::{AMP, FREE, IMPACT, ImpactOscillator, W};
+use hycont::orbit::{CollocationSettings, OrbitMethod, ShootingSettings};
+use model::{AMP, ImpactOscillator, W};
 use std::hint::black_box;
-
-/// The impacting orbit at COCO's p0 = (k, c, A, w, d, e) = (1, 0.1, 1, 1, 1, 0.8).
-fn start() -> PeriodicOrbit {
-    let p = [1.0, 0.1, 1.0, 1.0, 1.0, 0.8];
-    let mut sim = Simulator::new(SimulationSettings::default()).expect("settings");
-    let traj = sim
-        .run(
-            &ImpactOscillator,
-            FREE,
-            0.0,
-            &[0.0, 0.0, 0.0, 1.0],
-            &p,
-            300.0,
-        )
-        .expect("a simulation");
-    PeriodicOrbit::from_simulation(&ImpactOscillator, &traj, &p, 1e-8)
-        .and_then(|o| o.starting_after(&ImpactOscillator, IMPACT))
-        .expect("the impacting orbit")
-}
 
 fn grazing_curve(c: &mut Criterion) {
     // What users run: without the test suites' re-check of every branch.
     hycont::hycont_continuation::check_branches(false);
-    let orbit = start();
+    let orbit = model::impacting_orbit().expect("the impacting orbit");
     let methods = [
         (
             "shooting",

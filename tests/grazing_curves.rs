@@ -40,7 +40,7 @@ use hycont::orbit::{
     Closure, CollocationSettings, OrbitMethod, PeriodicOrbit, SegmentEnd, SegmentSpec,
     ShootingSettings, Signature, SymmetricSearch, Touch, find_symmetric_orbit,
 };
-use hycont::{FiniteDifferences, HybridJacobians, SimulationSettings, Simulator};
+use hycont::{FiniteDifferences, HybridJacobians};
 use std::f64::consts::{PI, TAU};
 
 /// Points a curve over the whole window may take: a few hundred do (the crawl took 4000 for a
@@ -91,19 +91,6 @@ fn check_curve(
     }
 }
 
-fn impacting_orbit() -> PeriodicOrbit {
-    let p = [1.0, 0.1, 1.0, 1.0, 1.0, 0.8];
-    let mut sim = Simulator::new(SimulationSettings::default()).unwrap();
-    let sys = impact::ImpactOscillator;
-    let traj = sim
-        .run(&sys, impact::FREE, 0.0, &[0.0, 0.0, 0.0, 1.0], &p, 300.0)
-        .unwrap();
-    PeriodicOrbit::from_simulation(&sys, &traj, &p, 1e-8)
-        .unwrap()
-        .starting_after(&sys, impact::IMPACT)
-        .unwrap()
-}
-
 /// COCO's impact oscillator: the default GR (impact velocity zero) at the closed form, and
 /// the grazing curve from it over w in [0.2, 1.58] held by the impact's approach rate,
 /// within 1e-9 of the closed form.
@@ -111,7 +98,7 @@ fn impacting_orbit() -> PeriodicOrbit {
 fn the_impact_oscillators_grazing_curve_traces_in_one_go() {
     use impact::{AMP, W};
     let sys = impact::ImpactOscillator;
-    let start = impacting_orbit();
+    let start = impact::impacting_orbit().unwrap();
     for method in methods() {
         let mut run = OrbitRun::new(&sys, AMP).unwrap();
         run.method(method).bounds(0.01, 2.0);

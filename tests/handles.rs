@@ -12,28 +12,8 @@ mod impact;
 use hycont::hycont_continuation::{
     CurveSpec, Error, OrbitBranch, OrbitRun, RunDirection, SpecialKind,
 };
-use hycont::orbit::{PeriodicOrbit, SegmentValue};
-use hycont::{SimulationSettings, Simulator};
-use impact::{AMP, FREE, IMPACT, ImpactOscillator, W};
-
-fn impacting_orbit() -> PeriodicOrbit {
-    let p = [1.0, 0.1, 1.0, 1.0, 1.0, 0.8];
-    let mut sim = Simulator::new(SimulationSettings::default()).unwrap();
-    let traj = sim
-        .run(
-            &ImpactOscillator,
-            FREE,
-            0.0,
-            &[0.0, 0.0, 0.0, 1.0],
-            &p,
-            300.0,
-        )
-        .unwrap();
-    PeriodicOrbit::from_simulation(&ImpactOscillator, &traj, &p, 1e-8)
-        .unwrap()
-        .starting_after(&ImpactOscillator, IMPACT)
-        .unwrap()
-}
+use hycont::orbit::SegmentValue;
+use impact::{AMP, ImpactOscillator, W};
 
 /// Run A records "x_end" and "v_end"; run B records "v_end" first, at A's "x_end" slot.
 #[test]
@@ -52,7 +32,11 @@ fn a_measure_handle_of_another_run_is_refused_not_misread() {
         Err(Error::ForeignHandle { .. })
     ));
     let branch = a
-        .run("impacting", &impacting_orbit(), RunDirection::Down)
+        .run(
+            "impacting",
+            &impact::impacting_orbit().unwrap(),
+            RunDirection::Down,
+        )
         .unwrap();
     let saved = OrbitBranch::from_json(&branch.to_json().unwrap()).unwrap();
     for br in [&branch, &saved] {
@@ -84,7 +68,11 @@ fn curves_refuse_starts_outside_their_bounds_and_regular_labels() {
     let mut run = OrbitRun::new(&ImpactOscillator, AMP).unwrap();
     run.bounds(0.01, 2.0);
     let branch = run
-        .run("impacting", &impacting_orbit(), RunDirection::Down)
+        .run(
+            "impacting",
+            &impact::impacting_orbit().unwrap(),
+            RunDirection::Down,
+        )
         .unwrap();
     let gr = branch.first(SpecialKind::Grazing).unwrap().point.label;
     let outside = CurveSpec::new(W).bounds(1.2, 1.5);

@@ -15,26 +15,13 @@
 mod model;
 
 use hycont::hycont_continuation::{CurveSpec, OrbitRun, RunDirection, SpecialKind};
-use hycont::orbit::PeriodicOrbit;
-use hycont::{SimulationSettings, Simulator};
-use model::{AMP, FREE, IMPACT, ImpactOscillator, W};
+use model::{AMP, ImpactOscillator, W};
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let (k, c, d) = (1.0_f64, 0.1_f64, 1.0_f64);
     let graze = |w: f64| d * ((k - w * w).powi(2) + (c * w).powi(2)).sqrt();
-    // COCO's p0 = (k, c, A, w, d, e) = (1, 0.1, 1, 1, 1, 0.8).
-    let p = [k, c, 1.0, 1.0, d, 0.8];
-    let mut sim = Simulator::new(SimulationSettings::default())?;
-    let traj = sim.run(
-        &ImpactOscillator,
-        FREE,
-        0.0,
-        &[0.0, 0.0, 0.0, 1.0],
-        &p,
-        300.0,
-    )?;
-    let orbit = PeriodicOrbit::from_simulation(&ImpactOscillator, &traj, &p, 1e-8)?
-        .starting_after(&ImpactOscillator, IMPACT)?;
+    // At COCO's p0 = (k, c, A, w, d, e) = (1, 0.1, 1, 1, 1, 0.8), read off a simulation.
+    let orbit = model::impacting_orbit()?;
 
     // The impacting orbits, down in A: the branch ends where the impact velocity vanishes.
     let mut run = OrbitRun::new(&ImpactOscillator, AMP)?;

@@ -7,8 +7,10 @@
 // `(r, s) = (sin(w t + beta), cos(w t + beta))`; `v' = -k x - c v + A r`. One mode; the event
 // IMPACT (`d - x` falls through 0). Parameters `(k, c, A, w, d, e)`, COCO's names and order.
 
+use hycont::orbit::PeriodicOrbit;
 use hycont::{
     Direction, EventAction, EventId, EventSpec, HybridJacobians, HybridSystem, Mode, ParamId,
+    SimulationSettings, Simulator,
 };
 
 pub const AMP: ParamId = ParamId(2);
@@ -17,6 +19,25 @@ pub const FREE: Mode = Mode(0);
 pub const IMPACT: EventId = EventId(0);
 
 pub struct ImpactOscillator;
+
+/// COCO's starting parameters `p0 = (k, c, A, w, d, e) = (1, 0.1, 1, 1, 1, 0.8)`.
+pub const P0: [f64; 6] = [1.0, 0.1, 1.0, 1.0, 1.0, 0.8];
+
+/// The impacting period-1 orbit at [`P0`], read off a simulation from rest (300 time units,
+/// its transient gone), starting right after its impact.
+pub fn impacting_orbit() -> Result<PeriodicOrbit, hycont::Error> {
+    let mut sim = Simulator::new(SimulationSettings::default())?;
+    let traj = sim.run(
+        &ImpactOscillator,
+        FREE,
+        0.0,
+        &[0.0, 0.0, 0.0, 1.0],
+        &P0,
+        300.0,
+    )?;
+    PeriodicOrbit::from_simulation(&ImpactOscillator, &traj, &P0, 1e-8)?
+        .starting_after(&ImpactOscillator, IMPACT)
+}
 
 impl HybridSystem for ImpactOscillator {
     fn state_dim(&self) -> usize {

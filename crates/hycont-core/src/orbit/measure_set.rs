@@ -119,24 +119,8 @@ impl<S: HybridJacobians + ?Sized> MeasureSet<'_, S> {
         orbit: &PeriodicOrbit,
         index: usize,
     ) -> Result<(f64, Option<Vec<f64>>)> {
-        if index >= self.measures.len() {
-            return Err(Error::InvalidMeasure {
-                reason: format!("measure {index} does not exist ({} measures)", self.len()),
-            });
-        }
-        let m = &self.measures[index];
-        let unfold = orbit.signature.closure() == Closure::Symmetric
-            && system
-                .symmetry()
-                .is_some_and(|sym| !m.invariant_under(system, &sym));
-        if unfold {
+        let Some((m, scanned)) = self.scanned_as_given(system, orbit, index)? else {
             return Ok((self.evaluate_one(system, orbit, index)?, None));
-        }
-        let needs = m.needs();
-        let scanned = if needs.is_empty() {
-            OrbitScan::default()
-        } else {
-            scan(system, orbit, &needs, &self.settings)?
         };
         let value = m.value(system, orbit, &scanned)?;
         let gradient = m.gradient(system, orbit, &scanned);
@@ -165,12 +149,24 @@ impl<S: HybridJacobians + ?Sized> MeasureSet<'_, S> {
     /// # Errors
     /// As [`MeasureSet::evaluate_one`].
     pub fn touch(&self, system: &S, orbit: &PeriodicOrbit, index: usize) -> Result<Option<Touch>> {
-        if index >= self.measures.len() {
+        Ok(self
+            .scanned_as_given(system, orbit, index)?
+            .and_then(|(m, scanned)| m.touch(system, orbit, &scanned)))
+    }
+
+    /// Measure `index` and the scan of `orbit` it needs, where it is measured on the orbit as
+    /// given (`None`: a half orbit it must see unfolded).
+    fn scanned_as_given(
+        &self,
+        system: &S,
+        orbit: &PeriodicOrbit,
+        index: usize,
+    ) -> Result<Option<(&dyn Measure<S>, OrbitScan)>> {
+        let Some(m) = self.measures.get(index) else {
             return Err(Error::InvalidMeasure {
                 reason: format!("measure {index} does not exist ({} measures)", self.len()),
             });
-        }
-        let m = &self.measures[index];
+        };
         let unfold = orbit.signature.closure() == Closure::Symmetric
             && system
                 .symmetry()
@@ -184,7 +180,7 @@ impl<S: HybridJacobians + ?Sized> MeasureSet<'_, S> {
         } else {
             scan(system, orbit, &needs, &self.settings)?
         };
-        Ok(m.touch(system, orbit, &scanned))
+        Ok(Some((m.as_ref(), scanned)))
     }
 
     fn evaluate_indices(
