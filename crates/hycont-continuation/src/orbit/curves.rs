@@ -74,9 +74,9 @@ impl<'a, S: HybridJacobians + ?Sized> OrbitRun<'a, S> {
     /// - a branch point (BP) of a symmetric orbit: the symmetry-breaking curve on its half orbit
     ///   (a half-map multiplier $-1$);
     /// - a period doubling (PD): on the full orbit;
-    /// - an event on a measure (SB, GR, a user label): the measure held at its level (a grazing
-    ///   by a collapsing segment: that segment's duration held at zero); symmetric orbits on
-    ///   their half orbit. A margin held at zero (the admissibility events GR and DB, a
+    /// - an event on a measure (SB, GR, DB, a user label): the measure held at its level (a
+    ///   grazing or a domain boundary by a collapsing segment: that segment's duration held at
+    ///   zero); symmetric orbits on their half orbit. A margin held at zero (the admissibility events GR and DB, a
     ///   [`hycont_core::orbit::GrazingMargin`]) is the smallest of several conditions and not
     ///   smooth where two meet (e.g. a turning point reaching a segment's end): the curve holds
     ///   the one condition that attains it at the start instead
@@ -130,8 +130,12 @@ impl<'a, S: HybridJacobians + ?Sized> OrbitRun<'a, S> {
             (
                 SpecialKind::BoundaryTouch | SpecialKind::Grazing | SpecialKind::Custom(_),
                 Some(m),
-            ) if m == MeasureId::SHORTEST_SEGMENT => {
-                // A collapsed segment: its (located) duration is zero up to rounding.
+            ) if m == MeasureId::SHORTEST_SEGMENT
+                || (self.admissibility.is_some_and(|(_, domain)| domain == m)
+                    && orbit.durations.iter().any(|d| d.abs() < 1e-8)) =>
+            {
+                // A collapsed segment (the domain margin's duration condition, too): its
+                // (located) duration is zero up to rounding.
                 for d in &mut orbit.durations {
                     if d.abs() < 1e-8 {
                         *d = 0.0;
