@@ -400,7 +400,10 @@ pub fn figure9(
     render(9, out, options, provenance, &counts)
 }
 
-pub(crate) fn fig9_study(beta: f64, seed: u64, block: &Block) -> Study {
+/// The study of one Fig. 9 panel: omega, alpha, phi0, psi0 uniform, beta fixed, binned on the
+/// 30 x 30 (omega, alpha) grid.
+#[must_use]
+pub fn fig9_study(beta: f64, seed: u64, block: &Block) -> Study {
     Study {
         axes: vec![
             Axis {
@@ -490,7 +493,10 @@ pub fn figure10(
     render(10, out, options, provenance, &counts)
 }
 
-pub(crate) fn fig10_study(seed: u64, block: &Block) -> (Study, Vec<Vec<Axis>>) {
+/// The study of Fig. 10 (every variable uniform, beta over a forcing period) and its three
+/// binnings (phi0, psi0, beta in 50 bins each), which bin the same trials.
+#[must_use]
+pub fn fig10_study(seed: u64, block: &Block) -> (Study, Vec<Vec<Axis>>) {
     let b = block.static_boundary();
     let study = plane_study(
         Distribution::Uniform {
