@@ -76,10 +76,10 @@ impl<'a, S: HybridJacobians + ?Sized> OrbitRun<'a, S> {
     /// - a period doubling (PD): on the full orbit;
     /// - an event on a measure (SB, GR, DB, a user label): the measure held at its level (a
     ///   grazing or a domain boundary by a collapsing segment: that segment's duration held at
-    ///   zero); symmetric orbits on their half orbit. A margin held at zero (the admissibility events GR and DB, a
-    ///   [`hycont_core::orbit::GrazingMargin`]) is the smallest of several conditions and not
-    ///   smooth where two meet (e.g. a turning point reaching a segment's end): the curve holds
-    ///   the one condition that attains it at the start instead
+    ///   zero); symmetric orbits on their half orbit. A margin held at zero (the admissibility
+    ///   events GR and DB, a [`hycont_core::orbit::GrazingMargin`]) is the smallest of several
+    ///   conditions and not smooth where two meet (e.g. a turning point reaching a segment's
+    ///   end): the curve holds the one condition that attains it at the start instead
     ///   ([`hycont_core::orbit::Touch`]: a turning point on the surface, a tangential impact's
     ///   approach rate, a segment's end on the surface; [`CurveCondition::Touch`]), a smooth
     ///   function of the orbit with an exact gradient, so the curve is followed with ordinary

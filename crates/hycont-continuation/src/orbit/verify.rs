@@ -48,9 +48,15 @@ impl OrbitBranch {
             .points
             .iter()
             .chain(self.branch.special_points.iter().map(|s| &s.point));
+        // The equations of each discretisation revision, built once.
+        let mut equations: Vec<Option<Box<dyn hycont_core::orbit::OrbitEquations + '_>>> =
+            (0..=self.rediscretised.len()).map(|_| None).collect();
         for p in points {
             let disc = self.discretisation_of(p)?;
-            let mut eq = disc.equations(system, &self.template, None)?;
+            let eq = match &mut equations[p.discretisation] {
+                Some(eq) => eq,
+                slot => slot.insert(disc.equations(system, &self.template, None)?),
+            };
             let base = eq.unknowns();
             let mut residual = vec![0.0; eq.equations()];
             eq.evaluate(&p.u[..base], &mut residual, None)?;

@@ -7,6 +7,9 @@ use crate::error::{Error, Result};
 use crate::{ContinuationProblem, PointInfo};
 use hycont_core::problem::JacobianUse;
 
+/// Corrector iterations kept for the diagnosis of a failure (the last ones).
+const RECENT: usize = 4;
+
 impl<'a, P: ContinuationProblem<'a> + ?Sized> Palc<'_, 'a, P> {
     /// Assembles and factorises $[J(u); r^\top]$ and writes $[F(u); r \cdot (u - u_0) - s]$.
     ///
@@ -82,7 +85,15 @@ impl<'a, P: ContinuationProblem<'a> + ?Sized> Palc<'_, 'a, P> {
         }
         let mut fresh = true;
         let mut expect_solution = false;
-        let mut history = Vec::new();
+        // The last iterations, for a diagnosis if the corrector fails (fixed storage: no
+        // allocation on the corrector's path).
+        let mut recent = [hycont_core::problem::NewtonIteration {
+            residual: 0.0,
+            step: 0.0,
+            damping: 1.0,
+            factorized: false,
+        }; RECENT];
+        let mut done = 0usize;
         for it in 0..=max_it {
             if !fresh {
                 if expect_solution {
@@ -119,12 +130,13 @@ impl<'a, P: ContinuationProblem<'a> + ?Sized> Palc<'_, 'a, P> {
             self.pattern.solve_in_place(&mut du)?;
             last_step = max_abs(&du);
             last_res = res;
-            history.push(hycont_core::problem::NewtonIteration {
+            recent[done % RECENT] = hycont_core::problem::NewtonIteration {
                 residual: res,
                 step: last_step,
                 damping: 1.0,
                 factorized: fresh || exact,
-            });
+            };
+            done += 1;
             if last_step > 1e3 * scale {
                 break;
             }
@@ -133,6 +145,9 @@ impl<'a, P: ContinuationProblem<'a> + ?Sized> Palc<'_, 'a, P> {
             }
             fresh = false;
         }
+        let history: Vec<_> = (done.saturating_sub(RECENT)..done)
+            .map(|i| recent[i % RECENT])
+            .collect();
         let tol = ns.tol * (1.0 + max_abs(&u));
         let last = max_abs(&self.res);
         let (failure, why) = if last_step > 1e3 * (1.0 + max_abs(&u)) {
@@ -146,10 +161,7 @@ impl<'a, P: ContinuationProblem<'a> + ?Sized> Palc<'_, 'a, P> {
             hycont_core::problem::NewtonFailure::diagnose(&history, last, ns.residual_tol, tol)
         };
         Err(Error::Core(hycont_core::Error::NewtonFailed {
-            reason: format!(
-                "the corrector did not converge in {} iterations: {why}",
-                history.len()
-            ),
+            reason: format!("the corrector did not converge in {done} iterations: {why}"),
             failure,
             history,
         }))

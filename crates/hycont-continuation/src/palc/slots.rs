@@ -23,6 +23,17 @@ pub(super) enum Source {
     Monitor(usize),
 }
 
+impl Source {
+    /// The value at chart `c` (`pi`: the continued parameter's index in the unknowns).
+    pub(super) fn value(self, c: &Chart, pi: usize) -> f64 {
+        match self {
+            Source::Continued => c.u[pi],
+            Source::Param(i) => c.info.params[i],
+            Source::Monitor(i) => c.info.monitors[i],
+        }
+    }
+}
+
 /// What each test-function slot means.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(super) enum Slot {
@@ -89,12 +100,7 @@ impl<'a, P: ContinuationProblem<'a> + ?Sized> Palc<'_, 'a, P> {
                 Slot::PeriodDoubling => pd_test(&c.info),
                 Slot::Torus => tr_test(&c.info),
                 Slot::Event { level, source, .. } | Slot::Bound { source, level, .. } => {
-                    let value = match source {
-                        Source::Continued => c.u[pi],
-                        Source::Param(i) => c.info.params[i],
-                        Source::Monitor(i) => c.info.monitors[i],
-                    };
-                    value - level
+                    source.value(c, pi) - level
                 }
             })
             .collect();

@@ -6,7 +6,6 @@ use super::slots::{Slot, Source};
 use super::{Chart, Palc};
 use crate::ContinuationProblem;
 use crate::error::{Error, Result};
-use crate::quantity::Quantity;
 
 impl<'a, P: ContinuationProblem<'a> + ?Sized> Palc<'_, 'a, P> {
     /// The first chart. Without a given direction: `u0` corrected with the parameter fixed
@@ -80,28 +79,24 @@ impl<'a, P: ContinuationProblem<'a> + ?Sized> Palc<'_, 'a, P> {
     /// outside the window asked for.
     fn check_start_bounds(&self, c: &Chart) -> Result<()> {
         let pi = self.p.parameter_index();
-        let bounds: Vec<(Source, Quantity, f64)> = self
+        let bounds: Vec<(Source, f64)> = self
             .slots
             .iter()
             .filter_map(|s| match *s {
-                Slot::Bound { source, on, level } => Some((source, on, level)),
+                Slot::Bound { source, level, .. } => Some((source, level)),
                 _ => None,
             })
             .collect();
         // Each bound is two slots: its minimum, then its maximum.
         for pair in bounds.chunks_exact(2) {
-            let ((source, on, min), max) = (pair[0], pair[1].2);
-            let value = match source {
-                Source::Continued => c.u[pi],
-                Source::Param(i) => c.info.params[i],
-                Source::Monitor(i) => c.info.monitors[i],
-            };
+            let ((source, min), max) = (pair[0], pair[1].1);
+            let value = source.value(c, pi);
             let tol = 1e-9 * (1.0 + value.abs());
             if !(value >= min - tol && value <= max + tol) {
-                let name = match (source, on) {
-                    (Source::Continued, _) => self.p.parameter_name(),
-                    (Source::Param(i), _) => self.p.parameter_names()[i].clone(),
-                    (Source::Monitor(i), _) => self.p.monitor_names()[i].clone(),
+                let name = match source {
+                    Source::Continued => self.p.parameter_name(),
+                    Source::Param(i) => self.p.parameter_names()[i].clone(),
+                    Source::Monitor(i) => self.p.monitor_names()[i].clone(),
                 };
                 return Err(Error::StartOutsideBounds {
                     parameter: name,

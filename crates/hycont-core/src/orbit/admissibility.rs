@@ -122,7 +122,7 @@ fn needs(events: &[(EventId, f64)]) -> ScanNeeds {
 }
 
 /// $\dot h_e = \nabla h_e \cdot f_m$ at `x`.
-fn rate<S: HybridJacobians + ?Sized>(
+pub(super) fn rate<S: HybridJacobians + ?Sized>(
     system: &S,
     mode: Mode,
     e: EventId,

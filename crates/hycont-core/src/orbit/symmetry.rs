@@ -19,10 +19,6 @@ fn symmetry_of<S: HybridSystem + ?Sized>(system: &S) -> Result<Z2Symmetry> {
     checked_symmetry(system)
 }
 
-fn symmetry_at<S: HybridSystem + ?Sized>(system: &S, orbit: &PeriodicOrbit) -> Result<Z2Symmetry> {
-    orbit.symmetry_at_starts(system)
-}
-
 fn image_segment(sym: &Z2Symmetry, n: usize, seg: &SegmentSpec) -> SegmentSpec {
     SegmentSpec {
         mode: sym.modes[seg.mode.0],
@@ -233,7 +229,7 @@ pub fn solve_symmetric_shooting<S: HybridJacobians + ?Sized>(
         });
     }
     half_guess.validate(system)?;
-    symmetry_at(system, half_guess)?;
+    half_guess.symmetry_at_starts(system)?;
     let mut problem = super::shooting_problem(system, half_guess, settings)?;
     let sol = crate::problem::newton(&mut problem, &super::pack(half_guess), newton_settings)?;
     let half = super::unpack(half_guess, &sol.u);
@@ -272,7 +268,7 @@ pub fn solve_symmetric_collocation<S: HybridJacobians + ?Sized>(
         });
     }
     half_guess.validate(system)?;
-    symmetry_at(system, half_guess)?;
+    half_guess.symmetry_at_starts(system)?;
     let sol = super::collocation::solve_collocation_admissible(
         system,
         half_guess,

@@ -30,6 +30,7 @@
 //! the flow through the collocation orbit's segment starts.
 
 use super::PeriodicOrbit;
+use super::admissibility::rate;
 use super::flow::SegmentFlow;
 use super::signature::{Closure, SegmentEnd};
 use super::turning::turning_time;
@@ -474,15 +475,6 @@ fn scale(v: &mut [f64], s: f64) {
     for x in v.iter_mut() {
         *x *= s;
     }
-}
-
-/// $\dot h_e = \nabla h_e \cdot f_m$ at `x`.
-fn rate<S: HybridJacobians + ?Sized>(system: &S, m: Mode, e: EventId, x: &[f64], p: &[f64]) -> f64 {
-    let n = x.len();
-    let (mut g, mut f) = (vec![0.0; n], vec![0.0; n]);
-    system.event_gradient(e, x, p, &mut g, None);
-    system.vector_field(m, x, p, &mut f);
-    dot(&g, &f)
 }
 
 /// The gradient of $\dot h_e = \nabla h_e \cdot f_m$ in the state and the parameters:
