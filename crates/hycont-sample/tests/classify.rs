@@ -147,6 +147,59 @@ fn amplitudes_beyond_the_limit_are_terminal() {
     ));
 }
 
+/// Higher periods by repetition. Undamped and unforced ($\zeta = 0$, $f = 0$) the oscillator
+/// moves as $x = A\sin(t + c)$ with period $2\pi$; forced with $\omega = k$ (an integer, the
+/// forcing's period $2\pi/k$), the strobe map is the rotation by $2\pi/k$ of the $(x, v)$ plane:
+/// every start other than the origin is periodic with period exactly $k$ forcing periods.
+/// With the forcing on ($f \ne 0$, $\omega = k \ne 1$) the motion adds the period-1 steady
+/// state to the free oscillation: still period $k$.
+#[test]
+fn integer_frequency_ratios_are_higher_periods() {
+    let system = FiniteDifferences::new(Forced);
+    let settings = StrobeSettings::default();
+    let x0 = [0.4, 0.0, 0.0, 1.0];
+    for k in [3usize, 5, 8] {
+        for f in [0.0, 0.3] {
+            let c = classify(&system, &[f, k as f64, 0.0, 10.0], Mode(0), &x0, &settings).unwrap();
+            assert_eq!(
+                c.attractor,
+                Attractor::Periodic {
+                    period: k,
+                    symmetric: false
+                },
+                "omega = {k}, f = {f}"
+            );
+            assert_eq!(c.decision, Decision::Converged);
+        }
+    }
+    // Period 9 is beyond the default max_period = 8: undecided after max_periods; at
+    // max_period = 9 it is found.
+    let p9 = [0.0, 9.0, 0.0, 10.0];
+    let short = StrobeSettings {
+        max_periods: 60,
+        ..settings
+    };
+    let c = classify(&system, &p9, Mode(0), &x0, &short).unwrap();
+    assert_eq!(c.attractor, Attractor::Undecided);
+    assert_eq!(c.periods, 60);
+    let nine = StrobeSettings {
+        max_period: 9,
+        ..short
+    };
+    let c = classify(&system, &p9, Mode(0), &x0, &nine).unwrap();
+    assert!(matches!(c.attractor, Attractor::Periodic { period: 9, .. }));
+    // At rest at the origin the unforced oscillator is period 1.
+    let c = classify(
+        &system,
+        &[0.0, 3.0, 0.0, 10.0],
+        Mode(0),
+        &[0.0, 0.0, 0.0, 1.0],
+        &settings,
+    )
+    .unwrap();
+    assert!(matches!(c.attractor, Attractor::Periodic { period: 1, .. }));
+}
+
 #[test]
 fn bad_settings_and_inputs_are_errors() {
     let system = FiniteDifferences::new(Forced);
@@ -156,6 +209,11 @@ fn bad_settings_and_inputs_are_errors() {
     };
     let x0 = [0.0, 0.0, 0.0, 1.0];
     assert!(classify(&system, &[0.3, 0.8, 0.1, 1.0], Mode(0), &x0, &bad).is_err());
+    let no_period = StrobeSettings {
+        max_period: 0,
+        ..StrobeSettings::default()
+    };
+    assert!(classify(&system, &[0.3, 0.8, 0.1, 1.0], Mode(0), &x0, &no_period).is_err());
     assert!(
         classify(
             &system,

@@ -3,13 +3,17 @@
 //! change of a decision rule must keep at least 99.5 % of the trials of each mix in their
 //! class and every class fraction inside the reference's 95 % (Wilson) interval.
 //!
-//! - `profile MIX N`: the first `N` trials of the mix (seed 1) with the default settings: share
+//! - `profile MIX N [KEY=VALUE]...`: the first `N` trials of the mix (seed 1) with the default
+//!   settings (or those changed as for `agree`): share
 //!   of trials, share of time, milliseconds and forcing periods per trial, by class and by
 //!   decision, and how many periods decided trials took;
 //! - `agree MIX N [KEY=VALUE]...`: the same trials with the default settings and with the
 //!   settings changed (`max`, `min`, `chunk`, `newton`, `rtol`, `atol`, `tol`, `xtol`: the
 //!   fields of `ClassifierSettings`): trials per second of each, the share of trials in the same
 //!   class, each class fraction against the reference's interval, and the trials that moved.
+//!
+//! - `record MIX N [KEY=VALUE]...`: one line per trial (index, class, seconds), to compare the
+//!   classifier of another build: `compare REFERENCE VARIANT` reports two records as `agree` does.
 //!
 //! Mixes: `7` (Fig. 7 at omega = 1.3), `9a` and `9b` (Fig. 9 at beta = 0 and pi/2), `10`.
 //! Run with `cargo run --release -p rocking-block --example classifier_mix -- profile 10 20000`.
@@ -63,6 +67,7 @@ fn settings(pairs: &[String]) -> Result<ClassifierSettings, String> {
             "rtol" => s.rtol = v.parse().map_err(|e| bad(&e))?,
             "atol" => s.atol = v.parse().map_err(|e| bad(&e))?,
             "tol" => s.tol = v.parse().map_err(|e| bad(&e))?,
+            "maxk" => s.max_period = v.parse().map_err(|e| bad(&e))?,
             "xtol" => s.extrapolation_tol = v.parse().map_err(|e| bad(&e))?,
             _ => return Err(format!("unknown setting {k}")),
         }
@@ -70,13 +75,12 @@ fn settings(pairs: &[String]) -> Result<ClassifierSettings, String> {
     Ok(s)
 }
 
-fn profile(study: &Study, n: u64, block: &Block) {
-    let s = ClassifierSettings::default();
+fn profile(study: &Study, n: u64, block: &Block, s: &ClassifierSettings) {
     let mut by: [BTreeMap<String, (u64, f64, usize)>; 2] = Default::default();
     let mut late: BTreeMap<usize, u64> = BTreeMap::new();
     let mut total = 0.0;
     for i in 0..n {
-        let (class, decision, periods, dt) = run(&study.trial(i), block, &s);
+        let (class, decision, periods, dt) = run(&study.trial(i), block, s);
         total += dt;
         for (map, key) in by.iter_mut().zip([class, decision]) {
             let e = map.entry(key).or_default();
@@ -127,6 +131,18 @@ fn agree(study: &Study, n: u64, block: &Block, variant: &ClassifierSettings) {
             *moved.entry(format!("{a} -> {b}")).or_default() += 1;
         }
     }
+    report(n, (tr, tv), same, &fractions, &moved);
+}
+
+/// Prints the speeds, the share of trials in the same class, each class fraction against the
+/// reference's 95 % interval, and the trials that moved.
+fn report(
+    n: u64,
+    (tr, tv): (f64, f64),
+    same: u64,
+    fractions: &BTreeMap<String, (u64, u64)>,
+    moved: &BTreeMap<String, u64>,
+) {
     println!(
         "reference {:.0} trials/s, variant {:.0} trials/s ({:.2}x); same class {:.3} %",
         n as f64 / tr,
@@ -134,7 +150,7 @@ fn agree(study: &Study, n: u64, block: &Block, variant: &ClassifierSettings) {
         tr / tv,
         100.0 * same as f64 / n as f64
     );
-    for (name, (a, b)) in &fractions {
+    for (name, (a, b)) in fractions {
         let (lo, hi) = wilson(*a, n);
         let q = *b as f64 / n as f64;
         let flag = if q < lo || q > hi { "  OUTSIDE" } else { "" };
@@ -146,8 +162,59 @@ fn agree(study: &Study, n: u64, block: &Block, variant: &ClassifierSettings) {
     println!("  moved: {moved:?}");
 }
 
+/// Writes one line per trial: its index, class and seconds.
+fn record(study: &Study, n: u64, block: &Block, s: &ClassifierSettings) {
+    for i in 0..n {
+        let (class, _, _, dt) = run(&study.trial(i), block, s);
+        println!("{i} {class} {dt:.9}");
+    }
+}
+
+/// Reads a file of [`record`].
+fn read_record(path: &str) -> Result<Vec<(String, f64)>, String> {
+    let text = std::fs::read_to_string(path).map_err(|e| format!("{path}: {e}"))?;
+    text.lines()
+        .map(|l| {
+            let f: Vec<&str> = l.split_whitespace().collect();
+            match f.as_slice() {
+                [_, class, dt] => Ok((class.to_string(), dt.parse().map_err(|_| l.to_string())?)),
+                _ => Err(format!("{path}: bad line {l}")),
+            }
+        })
+        .collect()
+}
+
+/// Compares two records of the same trials as `agree` does.
+fn compare(reference: &str, variant: &str) -> Result<(), String> {
+    let (a, b) = (read_record(reference)?, read_record(variant)?);
+    if a.len() != b.len() {
+        return Err("the records hold different numbers of trials".into());
+    }
+    let n = a.len() as u64;
+    let (mut tr, mut tv, mut same) = (0.0, 0.0, 0u64);
+    let mut fractions: BTreeMap<String, (u64, u64)> = BTreeMap::new();
+    let mut moved: BTreeMap<String, u64> = BTreeMap::new();
+    for ((ca, ta), (cb, tb)) in a.iter().zip(&b) {
+        (tr, tv) = (tr + ta, tv + tb);
+        fractions.entry(ca.clone()).or_default().0 += 1;
+        fractions.entry(cb.clone()).or_default().1 += 1;
+        if ca == cb {
+            same += 1;
+        } else {
+            *moved.entry(format!("{ca} -> {cb}")).or_default() += 1;
+        }
+    }
+    report(n, (tr, tv), same, &fractions, &moved);
+    Ok(())
+}
+
 fn main() -> Result<(), String> {
     let args: Vec<String> = std::env::args().skip(1).collect();
+    if let [mode, a, b] = args.as_slice()
+        && mode == "compare"
+    {
+        return compare(a, b);
+    }
     let (mode, mix, n) = match args.as_slice() {
         [mode, mix, n, ..] => (
             mode.as_str(),
@@ -159,8 +226,9 @@ fn main() -> Result<(), String> {
     let block = Block::default();
     let study = study(mix, &block)?;
     match mode {
-        "profile" => profile(&study, n, &block),
+        "profile" => profile(&study, n, &block, &settings(&args[3..])?),
         "agree" => agree(&study, n, &block, &settings(&args[3..])?),
+        "record" => record(&study, n, &block, &settings(&args[3..])?),
         other => return Err(format!("unknown mode {other} (profile, agree)")),
     }
     Ok(())

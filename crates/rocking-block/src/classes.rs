@@ -7,7 +7,8 @@
 //! - **symmetric_p1**: period 1 with the half-period sample the $S$-image of the strobe
 //!   sample; **asymmetric_p1_pos / _neg**: period 1 otherwise, by the sign of the mean of
 //!   $\varphi$ over a period; **period2**;
-//! - **other**: not decided within `max_periods` (chaos, higher periods).
+//! - **other**: periods above 2 (recognised by repetition) and motions not decided within
+//!   `max_periods` (chaos, long transients).
 //!
 //! Orbits that include rest (sticking) phases are classified by their periodicity and symmetry
 //! like any other, and flagged `with_rest` (reported separately by the figures): at
@@ -35,7 +36,7 @@ pub enum Class {
     AsymmetricP1Neg,
     /// Period-2 rocking.
     Period2,
-    /// Anything else (higher period, chaos, undecided).
+    /// Anything else (periods above 2, chaos, undecided).
     Other,
     /// Overturned to $\varphi = \pi/2$.
     OverturnPos,
@@ -166,7 +167,8 @@ pub fn classify(
         } => Class::SymmetricP1,
         Attractor::Periodic { period: 1, .. } if c.mean[0] > 0.0 => Class::AsymmetricP1Pos,
         Attractor::Periodic { period: 1, .. } => Class::AsymmetricP1Neg,
-        Attractor::Periodic { .. } => Class::Period2,
+        Attractor::Periodic { period: 2, .. } => Class::Period2,
+        Attractor::Periodic { .. } => Class::Other,
         Attractor::Undecided => Class::Other,
     };
     let decision = match c.decision {
