@@ -1,0 +1,161 @@
+//! The Slurm job-array scripts (`scripts/slurm`) run locally: `submit.sh` with a stand-in
+//! `sbatch` that runs each job at once (an array's tasks in order, each with its
+//! `SLURM_ARRAY_TASK_ID`), so that the steps a cluster runs (the shards, a shard requeued after
+//! an interrupt, the dependent merge) run here as they would there. The merged figure must be
+//! the one a single process writes.
+
+mod common;
+
+use common::{RunOk, bin, json, scratch, without_provenance};
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+/// A stand-in for `sbatch`: logs its options, runs the job script with bash (every task of
+/// `--array=LO-HI` in order), writes the job's output to `job-ID[-TASK].out` as Slurm does and
+/// prints the job id (`--parsable`). A failing task fails the submission.
+const SBATCH: &str = r#"#!/usr/bin/env bash
+set -euo pipefail
+dir=$(dirname "$0")
+shopt -s nullglob
+logs=("$dir"/job-*.log)
+id=$(( ${#logs[@]} + 100 ))
+array=
+while [[ $# -gt 0 && $1 == --* ]]; do
+  case "$1" in --array=*) array=${1#--array=} ;; esac
+  echo "$1" >> "$dir/job-$id.log"
+  shift
+done
+touch "$dir/job-$id.log"
+if [[ -n $array ]]; then
+  for ((t = ${array%-*}; t <= ${array#*-}; t++)); do
+    SLURM_ARRAY_TASK_ID=$t SLURM_CPUS_PER_TASK=2 bash "$@" > "$dir/job-$id-$t.out" 2>&1
+  done
+else
+  bash "$@" > "$dir/job-$id.out" 2>&1
+fi
+echo "$id"
+"#;
+
+fn scripts() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scripts/slurm")
+}
+
+/// A directory with the stand-in `sbatch`, to put first on PATH.
+fn fake_slurm(dir: &Path) -> PathBuf {
+    let bin_dir = dir.join("slurm-bin");
+    std::fs::create_dir_all(&bin_dir).unwrap();
+    let sbatch = bin_dir.join("sbatch");
+    std::fs::write(&sbatch, SBATCH).unwrap();
+    Command::new("chmod").arg("+x").arg(&sbatch).run_ok();
+    bin_dir
+}
+
+#[test]
+fn a_job_array_and_its_merge_write_what_one_process_writes() {
+    let dir = scratch("slurm");
+    let out = dir.join("out");
+    let run = ["figure", "7", "--trials", "600", "--seed", "5"];
+    // Shard 1 was interrupted before (as by the time limit's SIGTERM): its partial file is there.
+    bin()
+        .args(run)
+        .args([
+            "--shard",
+            "1/3",
+            "--stop-after",
+            "1",
+            "--threads",
+            "1",
+            "--out",
+        ])
+        .arg(&out)
+        .output()
+        .unwrap();
+    let partial = out.join("fig7.shard-1-of-3.partial.json");
+    assert!(
+        partial.exists(),
+        "the interrupted shard left no partial file"
+    );
+    let slurm = fake_slurm(&dir);
+    let path = format!(
+        "{}:{}",
+        slurm.display(),
+        std::env::var("PATH").unwrap_or_default()
+    );
+    let submitted = Command::new("bash")
+        .arg(scripts().join("submit.sh"))
+        .arg("3")
+        .arg(&out)
+        .args(run)
+        .env("PATH", &path)
+        .env("ROCKING_BLOCK", env!("CARGO_BIN_EXE_rocking-block"))
+        .run_ok();
+    let said = String::from_utf8_lossy(&submitted.stdout);
+    assert!(
+        said.contains("shards: job 100 (array 0-2), merge: job 101"),
+        "{said}"
+    );
+    // The merge job was made to wait for the array.
+    let merge_log = std::fs::read_to_string(slurm.join("job-101.log")).unwrap();
+    assert!(
+        merge_log.contains("--dependency=afterok:100"),
+        "{merge_log}"
+    );
+    assert!(
+        std::fs::read_to_string(slurm.join("job-100.log"))
+            .unwrap()
+            .contains("--array=0-2")
+    );
+    // The requeued shard resumed (its partial file is gone) and every shard is complete.
+    assert!(!partial.exists());
+    for i in 0..3 {
+        assert!(out.join(format!("fig7.shard-{i}-of-3.json")).exists());
+    }
+    let whole = dir.join("whole");
+    bin().args(run).arg("--out").arg(&whole).run_ok();
+    assert_eq!(
+        without_provenance(&json(&out.join("fig7.json"))),
+        without_provenance(&json(&whole.join("fig7.json")))
+    );
+    assert_eq!(
+        std::fs::read(out.join("fig7.svg")).unwrap(),
+        std::fs::read(whole.join("fig7.svg")).unwrap()
+    );
+    // Submitted again, every task finds its shard written and skips it.
+    let again = Command::new("bash")
+        .arg(scripts().join("shard.sbatch"))
+        .args(["3"])
+        .arg(&out)
+        .args(run)
+        .env("SLURM_ARRAY_TASK_ID", "2")
+        .env("ROCKING_BLOCK", env!("CARGO_BIN_EXE_rocking-block"))
+        .run_ok();
+    assert!(String::from_utf8_lossy(&again.stdout).contains("already written"));
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
+fn the_scripts_refuse_what_they_cannot_run() {
+    for (script, args, env) in [
+        ("submit.sh", vec!["0", "out", "figure", "7"], None),
+        ("submit.sh", vec!["3"], None),
+        ("shard.sbatch", vec!["3", "out", "simulate"], Some("0")),
+        ("merge.sbatch", vec!["3", "out", "orbit"], None),
+    ] {
+        let mut cmd = Command::new("bash");
+        cmd.arg(scripts().join(script)).args(&args);
+        if let Some(task) = env {
+            cmd.env("SLURM_ARRAY_TASK_ID", task);
+        }
+        let out = cmd.output().unwrap();
+        assert_eq!(out.status.code(), Some(2), "{script} {args:?}");
+    }
+    // Outside an array a shard does not guess its task.
+    let out = Command::new("bash")
+        .arg(scripts().join("shard.sbatch"))
+        .args(["3", "out", "figure", "7"])
+        .env_remove("SLURM_ARRAY_TASK_ID")
+        .output()
+        .unwrap();
+    assert!(!out.status.success());
+    assert!(String::from_utf8_lossy(&out.stderr).contains("job array"));
+}

@@ -1,0 +1,26 @@
+#!/usr/bin/env bash
+# Submits a rocking-block sampling run as a Slurm job array of N shards and a merge job that
+# runs once every shard has succeeded:
+#
+#   scripts/slurm/submit.sh N OUT COMMAND [ARGS...]
+#   e.g. scripts/slurm/submit.sh 50 results figure 10 --trials 2000000 --seed 1
+#
+# Options for sbatch (partition, account, time, CPUs) go in $SBATCH_OPTIONS; both jobs
+# run `rocking-block` from $ROCKING_BLOCK or PATH. Prints the two job ids.
+set -euo pipefail
+if [[ $# -lt 3 ]]; then
+  echo "usage: submit.sh N OUT COMMAND [ARGS...]" >&2
+  exit 2
+fi
+n=$1
+if ! [[ $n =~ ^[0-9]+$ ]] || ((n < 1)); then
+  echo "submit.sh: N must be a positive integer, not '$n'" >&2
+  exit 2
+fi
+here=$(cd "$(dirname "$0")" && pwd)
+# shellcheck disable=SC2086 # SBATCH_OPTIONS holds separate options
+array=$(sbatch --parsable ${SBATCH_OPTIONS:-} --array="0-$((n - 1))" "$here/shard.sbatch" "$@")
+array=${array%%;*}
+# shellcheck disable=SC2086
+merge=$(sbatch --parsable ${SBATCH_OPTIONS:-} --dependency="afterok:$array" "$here/merge.sbatch" "$@")
+echo "shards: job $array (array 0-$((n - 1))), merge: job ${merge%%;*}"
