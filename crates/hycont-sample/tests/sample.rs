@@ -4,7 +4,9 @@ use approx::assert_abs_diff_eq;
 use hycont_core::{
     Direction, EventAction, EventId, EventSpec, HybridSystem, Mode, SimulationSettings,
 };
-use hycont_sample::basin::{Axis, Classifier, Distribution, Progress, Study, run, shard_range};
+use hycont_sample::basin::{
+    Axis, Classifier, Distribution, Progress, Study, run, shard_range, share,
+};
 use hycont_sample::sweep::{Sweep, brute_force};
 use std::sync::atomic::Ordering;
 
@@ -87,6 +89,44 @@ fn shards_merge_to_the_whole_and_double_counting_is_refused() {
     let again = run(&s, &Quarters, 0..10, &Progress::default()).unwrap();
     assert!(merged.merge(&again).is_err());
     assert!(shard_range(10, 3, 3).is_err());
+}
+
+/// An interrupted run's missing trials split among processes (as MPI ranks do): the shares
+/// are disjoint, cover exactly the missing trials, differ in size by at most one, and the counts
+/// merged are the whole run's.
+#[test]
+fn the_missing_trials_share_out_among_processes() {
+    let s = study();
+    let whole = run(&s, &Quarters, 0..3000, &Progress::default()).unwrap();
+    // A run that counted two stretches, then stopped.
+    let mut resumed = run(&s, &Quarters, 100..700, &Progress::default()).unwrap();
+    resumed
+        .merge(&run(&s, &Quarters, 1500..1800, &Progress::default()).unwrap())
+        .unwrap();
+    let missing = resumed.missing(0..3000);
+    for n in [1u64, 2, 3, 7, 4000] {
+        let shares: Vec<_> = (0..n).map(|i| share(&missing, i, n).unwrap()).collect();
+        let sizes: Vec<u64> = shares
+            .iter()
+            .map(|s| s.iter().map(|r| r.end - r.start).sum())
+            .collect();
+        assert_eq!(sizes.iter().sum::<u64>(), 2100, "n = {n}");
+        assert!(sizes.iter().max().unwrap() - sizes.iter().min().unwrap() <= 1);
+        let mut all = resumed.clone();
+        for ranges in &shares {
+            for r in ranges {
+                all.merge(&run(&s, &Quarters, r.clone(), &Progress::default()).unwrap())
+                    .unwrap();
+            }
+        }
+        assert_eq!(all.counts, whole.counts, "n = {n}");
+        assert!(all.missing(0..3000).is_empty());
+    }
+    assert!(share(&missing, 0, 0).is_err());
+    assert_eq!(
+        share(&[], 0, 3).unwrap(),
+        Vec::<std::ops::Range<u64>>::new()
+    );
 }
 
 #[test]

@@ -52,6 +52,14 @@ pub enum Error {
         /// What was kept and how to go on.
         detail: String,
     },
+    /// A rank of an MPI job failed its share of a sampling run (reported by rank 0).
+    #[error("MPI rank {rank}: {reason}")]
+    Rank {
+        /// The rank.
+        rank: u64,
+        /// What failed.
+        reason: String,
+    },
     /// Inputs that hold only part of a result (e.g. shards missing from a merge); the part was
     /// kept.
     #[error("incomplete: {detail}")]

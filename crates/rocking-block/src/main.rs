@@ -18,6 +18,9 @@ fn main() -> ExitCode {
             .unwrap_or_default();
         eprintln!("rocking-block: internal error{place}: {msg}");
     }));
+    // Under an MPI launcher (feature `mpi`): MPI for the whole run, finalised at its end.
+    #[cfg(feature = "mpi")]
+    let _mpi = rocking_block::cli::start_mpi();
     let args: Vec<std::ffi::OsString> = std::env::args_os().collect();
     let command_line: Vec<String> = args
         .iter()

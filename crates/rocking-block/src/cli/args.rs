@@ -333,6 +333,7 @@ pub struct FigureArgs {
     /// Sampling figures: stop once this many trials of the run are counted (those of a resumed
     /// file included; whole chunks of 256 per thread), as an interrupt would: the counts go to
     /// the partial file, to be completed with --resume (e.g. to fit a run into a time slot).
+    /// Under mpirun each rank counts its own trials (and the resumed file's).
     #[arg(long, allow_hyphen_values = true)]
     pub stop_after: Option<u64>,
     /// An interrupted run also replaces figN.json and figN.svg by the figure of the trials

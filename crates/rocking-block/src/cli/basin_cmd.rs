@@ -2,7 +2,7 @@
 //! the sampling figures (see [`super::sampling`]).
 
 use super::block_args::{BlockArgs, figure_dimensional};
-use super::sampling::{CountFile, parse_shard, sample, set_threads, stop_on_signals, use_up};
+use super::sampling::{CountFile, Todo, parse_shard, sample, set_threads, stop_on_signals, use_up};
 use super::shard_file::MAX_TRIALS;
 use super::{print_written, read_err};
 use crate::basin::{VARIABLES, classifier, folded, result_csv, result_json, validate};
@@ -282,16 +282,33 @@ impl CountFile for BasinFile {
             )
         }
     }
-    fn fill(&mut self, progress: &Progress) -> Result<()> {
+    fn todo(&self, part: (u64, u64)) -> Result<Todo> {
+        let missing = self.counts.missing(self.range());
+        Ok(vec![
+            hycont_sample::basin::share(&missing, part.0, part.1)
+                .map_err(crate::figures::sampling::sample_err)?,
+        ])
+    }
+    fn fill(&mut self, todo: &[Vec<std::ops::Range<u64>>], progress: &Progress) -> Result<()> {
         let c = classifier(&self.block);
-        for r in self.counts.missing(self.range()) {
-            let counted =
-                run(&self.study, &c, r, progress).map_err(crate::figures::sampling::sample_err)?;
+        for r in todo.iter().flatten() {
+            let counted = run(&self.study, &c, r.clone(), progress)
+                .map_err(crate::figures::sampling::sample_err)?;
             self.counts
                 .merge(&counted)
                 .map_err(crate::figures::sampling::sample_err)?;
         }
         Ok(())
+    }
+    fn cleared(&self) -> Self {
+        BasinFile {
+            study: self.study.clone(),
+            block: self.block,
+            trials: self.trials,
+            shard: self.shard,
+            counts: Counts::new(self.counts.classes.clone(), self.counts.counts.len()),
+            provenance: self.provenance.clone(),
+        }
     }
     fn render(&self, out: &OutDir) -> Result<Vec<PathBuf>> {
         let provenance = self

@@ -7,9 +7,12 @@ mod block_args;
 mod commands;
 mod continue_cmd;
 mod curve_cmd;
+mod ranks;
 mod sampling;
 mod shard_file;
 
+#[cfg(feature = "mpi")]
+pub use ranks::start_mpi;
 pub use shard_file::{MAX_TRIALS, SAMPLING, ShardFile};
 
 pub use args::*;
@@ -43,8 +46,23 @@ fn read_err(path: &Path) -> impl FnOnce(std::io::Error) -> Error + '_ {
 /// Invalid arguments, numerical failures, or files that cannot be written.
 /// Every JSON it writes records `command_line` (program first) in its provenance
 /// ([`crate::provenance`]).
+///
+/// In an MPI job of several ranks (feature `mpi`) only `figure` and `basin` run: every rank
+/// counts its share of the trials and rank 0 alone writes files and output.
 pub fn run(cli: Cli, command_line: &[String], out: &mut dyn Write) -> Result<()> {
     let invocation = &Provenance::from_command_line(command_line);
+    let ranks = ranks::Ranks::current();
+    let mut sink = std::io::sink();
+    let out: &mut dyn Write = if ranks.is_root() { out } else { &mut sink };
+    match cli.command {
+        Command::Figure(_) | Command::Basin(_) => {}
+        Command::Simulate(_) => ranks::only_sampling(ranks, "simulate")?,
+        Command::Orbit(_) => ranks::only_sampling(ranks, "orbit")?,
+        Command::Continue(_) => ranks::only_sampling(ranks, "continue")?,
+        Command::Curve(_) => ranks::only_sampling(ranks, "curve")?,
+        Command::Classify(_) => ranks::only_sampling(ranks, "classify")?,
+        Command::Merge(_) => ranks::only_sampling(ranks, "merge")?,
+    }
     match cli.command {
         Command::Simulate(args) => commands::run_simulate(&args, invocation, out),
         Command::Orbit(args) => commands::run_orbit(&args, invocation, out),

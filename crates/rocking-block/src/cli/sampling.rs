@@ -6,13 +6,14 @@
 //! result. `merge` checks every file, merges them and writes the figure when the trials are
 //! complete, a partial file otherwise.
 
+use super::ranks::Ranks;
 use super::shard_file::{MAX_TRIALS, SAMPLING, ShardFile};
 use super::{FigureArgs, MergeArgs, print_written};
 use crate::error::{Error, Result};
 use crate::figures::sampling::{SampleOptions, empty_tables, fill, render};
 use crate::output::OutDir;
 use crate::provenance::Provenance;
-use hycont_sample::basin::Progress;
+use hycont_sample::basin::{Counts, Progress};
 use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
@@ -159,7 +160,8 @@ pub(super) fn run_figure(
                 provenance: Some(invocation.clone()),
             };
             written.extend(sample(file, &dir, args.force, &progress)?);
-        } else {
+        } else if Ranks::current().is_root() {
+            // In an MPI job, rank 0 alone draws the figures that are not sampled.
             let options = SampleOptions {
                 trials: trials(n),
                 seed: args.seed,
@@ -210,9 +212,12 @@ fn checked_options(
     Ok(shard)
 }
 
+/// Trial ranges to run: one list per table, or one for tables that bin the same trials.
+pub(super) type Todo = Vec<Vec<std::ops::Range<u64>>>;
+
 /// A file of count tables over one shard of a sampling run's trials (a sampling figure's, or a
 /// basin's), complete or not: what `sample` and `merge` need of it.
-pub(super) trait CountFile: Sized {
+pub(super) trait CountFile: Sized + serde::Serialize + serde::de::DeserializeOwned {
     /// What is sampled, for messages (`figure 7`, `basin`).
     fn what(&self) -> String;
     /// Trials counted and trials of the shard.
@@ -221,8 +226,14 @@ pub(super) trait CountFile: Sized {
     fn shard(&self) -> (u64, u64);
     /// Where the complete shard (or, for a whole run, the result) goes, and the partial file.
     fn paths(&self, dir: &Path) -> (PathBuf, PathBuf);
-    /// Counts the trials of the shard not counted yet.
-    fn fill(&mut self, progress: &Progress) -> Result<()>;
+    /// The trials of the shard not counted yet, share `part = (i, k)` of them (`(0, 1)`: all):
+    /// what [`CountFile::fill`] runs.
+    fn todo(&self, part: (u64, u64)) -> Result<Todo>;
+    /// Counts the trials `todo` lists (from [`CountFile::todo`]).
+    fn fill(&mut self, todo: &[Vec<std::ops::Range<u64>>], progress: &Progress) -> Result<()>;
+    /// The same run and shard with nothing counted (what another process fills its share of
+    /// the trials into, to be merged).
+    fn cleared(&self) -> Self;
     /// Writes the result of the counted trials into `out`.
     fn render(&self, out: &OutDir) -> Result<Vec<PathBuf>>;
     /// Writes the file itself.
@@ -245,16 +256,26 @@ pub(super) trait CountFile: Sized {
 
 /// Counts the trials `file` lacks (with a progress bar on stderr) and writes the result: the
 /// figure or the shard when complete; otherwise the partial file (and, with `force`, the result
-/// of the trials counted so far) and [`Error::Interrupted`].
+/// of the trials counted so far) and [`Error::Interrupted`]. In an MPI job every rank counts
+/// its share and rank 0 alone writes (the other ranks return no files).
 pub(super) fn sample<F: CountFile>(
-    mut file: F,
+    file: F,
     out: &OutDir,
     force: bool,
     progress: &Progress,
 ) -> Result<Vec<PathBuf>> {
-    let (done, total) = file.progress();
+    // The processes of an MPI job each count their share of the trials left; rank 0 merges
+    // them and goes on as a single process would (one process: the whole share).
+    let ranks = Ranks::current();
+    let todo = file.todo(ranks.part())?;
+    let (done, _) = file.progress();
     progress.done.store(done, Ordering::Relaxed);
-    let bar = indicatif::ProgressBar::new(total);
+    let mine: u64 = todo.iter().flatten().map(|r| r.end - r.start).sum();
+    let bar = if ranks.is_root() {
+        indicatif::ProgressBar::new(done + mine)
+    } else {
+        indicatif::ProgressBar::hidden()
+    };
     bar.set_style(
         indicatif::ProgressStyle::with_template(
             "{msg} [{bar:40}] {pos}/{len} trials ({per_sec}, eta {eta})",
@@ -270,12 +291,19 @@ pub(super) fn sample<F: CountFile>(
                 std::thread::sleep(std::time::Duration::from_millis(100));
             }
         });
-        let r = file.fill(progress);
+        let mut counted = if ranks.is_root() {
+            file
+        } else {
+            file.cleared()
+        };
+        let r = counted.fill(&todo, progress).map(|()| counted);
         finished.store(true, Ordering::Relaxed);
         r
     });
     bar.finish_and_clear();
-    result?;
+    let Some(file) = ranks.gather(result)? else {
+        return Ok(Vec::new());
+    };
     let (complete, partial) = file.paths(&out.dir);
     let whole = file.shard().1 == 1;
     if file.is_complete() {
@@ -342,10 +370,23 @@ impl CountFile for ShardFile {
     fn paths(&self, dir: &Path) -> (PathBuf, PathBuf) {
         ShardFile::paths(self, dir)
     }
-    fn fill(&mut self, progress: &Progress) -> Result<()> {
+    fn todo(&self, part: (u64, u64)) -> Result<Todo> {
+        crate::figures::sampling::missing(self.figure, &self.counts, self.range(), part)
+    }
+    fn fill(&mut self, todo: &[Vec<std::ops::Range<u64>>], progress: &Progress) -> Result<()> {
         let options = self.options();
-        let range = self.range();
-        fill(self.figure, options, &mut self.counts, range, progress)
+        fill(self.figure, options, &mut self.counts, todo, progress)
+    }
+    fn cleared(&self) -> Self {
+        ShardFile {
+            counts: self
+                .counts
+                .iter()
+                .map(|c| Counts::new(c.classes.clone(), c.counts.len()))
+                .collect(),
+            provenance: self.provenance.clone(),
+            ..*self
+        }
     }
     fn render(&self, out: &OutDir) -> Result<Vec<PathBuf>> {
         let invocation = self.provenance.clone().unwrap_or_default();

@@ -2,7 +2,7 @@
 //! rendered from the count tables of [`super::tables`]) and Fig. 8 (final classes).
 
 pub use super::fig5::figure5;
-pub use super::tables::{counts_for, empty_tables, fill, tables_share_trials};
+pub use super::tables::{counts_for, empty_tables, fill, missing, tables_share_trials};
 
 use super::{FigureFiles, write_json};
 use crate::block::Block;

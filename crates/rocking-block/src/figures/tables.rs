@@ -7,7 +7,7 @@ use super::sampling::{
 use crate::block::Block;
 use crate::classes::RockingClassifier;
 use crate::error::{Error, Result};
-use hycont_sample::basin::{Axis, Counts, Progress, Study, run};
+use hycont_sample::basin::{Axis, Counts, Progress, Study, run, share};
 
 /// The count tables of sampling figure `n` (7, 9 or 10) over trials `range`: one per study
 /// (Fig. 7: one per omega; Fig. 9: one per beta; Fig. 10: one per binned variable).
@@ -21,7 +21,8 @@ pub fn counts_for(
     progress: &Progress,
 ) -> Result<Vec<Counts>> {
     let mut tables = empty_tables(n)?;
-    fill(n, options, &mut tables, range, progress)?;
+    let todo = missing(n, &tables, range, (0, 1))?;
+    fill(n, options, &mut tables, &todo, progress)?;
     Ok(tables)
 }
 
@@ -85,17 +86,42 @@ pub fn empty_tables(n: u32) -> Result<Vec<Counts>> {
         .collect())
 }
 
-/// Runs the trials of `range` that `tables` (of sampling figure `n`) have not counted yet and
-/// merges them in: a fresh run from [`empty_tables`], or the rest of an interrupted one.
-/// Stops early when `progress` says so, with exact ranges.
+/// The trials of `range` that `tables` (of sampling figure `n`) have not counted yet, share
+/// `part = (i, k)` of them ([`hycont_sample::basin::share`]; `(0, 1)`: all): one list of ranges
+/// per table, or one for all tables where they bin the same trials (Fig. 10). What [`fill`]
+/// runs; processes that divide a run (MPI ranks) each take their share.
 ///
 /// # Errors
-/// Tables of another shape; numerical failures.
+/// An invalid share.
+pub fn missing(
+    n: u32,
+    tables: &[Counts],
+    range: std::ops::Range<u64>,
+    part: (u64, u64),
+) -> Result<Vec<Vec<std::ops::Range<u64>>>> {
+    let counted = if tables_share_trials(n) {
+        &tables[..tables.len().min(1)]
+    } else {
+        tables
+    };
+    counted
+        .iter()
+        .map(|t| share(&t.missing(range.clone()), part.0, part.1).map_err(sample_err))
+        .collect()
+}
+
+/// Runs the trials `todo` lists (from [`missing`]: per table, or one list for tables that bin
+/// the same trials) and merges them into `tables` (of sampling figure `n`): a fresh run from
+/// [`empty_tables`], or the rest of an interrupted one. Stops early when `progress` says so,
+/// with exact ranges.
+///
+/// # Errors
+/// Tables or lists of another shape; numerical failures.
 pub fn fill(
     n: u32,
     options: SampleOptions,
     tables: &mut [Counts],
-    range: std::ops::Range<u64>,
+    todo: &[Vec<std::ops::Range<u64>>],
     progress: &Progress,
 ) -> Result<()> {
     let classifier = RockingClassifier {
@@ -104,36 +130,46 @@ pub fn fill(
     };
     let (studies, binnings) = studies(n, options.seed, &options.block)?;
     let merge = |t: &mut Counts, c: &Counts| t.merge(c).map_err(sample_err);
+    let shape = |what: String| {
+        Err(sample_err(hycont_sample::Error::IncompatibleCounts {
+            reason: what,
+        }))
+    };
     if binnings.is_empty() {
-        if tables.len() != studies.len() {
-            return Err(sample_err(hycont_sample::Error::IncompatibleCounts {
-                reason: format!("{} tables for {} studies", tables.len(), studies.len()),
-            }));
+        if tables.len() != studies.len() || todo.len() != studies.len() {
+            return shape(format!(
+                "{} tables and {} lists for {} studies",
+                tables.len(),
+                todo.len(),
+                studies.len()
+            ));
         }
-        for (t, study) in tables.iter_mut().zip(&studies) {
-            for r in t.missing(range.clone()) {
-                let c = run(study, &classifier, r, progress).map_err(sample_err)?;
+        for ((t, study), ranges) in tables.iter_mut().zip(&studies).zip(todo) {
+            for r in ranges {
+                let c = run(study, &classifier, r.clone(), progress).map_err(sample_err)?;
                 merge(t, &c)?;
             }
         }
-    } else {
-        // One run fills every binning: the tables share their ranges.
-        let todo = tables
-            .first()
-            .map(|t| t.missing(range.clone()))
-            .unwrap_or_default();
-        for r in todo {
-            let cs =
-                hycont_sample::basin::run_binned(&studies[0], &binnings, &classifier, r, progress)
-                    .map_err(sample_err)?;
-            if cs.len() != tables.len() {
-                return Err(sample_err(hycont_sample::Error::IncompatibleCounts {
-                    reason: format!("{} tables for {} binnings", tables.len(), cs.len()),
-                }));
-            }
-            for (t, c) in tables.iter_mut().zip(&cs) {
-                merge(t, c)?;
-            }
+        return Ok(());
+    }
+    // One run fills every binning: the tables share their ranges.
+    if todo.len() != 1 {
+        return shape(format!("{} lists for tables that share trials", todo.len()));
+    }
+    for r in &todo[0] {
+        let cs = hycont_sample::basin::run_binned(
+            &studies[0],
+            &binnings,
+            &classifier,
+            r.clone(),
+            progress,
+        )
+        .map_err(sample_err)?;
+        if cs.len() != tables.len() {
+            return shape(format!("{} tables for {} binnings", tables.len(), cs.len()));
+        }
+        for (t, c) in tables.iter_mut().zip(&cs) {
+            merge(t, c)?;
         }
     }
     Ok(())

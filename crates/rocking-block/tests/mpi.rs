@@ -1,0 +1,158 @@
+//! `mpirun -n 2 rocking-block figure|basin ...` (feature `mpi`; needs `mpirun` on PATH): the
+//! ranks split the trials, rank 0 writes byte for byte what one process writes (same command
+//! line, so even the provenance agrees), shards and resumed runs split alike, an interrupt of
+//! the ranks keeps every trial counted, and the other commands refuse to run on several ranks.
+//! Run with `cargo test --release -p rocking-block --features mpi --test mpi`.
+#![cfg(feature = "mpi")]
+
+mod common;
+
+use common::{RunOk, bin, scratch};
+use std::path::Path;
+use std::process::Command;
+
+/// `mpirun -n 2` of the binary in `cwd` (Open MPI refuses root without its two variables; a
+/// 2-rank job on fewer cores needs --oversubscribe).
+fn mpirun(cwd: &Path, args: &[&str]) -> Command {
+    std::fs::create_dir_all(cwd).unwrap();
+    let mut cmd = Command::new("mpirun");
+    cmd.args(["-n", "2", "--oversubscribe"])
+        .arg(env!("CARGO_BIN_EXE_rocking-block"))
+        .args(args)
+        .current_dir(cwd)
+        .env("OMPI_ALLOW_RUN_AS_ROOT", "1")
+        .env("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1");
+    cmd
+}
+
+/// One process in `cwd`.
+fn single(cwd: &Path, args: &[&str]) -> Command {
+    std::fs::create_dir_all(cwd).unwrap();
+    let mut cmd = bin();
+    cmd.args(args).current_dir(cwd);
+    cmd
+}
+
+fn same_files(a: &Path, b: &Path, names: &[&str]) {
+    for name in names {
+        let (x, y) = (std::fs::read(a.join(name)), std::fs::read(b.join(name)));
+        assert!(x.is_ok(), "{} missing", a.join(name).display());
+        assert!(x.unwrap() == y.unwrap(), "{name} differs");
+    }
+}
+
+#[test]
+fn two_ranks_write_what_one_process_writes() {
+    let dir = scratch("mpi-same");
+    let runs: [(&[&str], &[&str]); 3] = [
+        (
+            &[
+                "figure", "9", "--trials", "600", "--seed", "2", "--out", "res",
+            ],
+            &["fig9.json", "fig9.svg"],
+        ),
+        (
+            &[
+                "figure", "10", "--trials", "900", "--seed", "3", "--shard", "1/2", "--out", "res",
+            ],
+            &["fig10.shard-1-of-2.json"],
+        ),
+        (
+            &[
+                "basin", "--omega", "1.3", "--alpha", "0.66", "--phi0", "-0.3:0.3", "--psi0",
+                "-0.5:0.5", "--bin", "phi0:5", "--trials", "500", "--out", "res",
+            ],
+            &["basin.json", "basin.csv", "basin.svg"],
+        ),
+    ];
+    for (k, (args, files)) in runs.iter().enumerate() {
+        let (m, s) = (dir.join(format!("mpi{k}")), dir.join(format!("one{k}")));
+        let said = String::from_utf8_lossy(&mpirun(&m, args).run_ok().stdout).into_owned();
+        single(&s, args).run_ok();
+        same_files(&m.join("res"), &s.join("res"), files);
+        // Rank 0 alone reports what it wrote.
+        assert_eq!(said.lines().count(), files.len(), "{said}");
+    }
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
+fn interrupted_ranks_keep_every_trial_and_resume_on_two_ranks() {
+    let dir = scratch("mpi-resume");
+    let run = [
+        "figure", "7", "--trials", "1500", "--seed", "6", "--out", "res",
+    ];
+    let m = dir.join("mpi");
+    // Each rank stops after a budget of its trials, as at an interrupt: rank 0 writes the
+    // partial file of both ranks' counts and exits 1 naming it.
+    let stopped = mpirun(
+        &m,
+        &[&run[..], &["--stop-after", "300", "--threads", "1"]].concat(),
+    )
+    .output()
+    .expect("mpirun runs (install an MPI: see the README)");
+    assert!(!stopped.status.success());
+    let err = String::from_utf8_lossy(&stopped.stderr);
+    assert!(
+        err.contains("interrupted") && err.contains("fig7.partial.json"),
+        "{err}"
+    );
+    let partial = m.join("res/fig7.partial.json");
+    let counted: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&partial).unwrap()).unwrap();
+    // Both ranks' trials are in it: rank 0's share of each table's trials starts at 0, rank
+    // 1's at 750.
+    let ranges = counted["counts"][0]["ranges"].as_array().unwrap().clone();
+    assert!(
+        ranges.iter().any(|r| r[0].as_u64().unwrap() < 750),
+        "{ranges:?}"
+    );
+    assert!(
+        ranges.iter().any(|r| r[0].as_u64().unwrap() >= 750),
+        "{ranges:?}"
+    );
+    assert!(!m.join("res/fig7.json").exists());
+    // Resumed on two ranks: the complete figure, as one process writes it.
+    mpirun(
+        &m,
+        &[
+            "figure",
+            "--resume",
+            "res/fig7.partial.json",
+            "--out",
+            "res",
+        ],
+    )
+    .run_ok();
+    assert!(!partial.exists());
+    let s = dir.join("one");
+    single(&s, &run).run_ok();
+    let read = |p: &Path| -> serde_json::Value {
+        let mut v: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(p).unwrap()).unwrap();
+        v.as_object_mut().unwrap().remove("provenance");
+        v
+    };
+    assert_eq!(
+        read(&m.join("res/fig7.json")),
+        read(&s.join("res/fig7.json"))
+    );
+    same_files(&m.join("res"), &s.join("res"), &["fig7.svg"]);
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
+fn other_commands_refuse_several_ranks() {
+    let dir = scratch("mpi-refuse");
+    let out = mpirun(&dir, &["simulate", "--periods", "2"])
+        .output()
+        .unwrap();
+    assert!(!out.status.success());
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("only `figure` and `basin` split across MPI ranks"),
+        "{err}"
+    );
+    assert!(!err.contains("panicked"), "{err}");
+    std::fs::remove_dir_all(&dir).ok();
+}
