@@ -361,3 +361,28 @@ fn a_default_first_step_follows_the_window_given() {
         "h0 = 0.5",
     );
 }
+
+/// A build without the `mpi` feature started by an MPI launcher (as `mpirun -n 2` would: its
+/// variables say rank 0 of 2) refuses to run rather than run the whole job on every rank.
+#[cfg(not(feature = "mpi"))]
+#[test]
+fn a_build_without_mpi_refuses_to_be_one_rank_of_several() {
+    let dir = scratch("no-mpi");
+    for var in ["OMPI_COMM_WORLD_SIZE", "PMI_SIZE"] {
+        let out = bin()
+            .args(["figure", "7", "--trials", "10", "--out"])
+            .arg(&dir)
+            .env(var, "2")
+            .output()
+            .unwrap();
+        common::fails(&out, 2, "built without MPI");
+        assert!(!dir.join("fig7.json").exists());
+    }
+    // One rank of one is one process.
+    bin()
+        .args(["figure", "7", "--trials", "10", "--out"])
+        .arg(&dir)
+        .env("OMPI_COMM_WORLD_SIZE", "1")
+        .run_ok();
+    std::fs::remove_dir_all(&dir).ok();
+}

@@ -51,6 +51,7 @@ fn read_err(path: &Path) -> impl FnOnce(std::io::Error) -> Error + '_ {
 /// counts its share of the trials and rank 0 alone writes files and output.
 pub fn run(cli: Cli, command_line: &[String], out: &mut dyn Write) -> Result<()> {
     let invocation = &Provenance::from_command_line(command_line);
+    ranks::check_launcher()?;
     let ranks = ranks::Ranks::current();
     let mut sink = std::io::sink();
     let out: &mut dyn Write = if ranks.is_root() { out } else { &mut sink };

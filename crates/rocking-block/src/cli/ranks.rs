@@ -30,6 +30,32 @@ fn launched_by_mpi() -> bool {
     .any(|v| std::env::var_os(v).is_some())
 }
 
+/// The size of the job an MPI launcher says this process belongs to (Open MPI's and PMI's
+/// variables), if any.
+#[cfg(not(feature = "mpi"))]
+fn launcher_size() -> Option<u64> {
+    ["OMPI_COMM_WORLD_SIZE", "PMI_SIZE"]
+        .iter()
+        .find_map(|v| std::env::var(v).ok()?.trim().parse().ok())
+}
+
+/// Refuses to run as one rank of several without MPI support: every rank would run the whole
+/// job and write the same files.
+///
+/// # Errors
+/// [`Error::InvalidArgument`] naming the job's size.
+pub(crate) fn check_launcher() -> Result<()> {
+    #[cfg(not(feature = "mpi"))]
+    if let Some(n) = launcher_size().filter(|n| *n > 1) {
+        return Err(Error::InvalidArgument {
+            name: "mpirun",
+            value: format!("{n} ranks"),
+            reason: "this rocking-block is built without MPI: build it with `--features mpi` (each rank would otherwise run the whole job and write the same files)",
+        });
+    }
+    Ok(())
+}
+
 /// Initialises MPI when an MPI launcher started this process; keep the value until the
 /// process ends (dropping it finalises MPI).
 #[cfg(feature = "mpi")]

@@ -171,6 +171,10 @@ pub(super) fn run_figure(
             written.extend(files.files);
         }
         if progress.stop.load(Ordering::Relaxed) {
+            // Rank 0 reports an interrupt for the job (the other ranks wrote nothing).
+            if !Ranks::current().is_root() {
+                return Ok(());
+            }
             print_written(out, &written, args.json)?;
             return Err(Error::Interrupted {
                 detail: format!("after figure {n}; the figures written above are complete"),
