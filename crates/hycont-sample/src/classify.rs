@@ -231,6 +231,8 @@ struct Record {
     /// The modes of the last period's samples and the one before them.
     recent_modes: Vec<Mode>,
     zeno: bool,
+    /// No Newton refinement before this period (after one that failed).
+    newton_after: usize,
 }
 
 impl Record {
@@ -300,6 +302,7 @@ pub fn classify<S: PeriodicallyForced + HybridJacobians + ?Sized>(
         last_period: Vec::new(),
         recent_modes: Vec::new(),
         zeno: false,
+        newton_after: 0,
     };
     let mut periods = 0;
     while periods < settings.max_periods {
@@ -348,7 +351,7 @@ pub fn classify<S: PeriodicallyForced + HybridJacobians + ?Sized>(
         if periods < settings.min_periods || rec.strobe.len() < 4 {
             continue;
         }
-        if let Some(c) = decide(system, p, &x, mode, periods, &rec, settings)? {
+        if let Some(c) = decide(system, p, &x, mode, periods, &mut rec, settings)? {
             return Ok(c);
         }
     }
@@ -362,7 +365,7 @@ fn decide<S: PeriodicallyForced + HybridJacobians + ?Sized>(
     x: &[f64],
     mode: Mode,
     periods: usize,
-    rec: &Record,
+    rec: &mut Record,
     settings: &StrobeSettings,
 ) -> Result<Option<Classification>> {
     let comps = system.strobe_components();
@@ -374,14 +377,16 @@ fn decide<S: PeriodicallyForced + HybridJacobians + ?Sized>(
         .collect();
     let scale = 1.0 + comps.iter().map(|&c| st[k][c].abs()).fold(0.0, f64::max);
     let converged = d1 <= settings.tol * scale;
-    // Geometric convergence: ratios of successive differences consistently below 1.
-    let extrapolated = !converged && diffs.len() >= 6 && {
-        let ratios: Vec<f64> = diffs.windows(2).map(|w| w[1] / w[0]).collect();
-        let rho = ratios.iter().copied().fold(0.0, f64::max);
-        rho < 0.999
-            && ratios.iter().all(|r| *r > 0.0)
-            && d1 * rho / (1.0 - rho) <= settings.extrapolation_tol
-    };
+    // Geometric convergence: ratios of successive differences consistently below 1; the
+    // predicted distance to the limit.
+    let remaining = (diffs.len() >= 6)
+        .then(|| {
+            let ratios: Vec<f64> = diffs.windows(2).map(|w| w[1] / w[0]).collect();
+            let rho = ratios.iter().copied().fold(0.0, f64::max);
+            (rho < 0.999 && ratios.iter().all(|r| *r > 0.0)).then(|| d1 * rho / (1.0 - rho))
+        })
+        .flatten();
+    let extrapolated = !converged && remaining.is_some_and(|r| r <= settings.extrapolation_tol);
     if converged || extrapolated {
         let symmetric = rec
             .half
@@ -398,11 +403,14 @@ fn decide<S: PeriodicallyForced + HybridJacobians + ?Sized>(
         };
         return Ok(Some(rec.finish(comps, attractor, decision, periods)));
     }
-    // Newton refinement for slowly converging trials.
-    if settings.newton_every > 0
-        && periods % settings.newton_every < settings.chunk
-        && periods >= 2 * settings.min_periods
-    {
+    // Newton refinement for slowly converging trials: as soon as a geometric convergence is
+    // predicted to end within `newton_radius`, otherwise every `newton_every` periods; not
+    // again for `newton_every` periods after one that failed.
+    let scheduled = periods % settings.newton_every.max(1) < settings.chunk
+        && periods >= 2 * settings.min_periods;
+    let predicted = remaining.is_some_and(|r| r <= settings.newton_radius);
+    if settings.newton_every > 0 && periods >= rec.newton_after && (scheduled || predicted) {
+        rec.newton_after = periods + settings.newton_every;
         for kk in [1usize, 2]
             .into_iter()
             .filter(|kk| *kk <= settings.max_period)
@@ -415,6 +423,9 @@ fn decide<S: PeriodicallyForced + HybridJacobians + ?Sized>(
                 continue;
             }
             if f.stable && dist(comps, x, &f.z) <= settings.newton_radius {
+                // The attractor's own motion (not the transient's last chunk).
+                rec.zeno = false;
+                rec.recent_modes = f.modes;
                 let symmetric =
                     kk == 1 && asymmetry(system, &f.z, &f.half) <= settings.symmetry_tol;
                 let attractor = Attractor::Periodic {
@@ -462,6 +473,9 @@ struct Fixed {
     half: Vec<f64>,
     one: Vec<f64>,
     stable: bool,
+    /// The modes at those three instants (the orbit has no Zeno transition: Newton refuses
+    /// runs with one).
+    modes: Vec<Mode>,
 }
 
 /// Newton's method on the `k`-fold stroboscopic map restricted to the strobe components from
@@ -524,11 +538,13 @@ fn refine<S: PeriodicallyForced + HybridJacobians + ?Sized>(
             let (Some(half), Some(one)) = (at(1), at(2)) else {
                 return Ok(None);
             };
+            let modes = traj.samples.iter().take(3).map(|(_, m, _)| m).collect();
             return Ok(Some(Fixed {
                 z,
                 half,
                 one,
                 stable: rho < 1.0 - 1e-9,
+                modes,
             }));
         }
         let Some(dz) = a.lu().solve(&nalgebra::DVector::from_vec(f)) else {
