@@ -23,7 +23,7 @@ pub enum Distribution {
 }
 
 impl Distribution {
-    fn draw(self, rng: &mut SplitMix64) -> f64 {
+    pub(crate) fn draw(self, rng: &mut SplitMix64) -> f64 {
         match self {
             Distribution::Fixed(v) => v,
             Distribution::Uniform { lo, hi } => rng.uniform(lo, hi),

@@ -6,7 +6,8 @@
 //! ([`classify::classify`]), and basin stability
 //! ([`basin::run`]: Monte-Carlo trials, class counts per grid cell with 95 % Wilson intervals,
 //! parallel with rayon, reproducible from a seed whatever the number of threads, shardable and
-//! interruptible).
+//! interruptible; [`adaptive::run_cells`]: stratified per cell until every class's 95 % interval
+//! is as narrow as asked).
 //!
 //! ```
 //! use hycont_sample::basin::{run, Axis, Classifier, Distribution, Progress, Study};
@@ -32,6 +33,7 @@
 #![deny(missing_docs)]
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
+pub mod adaptive;
 pub mod basin;
 pub mod classify;
 pub mod error;
