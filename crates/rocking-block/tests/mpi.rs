@@ -1,6 +1,7 @@
 //! `mpirun -n 2 rocking-block figure|basin ...` (feature `mpi`; needs `mpirun` on PATH): the
 //! ranks split the trials, rank 0 writes byte for byte what one process writes (same command
-//! line, so even the provenance agrees), shards and resumed runs split alike, an interrupt of
+//! line, so even the provenance agrees; Fig. 9 sampled cell by cell too), shards and resumed
+//! runs split alike, an interrupt of
 //! the ranks keeps every trial counted, and the other commands refuse to run on several ranks.
 //! Run with `cargo test --release -p rocking-block --features mpi --test mpi`.
 #![cfg(feature = "mpi")]
@@ -44,7 +45,20 @@ fn same_files(a: &Path, b: &Path, names: &[&str]) {
 #[test]
 fn two_ranks_write_what_one_process_writes() {
     let dir = scratch("mpi-same");
-    let runs: [(&[&str], &[&str]); 3] = [
+    let runs: [(&[&str], &[&str]); 4] = [
+        (
+            &[
+                "figure",
+                "9",
+                "--halfwidth",
+                "0.05",
+                "--max-per-cell",
+                "16",
+                "--out",
+                "res",
+            ],
+            &["fig9.json", "fig9.svg"],
+        ),
         (
             &[
                 "figure", "9", "--trials", "600", "--seed", "2", "--out", "res",

@@ -4,6 +4,7 @@
 mod args;
 mod basin_cmd;
 mod block_args;
+mod cell_file;
 mod commands;
 mod continue_cmd;
 mod curve_cmd;
@@ -18,6 +19,7 @@ pub use shard_file::{MAX_TRIALS, SAMPLING, ShardFile};
 pub use args::*;
 pub use basin_cmd::{BasinArgs, BasinFile};
 pub use block_args::{describe, parameters};
+pub use cell_file::CellFile;
 
 use crate::error::{Error, Result};
 use crate::provenance::Provenance;

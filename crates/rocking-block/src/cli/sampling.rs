@@ -6,6 +6,7 @@
 //! result. `merge` checks every file, merges them and writes the figure when the trials are
 //! complete, a partial file otherwise.
 
+use super::cell_file::{CellFile, fig9_rule};
 use super::ranks::Ranks;
 use super::shard_file::{MAX_TRIALS, SAMPLING, ShardFile};
 use super::{FigureArgs, MergeArgs, print_written};
@@ -91,14 +92,14 @@ pub(super) fn stop_on_signals(progress: &Arc<Progress>) {
 
 /// The figures `figure` draws: those named (a number or `all`), or the figure of the file
 /// resumed (which a name must then agree with).
-fn figures_to_draw(which: Option<&str>, resume: Option<&ShardFile>) -> Result<Vec<u32>> {
+fn figures_to_draw(which: Option<&str>, resume: Option<u32>) -> Result<Vec<u32>> {
     match (resume, which) {
-        (Some(file), Some(w)) if parse_which(w)? != [file.figure] => Err(Error::InvalidArgument {
+        (Some(figure), Some(w)) if parse_which(w)? != [figure] => Err(Error::InvalidArgument {
             name: "figure",
             value: w.to_string(),
             reason: "differs from the figure of the --resume file",
         }),
-        (Some(file), _) => Ok(vec![file.figure]),
+        (Some(figure), _) => Ok(vec![figure]),
         (None, Some(w)) => parse_which(w),
         (None, None) => Err(Error::InvalidArgument {
             name: "figure",
@@ -108,12 +109,35 @@ fn figures_to_draw(which: Option<&str>, resume: Option<&ShardFile>) -> Result<Ve
     }
 }
 
+/// A file `figure --resume` completes: trials of a sampling figure, or cells of Fig. 9
+/// sampled adaptively.
+enum Resumed {
+    Trials(ShardFile),
+    Cells(CellFile),
+}
+
+impl Resumed {
+    fn read(path: &Path) -> Result<Self> {
+        Ok(if super::cell_file::is_cell_file(path) {
+            Resumed::Cells(CellFile::read(path)?)
+        } else {
+            Resumed::Trials(ShardFile::read(path)?)
+        })
+    }
+    fn figure(&self) -> u32 {
+        match self {
+            Resumed::Trials(f) => f.figure,
+            Resumed::Cells(f) => f.figure,
+        }
+    }
+}
+
 pub(super) fn run_figure(
     args: &FigureArgs,
     invocation: &Provenance,
     out: &mut dyn Write,
 ) -> Result<()> {
-    let resume = args.resume.as_deref().map(ShardFile::read).transpose()?;
+    let resume = args.resume.as_deref().map(Resumed::read).transpose()?;
     if resume.is_some() && args.block.given() {
         return Err(Error::InvalidArgument {
             name: "block options",
@@ -127,7 +151,7 @@ pub(super) fn run_figure(
         .with_block(block)
         .with_dimensional(super::block_args::figure_dimensional(&args.block)?)
         .with_recipe(args.recipe.recipe()?);
-    let which = figures_to_draw(args.which.as_deref(), resume.as_ref())?;
+    let which = figures_to_draw(args.which.as_deref(), resume.as_ref().map(Resumed::figure))?;
     let shard = checked_options(args, &which, invocation)?;
     let trials = |n: u32| {
         args.trials
@@ -143,13 +167,21 @@ pub(super) fn run_figure(
     stop_on_signals(&progress);
     if let Some(file) = resume {
         let from = args.resume.clone().unwrap_or_default();
-        let files = sample(file, &dir, args.force, &progress)?;
+        let files = match file {
+            Resumed::Trials(f) => sample(f, &dir, args.force, &progress)?,
+            Resumed::Cells(f) => sample(f, &dir, args.force, &progress)?,
+        };
         use_up(&from, &files);
         return print_written(out, &files, args.json);
     }
     let mut written: Vec<PathBuf> = Vec::new();
     for n in which {
-        if SAMPLING.contains(&n) {
+        if n == 9 && args.trials.is_none() {
+            let mut file =
+                CellFile::new(fig9_rule(args)?, args.seed, shard.unwrap_or((0, 1)), block);
+            file.provenance = Some(invocation.clone());
+            written.extend(sample(file, &dir, args.force, &progress)?);
+        } else if SAMPLING.contains(&n) {
             let file = ShardFile {
                 figure: n,
                 trials: trials(n),
@@ -205,6 +237,13 @@ fn checked_options(
             reason: "must be in 1..=10^12 (shard larger studies into separate runs)",
         });
     }
+    if args.halfwidth.is_some() && !which.contains(&9) {
+        return Err(Error::InvalidArgument {
+            name: "halfwidth",
+            value: format!("figures {which:?}"),
+            reason: "applies to Fig. 9 (sampled cell by cell)",
+        });
+    }
     let shard = args.shard.as_deref().map(parse_shard).transpose()?;
     if shard.is_some() && !matches!(which, [n] if SAMPLING.contains(n)) {
         return Err(Error::InvalidArgument {
@@ -233,6 +272,15 @@ pub(super) trait CountFile: Sized + serde::Serialize + serde::de::DeserializeOwn
     /// The trials of the shard not counted yet, share `part = (i, k)` of them (`(0, 1)`: all):
     /// what [`CountFile::fill`] runs.
     fn todo(&self, part: (u64, u64)) -> Result<Todo>;
+    /// How many trials `todo` runs, where that is known before they run (for the progress
+    /// bar; default: the trials its ranges hold).
+    fn planned_trials(&self, todo: &Todo) -> Option<u64> {
+        Some(todo.iter().flatten().map(|r| r.end - r.start).sum())
+    }
+    /// Trials counted so far (default: as [`CountFile::progress`] counts).
+    fn counted_trials(&self) -> u64 {
+        self.progress().0
+    }
     /// Counts the trials `todo` lists (from [`CountFile::todo`]).
     fn fill(&mut self, todo: &[Vec<std::ops::Range<u64>>], progress: &Progress) -> Result<()>;
     /// The same run and shard with nothing counted (what another process fills its share of
@@ -272,19 +320,24 @@ pub(super) fn sample<F: CountFile>(
     // them and goes on as a single process would (one process: the whole share).
     let ranks = Ranks::current();
     let todo = file.todo(ranks.part())?;
-    let (done, _) = file.progress();
+    let done = file.counted_trials();
     progress.done.store(done, Ordering::Relaxed);
-    let mine: u64 = todo.iter().flatten().map(|r| r.end - r.start).sum();
-    let bar = if ranks.is_root() {
-        indicatif::ProgressBar::new(done + mine)
-    } else {
-        indicatif::ProgressBar::hidden()
+    let planned = file.planned_trials(&todo);
+    let (bar, template) = match planned {
+        _ if !ranks.is_root() => (indicatif::ProgressBar::hidden(), ""),
+        Some(mine) => (
+            indicatif::ProgressBar::new(done + mine),
+            "{msg} [{bar:40}] {pos}/{len} trials ({per_sec}, eta {eta})",
+        ),
+        // Adaptive runs do not know their trials in advance.
+        None => (
+            indicatif::ProgressBar::no_length(),
+            "{msg} {spinner} {pos} trials ({per_sec})",
+        ),
     };
     bar.set_style(
-        indicatif::ProgressStyle::with_template(
-            "{msg} [{bar:40}] {pos}/{len} trials ({per_sec}, eta {eta})",
-        )
-        .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+        indicatif::ProgressStyle::with_template(template)
+            .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
     );
     bar.set_message(file.what());
     let finished = AtomicBool::new(false);
@@ -499,7 +552,20 @@ pub(super) fn run_merge(
         .shards
         .first()
         .is_some_and(|p| super::basin_cmd::is_basin_file(p));
-    let files = if basins {
+    let cells = args
+        .shards
+        .first()
+        .is_some_and(|p| super::cell_file::is_cell_file(p));
+    let files = if cells {
+        let files = args
+            .shards
+            .iter()
+            .map(|p| Ok((p.clone(), CellFile::read(p)?)))
+            .collect::<Result<Vec<_>>>()?;
+        merge_files(files, &dir, invocation, |f, p| {
+            f.provenance = Some(p.with_block(f.block));
+        })?
+    } else if basins {
         let files = args
             .shards
             .iter()

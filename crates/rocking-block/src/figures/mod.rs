@@ -4,6 +4,7 @@ pub mod branches;
 mod fig2;
 mod fig5;
 pub mod fig6;
+pub mod fig9_cells;
 pub mod sampling;
 pub mod tables;
 

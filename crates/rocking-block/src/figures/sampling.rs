@@ -262,16 +262,27 @@ pub const GROUPS: [(&str, &[Class]); 5] = [
 /// Probability of each group per cell of a count table.
 #[must_use]
 pub fn group_probabilities(counts: &Counts) -> Vec<(&'static str, Vec<f64>)> {
+    group_probabilities_of(&counts.counts, |cell| counts.trials(cell))
+}
+
+/// Probability of each group per cell of class counts `rows[cell][class]` with `trials(cell)`
+/// trials (`NaN` for a cell without any).
+pub fn group_probabilities_of(
+    rows: &[Vec<u64>],
+    trials: impl Fn(usize) -> u64,
+) -> Vec<(&'static str, Vec<f64>)> {
     GROUPS
         .iter()
         .map(|(name, members)| {
-            let p = (0..counts.counts.len())
-                .map(|cell| {
-                    let n = counts.trials(cell);
+            let p = rows
+                .iter()
+                .enumerate()
+                .map(|(cell, row)| {
+                    let n = trials(cell);
                     if n == 0 {
                         return f64::NAN;
                     }
-                    let k: u64 = counts.counts[cell]
+                    let k: u64 = row
                         .iter()
                         .enumerate()
                         .filter(|(i, _)| members.contains(&base_class(*i).0))
@@ -351,7 +362,7 @@ pub fn figure8(out: &OutDir, provenance: &Provenance) -> Result<FigureFiles> {
     })
 }
 
-fn curves_json(curves: &[crate::continuation::Curve]) -> Value {
+pub(super) fn curves_json(curves: &[crate::continuation::Curve]) -> Value {
     Value::Array(
         curves
             .iter()

@@ -1,0 +1,259 @@
+//! `CellFile`: an adaptively sampled Fig. 9 on disk (its per-cell tables, stopping rule, seed,
+//! block and shard of cells), complete or not: what `figure 9 --halfwidth`, its shards, its
+//! partial files, `--resume` and `merge` read and write. A shard `I/N` runs the cells of
+//! [`hycont_sample::basin::shard_range`]`(cells, I, N)`; a cell's record with more trials
+//! contains one with fewer, so merging keeps the longer.
+
+use super::FigureArgs;
+use super::sampling::{CountFile, Todo};
+use crate::block::Block;
+use crate::error::{Error, Result};
+use crate::figures::fig9_cells::{DEFAULT_HALFWIDTH, empty_cell_tables, fill_cells, render9_cells};
+use crate::figures::sampling::{SampleOptions, sample_err};
+use crate::output::OutDir;
+use crate::provenance::Provenance;
+use hycont_sample::adaptive::{Adaptive, CellCounts};
+use hycont_sample::basin::{Progress, shard_range, share};
+use std::path::{Path, PathBuf};
+
+/// An adaptively sampled Fig. 9, whole or one shard of its cells.
+#[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
+pub struct CellFile {
+    /// The figure (9).
+    pub figure: u32,
+    /// The stopping rule.
+    pub rule: Adaptive,
+    /// Seed of the study.
+    pub seed: u64,
+    /// `(i, n)`: shard `i` of `n` of the cells (a whole run is `(0, 1)`).
+    pub shard: (u64, u64),
+    /// One table per beta.
+    pub tables: Vec<CellCounts>,
+    /// The block.
+    pub block: Block,
+    /// The invocation that started the run (for a merge: the merge).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub provenance: Option<Provenance>,
+}
+
+/// Whether the text of a count file is a [`CellFile`] (it names its rule).
+pub(super) fn is_cell_file(path: &Path) -> bool {
+    std::fs::read_to_string(path)
+        .ok()
+        .and_then(|t| serde_json::from_str::<serde_json::Value>(&t).ok())
+        .is_some_and(|v| v.get("rule").is_some())
+}
+
+impl CellFile {
+    /// A run of Fig. 9 to `rule` with nothing counted.
+    pub(super) fn new(rule: Adaptive, seed: u64, shard: (u64, u64), block: Block) -> Self {
+        CellFile {
+            figure: 9,
+            rule,
+            seed,
+            shard,
+            tables: empty_cell_tables(),
+            block,
+            provenance: None,
+        }
+    }
+
+    fn options(&self) -> SampleOptions {
+        SampleOptions {
+            trials: 0,
+            seed: self.seed,
+            block: self.block,
+        }
+    }
+
+    /// The cells of the shard.
+    fn cells(&self) -> std::ops::Range<usize> {
+        let n = self.tables.first().map_or(0, |t| t.counts.len()) as u64;
+        let r = shard_range(n, self.shard.0, self.shard.1).unwrap_or(0..0);
+        r.start as usize..r.end as usize
+    }
+
+    fn check(&self) -> std::result::Result<(), String> {
+        if self.figure != 9 {
+            return Err(format!("figure {} is not sampled by cells", self.figure));
+        }
+        self.rule.validate().map_err(|e| e.to_string())?;
+        let (i, n) = self.shard;
+        if n == 0 || i >= n {
+            return Err(format!("shard {i}/{n} is not I/N with 0 <= I < N"));
+        }
+        self.block.validate().map_err(|e| e.to_string())?;
+        let expected = empty_cell_tables();
+        if self.tables.len() != expected.len() {
+            return Err(format!("{} tables; Fig. 9 has 2", self.tables.len()));
+        }
+        for (k, (t, e)) in self.tables.iter().zip(&expected).enumerate() {
+            if t.classes != e.classes || t.counts.len() != e.counts.len() {
+                return Err(format!("table {k} is not a Fig. 9 table"));
+            }
+            t.validate().map_err(|e| format!("table {k}: {e}"))?;
+        }
+        Ok(())
+    }
+}
+
+/// Ranges of consecutive cells.
+fn runs(cells: &[usize]) -> Vec<std::ops::Range<u64>> {
+    let mut out: Vec<std::ops::Range<u64>> = Vec::new();
+    for &c in cells {
+        let c = c as u64;
+        match out.last_mut() {
+            Some(r) if r.end == c => r.end = c + 1,
+            _ => out.push(c..c + 1),
+        }
+    }
+    out
+}
+
+impl CountFile for CellFile {
+    fn what(&self) -> String {
+        "figure 9".into()
+    }
+    /// Settled cells and cells of the shard, over both tables.
+    fn progress(&self) -> (u64, u64) {
+        let cells = self.cells();
+        let settled = self
+            .tables
+            .iter()
+            .map(|t| (cells.len() - t.unsettled(cells.clone()).len()) as u64)
+            .sum();
+        (settled, (cells.len() * self.tables.len()) as u64)
+    }
+    fn shard(&self) -> (u64, u64) {
+        self.shard
+    }
+    fn paths(&self, dir: &Path) -> (PathBuf, PathBuf) {
+        let (i, n) = self.shard;
+        if n == 1 {
+            (dir.join("fig9.json"), dir.join("fig9.partial.json"))
+        } else {
+            (
+                dir.join(format!("fig9.shard-{i}-of-{n}.json")),
+                dir.join(format!("fig9.shard-{i}-of-{n}.partial.json")),
+            )
+        }
+    }
+    /// Cells (as ranges of cell indices) not settled yet, share `part` of them per table.
+    fn todo(&self, part: (u64, u64)) -> Result<Todo> {
+        self.tables
+            .iter()
+            .map(|t| share(&runs(&t.unsettled(self.cells())), part.0, part.1).map_err(sample_err))
+            .collect()
+    }
+    fn planned_trials(&self, _: &Todo) -> Option<u64> {
+        None
+    }
+    fn counted_trials(&self) -> u64 {
+        let cells = self.cells();
+        self.tables
+            .iter()
+            .map(|t| t.trials[cells.clone()].iter().sum::<u64>())
+            .sum()
+    }
+    fn fill(&mut self, todo: &[Vec<std::ops::Range<u64>>], progress: &Progress) -> Result<()> {
+        let cells: Vec<Vec<usize>> = todo
+            .iter()
+            .map(|rs| {
+                rs.iter()
+                    .flat_map(|r| r.start as usize..r.end as usize)
+                    .collect()
+            })
+            .collect();
+        let (options, rule) = (self.options(), self.rule);
+        fill_cells(&options, &rule, &mut self.tables, &cells, progress)
+    }
+    /// The same file: a cell's longer record wins a merge, so other processes continue from it.
+    fn cleared(&self) -> Self {
+        self.clone()
+    }
+    fn render(&self, out: &OutDir) -> Result<Vec<PathBuf>> {
+        let invocation = self
+            .provenance
+            .clone()
+            .unwrap_or_default()
+            .with_block(self.block);
+        Ok(render9_cells(out, &self.options(), &self.rule, &invocation, &self.tables)?.files)
+    }
+    fn write(&self, path: &Path) -> Result<()> {
+        let text = serde_json::to_string(self).expect("count tables serialise");
+        crate::output::write_atomic(path, text)
+    }
+    fn merge(&mut self, other: &Self) -> std::result::Result<(), String> {
+        if (self.figure, self.rule, self.seed, self.block)
+            != (other.figure, other.rule, other.seed, other.block)
+        {
+            return Err(format!(
+                "rule {:?}, seed {} or block differ from the files before (rule {:?}, seed {})",
+                other.rule, other.seed, self.rule, self.seed
+            ));
+        }
+        for (a, b) in self.tables.iter_mut().zip(&other.tables) {
+            a.merge(b).map_err(|e| e.to_string())?;
+        }
+        Ok(())
+    }
+    fn whole(self) -> Self {
+        CellFile {
+            shard: (0, 1),
+            ..self
+        }
+    }
+    fn read(path: &Path) -> Result<Self> {
+        let text = std::fs::read_to_string(path).map_err(|source| Error::Read {
+            path: path.to_path_buf(),
+            source,
+        })?;
+        let bad = |reason: String| Error::InvalidFile {
+            path: path.to_path_buf(),
+            reason,
+        };
+        let file: CellFile = serde_json::from_str(&text)
+            .map_err(|e| bad(format!("not a file of `figure 9 --halfwidth` ({e})")))?;
+        file.check().map_err(bad)?;
+        Ok(file)
+    }
+    fn subsumes(&self, other: &Self) -> bool {
+        (self.figure, self.rule, self.seed, self.shard, self.block)
+            == (
+                other.figure,
+                other.rule,
+                other.seed,
+                other.shard,
+                other.block,
+            )
+            && self
+                .tables
+                .iter()
+                .zip(&other.tables)
+                .all(|(a, b)| a.trials.iter().zip(&b.trials).all(|(x, y)| x >= y))
+    }
+}
+
+/// Trials per cell and round of Fig. 9 sampled adaptively: a cell of one class meets the
+/// default half-width 0.1 after one batch (the Wilson half-width of 0 of 16 is 0.097).
+const FIG9_BATCH: u64 = 16;
+
+/// The stopping rule of Fig. 9 sampled adaptively (`--halfwidth`, `--max-per-cell`), in
+/// batches of [`FIG9_BATCH`].
+pub(super) fn fig9_rule(args: &FigureArgs) -> Result<Adaptive> {
+    let rule = Adaptive {
+        halfwidth: args.halfwidth.unwrap_or(DEFAULT_HALFWIDTH),
+        max_trials: args.max_per_cell,
+        batch: FIG9_BATCH,
+    };
+    rule.validate().map_err(|e| Error::InvalidArgument {
+        name: "halfwidth",
+        value: format!("{} (--max-per-cell {})", rule.halfwidth, rule.max_trials),
+        reason: if e.to_string().contains("max_trials") {
+            "--max-per-cell must be at least one batch of 16 trials"
+        } else {
+            "must be in (0, 0.5)"
+        },
+    })?;
+    Ok(rule)
+}
