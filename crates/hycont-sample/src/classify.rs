@@ -20,6 +20,10 @@
 //!   a period later is the $S$-image of the strobe sample (to `symmetry_tol`);
 //! - **undecided** after `max_periods` (chaos, periods above `max_period`, long transients).
 //!
+//! The strobes are at $t = jT$ from the trial's start: a periodic orbit whose impact falls
+//! exactly on a strobe (a start on the impact) alternates between the states before and after
+//! it there and looks like period 2; start such trials between impacts.
+//!
 //! The classification also reports the time average of the strobe components over the last
 //! period (e.g. the side an asymmetric orbit leans to) and the modes visited then.
 
