@@ -130,3 +130,91 @@ fn bad_adaptive_settings_are_refused() {
     }
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// `basin --halfwidth`: every cell meets the rule; shards merge and an interrupted run resumes
+/// into the whole run's files; the files report the rule, trials and half-widths per cell.
+#[test]
+fn basins_sampled_cell_by_cell() {
+    let dir = scratch("adaptive-basin");
+    let run = [
+        "basin",
+        "--omega",
+        "1.0:2.0",
+        "--bin",
+        "omega:6",
+        "--halfwidth",
+        "0.08",
+        "--seed",
+        "3",
+    ];
+    let whole = dir.join("whole");
+    bin().args(run).arg("--out").arg(&whole).run_ok();
+    let v = json(&whole.join("basin.json"));
+    assert_eq!(v["sampling"]["halfwidth"], 0.08);
+    let trials = v["sampling"]["trials_per_cell"].as_array().unwrap();
+    let widths = v["sampling"]["largest_halfwidth_per_cell"]
+        .as_array()
+        .unwrap();
+    assert_eq!((trials.len(), widths.len()), (6, 6));
+    for (n, w) in trials.iter().zip(widths) {
+        assert!(w.as_f64().unwrap() <= 0.08, "{w}");
+        assert_eq!(n.as_u64().unwrap() % 16, 0);
+    }
+    let total: u64 = trials.iter().map(|n| n.as_u64().unwrap()).sum();
+    assert_eq!(v["trials"].as_u64().unwrap(), total);
+    // Shards of the cells, merged.
+    let shards = dir.join("shards");
+    for i in 0..3 {
+        bin()
+            .args(run)
+            .args(["--shard", &format!("{i}/3"), "--out"])
+            .arg(&shards)
+            .run_ok();
+    }
+    let merged = dir.join("merged");
+    let mut merge = bin();
+    merge.arg("merge");
+    for i in 0..3 {
+        merge.arg(shards.join(format!("basin.shard-{i}-of-3.json")));
+    }
+    merge.arg("--out").arg(&merged).run_ok();
+    let result = |d: &std::path::Path| without_provenance(&json(&d.join("basin.json")));
+    assert_eq!(result(&merged), result(&whole));
+    assert_eq!(
+        std::fs::read(merged.join("basin.csv")).unwrap(),
+        std::fs::read(whole.join("basin.csv")).unwrap()
+    );
+    // Interrupted, then resumed.
+    let resumed = dir.join("resumed");
+    let out = bin()
+        .args(run)
+        .args(["--stop-after", "100", "--threads", "1", "--out"])
+        .arg(&resumed)
+        .output()
+        .unwrap();
+    fails(&out, 1, "interrupted");
+    let partial = resumed.join("basin.partial.json");
+    bin()
+        .args(["basin", "--resume"])
+        .arg(&partial)
+        .arg("--out")
+        .arg(&resumed)
+        .run_ok();
+    assert!(!partial.exists());
+    assert_eq!(result(&resumed), result(&whole));
+    for (args, needle) in [
+        (&["basin", "--halfwidth", "0.5"][..], "halfwidth"),
+        (
+            &["basin", "--halfwidth", "0.1", "--max-per-cell", "4"][..],
+            "max-per-cell",
+        ),
+        (
+            &["basin", "--halfwidth", "0.1", "--trials", "50"][..],
+            "--trials",
+        ),
+    ] {
+        let out = bin().args(args).arg("--out").arg(&dir).output().unwrap();
+        fails(&out, 2, needle);
+    }
+    std::fs::remove_dir_all(&dir).ok();
+}

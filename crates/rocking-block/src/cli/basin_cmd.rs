@@ -1,6 +1,7 @@
 //! `basin`: basin stability of a block for user ranges, with shards, resuming and merging as
 //! the sampling figures (see [`super::sampling`]).
 
+use super::basin_cells::{BasinCellFile, basin_rule};
 use super::block_args::{BlockArgs, figure_dimensional};
 use super::sampling::{CountFile, Todo, parse_shard, sample, set_threads, stop_on_signals, use_up};
 use super::shard_file::MAX_TRIALS;
@@ -41,6 +42,14 @@ pub struct BasinArgs {
     /// Trials.
     #[arg(long, default_value_t = 2000, allow_hyphen_values = true)]
     pub trials: u64,
+    /// Instead of --trials: draw trials cell by cell (binned variables uniform inside each
+    /// cell) until every class's 95 % Wilson half-width in every cell is at most this, or the
+    /// cell has --max-per-cell trials.
+    #[arg(long, conflicts_with = "trials", allow_hyphen_values = true)]
+    pub halfwidth: Option<f64>,
+    /// With --halfwidth: most trials per cell.
+    #[arg(long, default_value_t = 4096, allow_hyphen_values = true)]
+    pub max_per_cell: u64,
     /// Seed (results are identical for a seed whatever the threads).
     #[arg(long, default_value_t = 1, allow_hyphen_values = true)]
     pub seed: u64,
@@ -52,7 +61,7 @@ pub struct BasinArgs {
     #[arg(long)]
     pub shard: Option<String>,
     /// Complete an interrupted run or shard from its `*.partial.json` file.
-    #[arg(long, conflicts_with_all = ["omega", "alpha", "beta", "phi0", "psi0", "bin", "trials", "seed", "shard"])]
+    #[arg(long, conflicts_with_all = ["omega", "alpha", "beta", "phi0", "psi0", "bin", "trials", "seed", "shard", "halfwidth"])]
     pub resume: Option<PathBuf>,
     /// Stop once this many trials of the run are counted (those of a resumed file included;
     /// whole chunks of 256 per thread), as an interrupt would: the counts go to the partial
@@ -356,7 +365,7 @@ impl CountFile for BasinFile {
 }
 
 /// The picture's title: the fixed variables and the block.
-fn title(study: &Study, block: &Block, counts: &Counts) -> String {
+pub(super) fn title(study: &Study, block: &Block, counts: &Counts) -> String {
     let fixed: Vec<String> = study
         .names
         .iter()
@@ -392,6 +401,39 @@ pub(super) fn run_basin(
     }
     set_threads(args.threads)?;
     crate::output::check_dir(&args.out)?;
+    let progress = Arc::new(Progress {
+        budget: args.stop_after,
+        ..Progress::default()
+    });
+    stop_on_signals(&progress);
+    let dir = OutDir::new(&args.out).with_format(args.format);
+    let cells = match &args.resume {
+        Some(path) if super::cell_file::is_cell_file(path) => Some(BasinCellFile::read(path)?),
+        Some(_) => None,
+        None => match args.halfwidth {
+            Some(h) => {
+                let rule = basin_rule(h, args.max_per_cell)?;
+                let block = args.block.block()?;
+                let shard = args.shard.as_deref().map(parse_shard).transpose()?;
+                let mut file =
+                    BasinCellFile::new(args.study(&block)?, rule, shard.unwrap_or((0, 1)), block);
+                file.provenance = Some(
+                    invocation
+                        .clone()
+                        .with_dimensional(figure_dimensional(&args.block)?),
+                );
+                Some(file)
+            }
+            None => None,
+        },
+    };
+    if let Some(file) = cells {
+        let files = sample(file, &dir, args.force, &progress)?;
+        if let Some(from) = &args.resume {
+            use_up(from, &files);
+        }
+        return print_written(out, &files, args.json);
+    }
     let file = match &args.resume {
         Some(path) => BasinFile::read(path)?,
         None => {
@@ -424,12 +466,6 @@ pub(super) fn run_basin(
             }
         }
     };
-    let progress = Arc::new(Progress {
-        budget: args.stop_after,
-        ..Progress::default()
-    });
-    stop_on_signals(&progress);
-    let dir = OutDir::new(&args.out).with_format(args.format);
     let files = sample(file, &dir, args.force, &progress)?;
     if let Some(from) = &args.resume {
         use_up(from, &files);

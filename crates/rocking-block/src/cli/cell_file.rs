@@ -98,7 +98,7 @@ impl CellFile {
 }
 
 /// Ranges of consecutive cells.
-fn runs(cells: &[usize]) -> Vec<std::ops::Range<u64>> {
+pub(super) fn runs(cells: &[usize]) -> Vec<std::ops::Range<u64>> {
     let mut out: Vec<std::ops::Range<u64>> = Vec::new();
     for &c in cells {
         let c = c as u64;
@@ -234,17 +234,17 @@ impl CountFile for CellFile {
     }
 }
 
-/// Trials per cell and round of Fig. 9 sampled adaptively: a cell of one class meets the
+/// Trials per cell and round of the runs sampled cell by cell (Fig. 9, `basin --halfwidth`): a cell of one class meets the
 /// default half-width 0.1 after one batch (the Wilson half-width of 0 of 16 is 0.097).
-const FIG9_BATCH: u64 = 16;
+pub(super) const CELL_BATCH: u64 = 16;
 
 /// The stopping rule of Fig. 9 sampled adaptively (`--halfwidth`, `--max-per-cell`), in
-/// batches of [`FIG9_BATCH`].
+/// batches of [`CELL_BATCH`].
 pub(super) fn fig9_rule(args: &FigureArgs) -> Result<Adaptive> {
     let rule = Adaptive {
         halfwidth: args.halfwidth.unwrap_or(DEFAULT_HALFWIDTH),
         max_trials: args.max_per_cell,
-        batch: FIG9_BATCH,
+        batch: CELL_BATCH,
     };
     rule.validate().map_err(|e| Error::InvalidArgument {
         name: "halfwidth",

@@ -2,6 +2,7 @@
 //! files ([`crate::output`]).
 
 mod args;
+mod basin_cells;
 mod basin_cmd;
 mod block_args;
 mod cell_file;
@@ -17,6 +18,7 @@ pub use ranks::start_mpi;
 pub use shard_file::{MAX_TRIALS, SAMPLING, ShardFile};
 
 pub use args::*;
+pub use basin_cells::BasinCellFile;
 pub use basin_cmd::{BasinArgs, BasinFile};
 pub use block_args::{describe, parameters};
 pub use cell_file::CellFile;

@@ -556,7 +556,14 @@ pub(super) fn run_merge(
         .shards
         .first()
         .is_some_and(|p| super::cell_file::is_cell_file(p));
-    let files = if cells {
+    let files = if cells && basins {
+        let files = args
+            .shards
+            .iter()
+            .map(|p| Ok((p.clone(), super::basin_cells::BasinCellFile::read(p)?)))
+            .collect::<Result<Vec<_>>>()?;
+        merge_files(files, &dir, invocation, |f, p| f.provenance = Some(p))?
+    } else if cells {
         let files = args
             .shards
             .iter()
