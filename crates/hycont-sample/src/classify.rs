@@ -90,6 +90,10 @@ pub struct StrobeSettings {
     /// Largest distance (max-norm in the strobe components) of the state from a stable fixed
     /// point found by Newton for the trial to be classified by it (default 0.05).
     pub newton_radius: f64,
+    /// Integration steps allowed per forcing period, on average over a chunk (default 10,000,
+    /// hundreds of times what a trial takes); a trial that needs more is an error
+    /// ([`Error::StepBudget`], counted as a failure by the basin runs) rather than a wait.
+    pub max_steps_per_period: u64,
     /// Integration tolerances (default `1e-7`, `1e-9`; Newton's refinement converges to ten
     /// times them). Classes are robust to them: on the rocking block's sampling mixes, `1e-9`
     /// changes the class of 0.1 % of the trials (near basin boundaries) at twice the cost.
@@ -110,6 +114,7 @@ impl Default for StrobeSettings {
             max_period: 8,
             newton_every: 30,
             newton_radius: 0.05,
+            max_steps_per_period: 10_000,
             rtol: 1e-7,
             atol: 1e-9,
         }
@@ -127,8 +132,12 @@ impl StrobeSettings {
                 reason: format!("invalid classifier setting: {what}"),
             })
         };
-        if self.chunk == 0 || self.max_periods == 0 || self.max_period == 0 {
-            return bad("chunk, max_periods and max_period must be >= 1");
+        if self.chunk == 0
+            || self.max_periods == 0
+            || self.max_period == 0
+            || self.max_steps_per_period == 0
+        {
+            return bad("chunk, max_periods, max_period and max_steps_per_period must be >= 1");
         }
         for (name, v) in [
             ("tol", self.tol),
@@ -292,11 +301,15 @@ pub fn classify<S: PeriodicallyForced + HybridJacobians + ?Sized>(
         });
     }
     let comps = system.strobe_components();
+    let budget = settings
+        .max_steps_per_period
+        .saturating_mul(settings.chunk as u64);
     let mut sim = Simulator::new(
         SimulationSettings::default()
             .rtol(settings.rtol)
             .atol(settings.atol)
             .record_events(false)
+            .max_steps(budget)
             .samples(SampleTimes::new(0.0, period / PER as f64)),
     )?;
     let (mut mode, mut x) = (mode, x0.to_vec());
@@ -316,6 +329,13 @@ pub fn classify<S: PeriodicallyForced + HybridJacobians + ?Sized>(
         if let StopReason::TerminalEvent { event, .. } = traj.stop {
             let attractor = Attractor::Terminal { event };
             return Ok(rec.finish(comps, attractor, Decision::Event, periods + n));
+        }
+        if let StopReason::StepLimit { .. } = traj.stop {
+            return Err(Error::StepBudget {
+                steps: budget,
+                periods: n,
+                t: t0,
+            });
         }
         let samples: Vec<(Mode, Vec<f64>)> = traj
             .samples
@@ -499,6 +519,7 @@ fn refine<S: PeriodicallyForced + HybridJacobians + ?Sized>(
         SimulationSettings::default()
             .rtol(settings.rtol)
             .atol(settings.atol)
+            .max_steps(settings.max_steps_per_period.saturating_mul(k as u64))
             .record_events(false)
             .samples(SampleTimes::new(0.0, 0.5 * period)),
     )?;

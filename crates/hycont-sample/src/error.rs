@@ -13,6 +13,19 @@ pub enum Error {
     /// An error of the numerical core (invalid input to a simulation, integration failure).
     #[error(transparent)]
     Core(#[from] hycont_core::Error),
+    /// A trial needed more integration steps than the classifier's budget (e.g. chattering
+    /// that the simulator resolves impact by impact at vanishing velocities).
+    #[error(
+        "the trial needed more than {steps} integration steps in {periods} forcing periods (from t = {t})"
+    )]
+    StepBudget {
+        /// The budget of the chunk.
+        steps: u64,
+        /// Forcing periods of the chunk.
+        periods: usize,
+        /// Where the chunk started.
+        t: f64,
+    },
     /// Count tables cannot be merged.
     #[error("cannot merge counts: {reason}")]
     IncompatibleCounts {

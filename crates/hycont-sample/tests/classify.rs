@@ -209,6 +209,15 @@ fn bad_settings_and_inputs_are_errors() {
     };
     let x0 = [0.0, 0.0, 0.0, 1.0];
     assert!(classify(&system, &[0.3, 0.8, 0.1, 1.0], Mode(0), &x0, &bad).is_err());
+    // A step budget below what a period takes: an error naming it, not a wait.
+    let starved = StrobeSettings {
+        max_steps_per_period: 1,
+        ..StrobeSettings::default()
+    };
+    assert!(matches!(
+        classify(&system, &[0.3, 0.8, 0.1, 1.0], Mode(0), &x0, &starved),
+        Err(hycont_sample::Error::StepBudget { steps: 10, .. })
+    ));
     let no_period = StrobeSettings {
         max_period: 0,
         ..StrobeSettings::default()
