@@ -38,6 +38,7 @@ pub mod basin;
 pub mod classify;
 pub mod error;
 pub mod rng;
+mod split;
 pub mod sweep;
 
 pub use error::{Error, Result};
