@@ -263,7 +263,8 @@ pub(super) type Todo = Vec<Vec<std::ops::Range<u64>>>;
 pub(super) trait CountFile: Sized + serde::Serialize + serde::de::DeserializeOwned {
     /// What is sampled, for messages (`figure 7`, `basin`).
     fn what(&self) -> String;
-    /// Trials counted and trials of the shard.
+    /// Trials counted and trials of the shard (for runs sampled cell by cell: cells settled and
+    /// cells of the shard).
     fn progress(&self) -> (u64, u64);
     /// `(i, n)`: shard `i` of `n`.
     fn shard(&self) -> (u64, u64);
@@ -283,8 +284,9 @@ pub(super) trait CountFile: Sized + serde::Serialize + serde::de::DeserializeOwn
     }
     /// Counts the trials `todo` lists (from [`CountFile::todo`]).
     fn fill(&mut self, todo: &[Vec<std::ops::Range<u64>>], progress: &Progress) -> Result<()>;
-    /// The same run and shard with nothing counted (what another process fills its share of
-    /// the trials into, to be merged).
+    /// What another process (an MPI rank) fills its share of the trials into, to be merged
+    /// into this file: the same run and shard with nothing counted, or the file itself where
+    /// a merge keeps the longer record (cells sampled to a half-width).
     fn cleared(&self) -> Self;
     /// Writes the result of the counted trials into `out`.
     fn render(&self, out: &OutDir) -> Result<Vec<PathBuf>>;
