@@ -246,6 +246,8 @@ struct Record {
     zeno: bool,
     /// No Newton refinement before this period (after one that failed).
     newton_after: usize,
+    /// Periods to wait after the next refinement that fails (doubling with each failure).
+    newton_wait: usize,
 }
 
 impl Record {
@@ -320,6 +322,7 @@ pub fn classify<S: PeriodicallyForced + HybridJacobians + ?Sized>(
         recent_modes: Vec::new(),
         zeno: false,
         newton_after: 0,
+        newton_wait: settings.newton_every,
     };
     let mut periods = 0;
     while periods < settings.max_periods {
@@ -428,13 +431,15 @@ fn decide<S: PeriodicallyForced + HybridJacobians + ?Sized>(
         return Ok(Some(rec.finish(comps, attractor, decision, periods)));
     }
     // Newton refinement for slowly converging trials: as soon as a geometric convergence is
-    // predicted to end within `newton_radius`, otherwise every `newton_every` periods; not
-    // again for `newton_every` periods after one that failed.
+    // predicted to end within `newton_radius`, otherwise every `newton_every` periods; after a
+    // refinement that fails, not again for `newton_every` periods, doubled with each failure
+    // (a chaotic trial's refinements keep finding the unstable orbits inside its attractor).
     let scheduled = periods % settings.newton_every.max(1) < settings.chunk
         && periods >= 2 * settings.min_periods;
     let predicted = remaining.is_some_and(|r| r <= settings.newton_radius);
     if settings.newton_every > 0 && periods >= rec.newton_after && (scheduled || predicted) {
-        rec.newton_after = periods + settings.newton_every;
+        rec.newton_after = periods + rec.newton_wait;
+        rec.newton_wait = rec.newton_wait.saturating_mul(2);
         for kk in [1usize, 2]
             .into_iter()
             .filter(|kk| *kk <= settings.max_period)
@@ -485,6 +490,10 @@ fn decide<S: PeriodicallyForced + HybridJacobians + ?Sized>(
     }
     Ok(None)
 }
+
+/// How far (in newton_radius) Newton's iterates may wander from the state before the
+/// refinement is abandoned.
+const FAR: f64 = 4.0;
 
 /// Distance of a fixed point of the squared map from its image after one period below which it
 /// is a period-1 orbit.
@@ -581,7 +590,10 @@ fn refine<S: PeriodicallyForced + HybridJacobians + ?Sized>(
         for (i, &c) in comps.iter().enumerate() {
             z[c] -= dz[i];
         }
-        if dz.iter().any(|d| d.abs() > 5.0) {
+        // A fixed point is accepted within `newton_radius` of the state: iterates that wander
+        // far beyond it are not converging to one that would be (chaotic trials met unstable
+        // orbits every attempt, half their time).
+        if dz.iter().any(|d| d.abs() > 5.0) || dist(comps, &z, x) > FAR * settings.newton_radius {
             return Ok(None);
         }
         mode = system.mode_at(&z, p);
