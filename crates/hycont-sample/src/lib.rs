@@ -39,6 +39,7 @@ pub mod classify;
 pub mod error;
 pub mod rng;
 mod split;
+mod strobe_newton;
 pub mod sweep;
 
 pub use error::{Error, Result};
