@@ -86,7 +86,9 @@ pub struct StrobeSettings {
     /// Longest period (in forcing periods) recognised (default 8): the strobe samples of the
     /// last `k` periods repeat those `k` periods before, for the smallest such `k`.
     pub max_period: usize,
-    /// Periods between Newton refinements (default 30; 0 disables them).
+    /// Periods between scheduled Newton refinements (default 30; 0 disables them), doubled
+    /// after each refinement that fails; a refinement also runs as soon as a geometric
+    /// convergence is predicted to end within `newton_radius`.
     pub newton_every: usize,
     /// Largest distance (max-norm in the strobe components) of the state from a stable fixed
     /// point found by Newton for the trial to be classified by it (default 0.05).
