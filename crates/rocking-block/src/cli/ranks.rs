@@ -118,12 +118,10 @@ impl Ranks {
         let world = mpi::topology::SimpleCommunicator::world();
         if !self.is_root() {
             // One byte of status (0: counts, 1: an error's message), then the payload.
-            let message = match &mine {
-                Ok(file) => {
-                    let mut m = vec![0u8];
-                    m.extend(serde_json::to_vec(file).map_err(|e| rank_err(self.rank, &e))?);
-                    m
-                }
+            // (Always sent: rank 0 waits for every rank.)
+            let message = match mine.as_ref().map(serde_json::to_vec) {
+                Ok(Ok(json)) => [&[0u8][..], &json].concat(),
+                Ok(Err(e)) => [&[1u8][..], e.to_string().as_bytes()].concat(),
                 Err(e) => [&[1u8][..], e.to_string().as_bytes()].concat(),
             };
             world.process_at_rank(0).send(&message[..]);
