@@ -22,7 +22,7 @@ fn scratch(name: &str) -> PathBuf {
 /// before the run can keep its counts, however loaded the machine), and returns the output.
 /// The run must be long enough not to finish first (e.g. a study of 10^9 trials).
 fn interrupted(args: &[&str], signal: &str) -> Output {
-    let child = bin()
+    let mut child = bin()
         .args(args)
         .stdout(std::process::Stdio::piped())
         .stderr(std::process::Stdio::piped())
@@ -44,8 +44,14 @@ fn interrupted(args: &[&str], signal: &str) -> Output {
             })
             .is_some_and(|mask| mask & (1 << bit) != 0)
     };
+    // Polls for the event (the handler in SigCgt), not for a time: the poll interval only
+    // spaces the reads. A run that ends before installing it fails here instead of hanging.
     while !caught() {
-        std::thread::sleep(std::time::Duration::from_millis(10));
+        if let Some(status) = child.try_wait().unwrap() {
+            panic!("the run ended ({status}) before its {signal} handler was installed");
+        }
+        std::thread::yield_now();
+        std::thread::sleep(std::time::Duration::from_millis(1));
     }
     let sent = std::process::Command::new("kill")
         .args([format!("-{signal}"), child.id().to_string()])
