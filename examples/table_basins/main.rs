@@ -13,7 +13,7 @@
 mod model;
 
 use hycont::hycont_sample::adaptive::{Adaptive, CellCounts, run_cells};
-use hycont::hycont_sample::basin::{Axis, Classifier, Distribution, Progress, Study};
+use hycont::hycont_sample::basin::{Classifier, Progress};
 use hycont::hycont_sample::classify::StrobeSettings;
 use model::{CLASSES, TableClassifier};
 use std::f64::consts::PI;
@@ -26,22 +26,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         g,
         settings: StrobeSettings::default(),
     };
-    let study = Study {
-        names: ["a", "z0", "w0", "theta0"].map(String::from).to_vec(),
-        variables: vec![
-            Distribution::Uniform { lo: 0.5, hi: 2.0 },
-            Distribution::Uniform { lo: 0.05, hi: 1.0 },
-            Distribution::Uniform { lo: -1.0, hi: 1.0 },
-            Distribution::Uniform { lo: -PI, hi: PI },
-        ],
-        axes: vec![Axis {
-            variable: 0,
-            lo: 0.5,
-            hi: 2.0,
-            bins: 15,
-        }],
-        seed: 1,
-    };
+    let study = model::amplitude_study(1);
     let rule = Adaptive {
         halfwidth: 0.1,
         ..Adaptive::default()

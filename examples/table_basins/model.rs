@@ -160,3 +160,26 @@ impl hycont::hycont_sample::basin::Classifier for TableClassifier {
         })
     }
 }
+
+/// The study of the example and its test: the table's amplitude `a` uniform on `[0.5, 2)` in
+/// 15 cells, the drop height `z0` on `[0.05, 1)`, velocity `w0` on `[-1, 1)`, phase `theta0` on
+/// `[-pi, pi)`.
+pub fn amplitude_study(seed: u64) -> hycont::hycont_sample::basin::Study {
+    use hycont::hycont_sample::basin::{Axis, Distribution, Study};
+    Study {
+        names: ["a", "z0", "w0", "theta0"].map(String::from).to_vec(),
+        variables: vec![
+            Distribution::Uniform { lo: 0.5, hi: 2.0 },
+            Distribution::Uniform { lo: 0.05, hi: 1.0 },
+            Distribution::Uniform { lo: -1.0, hi: 1.0 },
+            Distribution::Uniform { lo: -PI, hi: PI },
+        ],
+        axes: vec![Axis {
+            variable: 0,
+            lo: 0.5,
+            hi: 2.0,
+            bins: 15,
+        }],
+        seed,
+    }
+}

@@ -3,10 +3,11 @@
 //! `--max-per-cell` trials; `BasinCellFile` is its count file (shards split cells; partial
 //! files, `--resume`, `merge` and MPI as the other sampling runs).
 
-use super::basin_cmd::title;
+use super::basin_cmd::write_basin;
 use super::cell_file::{CELL_BATCH, runs};
 use super::sampling::{CountFile, Todo};
-use crate::basin::{classifier, folded, result_csv, result_json};
+use super::shard_file::{count_paths, read_count_file, write_count_file};
+use crate::basin::classifier;
 use crate::block::Block;
 use crate::error::{Error, Result};
 use crate::figures::sampling::sample_err;
@@ -112,15 +113,7 @@ impl CountFile for BasinCellFile {
         self.shard
     }
     fn paths(&self, dir: &Path) -> (PathBuf, PathBuf) {
-        let (i, n) = self.shard;
-        if n == 1 {
-            (dir.join("basin.json"), dir.join("basin.partial.json"))
-        } else {
-            (
-                dir.join(format!("basin.shard-{i}-of-{n}.json")),
-                dir.join(format!("basin.shard-{i}-of-{n}.partial.json")),
-            )
-        }
+        count_paths(dir, "basin", self.shard)
     }
     fn todo(&self, part: (u64, u64)) -> Result<Todo> {
         let open = runs(&self.table.unsettled(self.cells()));
@@ -154,45 +147,30 @@ impl CountFile for BasinCellFile {
         self.clone()
     }
     fn render(&self, out: &OutDir) -> Result<Vec<PathBuf>> {
+        let provenance = self.provenance.clone().unwrap_or_default();
+        let widths: Vec<f64> = (0..self.table.counts.len())
+            .map(|c| self.table.halfwidth(c))
+            .collect();
+        let sampling = serde_json::json!({
+            "adaptive": true,
+            "halfwidth": self.rule.halfwidth,
+            "batch": self.rule.batch,
+            "max_trials_per_cell": self.rule.max_trials,
+            "largest_halfwidth": widths.iter().copied().fold(0.0, f64::max),
+            "trials_per_cell": self.table.trials,
+            "largest_halfwidth_per_cell": widths,
+        });
         let counts = self.as_counts();
-        let provenance = self
-            .provenance
-            .clone()
-            .unwrap_or_default()
-            .with_block(self.block)
-            .with_seed(self.study.seed);
-        let mut value = result_json(&self.study, &counts);
-        if let Some(obj) = value.as_object_mut() {
-            let widths: Vec<f64> = (0..self.table.counts.len())
-                .map(|c| self.table.halfwidth(c))
-                .collect();
-            obj.remove("trial_ranges");
-            obj.insert(
-                "sampling".into(),
-                serde_json::json!({
-                    "adaptive": true,
-                    "halfwidth": self.rule.halfwidth,
-                    "batch": self.rule.batch,
-                    "max_trials_per_cell": self.rule.max_trials,
-                    "largest_halfwidth": widths.iter().copied().fold(0.0, f64::max),
-                    "trials_per_cell": self.table.trials,
-                    "largest_halfwidth_per_cell": widths,
-                }),
-            );
-        }
-        let json_path = out.join("basin.json");
-        crate::figures::write_json(&json_path, &provenance.insert_into(value))?;
-        let csv_path = out.join("basin.csv");
-        crate::output::write_atomic(&csv_path, result_csv(&self.study, &counts))?;
-        let title = title(&self.study, &self.block, &counts);
-        let pictures = out.picture("basin", |p| {
-            crate::plot::basin_svg(p, &title, &self.study, &folded(&counts))
-        })?;
-        Ok([vec![json_path, csv_path], pictures].concat())
+        write_basin(out, &self.study, &self.block, &counts, provenance, |v| {
+            if let Some(obj) = v.as_object_mut() {
+                // Cells run their own trial streams: no trial ranges.
+                obj.remove("trial_ranges");
+                obj.insert("sampling".into(), sampling);
+            }
+        })
     }
     fn write(&self, path: &Path) -> Result<()> {
-        let text = serde_json::to_string(self).expect("basin counts serialise");
-        crate::output::write_atomic(path, text)
+        write_count_file(self, path)
     }
     fn merge(&mut self, other: &Self) -> std::result::Result<(), String> {
         if (&self.study, self.rule, self.block) != (&other.study, other.rule, other.block) {
@@ -207,18 +185,7 @@ impl CountFile for BasinCellFile {
         }
     }
     fn read(path: &Path) -> Result<Self> {
-        let text = std::fs::read_to_string(path).map_err(|source| Error::Read {
-            path: path.to_path_buf(),
-            source,
-        })?;
-        let bad = |reason: String| Error::InvalidFile {
-            path: path.to_path_buf(),
-            reason,
-        };
-        let file: BasinCellFile = serde_json::from_str(&text)
-            .map_err(|e| bad(format!("not a file of `basin --halfwidth` ({e})")))?;
-        file.check().map_err(bad)?;
-        Ok(file)
+        read_count_file(path, "basin --halfwidth", BasinCellFile::check)
     }
     fn subsumes(&self, other: &Self) -> bool {
         (&self.study, self.rule, self.shard, self.block)

@@ -4,7 +4,7 @@
 use super::basin_cells::{BasinCellFile, basin_rule};
 use super::block_args::{BlockArgs, figure_dimensional};
 use super::sampling::{CountFile, Todo, parse_shard, sample, set_threads, stop_on_signals, use_up};
-use super::shard_file::MAX_TRIALS;
+use super::shard_file::{MAX_TRIALS, count_paths, write_count_file};
 use super::{print_written, read_err};
 use crate::basin::{VARIABLES, classifier, folded, result_csv, result_json, validate};
 use crate::block::Block;
@@ -281,15 +281,7 @@ impl CountFile for BasinFile {
         self.shard
     }
     fn paths(&self, dir: &Path) -> (PathBuf, PathBuf) {
-        let (i, n) = self.shard;
-        if n == 1 {
-            (dir.join("basin.json"), dir.join("basin.partial.json"))
-        } else {
-            (
-                dir.join(format!("basin.shard-{i}-of-{n}.json")),
-                dir.join(format!("basin.shard-{i}-of-{n}.partial.json")),
-            )
-        }
+        count_paths(dir, "basin", self.shard)
     }
     fn todo(&self, part: (u64, u64)) -> Result<Todo> {
         let missing = self.counts.missing(self.range());
@@ -324,19 +316,15 @@ impl CountFile for BasinFile {
             .provenance
             .clone()
             .unwrap_or_default()
-            .with_block(self.block)
-            .with_seed(self.study.seed)
             .with_trials(self.trials);
-        let json_path = out.join("basin.json");
-        let value = provenance.insert_into(result_json(&self.study, &self.counts));
-        crate::figures::write_json(&json_path, &value)?;
-        let csv_path = out.join("basin.csv");
-        crate::output::write_atomic(&csv_path, result_csv(&self.study, &self.counts))?;
-        let title = title(&self.study, &self.block, &self.counts);
-        let pictures = out.picture("basin", |p| {
-            crate::plot::basin_svg(p, &title, &self.study, &folded(&self.counts))
-        })?;
-        Ok([vec![json_path, csv_path], pictures].concat())
+        write_basin(
+            out,
+            &self.study,
+            &self.block,
+            &self.counts,
+            provenance,
+            |_| {},
+        )
     }
     fn read(path: &Path) -> Result<Self> {
         BasinFile::read(path)
@@ -347,8 +335,7 @@ impl CountFile for BasinFile {
             && super::shard_file::covers(&self.counts, &other.counts, &self.range())
     }
     fn write(&self, path: &Path) -> Result<()> {
-        let text = serde_json::to_string(self).expect("basin counts serialise");
-        crate::output::write_atomic(path, text)
+        write_count_file(self, path)
     }
     fn merge(&mut self, other: &Self) -> std::result::Result<(), String> {
         if (&self.study, self.block, self.trials) != (&other.study, other.block, other.trials) {
@@ -365,7 +352,31 @@ impl CountFile for BasinFile {
 }
 
 /// The picture's title: the fixed variables and the block.
-pub(super) fn title(study: &Study, block: &Block, counts: &Counts) -> String {
+/// Writes a basin's files: `basin.json` (the result with `provenance`, completed with the
+/// block and seed, and amended by `extra`), `basin.csv` and the picture.
+pub(super) fn write_basin(
+    out: &OutDir,
+    study: &Study,
+    block: &Block,
+    counts: &Counts,
+    provenance: Provenance,
+    extra: impl FnOnce(&mut serde_json::Value),
+) -> Result<Vec<PathBuf>> {
+    let provenance = provenance.with_block(*block).with_seed(study.seed);
+    let json_path = out.join("basin.json");
+    let mut value = result_json(study, counts);
+    extra(&mut value);
+    crate::figures::write_json(&json_path, &provenance.insert_into(value))?;
+    let csv_path = out.join("basin.csv");
+    crate::output::write_atomic(&csv_path, result_csv(study, counts))?;
+    let title = title(study, block, counts);
+    let pictures = out.picture("basin", |p| {
+        crate::plot::basin_svg(p, &title, study, &folded(counts))
+    })?;
+    Ok([vec![json_path, csv_path], pictures].concat())
+}
+
+fn title(study: &Study, block: &Block, counts: &Counts) -> String {
     let fixed: Vec<String> = study
         .names
         .iter()

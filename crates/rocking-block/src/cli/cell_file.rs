@@ -6,6 +6,7 @@
 
 use super::FigureArgs;
 use super::sampling::{CountFile, Todo};
+use super::shard_file::{count_paths, read_count_file, write_count_file};
 use crate::block::Block;
 use crate::error::{Error, Result};
 use crate::figures::fig9_cells::{DEFAULT_HALFWIDTH, empty_cell_tables, fill_cells, render9_cells};
@@ -128,15 +129,7 @@ impl CountFile for CellFile {
         self.shard
     }
     fn paths(&self, dir: &Path) -> (PathBuf, PathBuf) {
-        let (i, n) = self.shard;
-        if n == 1 {
-            (dir.join("fig9.json"), dir.join("fig9.partial.json"))
-        } else {
-            (
-                dir.join(format!("fig9.shard-{i}-of-{n}.json")),
-                dir.join(format!("fig9.shard-{i}-of-{n}.partial.json")),
-            )
-        }
+        count_paths(dir, "fig9", self.shard)
     }
     /// Cells (as ranges of cell indices) not settled yet, share `part` of them per table.
     fn todo(&self, part: (u64, u64)) -> Result<Todo> {
@@ -180,8 +173,7 @@ impl CountFile for CellFile {
         Ok(render9_cells(out, &self.options(), &self.rule, &invocation, &self.tables)?.files)
     }
     fn write(&self, path: &Path) -> Result<()> {
-        let text = serde_json::to_string(self).expect("count tables serialise");
-        crate::output::write_atomic(path, text)
+        write_count_file(self, path)
     }
     fn merge(&mut self, other: &Self) -> std::result::Result<(), String> {
         if (self.figure, self.rule, self.seed, self.block)
@@ -204,18 +196,7 @@ impl CountFile for CellFile {
         }
     }
     fn read(path: &Path) -> Result<Self> {
-        let text = std::fs::read_to_string(path).map_err(|source| Error::Read {
-            path: path.to_path_buf(),
-            source,
-        })?;
-        let bad = |reason: String| Error::InvalidFile {
-            path: path.to_path_buf(),
-            reason,
-        };
-        let file: CellFile = serde_json::from_str(&text)
-            .map_err(|e| bad(format!("not a file of `figure 9 --halfwidth` ({e})")))?;
-        file.check().map_err(bad)?;
-        Ok(file)
+        read_count_file(path, "figure 9 --halfwidth", CellFile::check)
     }
     fn subsumes(&self, other: &Self) -> bool {
         (self.figure, self.rule, self.seed, self.shard, self.block)

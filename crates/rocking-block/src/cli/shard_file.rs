@@ -59,6 +59,48 @@ fn covered(c: &Counts) -> u64 {
     c.ranges.iter().map(|(a, b)| b.saturating_sub(*a)).sum()
 }
 
+/// Where a count file named `stem` (`fig9`, `basin`) of shard `(i, n)` goes in `dir`, complete
+/// and partial: `stem.json` for a whole run, `stem.shard-I-of-N.json` for a shard.
+pub(super) fn count_paths(dir: &Path, stem: &str, (i, n): (u64, u64)) -> (PathBuf, PathBuf) {
+    let name = if n == 1 {
+        stem.to_string()
+    } else {
+        format!("{stem}.shard-{i}-of-{n}")
+    };
+    (
+        dir.join(format!("{name}.json")),
+        dir.join(format!("{name}.partial.json")),
+    )
+}
+
+/// Reads a count file written by `what` (for the message) and checks it with `check`.
+///
+/// # Errors
+/// [`Error::Read`] or [`Error::InvalidFile`] naming the file.
+pub(super) fn read_count_file<F: serde::de::DeserializeOwned>(
+    path: &Path,
+    what: &str,
+    check: impl FnOnce(&F) -> std::result::Result<(), String>,
+) -> Result<F> {
+    let text = std::fs::read_to_string(path).map_err(|source| Error::Read {
+        path: path.to_path_buf(),
+        source,
+    })?;
+    let file: F = serde_json::from_str(&text)
+        .map_err(|e| bad(path, format!("not a file written by `{what}` ({e})")))?;
+    check(&file).map_err(|reason| bad(path, reason))?;
+    Ok(file)
+}
+
+/// Writes a count file (atomically).
+///
+/// # Errors
+/// [`Error::Io`] naming the file.
+pub(super) fn write_count_file(file: &impl serde::Serialize, path: &Path) -> Result<()> {
+    let text = serde_json::to_string(file).expect("count tables serialise");
+    crate::output::write_atomic(path, text)
+}
+
 fn bad(path: &Path, reason: String) -> Error {
     Error::InvalidFile {
         path: path.to_path_buf(),
@@ -201,19 +243,7 @@ impl ShardFile {
 
     /// Where a complete shard or figure of this file goes in `dir`, and where a partial one.
     pub fn paths(&self, dir: &Path) -> (PathBuf, PathBuf) {
-        let (i, n) = self.shard;
-        let f = self.figure;
-        if n == 1 {
-            (
-                dir.join(format!("fig{f}.json")),
-                dir.join(format!("fig{f}.partial.json")),
-            )
-        } else {
-            (
-                dir.join(format!("fig{f}.shard-{i}-of-{n}.json")),
-                dir.join(format!("fig{f}.shard-{i}-of-{n}.partial.json")),
-            )
-        }
+        count_paths(dir, &format!("fig{}", self.figure), self.shard)
     }
 
     /// Writes the file (atomically).
@@ -222,7 +252,6 @@ impl ShardFile {
     /// [`Error::Io`] naming the file.
     pub fn write(&self, path: &Path) -> Result<()> {
         debug_assert!(self.block.validate().is_ok());
-        let text = serde_json::to_string(self).expect("count tables serialise");
-        crate::output::write_atomic(path, text)
+        write_count_file(self, path)
     }
 }

@@ -3,16 +3,16 @@
 //! 95 % Wilson half-width in the cell is at most the target (or the per-cell cap is reached),
 //! for each beta. The figure reports the trials and the largest half-width of every cell.
 
-use super::sampling::{SampleOptions, curves_json, fig9_study, group_probabilities_of};
-use super::{FigureFiles, write_json};
+use super::FigureFiles;
+use super::fig9_files::{probabilities_json, write_fig9};
+use super::sampling::{SampleOptions, fig9_study, group_probabilities_of};
 use crate::classes::RockingClassifier;
 use crate::error::Result;
 use crate::output::OutDir;
-use crate::plot;
 use crate::provenance::Provenance;
 use hycont_sample::adaptive::{Adaptive, CellCounts, run_cells};
 use hycont_sample::basin::{Classifier, Progress, Study};
-use serde_json::{Value, json};
+use serde_json::json;
 
 /// The half-width Fig. 9 is sampled to by default: every class's 95 % interval in every cell
 /// within +-0.1.
@@ -96,38 +96,28 @@ pub fn render9_cells(
             "seed": options.seed.wrapping_add(k as u64),
             "trials_per_cell": t.trials,
             "largest_halfwidth_per_cell": widths,
-            "probabilities": probs.iter().map(|(n, p)| (n.to_string(), json!(p.iter().map(|v| if v.is_nan() { Value::Null } else { json!(v) }).collect::<Vec<_>>()))).collect::<serde_json::Map<_, _>>(),
+            "probabilities": probabilities_json(&probs),
         }));
         panels.push((beta, probs));
     }
-    let curves = crate::continuation::study_curves(
-        &options.block,
-        &mut hycont_continuation::observe::Silent,
-    )?;
-    let json = json!({
-        "figure": 9,
-        "grid": {"omega": [0.5, 4.0, 30], "alpha": [0.1, 0.9, 30], "cell_order": "omega-major"},
-        "sampling": {
-            "adaptive": true,
-            "halfwidth": rule.halfwidth,
-            "batch": rule.batch,
-            "max_trials_per_cell": rule.max_trials,
-            "largest_halfwidth": widest,
-        },
-        "basins": entries,
-        "curves": curves_json(&curves),
+    let sampling = json!({
+        "adaptive": true,
+        "halfwidth": rule.halfwidth,
+        "batch": rule.batch,
+        "max_trials_per_cell": rule.max_trials,
+        "largest_halfwidth": widest,
     });
-    let json_path = out.join("fig9.json");
-    write_json(&json_path, &provenance.insert_into(json))?;
     let title = format!(
         "Fig. 9: group probabilities, 30 x 30 cells, {total} trials (95 % half-width <= {widest:.2}){}",
         options.block.note()
     );
-    let pictures = out.picture("fig9", |p| {
-        plot::probability_grid_svg(p, &title, &panels, &curves)
-    })?;
-    Ok(FigureFiles {
-        figure: 9,
-        files: [vec![json_path], pictures].concat(),
-    })
+    write_fig9(
+        out,
+        &options.block,
+        &provenance,
+        &panels,
+        entries,
+        Some(sampling),
+        &title,
+    )
 }

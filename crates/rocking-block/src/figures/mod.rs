@@ -5,6 +5,7 @@ mod fig2;
 mod fig5;
 pub mod fig6;
 pub mod fig9_cells;
+mod fig9_files;
 pub mod sampling;
 pub mod tables;
 

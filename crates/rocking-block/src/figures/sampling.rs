@@ -4,6 +4,7 @@
 pub use super::fig5::figure5;
 pub use super::tables::{counts_for, empty_tables, fill, missing, tables_share_trials};
 
+use super::fig9_files::{probabilities_json, write_fig9};
 use super::{FigureFiles, write_json};
 use crate::block::Block;
 use crate::classes::{Class, base_class};
@@ -460,33 +461,23 @@ fn render9(
             "trials": (0..counts.counts.len()).map(|c| counts.trials(c)).sum::<u64>(),
             "seed": options.seed.wrapping_add(k as u64),
             "trial_ranges": counts.ranges,
-            "probabilities": probs.iter().map(|(n, p)| (n.to_string(), json!(p.iter().map(|v| if v.is_nan() { Value::Null } else { json!(v) }).collect::<Vec<_>>()))).collect::<serde_json::Map<_, _>>(),
+            "probabilities": probabilities_json(&probs),
         }));
         panels.push((beta, probs));
     }
-    let curves = crate::continuation::study_curves(
-        &options.block,
-        &mut hycont_continuation::observe::Silent,
-    )?;
-    let json = json!({
-        "figure": 9,
-        "grid": {"omega": [0.5, 4.0, 30], "alpha": [0.1, 0.9, 30], "cell_order": "omega-major"},
-        "basins": entries,
-        "curves": curves_json(&curves),
-    });
-    let json_path = out.join("fig9.json");
-    write_json(&json_path, &provenance.insert_into(json))?;
     let title = format!(
         "Fig. 9: probability of each solution group on the (omega, alpha) grid, 30 x 30 cells{}",
         options.block.note()
     );
-    let pictures = out.picture("fig9", |p| {
-        plot::probability_grid_svg(p, &title, &panels, &curves)
-    })?;
-    Ok(FigureFiles {
-        figure: 9,
-        files: [vec![json_path], pictures].concat(),
-    })
+    write_fig9(
+        out,
+        &options.block,
+        provenance,
+        &panels,
+        entries,
+        None,
+        &title,
+    )
 }
 
 /// Fig. 10: probabilities against phi0, psi0 and beta (50 bins each) from trials with random
