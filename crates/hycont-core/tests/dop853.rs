@@ -109,6 +109,42 @@ fn dense_output_is_seventh_order_accurate() {
     );
 }
 
+/// The derivative of the continuous extension: Hairer's interpolant matches the derivative at
+/// both ends of the step ($u'(0) = f(t_n, y_n)$, $u'(1) = f(t_{n+1}, y_{n+1})$ by its
+/// construction), and inside, as the derivative of a 7th-order interpolant, it is accurate to
+/// $O(h^7)$ against $y' = e^{\sin t}\cos t$.
+#[test]
+fn dense_output_derivative_matches_the_vector_field() {
+    let err = |h: f64| {
+        let mut st = Dop853::new(1);
+        let t0 = 0.3;
+        st.start(&mut exp_sin, t0, &[t0.sin().exp()]).unwrap();
+        st.attempt(&mut exp_sin, h).unwrap();
+        st.accept(&mut exp_sin).unwrap();
+        st.prepare_dense(&mut exp_sin).unwrap();
+        let (mut f0, mut f1) = ([0.0], [0.0]);
+        exp_sin(t0, &[st.dense_component(0, t0)], &mut f0);
+        exp_sin(t0 + h, &[st.dense_component(0, t0 + h)], &mut f1);
+        let scale = 1e-14 * f0[0].abs().max(f1[0].abs()).max(1.0);
+        assert!((st.dense_derivative_component(0, t0) - f0[0]).abs() <= scale);
+        assert!((st.dense_derivative_component(0, t0 + h) - f1[0]).abs() <= scale);
+        let mut worst: f64 = 0.0;
+        for k in 1..10 {
+            let t = t0 + h * f64::from(k) / 10.0;
+            let exact = t.sin().exp() * t.cos();
+            worst = worst.max((st.dense_derivative_component(0, t) - exact).abs());
+        }
+        worst
+    };
+    let (e1, e2) = (err(0.4), err(0.2));
+    let order = (e1 / e2).log2();
+    assert!(
+        order > 6.0,
+        "derivative's local order {order:.2} ({e1:e} -> {e2:e})"
+    );
+    assert!(e2 < 1e-8, "derivative error {e2:e} at h = 0.2");
+}
+
 #[test]
 fn nan_rhs_is_reported_with_time_and_state() {
     // y' = -1 from y = 1, with the right-hand side returning sqrt(y): NaN once y < 0.

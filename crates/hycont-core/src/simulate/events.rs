@@ -187,6 +187,25 @@ impl EventState {
     }
 }
 
+/// Event `id`'s function on the dense output of `stepper`'s pending step at `tau`, `probe`
+/// (the state's length) holding the interpolated state. An event on a coordinate surface
+/// ([`HybridSystem::event_component`]: $h_e = x_c - v(p)$) reads $x_c$ alone, so only that
+/// component is interpolated.
+pub(super) fn event_at<S: HybridSystem + ?Sized>(
+    stepper: &Dop853,
+    system: &S,
+    id: EventId,
+    p: &[f64],
+    tau: f64,
+    probe: &mut [f64],
+) -> f64 {
+    match system.event_component(id) {
+        Some(c) if c < probe.len() => probe[c] = stepper.dense_component(c, tau),
+        _ => stepper.dense(tau, probe),
+    }
+    system.event(id, probe, p)
+}
+
 /// The accepted step `[t, t_new]` with its dense output built, as seen by one event.
 pub(super) struct DenseStep<'a, S: ?Sized> {
     pub(super) stepper: &'a Dop853,
@@ -198,8 +217,7 @@ pub(super) struct DenseStep<'a, S: ?Sized> {
 
 impl<S: HybridSystem + ?Sized> DenseStep<'_, S> {
     fn g(&self, id: EventId, tau: f64, probe: &mut [f64]) -> f64 {
-        self.stepper.dense(tau, probe);
-        self.system.event(id, probe, self.p)
+        event_at(self.stepper, self.system, id, self.p, tau, probe)
     }
 
     /// A bracket `(ta, ga, tb, gb)` of the first crossing of `ev` in the step, with `ga`
@@ -240,8 +258,18 @@ impl<S: HybridSystem + ?Sized> DenseStep<'_, S> {
             }
             Check::Dip(sigma) => {
                 let dt = CENTRAL_STEP * (t_new - t);
-                let mut rate = |tau: f64| {
-                    (self.g(ev.id, tau + dt, probe) - self.g(ev.id, tau - dt, probe)) / (2.0 * dt)
+                // On a coordinate surface the rate is the interpolant's derivative of that
+                // component; otherwise a central difference.
+                let component = self
+                    .system
+                    .event_component(ev.id)
+                    .filter(|c| *c < probe.len());
+                let mut rate = |tau: f64| match component {
+                    Some(c) => self.stepper.dense_derivative_component(c, tau),
+                    None => {
+                        (self.g(ev.id, tau + dt, probe) - self.g(ev.id, tau - dt, probe))
+                            / (2.0 * dt)
+                    }
                 };
                 // The extremum to 1e-9 of the step: its value is then exact to second order.
                 let tol_extremum = tol.max(1e-9 * (t_new - t));

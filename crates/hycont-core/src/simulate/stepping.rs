@@ -227,8 +227,7 @@ impl Simulator {
                 let stepper = &self.stepper;
                 let probe = &mut self.x_probe;
                 let te = events::locate_root(ta, ga, tb, gb, tol, |tau| {
-                    stepper.dense(tau, &mut probe[..n]);
-                    system.event(ev.id, &probe[..n], p)
+                    events::event_at(stepper, system, ev.id, p, tau, &mut probe[..n])
                 });
                 if earliest.is_none_or(|(t_best, _)| te < t_best) {
                     earliest = Some((te, idx));

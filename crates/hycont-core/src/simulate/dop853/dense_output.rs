@@ -127,6 +127,40 @@ impl Dop853 {
                         + s1 * (c[4][i] + s * (c[5][i] + s1 * (c[6][i] + s * c[7][i]))))))
     }
 
+    /// The time derivative of component `i` of the continuous extension at time `t` (within the
+    /// pending step): the nested form of [`Dop853::dense_component`] differentiated in
+    /// $s = (t - t_n)/h$, divided by $h$.
+    ///
+    /// Requires [`Dop853::prepare_dense`]; before that it returns the linear interpolant's slope.
+    #[must_use]
+    pub fn dense_derivative_component(&self, i: usize, t: f64) -> f64 {
+        let h = self.h;
+        if !self.dense_ready {
+            return (self.y_new[i] - self.y[i]) / h;
+        }
+        let s = (t - self.t) / h;
+        let s1 = 1.0 - s;
+        let c = &self.cont;
+        // Inside out: v = c6 + s c7, then alternately c_k + s1 v and c_k + s v, carrying dv/ds
+        // (ds1/ds = -1).
+        let (mut v, mut dv) = (c[6][i] + s * c[7][i], c[7][i]);
+        for (k, by_s) in [
+            (5, false),
+            (4, true),
+            (3, false),
+            (2, true),
+            (1, false),
+            (0, true),
+        ] {
+            if by_s {
+                (v, dv) = (c[k][i] + s * v, v + s * dv);
+            } else {
+                (v, dv) = (c[k][i] + s1 * v, s1 * dv - v);
+            }
+        }
+        dv / h
+    }
+
     /// The first `out.len()` components of the continuous extension at time `t`.
     pub fn dense(&self, t: f64, out: &mut [f64]) {
         for (i, o) in out.iter_mut().enumerate() {
