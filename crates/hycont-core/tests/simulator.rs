@@ -477,3 +477,57 @@ fn sensitivities_of_some_parameters_equal_those_columns_of_all() {
     assert_eq!(sens.state, all_sens.state);
     assert!(sens.params.unwrap().iter().all(|&v| v == 0.0));
 }
+
+/// A run split into pieces by [`Simulator::resume`] is the same motion (the impact oscillator's
+/// closed form: impacts at $t_j = (j + 1)\pi/w$, flight $j$ is $x = (v_0 e^j / w)
+/// \sin(w (t - t_j))$), and each piece starts with the step size the last one proposed rather
+/// than a new estimate (which costs right-hand side evaluations).
+#[test]
+fn resumed_pieces_continue_the_motion_without_new_step_estimates() {
+    let (k, e, v0): (f64, f64, f64) = (4.0, 0.8, 1.5);
+    let w = k.sqrt();
+    let system = ImpactOscillator { cap: None };
+    let (pieces, t_end) = (20, 6.0);
+    let (mut resumer, mut fresh) = (sim(), sim());
+    let first = resumer
+        .run(
+            &system,
+            Mode(0),
+            0.0,
+            &[0.0, v0],
+            &[k, e],
+            t_end / pieces as f64,
+        )
+        .unwrap();
+    let (mut traj, mut fresh_traj) = (first.clone(), first);
+    let (mut resumed_evals, mut fresh_evals) = (0, 0);
+    for i in 2..=pieces {
+        let t_i = t_end * i as f64 / pieces as f64;
+        assert!(traj.next_step > 0.0);
+        traj = resumer.resume(&system, &traj, &[k, e], t_i).unwrap();
+        fresh_traj = fresh
+            .run(
+                &system,
+                fresh_traj.mode_final,
+                fresh_traj.t_final,
+                &fresh_traj.state_final,
+                &[k, e],
+                t_i,
+            )
+            .unwrap();
+        resumed_evals += traj.stats.rhs_evaluations;
+        fresh_evals += fresh_traj.stats.rhs_evaluations;
+    }
+    assert_eq!(traj.t_final, t_end);
+    // Closed form at t_end: the flight after the last impact before it.
+    let j = (t_end * w / PI).floor() as i32 - 1;
+    let t_j = f64::from(j + 1) * PI / w;
+    let x = v0 * e.powi(j + 1) / w * (w * (t_end - t_j)).sin();
+    let v = v0 * e.powi(j + 1) * (w * (t_end - t_j)).cos();
+    assert_abs_diff_eq!(traj.state_final[0], x, epsilon = 1e-8);
+    assert_abs_diff_eq!(traj.state_final[1], v, epsilon = 1e-8);
+    assert!(
+        resumed_evals < fresh_evals,
+        "resumed pieces {resumed_evals} evaluations, fresh runs {fresh_evals}"
+    );
+}

@@ -84,6 +84,8 @@ pub struct Simulator {
     x_probe: Vec<f64>,
     zeno_out: Vec<f64>,
     events: Vec<EventState>,
+    /// The first step of the next run, set by [`Simulator::resume`].
+    resume_step: Option<f64>,
 }
 
 impl Simulator {
@@ -104,6 +106,7 @@ impl Simulator {
             x_probe: Vec::new(),
             zeno_out: Vec::new(),
             events: Vec::new(),
+            resume_step: None,
         })
     }
 
@@ -141,6 +144,58 @@ impl Simulator {
             t_end,
             Sensitivities::None,
         )
+    }
+
+    /// Continues the run that ended in `from` (at its final time, in its final mode, from its
+    /// final state) until `t_end`, starting with the step size it proposed last
+    /// ([`Trajectory::next_step`]) rather than a new estimate: a long simulation split into
+    /// pieces (e.g. to look at the state between them) then costs about what it costs in one
+    /// piece.
+    ///
+    /// # Errors
+    /// As [`Simulator::run`].
+    ///
+    /// ```
+    /// # use hycont_core::{EventId, EventSpec, HybridSystem, Mode, SimulationSettings, Simulator};
+    /// // x' = -x, no events.
+    /// struct Decay;
+    /// impl HybridSystem for Decay {
+    ///     fn state_dim(&self) -> usize { 1 }
+    ///     fn parameter_names(&self) -> &[&'static str] { &[] }
+    ///     fn mode_count(&self) -> usize { 1 }
+    ///     fn mode_name(&self, _: Mode) -> &'static str { "decay" }
+    ///     fn events(&self, _: Mode) -> &[EventId] { &[] }
+    ///     fn event_spec(&self, _: EventId) -> EventSpec { unreachable!("no events") }
+    ///     fn vector_field(&self, _: Mode, x: &[f64], _: &[f64], out: &mut [f64]) {
+    ///         out[0] = -x[0];
+    ///     }
+    ///     fn event(&self, _: EventId, _: &[f64], _: &[f64]) -> f64 { unreachable!("no events") }
+    /// }
+    /// let mut sim = Simulator::new(SimulationSettings::default())?;
+    /// let first = sim.run(&Decay, Mode(0), 0.0, &[1.0], &[], 1.0)?;
+    /// let second = sim.resume(&Decay, &first, &[], 2.0)?;
+    /// assert!((second.state_final[0] - (-2.0f64).exp()).abs() < 1e-8);
+    /// # Ok::<(), hycont_core::Error>(())
+    /// ```
+    pub fn resume<S: HybridSystem + ?Sized>(
+        &mut self,
+        system: &S,
+        from: &Trajectory,
+        p: &[f64],
+        t_end: f64,
+    ) -> Result<Trajectory> {
+        self.resume_step =
+            (from.next_step > 0.0 && from.next_step.is_finite()).then_some(from.next_step);
+        let run = self.run(
+            system,
+            from.mode_final,
+            from.t_final,
+            &from.state_final,
+            p,
+            t_end,
+        );
+        self.resume_step = None;
+        run
     }
 
     /// Like [`Simulator::run`], integrating the variational equations as well; the trajectory's
@@ -262,6 +317,8 @@ impl Simulator {
         let to_error = |e: NonFiniteEvaluation, mode: Mode| non_finite(&e, mode, n);
         let mut t = t0;
         let mut h = self.begin(system, ext, mode, (t0, t_end), x0, p)?;
+        // The step size the integrator proposed last, before truncation at `t_end`.
+        let mut proposed = h;
         if s.record_steps {
             rec.steps.push(t, mode, &self.y0);
         }
@@ -284,6 +341,7 @@ impl Simulator {
             }
             let remaining = t_end - t;
             h = h.min(s.h_max);
+            proposed = h;
             let last = 1.01 * h >= remaining;
             if last {
                 h = remaining;
@@ -440,6 +498,7 @@ impl Simulator {
             zeno: rec.zeno.log,
             sensitivities,
             stats: rec.stats,
+            next_step: proposed,
         })
     }
 }

@@ -180,7 +180,7 @@ impl Simulator {
             &mut self.x_probe[..n],
         );
         let span = (t_end - t0).max(f64::MIN_POSITIVE);
-        Ok(match self.settings.h_initial {
+        Ok(match self.resume_step.or(self.settings.h_initial) {
             Some(h) => h.min(span),
             None => self
                 .stepper

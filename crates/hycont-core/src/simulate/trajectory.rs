@@ -223,4 +223,9 @@ pub struct Trajectory {
     pub sensitivities: Option<SensitivityMatrices>,
     /// Counters.
     pub stats: SimulationStats,
+    /// The step size the integrator proposed last (before any cut at `t_end`): where a
+    /// following run continues this one, [`Simulator::resume`](crate::Simulator::resume)
+    /// starts with it.
+    #[serde(default)]
+    pub next_step: f64,
 }
