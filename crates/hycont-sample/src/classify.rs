@@ -75,7 +75,9 @@ pub struct StrobeSettings {
     pub max_periods: usize,
     /// Periods before periodicity is tested (default 10).
     pub min_periods: usize,
-    /// Periods per simulation chunk (default 10).
+    /// Periods per simulation chunk (default 10); the tests for periodicity run after each
+    /// chunk. The first chunk is simulated one period at a time, so that a trial absorbed early
+    /// (e.g. at rest for good) stops within a period of it.
     pub chunk: usize,
     /// Strobe repetition tolerance (default `1e-6`).
     pub tol: f64,
@@ -93,8 +95,8 @@ pub struct StrobeSettings {
     /// Largest distance (max-norm in the strobe components) of the state from a stable fixed
     /// point found by Newton for the trial to be classified by it (default 0.05).
     pub newton_radius: f64,
-    /// Integration steps allowed per forcing period, on average over a chunk (default 10,000,
-    /// hundreds of times what a trial takes); a trial that needs more is an error
+    /// Integration steps allowed per forcing period, on average over each simulated piece
+    /// (default 10,000, hundreds of times what a trial takes); a trial that needs more is an error
     /// ([`Error::StepBudget`], counted as a failure by the basin runs) rather than a wait.
     pub max_steps_per_period: u64,
     /// Integration tolerances (default `1e-7`, `1e-9`; Newton's refinement converges to ten
@@ -307,17 +309,20 @@ pub fn classify<S: PeriodicallyForced + HybridJacobians + ?Sized>(
         });
     }
     let comps = system.strobe_components();
-    let budget = settings
-        .max_steps_per_period
-        .saturating_mul(settings.chunk as u64);
-    let mut sim = Simulator::new(
-        SimulationSettings::default()
-            .rtol(settings.rtol)
-            .atol(settings.atol)
-            .record_events(false)
-            .max_steps(budget)
-            .samples(SampleTimes::new(0.0, period / PER as f64)),
-    )?;
+    // One simulator per piece length, each with its step budget.
+    let simulator = |periods: usize| {
+        let budget = settings.max_steps_per_period.saturating_mul(periods as u64);
+        Simulator::new(
+            SimulationSettings::default()
+                .rtol(settings.rtol)
+                .atol(settings.atol)
+                .record_events(false)
+                .max_steps(budget)
+                .samples(SampleTimes::new(0.0, period / PER as f64)),
+        )
+        .map(|sim| (sim, budget))
+    };
+    let (mut single, mut chunked) = (simulator(1)?, simulator(settings.chunk)?);
     let (mut mode, mut x) = (mode, x0.to_vec());
     let mut rec = Record {
         strobe: Vec::new(),
@@ -329,17 +334,28 @@ pub fn classify<S: PeriodicallyForced + HybridJacobians + ?Sized>(
         newton_wait: settings.newton_every,
     };
     let mut periods = 0;
+    let mut chunk_zeno = false;
+    let mut last: Option<hycont_core::Trajectory> = None;
     while periods < settings.max_periods {
-        let n = settings.chunk.min(settings.max_periods - periods);
+        // The first chunk one period at a time: a trial absorbed early (e.g. at rest for good)
+        // stops there rather than at the chunk's end.
+        let first = periods < settings.chunk;
+        let n = if first { 1 } else { settings.chunk }.min(settings.max_periods - periods);
         let t0 = periods as f64 * period;
-        let traj = sim.run(system, mode, t0, &x, p, t0 + n as f64 * period)?;
+        let (sim, budget) = if first { &mut single } else { &mut chunked };
+        // Each piece continues the last one with the step size it proposed.
+        let t1 = t0 + n as f64 * period;
+        let traj = match &last {
+            Some(last) => sim.resume(system, last, p, t1)?,
+            None => sim.run(system, mode, t0, &x, p, t1)?,
+        };
         if let StopReason::TerminalEvent { event, .. } = traj.stop {
             let attractor = Attractor::Terminal { event };
             return Ok(rec.finish(comps, attractor, Decision::Event, periods + n));
         }
         if let StopReason::StepLimit { .. } = traj.stop {
             return Err(Error::StepBudget {
-                steps: budget,
+                steps: *budget,
                 periods: n,
                 t: t0,
             });
@@ -349,7 +365,8 @@ pub fn classify<S: PeriodicallyForced + HybridJacobians + ?Sized>(
             .iter()
             .map(|(_, m, s)| (m, s.to_vec()))
             .collect();
-        rec.zeno = !traj.zeno.is_empty();
+        chunk_zeno |= !traj.zeno.is_empty();
+        rec.zeno = chunk_zeno;
         rec.recent_modes = samples
             .iter()
             .rev()
@@ -378,7 +395,12 @@ pub fn classify<S: PeriodicallyForced + HybridJacobians + ?Sized>(
         }
         mode = traj.mode_final;
         x.clone_from(&traj.state_final);
+        last = Some(traj);
         periods += n;
+        if first && periods < settings.chunk.min(settings.max_periods) {
+            continue;
+        }
+        chunk_zeno = false;
         if periods < settings.min_periods || rec.strobe.len() < 4 {
             continue;
         }

@@ -19,11 +19,11 @@ pub enum Error {
         "the trial needed more than {steps} integration steps in {periods} forcing periods (from t = {t})"
     )]
     StepBudget {
-        /// The budget of the chunk.
+        /// The budget of the simulated piece (`max_steps_per_period` times its periods).
         steps: u64,
-        /// Forcing periods of the chunk.
+        /// Forcing periods of the piece (one in the first chunk, which runs period by period).
         periods: usize,
-        /// Where the chunk started.
+        /// Where the piece started.
         t: f64,
     },
     /// Count tables cannot be merged.
