@@ -25,8 +25,8 @@ mod model;
 
 use approx::assert_abs_diff_eq;
 use hycont::hycont_continuation::{
-    CurveCondition, CurveSpec, Error as ContError, Label, OrbitBranch, OrbitRun, RunDirection,
-    SpecialKind,
+    CurveCondition, CurveSpec, Diagram, DiagramBranchId, DiagramSettings, Error as ContError,
+    Label, OrbitBranch, OrbitRun, RunDirection, SpecialKind, SwitchOutcome,
 };
 use hycont::orbit::{
     CollocationSettings, OrbitMethod, PeriodicOrbit, SegmentEnd, SegmentSpec, SegmentValue,
@@ -471,4 +471,64 @@ fn bad_input_is_a_typed_error() {
     assert!(err.to_string().contains("NaN"), "{err}");
     let curve = CurveSpec::new(ParamId(11));
     assert!(run.curve_at("c", &b, sn, &curve).is_err());
+}
+
+/// The diagram from the period-1 orbit in `a` (one call): the period-1 branch's PD at its
+/// closed form, the period-2 branch switched on there, its own period doubling to period 4,
+/// then period 8, down the cascade to the depth asked for, each generation's orbits twice as
+/// long; every doubling located with a multiplier -1, at the same amplitude by both
+/// discretisations (each locates the points of its own discretised problem; their
+/// discretisation errors here are below 1e-9).
+#[test]
+fn a_diagram_follows_the_period_doubling_cascade() {
+    let diagram = |method| {
+        let mut run = OrbitRun::new(&Table, A).unwrap();
+        run.method(method).bounds(0.9, 2.5);
+        let settings = DiagramSettings {
+            depth: 3,
+            ..DiagramSettings::default()
+        };
+        run.diagram("period-1", &orbit(1.3, 1.0), &settings)
+            .unwrap()
+    };
+    let doublings = |d: &Diagram| -> Vec<f64> {
+        d.switches
+            .iter()
+            .filter(|r| r.kind == SpecialKind::PeriodDoubling)
+            .map(|r| r.parameter)
+            .collect()
+    };
+    let d = diagram(OrbitMethod::Shooting(ShootingSettings::default()));
+    // A chain: each branch switched on at its parent's doubling, each period twice the last.
+    assert_eq!(d.branches.len(), 4);
+    for (k, b) in d.branches.iter().enumerate() {
+        assert_eq!(b.depth, k);
+        assert_eq!(b.origin.map(|o| o.0), k.checked_sub(1).map(DiagramBranchId));
+        let period = b
+            .branch
+            .orbit_of(&b.branch.branch.points[1])
+            .unwrap()
+            .period();
+        assert_abs_diff_eq!(period, 2.0 * PI * f64::from(1 << k), epsilon = 1e-8);
+        for s in b.branch.special(SpecialKind::PeriodDoubling) {
+            let (re, im) = s.critical.expect("a PD's multiplier");
+            assert_abs_diff_eq!(re, -1.0, epsilon = 1e-6);
+            assert_abs_diff_eq!(im, 0.0, epsilon = 1e-6);
+        }
+    }
+    let pd = doublings(&d);
+    assert_eq!(pd.len(), 4, "{:?}", d.switches);
+    assert_abs_diff_eq!(pd[0], a_pd(1.0), epsilon = 1e-8);
+    assert!(pd.windows(2).all(|w| w[1] > w[0]), "{pd:?}");
+    assert_eq!(d.switches[3].outcome, SwitchOutcome::DepthLimit);
+    // The intervals between doublings shrink (by about Feigenbaum's 4.67 here).
+    let ratios: Vec<f64> = pd
+        .windows(3)
+        .map(|w| (w[1] - w[0]) / (w[2] - w[1]))
+        .collect();
+    assert!(ratios.iter().all(|r| (3.5..6.0).contains(r)), "{ratios:?}");
+    let c = diagram(OrbitMethod::Collocation(CollocationSettings::default()));
+    for (a, b) in pd.iter().zip(doublings(&c)) {
+        assert_abs_diff_eq!(*a, b, epsilon = 1e-8);
+    }
 }

@@ -80,8 +80,9 @@ pub use error::{Error, Result};
 pub use hycont_core::orbit::{Discretisation, OrbitMethod};
 pub use observe::Observer;
 pub use orbit::{
-    CurveSpec, OrbitBranch, OrbitContinuation, OrbitRun, POINT_RESIDUAL_TOL, RunDirection,
-    SharedMeasures, can_switch,
+    CurveSpec, Diagram, DiagramBranch, DiagramBranchId, DiagramSettings, OrbitBranch,
+    OrbitContinuation, OrbitRun, POINT_RESIDUAL_TOL, RunDirection, SharedMeasures, SwitchOutcome,
+    SwitchRecord, can_switch,
 };
 pub use quantity::{Label, MeasureId, Quantity};
 

@@ -1,6 +1,6 @@
 //! Observers: get every accepted point and special point (the CLI's progress bar is one).
 
-use crate::branch::{BranchPoint, SpecialPoint};
+use crate::branch::{Branch, BranchPoint, SpecialPoint};
 
 /// Receives progress along a branch.
 pub trait Observer {
@@ -12,6 +12,10 @@ pub trait Observer {
     fn special(&mut self, special: &SpecialPoint) {
         let _ = special;
     }
+    /// A branch of a diagram is finished ([`crate::OrbitRun::diagram`]).
+    fn branch(&mut self, branch: &Branch) {
+        let _ = branch;
+    }
 }
 
 impl<O: Observer + ?Sized> Observer for &mut O {
@@ -20,6 +24,9 @@ impl<O: Observer + ?Sized> Observer for &mut O {
     }
     fn special(&mut self, special: &SpecialPoint) {
         (**self).special(special);
+    }
+    fn branch(&mut self, branch: &Branch) {
+        (**self).branch(branch);
     }
 }
 

@@ -1,8 +1,9 @@
 //! Continuation of hybrid periodic orbits: the typed run API ([`OrbitRun`]: run, restart,
-//! switch, curves) producing saved branches ([`OrbitBranch`]), and the continuation problem it
+//! switch, curves, whole diagrams) producing saved branches ([`OrbitBranch`]), and the continuation problem it
 //! builds ([`OrbitContinuation`]).
 
 mod curves;
+mod diagram;
 mod drive;
 mod problem;
 mod revisions;
@@ -13,6 +14,9 @@ mod symmetric;
 mod verify;
 
 pub use curves::CurveSpec;
+pub use diagram::{
+    Diagram, DiagramBranch, DiagramBranchId, DiagramSettings, SwitchOutcome, SwitchRecord,
+};
 pub(crate) use problem::check_parameter;
 pub use problem::{OrbitContinuation, SharedMeasures, can_switch};
 pub use run::{OrbitRun, RunDirection};
