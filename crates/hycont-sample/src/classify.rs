@@ -28,7 +28,7 @@
 //! period (e.g. the side an asymmetric orbit leans to) and the modes visited then.
 
 use crate::error::{Error, Result};
-use crate::strobe_newton::{PERIOD_ONE, refine};
+use crate::strobe_newton::{Fixed, PERIOD_ONE, refine};
 use hycont_core::{
     EventId, FiniteDifferences, HybridJacobians, HybridSystem, Mode, SampleTimes,
     SimulationSettings, Simulator, StopReason,
@@ -254,6 +254,8 @@ struct Record {
     newton_after: usize,
     /// Periods to wait after the next refinement that fails (doubling with each failure).
     newton_wait: usize,
+    /// Stable fixed points of the `k`-fold map Newton found farther than `newton_radius`.
+    stable_found: Vec<(usize, Fixed)>,
 }
 
 impl Record {
@@ -332,6 +334,7 @@ pub fn classify<S: PeriodicallyForced + HybridJacobians + ?Sized>(
         zeno: false,
         newton_after: 0,
         newton_wait: settings.newton_every,
+        stable_found: Vec::new(),
     };
     let mut periods = 0;
     let mut chunk_zeno = false;
@@ -411,6 +414,32 @@ pub fn classify<S: PeriodicallyForced + HybridJacobians + ?Sized>(
     Ok(rec.finish(comps, Attractor::Undecided, Decision::Undecided, periods))
 }
 
+/// The classification of a trial within `newton_radius` of the stable fixed point `f` of the
+/// `kk`-fold stroboscopic map: that orbit, with its own modes (not the transient's last
+/// chunk).
+fn from_fixed<S: PeriodicallyForced + HybridJacobians + ?Sized>(
+    system: &S,
+    rec: &mut Record,
+    kk: usize,
+    f: Fixed,
+    periods: usize,
+    settings: &StrobeSettings,
+) -> Classification {
+    rec.zeno = false;
+    rec.recent_modes = f.modes;
+    let symmetric = kk == 1 && asymmetry(system, &f.z, &f.half) <= settings.symmetry_tol;
+    let attractor = Attractor::Periodic {
+        period: kk,
+        symmetric,
+    };
+    rec.finish(
+        system.strobe_components(),
+        attractor,
+        Decision::Newton,
+        periods,
+    )
+}
+
 /// The tests after a chunk: period-1 convergence or extrapolation, Newton refinement, period 2.
 fn decide<S: PeriodicallyForced + HybridJacobians + ?Sized>(
     system: &S,
@@ -463,6 +492,15 @@ fn decide<S: PeriodicallyForced + HybridJacobians + ?Sized>(
     let scheduled = periods % settings.newton_every.max(1) < settings.chunk
         && periods >= 2 * settings.min_periods;
     let predicted = remaining.is_some_and(|r| r <= settings.newton_radius);
+    // A stable fixed point found earlier, now within `newton_radius`.
+    if let Some(i) = rec
+        .stable_found
+        .iter()
+        .position(|(_, f)| dist(comps, x, &f.z) <= settings.newton_radius)
+    {
+        let (kk, f) = rec.stable_found.swap_remove(i);
+        return Ok(Some(from_fixed(system, rec, kk, f, periods, settings)));
+    }
     if settings.newton_every > 0 && periods >= rec.newton_after && (scheduled || predicted) {
         rec.newton_after = periods + rec.newton_wait;
         rec.newton_wait = rec.newton_wait.saturating_mul(2);
@@ -478,21 +516,11 @@ fn decide<S: PeriodicallyForced + HybridJacobians + ?Sized>(
                 continue;
             }
             if f.stable && dist(comps, x, &f.z) <= settings.newton_radius {
-                // The attractor's own motion (not the transient's last chunk).
-                rec.zeno = false;
-                rec.recent_modes = f.modes;
-                let symmetric =
-                    kk == 1 && asymmetry(system, &f.z, &f.half) <= settings.symmetry_tol;
-                let attractor = Attractor::Periodic {
-                    period: kk,
-                    symmetric,
-                };
-                return Ok(Some(rec.finish(
-                    comps,
-                    attractor,
-                    Decision::Newton,
-                    periods,
-                )));
+                return Ok(Some(from_fixed(system, rec, kk, f, periods, settings)));
+            }
+            // Stable but not near yet: checked again after every chunk, without a refinement.
+            if f.stable && rec.stable_found.len() < 4 {
+                rec.stable_found.push((kk, f));
             }
         }
     }
