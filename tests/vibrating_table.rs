@@ -521,11 +521,14 @@ fn a_diagram_follows_the_period_doubling_cascade() {
     assert_abs_diff_eq!(pd[0], a_pd(1.0), epsilon = 1e-8);
     assert!(pd.windows(2).all(|w| w[1] > w[0]), "{pd:?}");
     assert_eq!(d.switches[3].outcome, SwitchOutcome::DepthLimit);
-    // The intervals between doublings shrink (by about Feigenbaum's 4.67 here).
-    let ratios: Vec<f64> = pd
-        .windows(3)
-        .map(|w| (w[1] - w[0]) / (w[2] - w[1]))
-        .collect();
+    // One cascade through the four branches; its intervals shrink (by about Feigenbaum's 4.67
+    // here).
+    let cascades = d.cascades();
+    assert_eq!(cascades.len(), 1);
+    assert_eq!(cascades[0].doublings, pd);
+    assert_eq!(cascades[0].branches.len(), 4);
+    let ratios = cascades[0].ratios();
+    assert_eq!(ratios.len(), 2);
     assert!(ratios.iter().all(|r| (3.5..6.0).contains(r)), "{ratios:?}");
     let c = diagram(OrbitMethod::Collocation(CollocationSettings::default()));
     for (a, b) in pd.iter().zip(doublings(&c)) {

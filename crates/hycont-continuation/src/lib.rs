@@ -80,7 +80,7 @@ pub use error::{Error, Result};
 pub use hycont_core::orbit::{Discretisation, OrbitMethod};
 pub use observe::Observer;
 pub use orbit::{
-    CurveSpec, Diagram, DiagramBranch, DiagramBranchId, DiagramSettings, OrbitBranch,
+    Cascade, CurveSpec, Diagram, DiagramBranch, DiagramBranchId, DiagramSettings, OrbitBranch,
     OrbitContinuation, OrbitRun, POINT_RESIDUAL_TOL, RunDirection, SharedMeasures, SwitchOutcome,
     SwitchRecord, can_switch,
 };

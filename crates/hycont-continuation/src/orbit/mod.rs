@@ -2,6 +2,7 @@
 //! switch, curves, whole diagrams) producing saved branches ([`OrbitBranch`]), and the continuation problem it
 //! builds ([`OrbitContinuation`]).
 
+mod cascade;
 mod curves;
 mod diagram;
 mod drive;
@@ -13,6 +14,7 @@ mod switching;
 mod symmetric;
 mod verify;
 
+pub use cascade::Cascade;
 pub use curves::CurveSpec;
 pub use diagram::{
     Diagram, DiagramBranch, DiagramBranchId, DiagramSettings, SwitchOutcome, SwitchRecord,
