@@ -10,7 +10,8 @@ use crate::model::{ALPHA, OMEGA, Parameters, RockingBlock};
 use crate::orbits::{OrbitKind, orbit};
 use hycont_continuation::observe::Observer;
 use hycont_continuation::{
-    CurveSpec, MeasureId, OrbitBranch, OrbitMethod, OrbitRun, RunDirection, SpecialKind,
+    CurveSpec, Diagram, DiagramSettings, MeasureId, OrbitBranch, OrbitMethod, OrbitRun,
+    RunDirection, SpecialKind,
 };
 use hycont_core::orbit::{Extremum, PeriodicOrbit, ShootingSettings};
 use serde::{Deserialize, Serialize};
@@ -240,6 +241,36 @@ pub fn study_branches_from(
         out.push(run.switch_at("period-2", &out[1], pd, RunDirection::Up)?);
     }
     Ok(out)
+}
+
+/// The block's bifurcation diagram in `free` over `window` from `start` (its first branch named
+/// `name`) in one call
+/// ([`OrbitRun::diagram`] on the study's run: Amp, SB events, GR and DB ends, the [`Recipe`]'s
+/// steps): the branch through `start` both ways, then at every BP and PD up to `depth` levels
+/// the branch switched on there. From the Fig. 2 orbit at depth 2 it holds every special point
+/// of Fig. 3 (in omega) or Fig. 4 (in alpha); deeper in alpha, the period-doubling cascade.
+///
+/// # Errors
+/// Invalid parameters or recipe; no branch through `start`.
+pub fn study_diagram(
+    name: &str,
+    free: Free,
+    window: (f64, f64),
+    recipe: &Recipe,
+    start: &PeriodicOrbit,
+    depth: usize,
+    observer: &mut dyn Observer,
+) -> Result<Diagram> {
+    recipe.validate()?;
+    let params = Parameters::from_vec(&start.params);
+    let mut run = study_run(free, &params, window, recipe.method)?;
+    recipe.apply(&mut run);
+    run.observer(Box::new(observer));
+    let settings = DiagramSettings {
+        depth,
+        ..DiagramSettings::default()
+    };
+    Ok(run.diagram(name, start, &settings)?)
 }
 
 /// A two-parameter curve of Fig. 6: the kind of point it continues and the curve.

@@ -85,6 +85,7 @@ impl DiagramSettings {
 /// What became of a special point switched at (or not).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
+#[non_exhaustive]
 pub enum SwitchOutcome {
     /// Switched: the branch it produced.
     Followed(DiagramBranchId),

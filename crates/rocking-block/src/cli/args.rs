@@ -32,6 +32,11 @@ pub enum Command {
     /// Continue a two-parameter curve (SN, PD, BP, SB or GR) from a labelled special point of a
     /// run saved by `continue --out`, or a saved curve further from one of its points.
     Curve(CurveArgs),
+    /// A whole bifurcation diagram in one call: the branch through a start both ways, then at
+    /// every BP and PD (to --depth levels) the branch switched on there, branches reached twice
+    /// kept once; prints each branch's special points, the switches and the period-doubling
+    /// cascades (their intervals and ratios).
+    Diagram(super::DiagramArgs),
     /// Classify trials (the study's solution classes): one trial with --json, or a CSV batch
     /// (columns omega, alpha, beta, phi0, psi0) with --input/--output.
     Classify(ClassifyArgs),

@@ -9,6 +9,7 @@ mod cell_file;
 mod commands;
 mod continue_cmd;
 mod curve_cmd;
+mod diagram_cmd;
 mod ranks;
 mod sampling;
 mod shard_file;
@@ -22,6 +23,7 @@ pub use basin_cells::BasinCellFile;
 pub use basin_cmd::{BasinArgs, BasinFile};
 pub use block_args::{describe, parameters};
 pub use cell_file::CellFile;
+pub use diagram_cmd::DiagramArgs;
 
 use crate::error::{Error, Result};
 use crate::provenance::Provenance;
@@ -65,6 +67,7 @@ pub fn run(cli: Cli, command_line: &[String], out: &mut dyn Write) -> Result<()>
         Command::Orbit(_) => ranks::only_sampling(ranks, "orbit")?,
         Command::Continue(_) => ranks::only_sampling(ranks, "continue")?,
         Command::Curve(_) => ranks::only_sampling(ranks, "curve")?,
+        Command::Diagram(_) => ranks::only_sampling(ranks, "diagram")?,
         Command::Classify(_) => ranks::only_sampling(ranks, "classify")?,
         Command::Merge(_) => ranks::only_sampling(ranks, "merge")?,
     }
@@ -74,6 +77,7 @@ pub fn run(cli: Cli, command_line: &[String], out: &mut dyn Write) -> Result<()>
         Command::Figure(args) => sampling::run_figure(&args, invocation, out),
         Command::Continue(args) => continue_cmd::run_continue(&args, invocation, out),
         Command::Curve(args) => curve_cmd::run_curve(&args, invocation, out),
+        Command::Diagram(args) => diagram_cmd::run_diagram(&args, invocation, out),
         Command::Classify(args) => commands::run_classify(&args, invocation, out),
         Command::Merge(args) => sampling::run_merge(&args, invocation, out),
         Command::Basin(args) => basin_cmd::run_basin(&args, invocation, out),

@@ -1,0 +1,163 @@
+//! Whole diagrams of the rocking block in one call: every special point of Figs. 3 and 4 (as
+//! the study's recipe of separate runs and switches computes them, to 1e-9), the
+//! period-doubling cascade in alpha at omega = 1.3 beyond PD1 and PD2, and the `diagram`
+//! command (output, saved diagrams extended deeper, bad input).
+
+use approx::assert_abs_diff_eq;
+mod common;
+
+use common::{RunOk, bin, fails, scratch};
+use hycont_continuation::SpecialKind;
+use hycont_continuation::observe::Silent;
+use rocking_block::block::Block;
+use rocking_block::continuation::{
+    AMP, Free, Recipe, study_branches_from, study_diagram, study_start,
+};
+
+#[test]
+fn one_call_holds_every_special_point_of_figures_3_and_4() {
+    let block = Block::default();
+    let start = study_start(&block).unwrap();
+    let recipe = Recipe::default();
+    for free in [Free::Omega, Free::Alpha] {
+        let recipe_branches =
+            study_branches_from(free, &block, &recipe, &start, &mut Silent).unwrap();
+        let d = study_diagram(
+            "symmetric",
+            free,
+            free.range(),
+            &recipe,
+            &start,
+            2,
+            &mut Silent,
+        )
+        .unwrap();
+        let mut matched = 0;
+        for s in recipe_branches
+            .iter()
+            .flat_map(|b| &b.branch.special_points)
+        {
+            if matches!(s.kind, SpecialKind::EndPoint | SpecialKind::UserPoint) {
+                continue;
+            }
+            let (p, amp) = (s.point[free.id()], s.point[AMP]);
+            let near = d.special_points().any(|(_, o)| {
+                o.kind == s.kind
+                    && (o.point[free.id()] - p).abs() <= 1e-9
+                    && (o.point[AMP] - amp).abs() <= 1e-9
+            });
+            assert!(
+                near,
+                "{} {} = {p} (amp {amp}) is not in the diagram",
+                s.kind.label(),
+                free.name()
+            );
+            matched += 1;
+        }
+        // Fig. 3: GR, SN, BP1, BP2, SB1, SB2, BP2 again on the asymmetric branch; Fig. 4: GR,
+        // SN, BP3, SB3, PD1, PD2.
+        assert!(matched >= 6, "{matched} special points in {}", free.name());
+    }
+}
+
+/// Beyond the study's PD1 and PD2 (alpha ~ 0.7365, 0.7542): each doubled branch's own
+/// doubling, located by continuation, the intervals shrinking by ratios that approach
+/// Feigenbaum's delta = 4.6692, and the doublings accumulating below alpha ~ 0.759 where the
+/// brute-force diagram (Fig. 5) turns chaotic.
+#[test]
+fn the_cascade_in_alpha_doubles_towards_chaos() {
+    let block = Block::default();
+    let start = study_start(&block).unwrap();
+    let d = study_diagram(
+        "symmetric",
+        Free::Alpha,
+        Free::Alpha.range(),
+        &Recipe::default(),
+        &start,
+        5,
+        &mut Silent,
+    )
+    .unwrap();
+    let cascades = d.cascades();
+    assert_eq!(cascades.len(), 1, "{cascades:?}");
+    let c = &cascades[0];
+    assert!(c.doublings.len() >= 4, "{c:?}");
+    assert_abs_diff_eq!(c.doublings[0], 0.7365, epsilon = 1e-4);
+    assert_abs_diff_eq!(c.doublings[1], 0.7542, epsilon = 1e-4);
+    assert!(c.doublings.windows(2).all(|w| w[1] > w[0]));
+    assert!(*c.doublings.last().unwrap() < 0.759);
+    let ratios = c.ratios();
+    assert!(ratios.iter().all(|r| (4.5..5.0).contains(r)), "{ratios:?}");
+    // The ratios approach delta from above.
+    assert!(ratios.windows(2).all(|w| w[1] < w[0]), "{ratios:?}");
+    assert_abs_diff_eq!(*ratios.last().unwrap(), 4.6692, epsilon = 0.05);
+}
+
+#[test]
+fn the_diagram_command_prints_extends_and_refuses_bad_input() {
+    let dir = scratch("diagram");
+    std::fs::create_dir_all(&dir).unwrap();
+    let saved = dir.join("d.json");
+    let out = bin()
+        .args(["diagram", "--free", "alpha", "--depth", "2", "--out"])
+        .arg(&saved)
+        .run_ok();
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(text.starts_with("3 branches"), "{text}");
+    assert!(text.contains("PD label"), "{text}");
+    assert!(text.contains("period-doubling cascade"), "{text}");
+    // A line per branch on stderr.
+    assert_eq!(
+        String::from_utf8_lossy(&out.stderr)
+            .matches("branch ")
+            .count(),
+        3
+    );
+    // Extended one level deeper: the period-4 branch, and the JSON's cascade has three
+    // doublings.
+    let out = bin()
+        .args([
+            "diagram",
+            "--free",
+            "alpha",
+            "--depth",
+            "3",
+            "--json",
+            "--restart",
+        ])
+        .arg(&saved)
+        .run_ok();
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(v["branches"].as_array().unwrap().len(), 4);
+    assert_eq!(v["cascades"][0]["doublings"].as_array().unwrap().len(), 3);
+    assert_eq!(v["branches"][3]["depth"], 3);
+    // Bad input: one line, exit 2.
+    fails(
+        &bin()
+            .args(["diagram", "--free", "omega", "--restart"])
+            .arg(&saved)
+            .output()
+            .unwrap(),
+        2,
+        "other parameter",
+    );
+    std::fs::write(dir.join("bad.json"), "{}").unwrap();
+    fails(
+        &bin()
+            .args(["diagram", "--free", "alpha", "--restart"])
+            .arg(dir.join("bad.json"))
+            .output()
+            .unwrap(),
+        2,
+        "not a diagram",
+    );
+    fails(
+        &bin()
+            .args(["diagram", "--free", "alpha", "--max-branches", "0"])
+            .output()
+            .unwrap(),
+        2,
+        "max_branches",
+    );
+    std::fs::remove_dir_all(&dir).ok();
+}
