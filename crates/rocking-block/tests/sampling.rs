@@ -288,6 +288,33 @@ fn figure_5_shows_the_period_doubling_cascade() {
     assert_eq!(distinct(0.757).0, 4, "period 4 after PD2");
     assert!(distinct(0.779).0 > 20, "chaotic at 0.779");
     assert!(distinct(0.8).1.starts_with("overturn"));
+    // The cascade by continuation sits where the brute-force diagram splits: between the
+    // k-th and (k+1)-th doublings (15 % of the interval off each, where the transients have
+    // died out), the sampled values of alpha show period 2^k; at least through PD4.
+    let doublings: Vec<f64> = v["continuation"]["period_doublings"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|x| x.as_f64().unwrap())
+        .collect();
+    assert!(doublings.len() >= 4, "{doublings:?}");
+    let mut checked = 0;
+    for (k, w) in doublings.windows(2).enumerate() {
+        let margin = 0.15 * (w[1] - w[0]);
+        for p in v["diagram"].as_array().unwrap() {
+            let alpha = p["alpha"].as_f64().unwrap();
+            if alpha > w[0] + margin && alpha < w[1] - margin {
+                assert_eq!(
+                    distinct(alpha).0,
+                    2 << k,
+                    "period 2^{} at alpha {alpha}",
+                    k + 1
+                );
+                checked += 1;
+            }
+        }
+    }
+    assert!(checked >= 10, "{checked} values between doublings");
     std::fs::remove_dir_all(&dir).ok();
 }
 

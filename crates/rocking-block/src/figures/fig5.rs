@@ -1,5 +1,5 @@
 //! Fig. 5: the stroboscopic brute-force diagram in alpha, swept up and down, with the study's
-//! special points marked.
+//! special points and the period-doubling cascade by continuation marked.
 
 use super::{FigureFiles, write_json};
 use crate::error::Result;
@@ -10,6 +10,12 @@ use crate::provenance::Provenance;
 use hycont_core::{SimulationSettings, StopReason};
 use hycont_sample::sweep::{Sweep, SweepPoint, brute_force};
 use serde_json::{Value, json};
+
+/// Switching levels of the continuation marked on the figure: the symmetric branch, the
+/// asymmetric one, then the doubled branches of periods 2 to 16; their period doublings PD1
+/// (on the asymmetric branch) to PD5 (on the period-16 branch) accumulate where the
+/// brute-force diagram turns chaotic.
+const CASCADE_DEPTH: usize = 5;
 
 fn outcome(p: &SweepPoint) -> &'static str {
     match p.stop {
@@ -60,6 +66,37 @@ pub fn figure5(out: &OutDir, provenance: &Provenance) -> Result<FigureFiles> {
             })
             .collect()
     };
+    // The special points on the line omega = 1.3 by continuation, in one diagram from the
+    // Fig. 2 orbit: BP3 on the symmetric branch, then the period-doubling cascade PD1, PD2, ...
+    // followed on the doubled branches (they must sit where the brute-force cascade splits).
+    let start = crate::continuation::study_start(&provenance.block)?;
+    let cont = crate::continuation::study_diagram(
+        "symmetric",
+        crate::continuation::Free::Alpha,
+        crate::continuation::Free::Alpha.range(),
+        &provenance.recipe(),
+        &start,
+        CASCADE_DEPTH,
+        &mut hycont_continuation::observe::Silent,
+    )?;
+    let bp3 = cont.branches[0]
+        .branch
+        .special(hycont_continuation::SpecialKind::BranchPoint)
+        .next()
+        .map(|s| s.point[ALPHA]);
+    let cascade = cont.cascades().into_iter().next();
+    let doublings = cascade.as_ref().map_or(&[][..], |c| &c.doublings[..]);
+    let names: Vec<String> = (1..=doublings.len()).map(|k| format!("PD{k}")).collect();
+    let markers: Vec<(&str, f64)> = bp3
+        .map(|a| ("BP3", a))
+        .into_iter()
+        .chain(
+            names
+                .iter()
+                .map(String::as_str)
+                .zip(doublings.iter().copied()),
+        )
+        .collect();
     let json = json!({
         "figure": 5,
         "parameters": {"omega": params.omega, "alpha": params.alpha, "xi": params.xi, "theta_b": params.theta_b},
@@ -68,31 +105,15 @@ pub fn figure5(out: &OutDir, provenance: &Provenance) -> Result<FigureFiles> {
         "initial": {"phi0": 0.01, "psi0": 0.0, "beta": std::f64::consts::FRAC_PI_2},
         "diagram": diagram(&a),
         "diagram_down": diagram(&b),
+        "continuation": {
+            "BP3": bp3,
+            "period_doublings": doublings,
+            "intervals": cascade.as_ref().map(|c| c.intervals()),
+            "ratios": cascade.as_ref().map(|c| c.ratios()),
+        },
     });
     let json_path = out.join("fig5.json");
     write_json(&json_path, &provenance.insert_into(json))?;
-    // The study's special points on the line omega = 1.3, from the continuation of Fig. 4:
-    // BP3 on the symmetric branch, PD1 on the asymmetric one, PD2 on the period-2 one.
-    let fig4 = crate::continuation::study_branches_with(
-        crate::continuation::Free::Alpha,
-        &provenance.block,
-        &provenance.recipe(),
-        &mut hycont_continuation::observe::Silent,
-    )?;
-    let first = |b: usize, kind: hycont_continuation::SpecialKind| {
-        fig4.get(b)
-            .and_then(|b| b.special(kind).next())
-            .map(|s| s.point[ALPHA])
-    };
-    use hycont_continuation::SpecialKind::{BranchPoint, PeriodDoubling};
-    let markers: Vec<(&str, f64)> = [
-        ("BP3", first(0, BranchPoint)),
-        ("PD1", first(1, PeriodDoubling)),
-        ("PD2", first(2, PeriodDoubling)),
-    ]
-    .into_iter()
-    .filter_map(|(n, a)| Some((n, a?)))
-    .collect();
     let overturned = |p: &SweepPoint| outcome(p).starts_with("overturn");
     let title = format!(
         "Fig. 5: brute-force diagram, omega = 1.3 (psi at t = 2 pi k / omega){}",

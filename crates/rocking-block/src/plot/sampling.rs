@@ -97,7 +97,10 @@ fn annotate_sweeps<'a, DB: DrawingBackend + 'a>(
     let err = |e: DrawingAreaErrorKind<DB::ErrorType>| e.to_string();
     let grey = RGBColor(90, 90, 90);
     let shown = markers.iter().filter(|m| m.1 > lo && m.1 < hi);
-    for (k, &(name, alpha)) in shown.enumerate() {
+    // Names go on the highest of three rows whose last name is at least 4 % of the axis to
+    // the left (else the row whose last name is farthest), so that close lines stay readable.
+    let mut rows = [f64::NEG_INFINITY; 3];
+    for &(name, alpha) in shown {
         chart
             .draw_series(DashedLineSeries::new(
                 vec![(alpha, y_lo), (alpha, y_hi)],
@@ -106,8 +109,18 @@ fn annotate_sweeps<'a, DB: DrawingBackend + 'a>(
                 grey.stroke_width(1),
             ))
             .map_err(err)?;
-        // Names alternate in height so that close lines stay readable.
-        let y = y_hi - (y_hi - y_lo) * if k % 2 == 0 { 0.0 } else { 0.05 };
+        let gap = 0.04 * (hi - lo);
+        let row = rows
+            .iter()
+            .position(|&last| alpha - last >= gap)
+            .unwrap_or_else(|| {
+                (0..rows.len())
+                    .min_by(|&a, &b| rows[a].total_cmp(&rows[b]))
+                    .unwrap_or(0)
+            });
+        rows[row] = alpha;
+        #[allow(clippy::cast_precision_loss)]
+        let y = y_hi - (y_hi - y_lo) * 0.05 * row as f64;
         chart
             .draw_series(std::iter::once(Text::new(
                 format!(" {name}"),
