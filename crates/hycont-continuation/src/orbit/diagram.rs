@@ -216,6 +216,61 @@ impl<'a, S: HybridJacobians + ?Sized> OrbitRun<'a, S> {
     /// diagram goes on; the observer hears every branch as it is finished
     /// ([`crate::Observer::branch`]).
     ///
+    /// ```
+    /// # use hycont_core::{EventId, EventSpec, HybridJacobians, HybridSystem, Mode, ParamId, Z2Symmetry};
+    /// # use hycont_core::orbit::{PeriodicOrbit, SegmentEnd, SegmentSpec, Signature};
+    /// use hycont_continuation::{DiagramSettings, OrbitRun, SpecialKind, SwitchOutcome};
+    /// # /// x' = y + x (1 - x^2 - y^2), y' = -x + y (1 - x^2 - y^2), z' = z (mu - z^2):
+    /// # /// the unit circle at height z with z (mu - z^2) = 0, symmetric under -I.
+    /// # struct Pitchfork;
+    /// # impl HybridSystem for Pitchfork {
+    /// #     fn state_dim(&self) -> usize { 3 }
+    /// #     fn parameter_names(&self) -> &[&'static str] { &["mu"] }
+    /// #     fn mode_count(&self) -> usize { 1 }
+    /// #     fn mode_name(&self, _: Mode) -> &'static str { "m" }
+    /// #     fn events(&self, _: Mode) -> &[EventId] { &[] }
+    /// #     fn event_spec(&self, _: EventId) -> EventSpec { unreachable!() }
+    /// #     fn vector_field(&self, _: Mode, x: &[f64], p: &[f64], f: &mut [f64]) {
+    /// #         let r = 1.0 - x[0] * x[0] - x[1] * x[1];
+    /// #         f[0] = x[1] + x[0] * r; f[1] = -x[0] + x[1] * r; f[2] = x[2] * (p[0] - x[2] * x[2]);
+    /// #     }
+    /// #     fn event(&self, _: EventId, _: &[f64], _: &[f64]) -> f64 { 0.0 }
+    /// #     fn symmetry(&self) -> Option<Z2Symmetry> {
+    /// #         Some(Z2Symmetry { matrix: vec![-1.0, 0.0, 0.0, 0.0, -1.0, 0.0, 0.0, 0.0, -1.0],
+    /// #                           modes: vec![Mode(0)], events: vec![] })
+    /// #     }
+    /// # }
+    /// # impl HybridJacobians for Pitchfork {
+    /// #     fn vector_field_jacobian(&self, _: Mode, x: &[f64], p: &[f64], dx: &mut [f64], dp: Option<&mut [f64]>) {
+    /// #         let r = 1.0 - x[0] * x[0] - x[1] * x[1];
+    /// #         dx.fill(0.0);
+    /// #         dx[0] = r - 2.0 * x[0] * x[0]; dx[1] = -1.0 - 2.0 * x[0] * x[1];
+    /// #         dx[3] = 1.0 - 2.0 * x[0] * x[1]; dx[4] = r - 2.0 * x[1] * x[1];
+    /// #         dx[8] = p[0] - 3.0 * x[2] * x[2];
+    /// #         if let Some(dp) = dp { dp.fill(0.0); dp[2] = x[2]; }
+    /// #     }
+    /// #     fn event_gradient(&self, _: EventId, _: &[f64], _: &[f64], _: &mut [f64], _: Option<&mut [f64]>) {}
+    /// # }
+    /// # let half = SegmentSpec { mode: Mode(0), end: SegmentEnd::Interior { component: 1, value: 0.0 } };
+    /// # let sig = Signature::new(&Pitchfork, vec![half, half]).unwrap();
+    /// // The symmetric orbit (z = 0) at mu = -0.3, two half turns.
+    /// let start = PeriodicOrbit::new(&Pitchfork, sig, vec![vec![1.0, 0.0, 0.0], vec![-1.0, 0.0, 0.0]],
+    ///                                vec![std::f64::consts::PI; 2], vec![-0.3]).unwrap();
+    /// let mut run = OrbitRun::new(&Pitchfork, ParamId(0)).unwrap();
+    /// run.bounds(-0.5, 0.5);
+    /// let d = run.diagram("symmetric", &start, &DiagramSettings::default()).unwrap();
+    /// // The symmetry breaks at mu = 0; the orbits born there (z^2 = mu) are the second branch.
+    /// assert_eq!(d.branches.len(), 2);
+    /// let bp = &d.switches[0];
+    /// assert_eq!(bp.kind, SpecialKind::BranchPoint);
+    /// assert!(bp.parameter.abs() < 1e-8);
+    /// assert!(matches!(bp.outcome, SwitchOutcome::Followed(_)));
+    /// let broken = &d.branches[1].branch;
+    /// let far = broken.branch.points.last().unwrap();
+    /// let z = broken.orbit_of(far).unwrap().starts[0][2];
+    /// assert!((z * z - far[ParamId(0)]).abs() < 1e-8);
+    /// ```
+    ///
     /// # Errors
     /// Invalid settings; as [`OrbitRun::run`] for the start's branch.
     pub fn diagram(
