@@ -4,13 +4,16 @@
 //!
 //! Benchmarked, on both discretisations: the period-1 branch in the table amplitude `a` over
 //! `[0.9, 1.8]` both ways from `a = 1.3` (its SN and PD located), the switch to period 2 at PD,
-//! and the PD curve in `(a, omega)` over `omega` in `[0.8, 1.25]` with two user points.
+//! the PD curve in `(a, omega)` over `omega` in `[0.8, 1.25]` with two user points, and the
+//! whole diagram to depth 3 (the period-doubling cascade to period 8).
 
 #[path = "../examples/vibrating_table/model.rs"]
 mod model;
 
 use criterion::{Criterion, criterion_group, criterion_main};
-use hycont::hycont_continuation::{CurveSpec, OrbitBranch, OrbitRun, RunDirection, SpecialKind};
+use hycont::hycont_continuation::{
+    CurveSpec, DiagramSettings, OrbitBranch, OrbitRun, RunDirection, SpecialKind,
+};
 use hycont::orbit::{
     CollocationSettings, OrbitMethod, PeriodicOrbit, SegmentEnd, SegmentSpec, ShootingSettings,
     Signature,
@@ -109,6 +112,14 @@ fn workflow(c: &mut Criterion) {
             .user_points(OMEGA, [0.95, 1.05]);
         c.bench_function(&format!("vibrating_table/{name}/pd_curve"), |b| {
             b.iter(|| black_box(run.curve_at("PD", &branch, pd, &spec).unwrap()));
+        });
+        // The whole diagram: the period-1 branch and the cascade to period 8 (four branches).
+        let settings = DiagramSettings {
+            depth: 3,
+            ..DiagramSettings::default()
+        };
+        c.bench_function(&format!("vibrating_table/{name}/diagram_depth_3"), |b| {
+            b.iter(|| black_box(run.diagram("period-1", &orbit, &settings).unwrap()));
         });
     }
 }

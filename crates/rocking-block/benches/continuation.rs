@@ -10,7 +10,7 @@ use hycont_continuation::RunStatistics;
 use hycont_continuation::observe::Silent;
 use rocking_block::block::Block;
 use rocking_block::continuation::{
-    Free, Recipe, study_branches, study_branches_from, study_curves, study_start,
+    Free, Recipe, study_branches, study_branches_from, study_curves, study_diagram, study_start,
 };
 use std::hint::black_box;
 
@@ -201,9 +201,37 @@ fn figure_6_curves(c: &mut Criterion) {
     });
 }
 
+/// Whole diagrams in one call from the Fig. 2 orbit (found once): in omega at depth 2 (Fig. 3's
+/// branches, the asymmetric one as a closed loop through both branch points) and in alpha at
+/// depth 6 (Fig. 4's branches, then the cascade to period 32: PD1 to PD5).
+fn diagrams(c: &mut Criterion) {
+    hycont_continuation::check_branches(false);
+    let block = Block::default();
+    let (start, recipe) = (study_start(&block).unwrap(), Recipe::default());
+    for (free, depth) in [(Free::Omega, 2), (Free::Alpha, 6)] {
+        let name = format!("continuation/diagram_{}_depth_{depth}", free.name());
+        c.bench_function(&name, |b| {
+            b.iter(|| {
+                black_box(
+                    study_diagram(
+                        "symmetric",
+                        free,
+                        free.range(),
+                        &recipe,
+                        &start,
+                        depth,
+                        &mut Silent,
+                    )
+                    .unwrap(),
+                )
+            });
+        });
+    }
+}
+
 criterion_group! {
     name = benches;
     config = Criterion::default().sample_size(10);
-    targets = figures_3_and_4, symmetric_omega_branch, per_point, figure_6_curves
+    targets = figures_3_and_4, symmetric_omega_branch, per_point, figure_6_curves, diagrams
 }
 criterion_main!(benches);
