@@ -121,8 +121,15 @@ impl<'a, P: ContinuationProblem<'a> + ?Sized> Palc<'_, 'a, P> {
         }
         let width = hi - lo;
         let located = width <= tol;
-        // The bracket end nearer the zero by the test function's magnitude.
-        let mut best = if glo.abs() <= ghi.abs() { c_lo } else { c_hi };
+        // The bracket end nearer the zero by the test function's magnitude; for an event that
+        // ends the run (e.g. an orbit leaving its domain), the end before the crossing, so that
+        // a branch's last point is still on the admissible side.
+        let terminal = matches!(self.slots[slot], Slot::Event { terminal: true, .. });
+        let mut best = if (terminal && located) || glo.abs() <= ghi.abs() {
+            c_lo
+        } else {
+            c_hi
+        };
         if !needs_analysis && let Ok(info) = self.analyse(&best.u) {
             best.info = info;
         }

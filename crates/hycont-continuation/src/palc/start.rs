@@ -7,6 +7,11 @@ use super::{Chart, Palc};
 use crate::ContinuationProblem;
 use crate::error::{Error, Result};
 
+/// The smallest parameter component of the (weighted unit) tangent at a start corrected with
+/// the parameter fixed: below it the correction was nearly singular and is redone on a
+/// generic hyperplane.
+const PARAMETER_FIXED_MIN_SLOPE: f64 = 1e-3;
+
 impl<'a, P: ContinuationProblem<'a> + ?Sized> Palc<'_, 'a, P> {
     /// The first chart. Without a given direction: `u0` corrected with the parameter fixed
     /// (where that fails, on a generic hyperplane through it: a branch that does not move in the
@@ -47,16 +52,32 @@ impl<'a, P: ContinuationProblem<'a> + ?Sized> Palc<'_, 'a, P> {
         } else {
             let mut row = vec![0.0; self.n];
             row[pi] = 1.0;
-            let (row, (u, it)) = match self.correct(u0, &row, u0, 0.0, false) {
-                Ok(x) => (row, x),
+            // With the parameter fixed, the correction is singular where the branch does not
+            // move in the parameter (e.g. a curve along which the continued parameter stays
+            // put): Newton then fails, or lands on a point the problem refuses, or where the
+            // branch is (nearly) orthogonal to the parameter. Then on a generic hyperplane
+            // through `u0`.
+            let fixed = self.correct(u0, &row, u0, 0.0, false).and_then(|(u, it)| {
+                let c = self.chart(u, &row, it)?;
+                if c.t[pi].abs() < PARAMETER_FIXED_MIN_SLOPE {
+                    return Err(Error::InvalidSetting {
+                        name: "start",
+                        value: c.t[pi],
+                        reason: "the branch does not move in the parameter at the start",
+                    });
+                }
+                self.p.check_start(&c.u)?;
+                Ok(c)
+            });
+            let mut c = match fixed {
+                Ok(c) => c,
                 Err(_) => {
                     let g = generic(self.n);
-                    let x = self.correct(u0, &g, u0, 0.0, false)?;
-                    (g, x)
+                    let (u, it) = self.correct(u0, &g, u0, 0.0, false)?;
+                    self.p.check_start(&u)?;
+                    self.chart(u, &g, it)?
                 }
             };
-            self.p.check_start(&u)?;
-            let mut c = self.chart(u, &row, it)?;
             if orientation(&c.t, pi) * direction < 0.0 {
                 c.t.iter_mut().for_each(|x| *x = -*x);
             }
