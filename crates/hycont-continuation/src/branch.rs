@@ -17,6 +17,18 @@ pub enum SpecialKind {
     PeriodDoubling,
     /// Torus (Neimark-Sacker): `TR`.
     Torus,
+    /// On a fold curve, a second multiplier at $+1$ (1:1 resonance): `R1`.
+    Resonance1,
+    /// On a fold or period-doubling curve, a multiplier at $+1$ and another at $-1$ (fold-flip):
+    /// `LPPD`.
+    FoldFlip,
+    /// On a period-doubling curve, a second multiplier at $-1$ (1:2 resonance): `R2`.
+    Resonance2,
+    /// On a fold curve, a complex pair on the unit circle (fold-Neimark-Sacker): `LPNS`.
+    FoldTorus,
+    /// On a period-doubling curve, a complex pair on the unit circle (flip-Neimark-Sacker):
+    /// `PDNS`.
+    FlipTorus,
     /// Boundary touch (a measure reaches a boundary level, e.g. an amplitude at a static
     /// boundary): `SB`.
     BoundaryTouch,
@@ -39,6 +51,11 @@ impl SpecialKind {
             SpecialKind::BranchPoint => "BP",
             SpecialKind::PeriodDoubling => "PD",
             SpecialKind::Torus => "TR",
+            SpecialKind::Resonance1 => "R1",
+            SpecialKind::FoldFlip => "LPPD",
+            SpecialKind::Resonance2 => "R2",
+            SpecialKind::FoldTorus => "LPNS",
+            SpecialKind::FlipTorus => "PDNS",
             SpecialKind::BoundaryTouch => "SB",
             SpecialKind::Grazing => "GR",
             SpecialKind::EndPoint => "EP",
@@ -57,6 +74,11 @@ impl SpecialKind {
             "BP" => SpecialKind::BranchPoint,
             "PD" => SpecialKind::PeriodDoubling,
             "TR" => SpecialKind::Torus,
+            "R1" => SpecialKind::Resonance1,
+            "LPPD" => SpecialKind::FoldFlip,
+            "R2" => SpecialKind::Resonance2,
+            "LPNS" => SpecialKind::FoldTorus,
+            "PDNS" => SpecialKind::FlipTorus,
             "SB" => SpecialKind::BoundaryTouch,
             "GR" => SpecialKind::Grazing,
             "EP" => SpecialKind::EndPoint,

@@ -220,6 +220,13 @@ pub trait ContinuationProblem<'a> {
     fn monitor_events(&self) -> Vec<MonitorEvent> {
         Vec::new()
     }
+    /// The critical value ($+1$ or $-1$) of a non-trivial multiplier the problem holds at
+    /// every point (a fold or period-doubling curve), whose other multipliers' crossings
+    /// of $\pm 1$ and of the unit circle are the curve's codimension-two points
+    /// ([`crate::Detect::codim2`]); default `None`.
+    fn held_multiplier(&self) -> Option<f64> {
+        None
+    }
     /// Weights $w_i > 0$ of the unknowns in the arclength norm
     /// $\|v\|^2 = \sum_i w_i v_i^2$ (default: all 1). A discretised function should weigh
     /// its node values so that the norm approximates an integral, independent of the mesh

@@ -164,7 +164,9 @@ impl std::fmt::Display for Quantity {
 }
 
 /// Labels of the built-in special points, which user labels may not take.
-pub(crate) const BUILT_IN: [&str; 8] = ["SN", "BP", "PD", "TR", "SB", "GR", "EP", "UZ"];
+pub(crate) const BUILT_IN: [&str; 13] = [
+    "SN", "BP", "PD", "TR", "SB", "GR", "EP", "UZ", "R1", "LPPD", "R2", "LPNS", "PDNS",
+];
 
 /// A free label for user events (COCO's event labels, e.g. `"VZ"` for a vanishing impact
 /// velocity): 1 to 8 ASCII letters, digits, `_` or `-`, not one of the built-in labels

@@ -40,6 +40,13 @@ pub struct Detect {
     pub torus: bool,
     /// Events defined on monitors by the problem ([`crate::ContinuationProblem::monitor_events`]).
     pub monitor_events: bool,
+    /// On curves of points with a multiplier held at $\pm 1$
+    /// ([`crate::ContinuationProblem::held_multiplier`]: fold and period-doubling curves),
+    /// the codimension-two points where another multiplier reaches $+1$, $-1$ or, as a complex
+    /// pair, the unit circle: R1, LPPD, R2, LPNS, PDNS (default off; on in
+    /// [`crate::curve_settings`]).
+    #[serde(default)]
+    pub codim2: bool,
 }
 
 impl Default for Detect {
@@ -50,6 +57,7 @@ impl Default for Detect {
             period_doubling: true,
             torus: true,
             monitor_events: true,
+            codim2: false,
         }
     }
 }

@@ -270,12 +270,24 @@ impl<'a, S: HybridJacobians + ?Sized> ContinuationProblem<'a> for Codim2<'a, S> 
     fn unknown_weights(&self) -> Option<Vec<f64>> {
         self.inner.unknown_weights()
     }
+    /// $+1$ on a fold curve, $-1$ on a period-doubling curve, of full orbits (a half orbit's
+    /// multipliers are its half map's: their meeting points are not these).
+    fn held_multiplier(&self) -> Option<f64> {
+        match self.condition {
+            _ if self.inner.is_half_orbit() => None,
+            CurveCondition::Fold => Some(1.0),
+            CurveCondition::PeriodDoubling => Some(-1.0),
+            _ => None,
+        }
+    }
 }
 
 /// Continuation settings suited to two-parameter curves: larger steps (the curves are smooth),
-/// and only events detected (user points, terminal events): the one-parameter test functions
-/// are meaningless on a curve defined by one of them, and a turning point of the curve in the
-/// continued parameter is passed by the arclength parameterisation, not a special point.
+/// events (user points, terminal events) and the codimension-two points of fold and
+/// period-doubling curves detected ([`crate::Detect::codim2`]): the one-parameter test
+/// functions are meaningless on a curve defined by one of them, and a turning point of the
+/// curve in the continued parameter is passed by the arclength parameterisation, not a
+/// special point.
 #[must_use]
 pub fn curve_settings() -> crate::ContinuationSettings {
     crate::ContinuationSettings::default()
@@ -286,6 +298,7 @@ pub fn curve_settings() -> crate::ContinuationSettings {
             period_doubling: false,
             torus: false,
             monitor_events: true,
+            codim2: true,
         })
 }
 

@@ -13,6 +13,7 @@
 //! Sign changes whose nearest multiplier is further than the tolerance from the critical value
 //! are not reported. Problems without multipliers are not checked.
 
+use super::slots::Crossing;
 use crate::PointInfo;
 use crate::branch::SpecialKind;
 
@@ -58,6 +59,46 @@ pub(super) fn genuine(kind: SpecialKind, info: &PointInfo, tol: f64) -> (bool, O
     }
 }
 
+/// The non-trivial multipliers other than the one nearest `held` (the one a curve holds at its
+/// critical value).
+pub(super) fn others(info: &PointInfo, held: f64) -> Vec<(f64, f64)> {
+    let mut nt: Vec<(f64, f64)> = info
+        .multipliers
+        .iter()
+        .zip(&info.trivial)
+        .filter(|(_, t)| !**t)
+        .map(|(m, _)| *m)
+        .collect();
+    if let Some(i) = (0..nt.len()).min_by(|&a, &b| {
+        let d = |m: (f64, f64)| (m.0 - held).hypot(m.1);
+        d(nt[a]).total_cmp(&d(nt[b]))
+    }) {
+        nt.remove(i);
+    }
+    nt
+}
+
+/// Whether a located codimension-two point is genuine: among the multipliers other than the
+/// held one, one at $+1$, a real one at $-1$, or a non-real one on the unit circle (not a
+/// neutral saddle), within `tol`; returns that multiplier too.
+pub(super) fn genuine_codim2(
+    info: &PointInfo,
+    held: f64,
+    crossing: Crossing,
+    tol: f64,
+) -> (bool, Option<(f64, f64)>) {
+    let distance: fn((f64, f64)) -> Option<f64> = match crossing {
+        Crossing::Plus => |m| Some((m.0 - 1.0).hypot(m.1)),
+        Crossing::Minus => |m| (m.1.abs() <= REAL).then(|| (m.0 + 1.0).abs()),
+        Crossing::Circle => |m| (m.1.abs() > REAL).then(|| (m.0.hypot(m.1) - 1.0).abs()),
+    };
+    others(info, held)
+        .into_iter()
+        .filter_map(|m| distance(m).map(|d| (m, d)))
+        .min_by(|a, b| a.1.total_cmp(&b.1))
+        .map_or((false, None), |(m, d)| (d <= tol, Some(m)))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -84,6 +125,30 @@ mod tests {
         // A complex pair at -1 +- i 0.01 is not a real crossing.
         let pair = info(&[(-1.0, 0.01), (-1.0, -0.01)]);
         assert!(!genuine(SpecialKind::PeriodDoubling, &pair, 1e-4).0);
+    }
+
+    /// On a fold curve (a multiplier held at +1), another at +1 is R1, at -1 LPPD, a complex
+    /// pair on the unit circle LPNS; the held one never counts.
+    #[test]
+    fn codimension_two_points_exclude_the_held_multiplier() {
+        let r1 = info(&[(1.0 + 1e-12, 0.0), (1.0 - 1e-9, 0.0), (0.3, 0.0)]);
+        assert!(genuine_codim2(&r1, 1.0, Crossing::Plus, 1e-4).0);
+        let fold = info(&[(1.0, 0.0), (0.3, 0.0), (-0.5, 0.0)]);
+        assert!(!genuine_codim2(&fold, 1.0, Crossing::Plus, 1e-4).0);
+        assert!(!genuine_codim2(&fold, 1.0, Crossing::Minus, 1e-4).0);
+        let flip = info(&[(1.0, 0.0), (-1.0 + 1e-10, 0.0)]);
+        assert_eq!(
+            genuine_codim2(&flip, 1.0, Crossing::Minus, 1e-4),
+            (true, Some((-1.0 + 1e-10, 0.0)))
+        );
+        assert_eq!(Crossing::Minus.kind(1.0), SpecialKind::FoldFlip);
+        assert_eq!(Crossing::Plus.kind(-1.0), SpecialKind::FoldFlip);
+        assert_eq!(Crossing::Minus.kind(-1.0), SpecialKind::Resonance2);
+        let (c, s) = (0.6f64, 0.8f64);
+        let lpns = info(&[(1.0, 0.0), (c, s), (c, -s)]);
+        assert!(genuine_codim2(&lpns, 1.0, Crossing::Circle, 1e-4).0);
+        let saddle = info(&[(-1.0, 0.0), (2.0, 0.0), (0.5, 0.0)]);
+        assert!(!genuine_codim2(&saddle, -1.0, Crossing::Circle, 1e-4).0);
     }
 
     /// TR needs a complex pair on the unit circle (not a neutral saddle); SN and BP a

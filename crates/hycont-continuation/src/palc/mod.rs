@@ -31,7 +31,7 @@ mod slots;
 mod start;
 
 use predict::{extrapolate, max_abs};
-use slots::{Slot, Source};
+use slots::{Crossing, Slot, Source};
 
 /// A solved chart with everything the test functions need.
 #[derive(Debug, Clone)]
@@ -82,6 +82,17 @@ impl<'p, 'a, P: ContinuationProblem<'a> + ?Sized> Palc<'p, 'a, P> {
         }
         if d.torus {
             slots.push(Slot::Torus);
+        }
+        if d.codim2
+            && let Some(held) = p.held_multiplier()
+        {
+            for crossing in [Crossing::Plus, Crossing::Minus, Crossing::Circle] {
+                slots.push(Slot::Codim2 {
+                    kind: crossing.kind(held),
+                    held,
+                    crossing,
+                });
+            }
         }
         if d.monitor_events {
             for ev in p.monitor_events() {
@@ -324,9 +335,21 @@ impl<'p, 'a, P: ContinuationProblem<'a> + ?Sized> Palc<'p, 'a, P> {
     ) -> Option<SpecialPoint> {
         let kind = Self::kind_of(self.slots[f.slot]);
         let mut c = f.chart;
-        let (genuine, critical) =
-            critical::genuine(kind, &c.info, self.settings.critical_tolerance);
-        if (f.located || kind == SpecialKind::Torus) && !genuine {
+        let tol = self.settings.critical_tolerance;
+        let (genuine, critical) = match self.slots[f.slot] {
+            Slot::Codim2 { held, crossing, .. } => {
+                critical::genuine_codim2(&c.info, held, crossing, tol)
+            }
+            _ => critical::genuine(kind, &c.info, tol),
+        };
+        let circle = matches!(
+            self.slots[f.slot],
+            Slot::Codim2 {
+                crossing: Crossing::Circle,
+                ..
+            }
+        );
+        if (f.located || kind == SpecialKind::Torus || circle) && !genuine {
             return None;
         }
         // At a branch point the augmented Jacobian is singular and the tangent solved there

@@ -53,6 +53,52 @@ pub(super) enum Slot {
         on: Quantity,
         level: f64,
     },
+    /// A codimension-two point of a curve holding a multiplier at `held`: another multiplier
+    /// crossing as `crossing` says.
+    Codim2 {
+        kind: SpecialKind,
+        held: f64,
+        crossing: Crossing,
+    },
+}
+
+/// Which crossing of a multiplier other than the held one a codimension-two test watches.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(super) enum Crossing {
+    /// A real multiplier through $+1$.
+    Plus,
+    /// A real multiplier through $-1$.
+    Minus,
+    /// A complex pair through the unit circle.
+    Circle,
+}
+
+impl Crossing {
+    /// The kind of point where another multiplier crosses so on a curve holding one at
+    /// `held`: R1, LPPD, LPNS on fold curves ($+1$); LPPD, R2, PDNS on period-doubling curves.
+    pub(super) fn kind(self, held: f64) -> SpecialKind {
+        match (held > 0.0, self) {
+            (true, Crossing::Plus) => SpecialKind::Resonance1,
+            (true, Crossing::Minus) | (false, Crossing::Plus) => SpecialKind::FoldFlip,
+            (true, Crossing::Circle) => SpecialKind::FoldTorus,
+            (false, Crossing::Minus) => SpecialKind::Resonance2,
+            (false, Crossing::Circle) => SpecialKind::FlipTorus,
+        }
+    }
+}
+
+/// The codimension-two test of `crossing` on the multipliers other than the held one
+/// ([`super::critical::others`]): $\prod (\lambda - 1)$, $\prod (\lambda + 1)$ (real parts
+/// of complex products: a conjugate pair contributes $|\lambda \mp 1|^2 > 0$), or the torus
+/// product over pairs.
+fn codim2_test(info: &PointInfo, held: f64, crossing: Crossing) -> f64 {
+    let others = super::critical::others(info, held);
+    let trivial = vec![false; others.len()];
+    match crossing {
+        Crossing::Plus => crate::shifted_product(&others, &trivial, -1.0),
+        Crossing::Minus => crate::shifted_product(&others, &trivial, 1.0),
+        Crossing::Circle => pair_product(&others),
+    }
 }
 
 /// Product over non-trivial multipliers of $(1 + \lambda)$: changes sign when a real
@@ -72,6 +118,11 @@ fn tr_test(info: &PointInfo) -> f64 {
         .filter(|(_, t)| !**t)
         .map(|(m, _)| *m)
         .collect();
+    pair_product(&nt)
+}
+
+/// Product over pairs of `nt` of $(\lambda_i \lambda_j - 1)$, real part.
+fn pair_product(nt: &[(f64, f64)]) -> f64 {
     let mut acc = 1.0;
     for i in 0..nt.len() {
         for j in i + 1..nt.len() {
@@ -102,6 +153,7 @@ impl<'a, P: ContinuationProblem<'a> + ?Sized> Palc<'_, 'a, P> {
                 Slot::Event { level, source, .. } | Slot::Bound { source, level, .. } => {
                     source.value(c, pi) - level
                 }
+                Slot::Codim2 { held, crossing, .. } => codim2_test(&c.info, held, crossing),
             })
             .collect();
         Tests { values }
@@ -114,7 +166,7 @@ impl<'a, P: ContinuationProblem<'a> + ?Sized> Palc<'_, 'a, P> {
             Slot::BranchPoint => SpecialKind::BranchPoint,
             Slot::PeriodDoubling => SpecialKind::PeriodDoubling,
             Slot::Torus => SpecialKind::Torus,
-            Slot::Event { kind, .. } => kind,
+            Slot::Event { kind, .. } | Slot::Codim2 { kind, .. } => kind,
             Slot::Bound { .. } => SpecialKind::EndPoint,
         }
     }

@@ -1,0 +1,450 @@
+//! Codimension-two points on two-parameter curves against closed forms, on a hybrid system
+//! where they lie at computable places: two balls bouncing on vibrating tables driven by one
+//! forcing (each the Holmes ball of `tests/vibrating_table.rs`), with restitutions $e_1, e_2$,
+//! gravities $g_1, g_2$, and ball 2's table a phase $\psi$ ahead.
+//!
+//! # The closed forms
+//! The balls do not interact, so a period-1 orbit is a pair of the single ball's period-1
+//! orbits and its non-trivial multipliers are the union of theirs. Ball $i$ alone (with
+//! $\omega = 1$): impact phase $\theta_i$ with $a \cos\theta_i = \pi g_i (1-e_i)/(1+e_i)$,
+//! (ball 2: relative to its table's phase $\theta + \psi$), multipliers with product $e_i^2$
+//! and trace $1 + e_i^2 - \kappa_i (1+e_i)$,
+//! $\kappa_i = a \sin\theta_i (1+e_i)/g_i$; a fold (multiplier $+1$) at
+//! $a_\mathrm{SN}(e, g) = \pi g (1-e)/(1+e)$, a period doubling ($-1$) at
+//! $a_\mathrm{PD}(e, g) = g F(e)$, $F(e) = \sqrt{4(1+e^2)^2/(1+e)^4 + \pi^2(1-e)^2/(1+e)^2}$, and
+//! between them, where complex, the pair on the circle $|\lambda| = e$.
+//!
+//! Ball 1's fold and period-doubling curves in $(a, e_2)$ are the lines $a = a_\mathrm{SN}(e_1,
+//! g_1)$ and $a = a_\mathrm{PD}(e_1, g_1)$; along them ball 2's multipliers move with $e_2$:
+//! - on the fold curve, ball 2 at its fold is a 1:1 resonance (R1):
+//!   $a_\mathrm{SN}(e_2, g_2) = a_\mathrm{SN}(e_1, g_1)$, i.e. $e_2 = (1 - r)/(1 + r)$ with
+//!   $r = a_\mathrm{SN}(e_1, g_1)/(\pi g_2)$; at its period doubling a fold-flip point (LPPD):
+//!   $g_2 F(e_2) = a_\mathrm{SN}(e_1, g_1)$; its complex pair reaches the unit circle at
+//!   $e_2 = 1$ (LPNS, where $a < g_2$ keeps it complex);
+//! - on the period-doubling curve, ball 2 at its fold is LPPD:
+//!   $e_2 = (1 - r)/(1 + r)$, $r = a_\mathrm{PD}(e_1, g_1)/(\pi g_2)$; at its period doubling
+//!   R2: $g_2 F(e_2) = a_\mathrm{PD}(e_1, g_1)$; its complex pair on the unit circle at
+//!   $e_2 = 1$ (PDNS).
+//!
+//! Roots of $F$ are found by bisection to rounding. The phase $\psi$ and the gravities keep the
+//! balls' impacts apart (equal times would make two events coincide: a domain boundary of the
+//! orbits' signature).
+
+use approx::assert_abs_diff_eq;
+use hycont::hycont_continuation::{CurveSpec, OrbitBranch, OrbitRun, RunDirection, SpecialKind};
+use hycont::orbit::{
+    CollocationSettings, OrbitMethod, PeriodicOrbit, SegmentEnd, SegmentSpec, ShootingSettings,
+    Signature,
+};
+use hycont::{
+    Direction, EventAction, EventId, EventSpec, HybridJacobians, HybridSystem, Mode, ParamId,
+    SimulationSettings, check_derivatives,
+};
+use std::f64::consts::PI;
+
+const A: ParamId = ParamId(0);
+const E2: ParamId = ParamId(3);
+const IMPACT1: EventId = EventId(0);
+const IMPACT2: EventId = EventId(1);
+const WRAP: EventId = EventId(2);
+const FLIGHT: Mode = Mode(0);
+const E1: f64 = 0.5;
+const G1: f64 = 1.0;
+/// Ball 2's table leads by this phase: its impacts come well after ball 1's.
+const PSI: f64 = -1.5;
+
+/// State `(z1, w1, z2, w2, theta)`: heights and velocities of the balls above their tables, the
+/// forcing phase; parameters `(a, omega, e1, e2, g1, g2, psi)`.
+struct TwoBalls;
+
+impl HybridSystem for TwoBalls {
+    fn state_dim(&self) -> usize {
+        5
+    }
+    fn parameter_names(&self) -> &[&'static str] {
+        &["a", "omega", "e1", "e2", "g1", "g2", "psi"]
+    }
+    fn mode_count(&self) -> usize {
+        1
+    }
+    fn mode_name(&self, _: Mode) -> &'static str {
+        "flight"
+    }
+    fn events(&self, _: Mode) -> &[EventId] {
+        &[IMPACT1, IMPACT2, WRAP]
+    }
+    fn event_spec(&self, e: EventId) -> EventSpec {
+        let (name, direction) = match e {
+            IMPACT1 => ("impact 1", Direction::Falling),
+            IMPACT2 => ("impact 2", Direction::Falling),
+            _ => ("phase wrap", Direction::Rising),
+        };
+        EventSpec {
+            name,
+            direction,
+            action: EventAction::Jump { to: FLIGHT },
+        }
+    }
+    fn vector_field(&self, _: Mode, x: &[f64], p: &[f64], f: &mut [f64]) {
+        let aw2 = p[0] * p[1] * p[1];
+        f[0] = x[1];
+        f[1] = -p[4] + aw2 * x[4].sin();
+        f[2] = x[3];
+        f[3] = -p[5] + aw2 * (x[4] + p[6]).sin();
+        f[4] = p[1];
+    }
+    fn event(&self, e: EventId, x: &[f64], _: &[f64]) -> f64 {
+        match e {
+            IMPACT1 => x[0],
+            IMPACT2 => x[2],
+            _ => x[4] - PI,
+        }
+    }
+    fn reset(&self, e: EventId, x: &[f64], p: &[f64], out: &mut [f64]) {
+        out.copy_from_slice(x);
+        match e {
+            IMPACT1 => out[1] = -p[2] * x[1],
+            IMPACT2 => out[3] = -p[3] * x[3],
+            _ => out[4] = x[4] - 2.0 * PI,
+        }
+    }
+}
+
+impl HybridJacobians for TwoBalls {
+    fn vector_field_jacobian(
+        &self,
+        _: Mode,
+        x: &[f64],
+        p: &[f64],
+        dx: &mut [f64],
+        dp: Option<&mut [f64]>,
+    ) {
+        // Column-major 5 x 5.
+        dx.fill(0.0);
+        let aw2 = p[0] * p[1] * p[1];
+        let (s1, c1) = x[4].sin_cos();
+        let (s2, c2) = (x[4] + p[6]).sin_cos();
+        dx[5] = 1.0; // d z1' / d w1
+        dx[17] = 1.0; // d z2' / d w2
+        dx[21] = aw2 * c1; // d w1' / d theta
+        dx[23] = aw2 * c2; // d w2' / d theta
+        if let Some(dp) = dp {
+            // Column-major 5 x 7: columns a, omega, e1, e2, g1, g2, psi.
+            dp.fill(0.0);
+            dp[1] = p[1] * p[1] * s1;
+            dp[3] = p[1] * p[1] * s2;
+            dp[6] = 2.0 * p[0] * p[1] * s1;
+            dp[8] = 2.0 * p[0] * p[1] * s2;
+            dp[9] = 1.0;
+            dp[21] = -1.0;
+            dp[28] = -1.0;
+            dp[33] = aw2 * c2;
+        }
+    }
+    fn event_gradient(
+        &self,
+        e: EventId,
+        _: &[f64],
+        _: &[f64],
+        dx: &mut [f64],
+        dp: Option<&mut [f64]>,
+    ) {
+        dx.fill(0.0);
+        dx[match e {
+            IMPACT1 => 0,
+            IMPACT2 => 2,
+            _ => 4,
+        }] = 1.0;
+        if let Some(dp) = dp {
+            dp.fill(0.0);
+        }
+    }
+    fn reset_jacobian(
+        &self,
+        e: EventId,
+        x: &[f64],
+        p: &[f64],
+        dx: &mut [f64],
+        dp: Option<&mut [f64]>,
+    ) {
+        dx.fill(0.0);
+        for i in 0..5 {
+            dx[i + 5 * i] = 1.0;
+        }
+        match e {
+            IMPACT1 => dx[6] = -p[2],
+            IMPACT2 => dx[18] = -p[3],
+            _ => {}
+        }
+        if let Some(dp) = dp {
+            dp.fill(0.0);
+            match e {
+                IMPACT1 => dp[11] = -x[1], // d(-e1 w1)/d e1
+                IMPACT2 => dp[18] = -x[3], // d(-e2 w2)/d e2
+                _ => {}
+            }
+        }
+    }
+}
+
+fn f(e: f64) -> f64 {
+    (4.0 * (1.0 + e * e).powi(2) / (1.0 + e).powi(4)
+        + PI * PI * (1.0 - e).powi(2) / (1.0 + e).powi(2))
+    .sqrt()
+}
+
+fn a_sn(e: f64, g: f64) -> f64 {
+    PI * g * (1.0 - e) / (1.0 + e)
+}
+
+fn a_pd(e: f64, g: f64) -> f64 {
+    g * f(e)
+}
+
+/// The root of `h` in `[lo, hi]` (a sign change) by bisection to rounding.
+fn bisect(h: impl Fn(f64) -> f64, mut lo: f64, mut hi: f64) -> f64 {
+    let s = h(lo).signum();
+    assert!(h(hi).signum() != s, "no sign change in [{lo}, {hi}]");
+    for _ in 0..200 {
+        let mid = 0.5 * (lo + hi);
+        if mid <= lo || mid >= hi {
+            break;
+        }
+        if h(mid).signum() == s {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    0.5 * (lo + hi)
+}
+
+/// A ball's post-impact velocity and impact phase (relative to its table) on its stable
+/// period-1 orbit (omega = 1).
+fn ball(a: f64, e: f64, g: f64) -> (f64, f64) {
+    (e * g * 2.0 * PI / (1.0 + e), (a_sn(e, g) / a).acos())
+}
+
+/// The period-1 orbit at `a` from just after ball 1's impact: ball 2's state there from its
+/// own impact a phase difference earlier, both closed form; segments in the order the events
+/// come.
+fn orbit(a: f64, e2: f64, g2: f64) -> PeriodicOrbit {
+    let (w1, th1) = ball(a, E1, G1);
+    let (w2, th2) = ball(a, e2, g2);
+    // Ball 2 hits at theta = th2 - psi; its flight since then, tau = (th1 - th2 + psi) mod
+    // 2 pi: w = w+ - g tau + a (cos th2 - cos(th2 + tau)), z = (w+ + a cos th2) tau
+    // - g tau^2 / 2 - a (sin(th2 + tau) - sin th2).
+    let tau = (th1 - th2 + PSI).rem_euclid(2.0 * PI);
+    let z2 =
+        (w2 + a * th2.cos()) * tau - 0.5 * g2 * tau * tau - a * ((th2 + tau).sin() - th2.sin());
+    let v2 = w2 - g2 * tau + a * (th2.cos() - (th2 + tau).cos());
+    let segment = |e| SegmentSpec {
+        mode: FLIGHT,
+        end: SegmentEnd::Event(e),
+    };
+    // Ball 2's impact phase in (-pi, pi], before or after ball 1's.
+    let hit2 = PI - (PI - (th2 - PSI)).rem_euclid(2.0 * PI);
+    let order = if hit2 > th1 {
+        vec![segment(IMPACT2), segment(WRAP), segment(IMPACT1)]
+    } else {
+        vec![segment(WRAP), segment(IMPACT2), segment(IMPACT1)]
+    };
+    let signature = Signature::new(&TwoBalls, order).unwrap();
+    PeriodicOrbit::from_initial_state(
+        &TwoBalls,
+        signature,
+        &[0.0, w1, z2, v2, th1],
+        &[a, 1.0, E1, e2, G1, g2, PSI],
+        20.0,
+        &SimulationSettings::default(),
+    )
+    .unwrap()
+}
+
+/// Ball 1's fold or period doubling (the one at `a_ref`) on the branch in `a` through `a0`.
+fn ball_one_point(
+    run: &mut OrbitRun<'_, TwoBalls>,
+    (a0, e2, g2): (f64, f64, f64),
+    kind: SpecialKind,
+    a_ref: f64,
+) -> (OrbitBranch, usize) {
+    let branch = run
+        .run("period-1", &orbit(a0, e2, g2), RunDirection::Both)
+        .unwrap();
+    let label = branch
+        .special(kind)
+        .find(|s| (s.point[A] - a_ref).abs() < 1e-6)
+        .unwrap_or_else(|| {
+            panic!(
+                "no {kind} at a = {a_ref}: {:?}",
+                branch.branch.special_points
+            )
+        })
+        .point
+        .label;
+    (branch, label)
+}
+
+/// The curve of ball 1's `kind` point in `(a, e2)` over `e2` in `window` from the branch
+/// through `(a0, e2_0, g2)`, and the located points of `found` on it.
+fn points_on_curve(
+    method: OrbitMethod,
+    (a0, e2_0, g2): (f64, f64, f64),
+    kind: SpecialKind,
+    a_ref: f64,
+    window: (f64, f64),
+    found: SpecialKind,
+) -> Vec<(f64, f64, (f64, f64))> {
+    let mut run = OrbitRun::new(&TwoBalls, A).unwrap();
+    run.method(method).bounds(0.3, 3.0);
+    let (branch, label) = ball_one_point(&mut run, (a0, e2_0, g2), kind, a_ref);
+    let spec = CurveSpec::new(E2).bounds(window.0, window.1);
+    let curve = run.curve_at(kind.label(), &branch, label, &spec).unwrap();
+    // The curve is ball 1's line a = a_ref.
+    for p in &curve.branch.points {
+        assert_abs_diff_eq!(p[A], a_ref, epsilon = 1e-8);
+    }
+    curve
+        .special(found)
+        .inspect(|s| assert!(s.located, "{s:?}"))
+        .map(|s| (s.point[E2], s.point[A], s.critical.expect("its multiplier")))
+        .collect()
+}
+
+fn shooting() -> OrbitMethod {
+    OrbitMethod::Shooting(ShootingSettings::default())
+}
+
+#[test]
+fn the_analytic_jacobians_match_differences() {
+    for (x, p) in [
+        (
+            [0.3, -0.7, 1.1, 0.4, 0.9],
+            [1.2, 1.0, 0.5, 0.7, 1.0, 1.2, -1.5],
+        ),
+        (
+            [0.0, 2.0, 0.5, -1.0, -2.5],
+            [0.8, 1.3, 0.6, 0.3, 2.0, 1.0, 0.4],
+        ),
+    ] {
+        let check = check_derivatives(&TwoBalls, FLIGHT, &x, &p);
+        assert!(check.max_error() < 1e-7, "{check:?}");
+    }
+}
+
+/// On ball 1's fold curve (g2 = 1.2), ball 2's fold: a 1:1 resonance (R1), a second
+/// multiplier +1, at e2 = (1 - r)/(1 + r), r = a_SN(e1, g1)/(pi g2); by both discretisations.
+#[test]
+fn a_resonance_one_on_the_fold_curve() {
+    let a_ref = a_sn(E1, G1);
+    let r = a_ref / (PI * 1.2);
+    let r1_ref = (1.0 - r) / (1.0 + r);
+    for method in [
+        shooting(),
+        OrbitMethod::Collocation(CollocationSettings::default()),
+    ] {
+        let pts = points_on_curve(
+            method,
+            (1.1 * a_ref, 0.8, 1.2),
+            SpecialKind::Fold,
+            a_ref,
+            (0.45, 0.95),
+            SpecialKind::Resonance1,
+        );
+        assert_eq!(pts.len(), 1, "{pts:?}");
+        assert_abs_diff_eq!(pts[0].0, r1_ref, epsilon = 1e-8);
+        assert_abs_diff_eq!(pts[0].2.0, 1.0, epsilon = 1e-6);
+    }
+}
+
+/// On ball 1's fold curve, ball 2's period doubling: a fold-flip point (LPPD), with a
+/// multiplier -1 besides the held +1, where g2 F(e2) = a_SN(e1, g1).
+#[test]
+fn a_fold_flip_on_the_fold_curve() {
+    let a_ref = a_sn(E1, G1);
+    let e2_ref = bisect(|e| a_pd(e, 1.0) - a_ref, 0.6, 0.99);
+    let pts = points_on_curve(
+        shooting(),
+        (1.1 * a_ref, 0.65, 1.0),
+        SpecialKind::Fold,
+        a_ref,
+        (0.56, 0.95),
+        SpecialKind::FoldFlip,
+    );
+    assert_eq!(pts.len(), 1, "{pts:?}");
+    assert_abs_diff_eq!(pts[0].0, e2_ref, epsilon = 1e-8);
+    assert_abs_diff_eq!(pts[0].2.0, -1.0, epsilon = 1e-6);
+}
+
+/// On ball 1's fold curve with g2 = 1.2 (ball 2 between its fold and period doubling, complex
+/// multipliers of modulus e2): they reach the unit circle at e2 = 1, LPNS.
+#[test]
+fn a_fold_torus_point_on_the_fold_curve() {
+    let a_ref = a_sn(E1, G1);
+    let pts = points_on_curve(
+        shooting(),
+        (1.1 * a_ref, 0.8, 1.2),
+        SpecialKind::Fold,
+        a_ref,
+        (0.7, 1.2),
+        SpecialKind::FoldTorus,
+    );
+    assert_eq!(pts.len(), 1, "{pts:?}");
+    assert_abs_diff_eq!(pts[0].0, 1.0, epsilon = 1e-8);
+    let (re, im) = pts[0].2;
+    assert_abs_diff_eq!(re.hypot(im), 1.0, epsilon = 1e-6);
+}
+
+/// On ball 1's period-doubling curve (g2 = 1.2): ball 2's fold is LPPD (e2 = (1 - r)/(1 + r)),
+/// ball 2's period doubling R2 (a second -1), by both discretisations.
+#[test]
+fn fold_flip_and_resonance_two_on_the_period_doubling_curve() {
+    let a_ref = a_pd(E1, G1);
+    let r = a_ref / (PI * 1.2);
+    let lppd_ref = (1.0 - r) / (1.0 + r);
+    let r2_ref = bisect(|e| a_pd(e, 1.2) - a_ref, 0.57, 0.9);
+    for method in [
+        shooting(),
+        OrbitMethod::Collocation(CollocationSettings::default()),
+    ] {
+        let lppd = points_on_curve(
+            method,
+            (1.05 * a_ref, 0.5, 1.2),
+            SpecialKind::PeriodDoubling,
+            a_ref,
+            (0.3, 0.55),
+            SpecialKind::FoldFlip,
+        );
+        assert_eq!(lppd.len(), 1, "{lppd:?}");
+        assert_abs_diff_eq!(lppd[0].0, lppd_ref, epsilon = 1e-8);
+        assert_abs_diff_eq!(lppd[0].2.0, 1.0, epsilon = 1e-6);
+        let r2 = points_on_curve(
+            method,
+            (0.95 * a_ref, 0.75, 1.2),
+            SpecialKind::PeriodDoubling,
+            a_ref,
+            (0.58, 0.9),
+            SpecialKind::Resonance2,
+        );
+        assert_eq!(r2.len(), 1, "{r2:?}");
+        assert_abs_diff_eq!(r2[0].0, r2_ref, epsilon = 1e-8);
+        assert_abs_diff_eq!(r2[0].2.0, -1.0, epsilon = 1e-6);
+    }
+}
+
+/// On ball 1's period-doubling curve with g2 = 2 (ball 2 between its fold and period
+/// doubling): its complex pair on the unit circle at e2 = 1, PDNS.
+#[test]
+fn a_flip_torus_point_on_the_period_doubling_curve() {
+    let a_ref = a_pd(E1, G1);
+    let pts = points_on_curve(
+        shooting(),
+        (1.05 * a_ref, 0.9, 2.0),
+        SpecialKind::PeriodDoubling,
+        a_ref,
+        (0.75, 1.2),
+        SpecialKind::FlipTorus,
+    );
+    assert_eq!(pts.len(), 1, "{pts:?}");
+    assert_abs_diff_eq!(pts[0].0, 1.0, epsilon = 1e-8);
+}
