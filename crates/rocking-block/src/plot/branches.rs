@@ -266,10 +266,46 @@ fn draw_curves(
                 )))
                 .map_err(|e| plot_err(path, e))?;
         }
+        // The curves' codimension-two points (R1, LPPD, R2, LPNS, PDNS), labelled.
+        let codim2: Vec<(f64, f64, &str)> = curves
+            .iter()
+            .flat_map(|c| &c.branch.branch.special_points)
+            .filter(|s| CODIM2.contains(&s.kind))
+            .map(|s| (s.point[crate::OMEGA], s.point[crate::ALPHA], s.kind.label()))
+            .collect();
+        let red = RGBColor(170, 0, 0);
+        if !codim2.is_empty() {
+            entries.push(("codimension-two point".into(), Mark::Cross(red)));
+        }
+        for (omega, alpha, label) in codim2 {
+            chart
+                .draw_series(std::iter::once(Cross::new(
+                    (omega, alpha),
+                    6,
+                    red.stroke_width(2),
+                )))
+                .map_err(|e| plot_err(path, e))?;
+            chart
+                .draw_series(std::iter::once(Text::new(
+                    label.to_string(),
+                    (omega + 0.03, alpha + 0.01),
+                    ("sans-serif", 13).into_font().color(&red),
+                )))
+                .map_err(|e| plot_err(path, e))?;
+        }
         draw_key(&key, "key", &entries).map_err(|e| plot_err(path, e))?;
         Ok(())
     })
 }
+
+/// The kinds of codimension-two points curves carry.
+const CODIM2: [hycont_continuation::SpecialKind; 5] = [
+    hycont_continuation::SpecialKind::Resonance1,
+    hycont_continuation::SpecialKind::FoldFlip,
+    hycont_continuation::SpecialKind::Resonance2,
+    hycont_continuation::SpecialKind::FoldTorus,
+    hycont_continuation::SpecialKind::FlipTorus,
+];
 
 /// The test points' time series $\varphi(t)$, one panel each, under `title`.
 ///
