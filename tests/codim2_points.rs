@@ -332,6 +332,69 @@ fn the_analytic_jacobians_match_differences() {
     }
 }
 
+/// From the fold-flip point on ball 1's fold curve, the other curve through it in one call:
+/// ball 2's period-doubling curve, the closed form a = g2 F(e2) (omega = 1), through the
+/// point.
+#[test]
+fn the_period_doubling_curve_through_a_fold_flip_point() {
+    let a_ref = a_sn(E1, G1);
+    let mut run = OrbitRun::new(&TwoBalls, A).unwrap();
+    run.method(shooting()).bounds(0.3, 3.0);
+    let (branch, label) =
+        ball_one_point(&mut run, (1.1 * a_ref, 0.65, 1.0), SpecialKind::Fold, a_ref);
+    let spec = CurveSpec::new(E2).bounds(0.56, 0.95);
+    let fold = run.curve_at("SN", &branch, label, &spec).unwrap();
+    let lppd = fold.first(SpecialKind::FoldFlip).unwrap().point.label;
+    let pd = run.curve_through("PD", &fold, lppd, &spec).unwrap();
+    assert_eq!(
+        pd.condition,
+        Some(hycont::hycont_continuation::CurveCondition::PeriodDoubling)
+    );
+    assert!(pd.branch.points.len() > 10);
+    for p in &pd.branch.points {
+        assert_abs_diff_eq!(p[A], a_pd(p[E2], 1.0), epsilon = 1e-8);
+    }
+    // Through the fold-flip point; and it meets ball 1's fold line there again (LPPD).
+    let meet = pd.first(SpecialKind::FoldFlip).unwrap();
+    assert_abs_diff_eq!(meet.point[A], a_ref, epsilon = 1e-8);
+    // Only from LPPD points.
+    let not = fold.branch.points[3].label;
+    assert!(run.curve_through("x", &fold, not, &spec).is_err());
+}
+
+/// Curves end where their orbits leave their domain, as branches do: on ball 1's
+/// period-doubling curve past ball 2's fold (its other, unstable sheet), ball 2's impact
+/// reaches ball 1's, a domain boundary (DB), at $\theta_2' = \theta_1 + \psi$ (ball 2's phase
+/// relative to its table), i.e. $a_\mathrm{SN}(e_2, g_2) = a \cos(\theta_1 + \psi)$ with
+/// $\cos\theta_1 = a_\mathrm{SN}(e_1, g_1)/a$.
+#[test]
+fn a_curve_ends_at_its_domain_boundary() {
+    let a_ref = a_pd(E1, G1);
+    let theta1 = (a_sn(E1, G1) / a_ref).acos();
+    let r = a_ref * (theta1 + PSI).cos() / (PI * 1.2);
+    let db_ref = (1.0 - r) / (1.0 + r);
+    let mut run = OrbitRun::new(&TwoBalls, A).unwrap();
+    run.method(shooting()).bounds(0.3, 3.0);
+    let (branch, label) = ball_one_point(
+        &mut run,
+        (1.05 * a_ref, 0.5, 1.2),
+        SpecialKind::PeriodDoubling,
+        a_ref,
+    );
+    let spec = CurveSpec::new(E2).bounds(0.3, 0.55);
+    let curve = run.curve_at("PD", &branch, label, &spec).unwrap();
+    let db = hycont::hycont_continuation::Label::new("DB").unwrap();
+    let ends: Vec<_> = curve.special(SpecialKind::Custom(db)).collect();
+    assert_eq!(ends.len(), 1, "{:?}", curve.branch.special_points);
+    assert!(ends[0].located);
+    assert_abs_diff_eq!(ends[0].point[E2], db_ref, epsilon = 1e-8);
+    // It ends the curve there: the run that met it stopped (the joined curve's first point),
+    // after the fold-flip point where the curve turned onto ball 2's unstable sheet.
+    let first = &curve.branch.points[0];
+    assert_abs_diff_eq!(first[E2], db_ref, epsilon = 1e-8);
+    assert_eq!(curve.special(SpecialKind::FoldFlip).count(), 1);
+}
+
 /// On ball 1's fold curve (g2 = 1.2), ball 2's fold: a 1:1 resonance (R1), a second
 /// multiplier +1, at e2 = (1 - r)/(1 + r), r = a_SN(e1, g1)/(pi g2); by both discretisations.
 #[test]

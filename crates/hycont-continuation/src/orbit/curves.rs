@@ -1,6 +1,7 @@
 //! Two-parameter curves in one call (BifurcationKit's `continuation(br, ind, lens2, opts)`,
 //! COCO's `ode_hspo2SN`, `ode_PD2hspo`, `coco_add_event` curves): from a labelled fold,
-//! period doubling, branch point or event point of a branch, on the branch's discretisation.
+//! period doubling, branch point or event point of a branch, on the branch's discretisation;
+//! and the other curve through a fold-flip point of a curve.
 
 use super::run::{OrbitRun, RunDirection};
 use super::saved::OrbitBranch;
@@ -204,6 +205,55 @@ impl<'a, S: HybridJacobians + ?Sized> OrbitRun<'a, S> {
         let kind = condition.kind();
         let at = (curve, curve.discretisation_of(point)?);
         self.continue_curve(name, at, orbit, condition, kind, spec, &wrong)
+    }
+
+    /// The other curve through the fold-flip point (LPPD) labelled `label` of the fold or
+    /// period-doubling curve `curve`, in the same two parameters (`spec.second` must be the
+    /// curve's): from a fold curve the period-doubling curve through it, and the other way;
+    /// on the curve's discretisation, as [`OrbitRun::curve_at`] continues curves.
+    ///
+    /// # Errors
+    /// A curve that does not fit the system, a branch or a curve saved without its condition,
+    /// another second parameter, an unknown label, a point that is not LPPD
+    /// ([`Error::WrongSpecialPoint`]); no solution near the start.
+    pub fn curve_through(
+        &mut self,
+        name: &str,
+        curve: &OrbitBranch,
+        label: usize,
+        spec: &CurveSpec,
+    ) -> Result<OrbitBranch> {
+        curve.validate(self.system)?;
+        let special = curve.special_at(label)?;
+        let wrong = |reason| Error::WrongSpecialPoint {
+            operation: "continue the other curve",
+            label,
+            branch: curve.branch.name.clone(),
+            kind: special.kind.label().to_string(),
+            reason,
+        };
+        if special.kind != SpecialKind::FoldFlip {
+            return Err(wrong("the other curve starts at a fold-flip point (LPPD)"));
+        }
+        let other = match curve.condition {
+            Some(CurveCondition::Fold) => CurveCondition::PeriodDoubling,
+            Some(CurveCondition::PeriodDoubling) => CurveCondition::Fold,
+            _ => {
+                return Err(wrong(
+                    "not a fold or period-doubling curve saved with its condition",
+                ));
+            }
+        };
+        if curve.second != Some(spec.second) {
+            return Err(Error::InvalidSetting {
+                name: "second parameter",
+                value: spec.second.index() as f64,
+                reason: "the other curve is in the curve's own two parameters",
+            });
+        }
+        let orbit = curve.orbit_of(&special.point)?;
+        let at = (curve, curve.discretisation_of(&special.point)?);
+        self.continue_curve(name, at, orbit, other, other.kind(), spec, &wrong)
     }
 
     /// The curve with `condition` through `orbit` (a point of `branch` on its discretisation
