@@ -17,6 +17,9 @@ pub enum SpecialKind {
     PeriodDoubling,
     /// Torus (Neimark-Sacker): `TR`.
     Torus,
+    /// On a fold curve, a cusp: the fold curve's projection onto the parameter plane turns back
+    /// (both parameters stationary along the curve): `CP`.
+    Cusp,
     /// On a fold curve, a second multiplier at $+1$ (1:1 resonance): `R1`.
     Resonance1,
     /// On a fold or period-doubling curve, a multiplier at $+1$ and another at $-1$ (fold-flip):
@@ -51,6 +54,7 @@ impl SpecialKind {
             SpecialKind::BranchPoint => "BP",
             SpecialKind::PeriodDoubling => "PD",
             SpecialKind::Torus => "TR",
+            SpecialKind::Cusp => "CP",
             SpecialKind::Resonance1 => "R1",
             SpecialKind::FoldFlip => "LPPD",
             SpecialKind::Resonance2 => "R2",
@@ -74,6 +78,7 @@ impl SpecialKind {
             "BP" => SpecialKind::BranchPoint,
             "PD" => SpecialKind::PeriodDoubling,
             "TR" => SpecialKind::Torus,
+            "CP" => SpecialKind::Cusp,
             "R1" => SpecialKind::Resonance1,
             "LPPD" => SpecialKind::FoldFlip,
             "R2" => SpecialKind::Resonance2,

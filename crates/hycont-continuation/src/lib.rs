@@ -227,6 +227,12 @@ pub trait ContinuationProblem<'a> {
     fn held_multiplier(&self) -> Option<f64> {
         None
     }
+    /// On a fold curve, the index in the unknowns of its second parameter: a cusp (CP) is
+    /// where both parameters are stationary along the curve ([`crate::Detect::codim2`]);
+    /// default `None`.
+    fn cusp_parameter(&self) -> Option<usize> {
+        None
+    }
     /// Weights $w_i > 0$ of the unknowns in the arclength norm
     /// $\|v\|^2 = \sum_i w_i v_i^2$ (default: all 1). A discretised function should weigh
     /// its node values so that the norm approximates an integral, independent of the mesh

@@ -164,8 +164,8 @@ impl std::fmt::Display for Quantity {
 }
 
 /// Labels of the built-in special points, which user labels may not take.
-pub(crate) const BUILT_IN: [&str; 13] = [
-    "SN", "BP", "PD", "TR", "SB", "GR", "EP", "UZ", "R1", "LPPD", "R2", "LPNS", "PDNS",
+pub(crate) const BUILT_IN: [&str; 14] = [
+    "SN", "BP", "PD", "TR", "SB", "GR", "EP", "UZ", "CP", "R1", "LPPD", "R2", "LPNS", "PDNS",
 ];
 
 /// A free label for user events (COCO's event labels, e.g. `"VZ"` for a vanishing impact

@@ -43,8 +43,9 @@ pub struct Detect {
     /// On curves of points with a multiplier held at $\pm 1$
     /// ([`crate::ContinuationProblem::held_multiplier`]: fold and period-doubling curves),
     /// the codimension-two points where another multiplier reaches $+1$, $-1$ or, as a complex
-    /// pair, the unit circle: R1, LPPD, R2, LPNS, PDNS (default off; on in
-    /// [`crate::curve_settings`]).
+    /// pair, the unit circle: R1, LPPD, R2, LPNS, PDNS; on fold curves
+    /// ([`crate::ContinuationProblem::cusp_parameter`]) cusps (CP), where both parameters are
+    /// stationary along the curve (default off; on in [`crate::curve_settings`]).
     #[serde(default)]
     pub codim2: bool,
 }

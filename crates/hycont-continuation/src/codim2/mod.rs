@@ -270,6 +270,14 @@ impl<'a, S: HybridJacobians + ?Sized> ContinuationProblem<'a> for Codim2<'a, S> 
     fn unknown_weights(&self) -> Option<Vec<f64>> {
         self.inner.unknown_weights()
     }
+    /// The second parameter's unknown on a fold curve (full or half orbits): the active
+    /// parameters are the last two unknowns, the continued one and this.
+    fn cusp_parameter(&self) -> Option<usize> {
+        (self.condition == CurveCondition::Fold).then(|| {
+            let n = self.inner.unknowns();
+            2 * n - 3 - self.inner.parameter_index()
+        })
+    }
     /// $+1$ on a fold curve, $-1$ on a period-doubling curve, of full orbits (a half orbit's
     /// multipliers are its half map's: their meeting points are not these).
     fn held_multiplier(&self) -> Option<f64> {

@@ -211,6 +211,12 @@ impl<'a, S: HybridJacobians + ?Sized> OrbitContinuation<'a, S> {
         self.admissible_start
     }
 
+    /// The number of unknowns of the problem (with its active parameters).
+    #[must_use]
+    pub(crate) fn unknowns(&self) -> usize {
+        self.problem.unknowns()
+    }
+
     /// The zero problem (e.g. to add parts for two-parameter curves; the problem then keeps
     /// its discretisation along a run).
     pub fn problem_mut(&mut self) -> &mut Problem<'a> {

@@ -141,7 +141,7 @@ impl<'a, P: ContinuationProblem<'a> + ?Sized> Palc<'_, 'a, P> {
     /// events and bounds do unless they are on the continued parameter.
     fn needs_analysis(&self, a: &Chart, slot: usize) -> bool {
         match self.slots[slot] {
-            Slot::Fold => false,
+            Slot::Fold | Slot::Cusp { .. } => false,
             Slot::BranchPoint => a.info.branch_point_factor.is_some(),
             Slot::Event { source, .. } | Slot::Bound { source, .. } => source != Source::Continued,
             _ => true,

@@ -84,6 +84,11 @@ impl<'p, 'a, P: ContinuationProblem<'a> + ?Sized> Palc<'p, 'a, P> {
             slots.push(Slot::Torus);
         }
         if d.codim2
+            && let Some(second) = p.cusp_parameter()
+        {
+            slots.push(Slot::Cusp { second });
+        }
+        if d.codim2
             && let Some(held) = p.held_multiplier()
         {
             for crossing in [Crossing::Plus, Crossing::Minus, Crossing::Circle] {
@@ -340,16 +345,19 @@ impl<'p, 'a, P: ContinuationProblem<'a> + ?Sized> Palc<'p, 'a, P> {
             Slot::Codim2 { held, crossing, .. } => {
                 critical::genuine_codim2(&c.info, held, crossing, tol)
             }
+            // Both parameters stationary: a turning point of the curve in the continued
+            // parameter alone is not a cusp.
+            Slot::Cusp { second } => (c.t[second].abs() <= tol, None),
             _ => critical::genuine(kind, &c.info, tol),
         };
-        let circle = matches!(
+        let always_checked = matches!(
             self.slots[f.slot],
             Slot::Codim2 {
                 crossing: Crossing::Circle,
                 ..
-            }
+            } | Slot::Cusp { .. }
         );
-        if (f.located || kind == SpecialKind::Torus || circle) && !genuine {
+        if (f.located || kind == SpecialKind::Torus || always_checked) && !genuine {
             return None;
         }
         // At a branch point the augmented Jacobian is singular and the tangent solved there

@@ -53,6 +53,11 @@ pub(super) enum Slot {
         on: Quantity,
         level: f64,
     },
+    /// A cusp of a fold curve: the continued parameter's tangent component changes sign where
+    /// the one of the second parameter (unknown `second`) vanishes too.
+    Cusp {
+        second: usize,
+    },
     /// A codimension-two point of a curve holding a multiplier at `held`: another multiplier
     /// crossing as `crossing` says.
     Codim2 {
@@ -142,7 +147,7 @@ impl<'a, P: ContinuationProblem<'a> + ?Sized> Palc<'_, 'a, P> {
             .slots
             .iter()
             .map(|slot| match *slot {
-                Slot::Fold => c.t[pi],
+                Slot::Fold | Slot::Cusp { .. } => c.t[pi],
                 Slot::BranchPoint => {
                     c.det.0
                         * (c.det.1 - det_ref).clamp(-700.0, 700.0).exp()
@@ -163,6 +168,7 @@ impl<'a, P: ContinuationProblem<'a> + ?Sized> Palc<'_, 'a, P> {
     pub(super) fn kind_of(slot: Slot) -> SpecialKind {
         match slot {
             Slot::Fold => SpecialKind::Fold,
+            Slot::Cusp { .. } => SpecialKind::Cusp,
             Slot::BranchPoint => SpecialKind::BranchPoint,
             Slot::PeriodDoubling => SpecialKind::PeriodDoubling,
             Slot::Torus => SpecialKind::Torus,
