@@ -9,7 +9,12 @@
 //! collocation; $\mathbb{Z}_2$-symmetric orbits on their half orbit, at half the cost, with
 //! symmetry-breaking branch points detected from the half map), two-parameter curves of special
 //! points by [`Codim2`] ([`OrbitRun::curve_at`] from a special point of a branch,
-//! [`OrbitRun::curve_from`] further along a saved curve); `examples/symmetric_branch/` in the
+//! [`OrbitRun::curve_from`] further along a saved curve, [`OrbitRun::curve_through`] the other
+//! curve through a fold-flip point), with their own codimension-two points (cusps CP; R1,
+//! LPPD, R2, LPNS, PDNS from the multipliers besides the held one; [`Detect::codim2`]), and
+//! whole bifurcation diagrams in one call by [`OrbitRun::diagram`] (every BP and PD switched
+//! at to a depth; [`Diagram::cascades`] reads off period-doubling cascades);
+//! `examples/symmetric_branch/` in the
 //! `hycont` package shows a half-orbit branch and a switch to the asymmetric branch. The
 //! augmented Jacobians are factorised with the problem's condensed local blocks (collocation's
 //! interval interiors) and handed to [`ContinuationProblem::analyse_factorised`].
