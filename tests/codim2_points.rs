@@ -219,22 +219,28 @@ fn a_fold_flip_on_the_fold_curve() {
 }
 
 /// On ball 1's fold curve with g2 = 1.2 (ball 2 between its fold and period doubling, complex
-/// multipliers of modulus e2): they reach the unit circle at e2 = 1, LPNS.
+/// multipliers of modulus e2): they reach the unit circle at e2 = 1, LPNS; by both
+/// discretisations.
 #[test]
 fn a_fold_torus_point_on_the_fold_curve() {
     let a_ref = a_sn(E1, G1);
-    let pts = points_on_curve(
+    for method in [
         shooting(),
-        (1.1 * a_ref, 0.8, 1.2),
-        SpecialKind::Fold,
-        a_ref,
-        (0.7, 1.2),
-        SpecialKind::FoldTorus,
-    );
-    assert_eq!(pts.len(), 1, "{pts:?}");
-    assert_abs_diff_eq!(pts[0].0, 1.0, epsilon = 1e-8);
-    let (re, im) = pts[0].2;
-    assert_abs_diff_eq!(re.hypot(im), 1.0, epsilon = 1e-6);
+        OrbitMethod::Collocation(CollocationSettings::default()),
+    ] {
+        let pts = points_on_curve(
+            method,
+            (1.1 * a_ref, 0.8, 1.2),
+            SpecialKind::Fold,
+            a_ref,
+            (0.7, 1.2),
+            SpecialKind::FoldTorus,
+        );
+        assert_eq!(pts.len(), 1, "{pts:?}");
+        assert_abs_diff_eq!(pts[0].0, 1.0, epsilon = 1e-8);
+        let (re, im) = pts[0].2;
+        assert_abs_diff_eq!(re.hypot(im), 1.0, epsilon = 1e-6);
+    }
 }
 
 /// On ball 1's period-doubling curve (g2 = 1.2): ball 2's fold is LPPD (e2 = (1 - r)/(1 + r)),
@@ -275,18 +281,23 @@ fn fold_flip_and_resonance_two_on_the_period_doubling_curve() {
 }
 
 /// On ball 1's period-doubling curve with g2 = 2 (ball 2 between its fold and period
-/// doubling): its complex pair on the unit circle at e2 = 1, PDNS.
+/// doubling): its complex pair on the unit circle at e2 = 1, PDNS; by both discretisations.
 #[test]
 fn a_flip_torus_point_on_the_period_doubling_curve() {
     let a_ref = a_pd(E1, G1);
-    let pts = points_on_curve(
+    for method in [
         shooting(),
-        (1.05 * a_ref, 0.9, 2.0),
-        SpecialKind::PeriodDoubling,
-        a_ref,
-        (0.75, 1.2),
-        SpecialKind::FlipTorus,
-    );
-    assert_eq!(pts.len(), 1, "{pts:?}");
-    assert_abs_diff_eq!(pts[0].0, 1.0, epsilon = 1e-8);
+        OrbitMethod::Collocation(CollocationSettings::default()),
+    ] {
+        let pts = points_on_curve(
+            method,
+            (1.05 * a_ref, 0.9, 2.0),
+            SpecialKind::PeriodDoubling,
+            a_ref,
+            (0.75, 1.2),
+            SpecialKind::FlipTorus,
+        );
+        assert_eq!(pts.len(), 1, "{pts:?}");
+        assert_abs_diff_eq!(pts[0].0, 1.0, epsilon = 1e-8);
+    }
 }
