@@ -50,34 +50,7 @@ impl<'a, P: ContinuationProblem<'a> + ?Sized> Palc<'_, 'a, P> {
             }
             return Ok(c);
         } else {
-            let mut row = vec![0.0; self.n];
-            row[pi] = 1.0;
-            // With the parameter fixed, the correction is singular where the branch does not
-            // move in the parameter (e.g. a curve along which the continued parameter stays
-            // put): Newton then fails, or lands on a point the problem refuses, or where the
-            // branch is (nearly) orthogonal to the parameter. Then on a generic hyperplane
-            // through `u0`.
-            let fixed = self.correct(u0, &row, u0, 0.0, false).and_then(|(u, it)| {
-                let c = self.chart(u, &row, it)?;
-                if c.t[pi].abs() < PARAMETER_FIXED_MIN_SLOPE {
-                    return Err(Error::InvalidSetting {
-                        name: "start",
-                        value: c.t[pi],
-                        reason: "the branch does not move in the parameter at the start",
-                    });
-                }
-                self.p.check_start(&c.u)?;
-                Ok(c)
-            });
-            let mut c = match fixed {
-                Ok(c) => c,
-                Err(_) => {
-                    let g = generic(self.n);
-                    let (u, it) = self.correct(u0, &g, u0, 0.0, false)?;
-                    self.p.check_start(&u)?;
-                    self.chart(u, &g, it)?
-                }
-            };
+            let mut c = self.held_start(u0)?;
             if orientation(&c.t, pi) * direction < 0.0 {
                 c.t.iter_mut().for_each(|x| *x = -*x);
             }
@@ -93,6 +66,38 @@ impl<'a, P: ContinuationProblem<'a> + ?Sized> Palc<'_, 'a, P> {
             self.first = Some((u0.to_vec(), revision, a.clone()));
         }
         Ok(a)
+    }
+
+    /// The first chart from `u0` without a direction: corrected with the continued parameter
+    /// held, or on a generic hyperplane where it cannot be held.
+    fn held_start(&mut self, u0: &[f64]) -> Result<Chart> {
+        let pi = self.p.parameter_index();
+        let mut row = vec![0.0; self.n];
+        row[pi] = 1.0;
+        // With the parameter fixed, the correction is singular where the branch does not
+        // move in the parameter (e.g. a curve along which the continued parameter stays
+        // put): Newton then fails, or lands on a point the problem refuses, or where the
+        // branch is (nearly) orthogonal to the parameter. Then on a generic hyperplane
+        // through `u0`.
+        let fixed = self.correct(u0, &row, u0, 0.0, false).and_then(|(u, it)| {
+            let c = self.chart(u, &row, it)?;
+            if c.t[pi].abs() < PARAMETER_FIXED_MIN_SLOPE {
+                return Err(Error::InvalidSetting {
+                    name: "start",
+                    value: c.t[pi],
+                    reason: "the branch does not move in the parameter at the start",
+                });
+            }
+            self.p.check_start(&c.u)?;
+            Ok(c)
+        });
+        if fixed.is_ok() {
+            return fixed;
+        }
+        let g = generic(self.n);
+        let (u, it) = self.correct(u0, &g, u0, 0.0, false)?;
+        self.p.check_start(&u)?;
+        self.chart(u, &g, it)
     }
 
     /// Checks that the first chart lies inside every bound (of the continued parameter, other
