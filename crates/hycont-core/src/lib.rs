@@ -47,13 +47,16 @@ pub use error::{Error, Result};
 /// The linear-algebra crate of results users compute with (monodromy, saltation matrices,
 /// Floquet vectors, orbit states).
 pub use nalgebra;
+/// The dual numbers [`HybridModel`]s are evaluated on (re-exported for their
+/// [`num_dual::DualNum`] methods).
+pub use num_dual;
 pub use simulate::{
     Dop853, EventConditioning, EventRecord, NonFiniteEvaluation, ParamSet, SampleTimes,
     Sensitivities, SensitivityMatrices, SimulationSettings, SimulationStats, Simulator,
     StepperStats, StopReason, TimeSeries, Trajectory, ZenoRecord, ZenoSettings,
 };
 pub use system::{
-    DerivativeCheck, DerivativeKind, DerivativeMismatch, Direction, EventAction, EventId,
-    EventSpec, FiniteDifferences, HybridJacobians, HybridSystem, Mode, ParamId, Z2Symmetry,
-    check_derivatives, checked_symmetry,
+    AutoDiff, DerivativeCheck, DerivativeKind, DerivativeMismatch, Direction, EventAction, EventId,
+    EventSpec, FiniteDifferences, HybridJacobians, HybridModel, HybridSystem, Mode, ParamId,
+    Scalar, Z2Symmetry, check_derivatives, checked_symmetry,
 };

@@ -310,8 +310,10 @@ pub trait HybridJacobians: HybridSystem {
     }
 }
 
+mod autodiff;
 mod derivatives;
 mod symmetry;
+pub use autodiff::{AutoDiff, HybridModel, Scalar};
 pub use derivatives::{
     DerivativeCheck, DerivativeKind, DerivativeMismatch, FiniteDifferences, check_derivatives,
 };

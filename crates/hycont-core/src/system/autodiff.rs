@@ -1,0 +1,385 @@
+//! Exact derivatives without hand coding: a hybrid system written once, generic over its scalar
+//! ([`HybridModel`]), and [`AutoDiff`], which makes it a [`HybridSystem`] with
+//! [`HybridJacobians`] from forward-mode dual numbers (`num_dual`): every Jacobian (vector
+//! field, event gradient, reset) exact to rounding, in one evaluation of the model on dual
+//! numbers carrying all $n$ (or $n + n_p$) directions at once.
+
+use super::{EventId, EventSpec, HybridJacobians, HybridSystem, Mode, Z2Symmetry};
+use num_dual::{Dual64, DualNum, DualSVec64};
+
+/// The scalar a [`HybridModel`] is written in: `f64`, or a dual number over it. Write the
+/// model's functions with the operators and the methods of [`num_dual::DualNum`] (`sin`, `exp`,
+/// `powi`, ...); constants enter as `T::from(c)` or through arithmetic with `f64`.
+pub trait Scalar: DualNum<Primitive = f64> + Copy {}
+
+impl<T: DualNum<Primitive = f64> + Copy> Scalar for T {}
+
+/// A hybrid system written once for any [`Scalar`]: what [`HybridSystem`] asks for, with the
+/// vector fields, event functions and resets generic. [`AutoDiff`] turns it into a
+/// [`HybridSystem`] with exact [`HybridJacobians`].
+///
+/// ```
+/// use hycont_core::{AutoDiff, Direction, EventAction, EventId, EventSpec, HybridJacobians,
+///                   HybridModel, Mode, Scalar};
+/// /// A pendulum swinging against a wall at theta = 0: theta'' = -sin(theta) - c theta'.
+/// struct Pendulum;
+/// impl HybridModel for Pendulum {
+///     fn state_dim(&self) -> usize { 2 }
+///     fn parameter_names(&self) -> &[&'static str] { &["c", "e"] }
+///     fn mode_count(&self) -> usize { 1 }
+///     fn mode_name(&self, _: Mode) -> &'static str { "swing" }
+///     fn events(&self, _: Mode) -> &[EventId] { &[EventId(0)] }
+///     fn event_spec(&self, _: EventId) -> EventSpec {
+///         EventSpec { name: "wall", direction: Direction::Falling,
+///                     action: EventAction::Jump { to: Mode(0) } }
+///     }
+///     fn vector_field<T: Scalar>(&self, _: Mode, x: &[T], p: &[T], out: &mut [T]) {
+///         out[0] = x[1];
+///         out[1] = -x[0].sin() - p[0] * x[1];
+///     }
+///     fn event<T: Scalar>(&self, _: EventId, x: &[T], _: &[T]) -> T { x[0] }
+///     fn reset<T: Scalar>(&self, _: EventId, x: &[T], p: &[T], out: &mut [T]) {
+///         out[0] = x[0];
+///         out[1] = -p[1] * x[1];
+///     }
+/// }
+/// let sys = AutoDiff::new(Pendulum);
+/// let (x, p) = ([0.3, -0.5], [0.1, 0.8]);
+/// let (mut dx, mut dp) = ([0.0; 4], [0.0; 4]);
+/// sys.vector_field_jacobian(Mode(0), &x, &p, &mut dx, Some(&mut dp));
+/// assert_eq!(dx, [0.0, -0.3f64.cos(), 1.0, -0.1]); // column-major
+/// assert_eq!(dp, [0.0, 0.5, 0.0, 0.0]);
+/// ```
+pub trait HybridModel {
+    /// Dimension $n$ of the continuous state.
+    fn state_dim(&self) -> usize;
+    /// Names of the parameters, in the order of the parameter vector.
+    fn parameter_names(&self) -> &[&'static str];
+    /// Number of modes.
+    fn mode_count(&self) -> usize;
+    /// A short name of a mode.
+    fn mode_name(&self, mode: Mode) -> &'static str;
+    /// The events monitored while in `mode`.
+    fn events(&self, mode: Mode) -> &[EventId];
+    /// Direction, action and name of an event.
+    fn event_spec(&self, event: EventId) -> EventSpec;
+    /// Writes $f_m(x, p)$ into `out`.
+    fn vector_field<T: Scalar>(&self, mode: Mode, x: &[T], p: &[T], out: &mut [T]);
+    /// The event function $h_e(x, p)$.
+    fn event<T: Scalar>(&self, event: EventId, x: &[T], p: &[T]) -> T;
+    /// Writes the reset $g_e(x, p)$ into `out` (default: the identity).
+    fn reset<T: Scalar>(&self, event: EventId, x: &[T], p: &[T], out: &mut [T]) {
+        let _ = (event, p);
+        out.copy_from_slice(x);
+    }
+    /// As [`HybridSystem::symmetry`].
+    fn symmetry(&self) -> Option<Z2Symmetry> {
+        None
+    }
+    /// As [`HybridSystem::trivial_multipliers`].
+    fn trivial_multipliers(&self, p: &[f64], period: f64) -> Vec<(f64, f64)> {
+        let _ = (p, period);
+        vec![(1.0, 0.0)]
+    }
+    /// As [`HybridSystem::rate_component`].
+    fn rate_component(&self, mode: Mode, c: usize) -> Option<usize> {
+        let _ = (mode, c);
+        None
+    }
+    /// As [`HybridSystem::event_component`].
+    fn event_component(&self, event: EventId) -> Option<usize> {
+        let _ = event;
+        None
+    }
+    /// As [`HybridSystem::zeno_transition`].
+    fn zeno_transition(
+        &self,
+        mode: Mode,
+        event: EventId,
+        x: &[f64],
+        p: &[f64],
+        out: &mut [f64],
+    ) -> Option<Mode> {
+        let _ = (mode, event, x, p, out);
+        None
+    }
+}
+
+/// A [`HybridModel`] as a [`HybridSystem`] with exact [`HybridJacobians`] by forward-mode
+/// automatic differentiation: each Jacobian (with or without the parameter columns) from one
+/// evaluation on dual numbers with one direction per variable (up to [`AutoDiff::MAX_VARIABLES`]
+/// variables; beyond, one evaluation per variable).
+#[derive(Debug, Clone, Copy, Default)]
+pub struct AutoDiff<M> {
+    model: M,
+}
+
+impl<M> AutoDiff<M> {
+    /// The most variables (state, and parameters where their columns are asked for)
+    /// differentiated in one evaluation.
+    pub const MAX_VARIABLES: usize = 16;
+
+    /// Wraps `model`.
+    pub fn new(model: M) -> Self {
+        Self { model }
+    }
+
+    /// The model.
+    pub fn inner(&self) -> &M {
+        &self.model
+    }
+}
+
+/// What a Jacobian is of.
+#[derive(Debug, Clone, Copy)]
+enum Function {
+    Field(Mode),
+    Event(EventId),
+    Reset(EventId),
+}
+
+impl Function {
+    fn eval<M: HybridModel + ?Sized, T: Scalar>(self, m: &M, x: &[T], p: &[T], out: &mut [T]) {
+        match self {
+            Function::Field(mode) => m.vector_field(mode, x, p, out),
+            Function::Event(e) => out[0] = m.event(e, x, p),
+            Function::Reset(e) => m.reset(e, x, p, out),
+        }
+    }
+}
+
+/// Where the value and the Jacobians go: `rows` outputs, `dx` column-major
+/// $\mathrm{rows} \times n$, `dp` $\mathrm{rows} \times n_p$ when asked for.
+struct Outputs<'a> {
+    rows: usize,
+    value: Option<&'a mut [f64]>,
+    dx: &'a mut [f64],
+    dp: Option<&'a mut [f64]>,
+}
+
+/// The value and Jacobians of `f` in one evaluation on `N`-direction duals (`N` at least the
+/// state's dimension, plus the parameters' when their columns are asked for; `rows`, `n` and
+/// `n_p` at most [`AutoDiff::MAX_VARIABLES`]).
+fn jacobian_n<M: HybridModel + ?Sized, const N: usize>(
+    m: &M,
+    f: Function,
+    x: &[f64],
+    p: &[f64],
+    out: Outputs<'_>,
+) {
+    const MAX: usize = 16;
+    let (n, np) = (x.len(), p.len());
+    let with_p = out.dp.is_some();
+    let zero = DualSVec64::<N>::from_re(0.0);
+    let (mut xd, mut pd, mut yd) = ([zero; MAX], [zero; MAX], [zero; MAX]);
+    for (i, v) in x.iter().enumerate() {
+        xd[i] = DualSVec64::from_re(*v).derivative(i);
+    }
+    for (j, v) in p.iter().enumerate() {
+        pd[j] = DualSVec64::from_re(*v);
+        if with_p {
+            pd[j] = pd[j].derivative(n + j);
+        }
+    }
+    f.eval(m, &xd[..n], &pd[..np], &mut yd[..out.rows]);
+    let rows = out.rows;
+    if let Some(value) = out.value {
+        for (v, y) in value.iter_mut().zip(&yd[..rows]) {
+            *v = y.re;
+        }
+    }
+    let mut dp = out.dp;
+    for (r, y) in yd[..rows].iter().enumerate() {
+        let eps = y.eps.0.as_ref();
+        let d = |k: usize| eps.map_or(0.0, |e| e[k]);
+        for c in 0..n {
+            out.dx[r + c * rows] = d(c);
+        }
+        if let Some(dp) = dp.as_deref_mut() {
+            for j in 0..np {
+                dp[r + j * rows] = d(n + j);
+            }
+        }
+    }
+}
+
+/// The value and Jacobians of `f` one variable at a time (any number of variables).
+fn jacobian_scalar<M: HybridModel + ?Sized>(
+    m: &M,
+    f: Function,
+    x: &[f64],
+    p: &[f64],
+    out: Outputs<'_>,
+) {
+    let (n, np, rows) = (x.len(), p.len(), out.rows);
+    let mut xd: Vec<Dual64> = x.iter().map(|v| Dual64::from_re(*v)).collect();
+    let mut pd: Vec<Dual64> = p.iter().map(|v| Dual64::from_re(*v)).collect();
+    let mut yd = vec![Dual64::from_re(0.0); rows];
+    let vars = if out.dp.is_some() { n + np } else { n };
+    let mut dp = out.dp;
+    for k in 0..vars.max(1) {
+        if k < n {
+            xd[k] = xd[k].derivative();
+        } else if k < vars {
+            pd[k - n] = pd[k - n].derivative();
+        }
+        f.eval(m, &xd, &pd, &mut yd);
+        for (r, y) in yd.iter().enumerate() {
+            let d = y.eps;
+            if k < n {
+                out.dx[r + k * rows] = d;
+            } else if let Some(dp) = dp.as_deref_mut() {
+                dp[r + (k - n) * rows] = d;
+            }
+        }
+        if k < n {
+            xd[k] = Dual64::from_re(x[k]);
+        } else if k < vars {
+            pd[k - n] = Dual64::from_re(p[k - n]);
+        }
+    }
+    if let Some(value) = out.value {
+        for (v, y) in value.iter_mut().zip(&yd) {
+            *v = y.re;
+        }
+    }
+}
+
+/// Dispatches to [`jacobian_n`] with the smallest supported `N` for the variables, or to
+/// [`jacobian_scalar`].
+fn jacobian<M: HybridModel + ?Sized>(m: &M, f: Function, x: &[f64], p: &[f64], out: Outputs<'_>) {
+    let vars = x.len() + if out.dp.is_some() { p.len() } else { 0 };
+    let fits = out.rows <= 16 && x.len() <= 16 && p.len() <= 16;
+    macro_rules! by_size {
+        ($($k:literal)*) => {
+            match vars {
+                $( $k if fits => jacobian_n::<M, $k>(m, f, x, p, out), )*
+                _ => jacobian_scalar(m, f, x, p, out),
+            }
+        };
+    }
+    by_size!(1 2 3 4 5 6 7 8 9 10 11 12 13 14 15 16);
+}
+
+impl<M: HybridModel> HybridSystem for AutoDiff<M> {
+    fn state_dim(&self) -> usize {
+        self.model.state_dim()
+    }
+    fn parameter_names(&self) -> &[&'static str] {
+        self.model.parameter_names()
+    }
+    fn mode_count(&self) -> usize {
+        self.model.mode_count()
+    }
+    fn mode_name(&self, mode: Mode) -> &'static str {
+        self.model.mode_name(mode)
+    }
+    fn events(&self, mode: Mode) -> &[EventId] {
+        self.model.events(mode)
+    }
+    fn event_spec(&self, event: EventId) -> EventSpec {
+        self.model.event_spec(event)
+    }
+    fn vector_field(&self, mode: Mode, x: &[f64], p: &[f64], out: &mut [f64]) {
+        self.model.vector_field(mode, x, p, out);
+    }
+    fn event(&self, event: EventId, x: &[f64], p: &[f64]) -> f64 {
+        self.model.event(event, x, p)
+    }
+    fn reset(&self, event: EventId, x: &[f64], p: &[f64], out: &mut [f64]) {
+        self.model.reset(event, x, p, out);
+    }
+    fn symmetry(&self) -> Option<Z2Symmetry> {
+        self.model.symmetry()
+    }
+    fn trivial_multipliers(&self, p: &[f64], period: f64) -> Vec<(f64, f64)> {
+        self.model.trivial_multipliers(p, period)
+    }
+    fn rate_component(&self, mode: Mode, c: usize) -> Option<usize> {
+        self.model.rate_component(mode, c)
+    }
+    fn event_component(&self, event: EventId) -> Option<usize> {
+        self.model.event_component(event)
+    }
+    fn zeno_transition(
+        &self,
+        mode: Mode,
+        event: EventId,
+        x: &[f64],
+        p: &[f64],
+        out: &mut [f64],
+    ) -> Option<Mode> {
+        self.model.zeno_transition(mode, event, x, p, out)
+    }
+}
+
+impl<M: HybridModel> HybridJacobians for AutoDiff<M> {
+    fn vector_field_jacobian(
+        &self,
+        mode: Mode,
+        x: &[f64],
+        p: &[f64],
+        dx: &mut [f64],
+        dp: Option<&mut [f64]>,
+    ) {
+        let out = Outputs {
+            rows: x.len(),
+            value: None,
+            dx,
+            dp,
+        };
+        jacobian(&self.model, Function::Field(mode), x, p, out);
+    }
+
+    fn vector_field_with_jacobian(
+        &self,
+        mode: Mode,
+        x: &[f64],
+        p: &[f64],
+        f: &mut [f64],
+        dx: &mut [f64],
+        dp: Option<&mut [f64]>,
+    ) {
+        let out = Outputs {
+            rows: x.len(),
+            value: Some(f),
+            dx,
+            dp,
+        };
+        jacobian(&self.model, Function::Field(mode), x, p, out);
+    }
+
+    fn event_gradient(
+        &self,
+        event: EventId,
+        x: &[f64],
+        p: &[f64],
+        dx: &mut [f64],
+        dp: Option<&mut [f64]>,
+    ) {
+        let out = Outputs {
+            rows: 1,
+            value: None,
+            dx,
+            dp,
+        };
+        jacobian(&self.model, Function::Event(event), x, p, out);
+    }
+
+    fn reset_jacobian(
+        &self,
+        event: EventId,
+        x: &[f64],
+        p: &[f64],
+        dx: &mut [f64],
+        dp: Option<&mut [f64]>,
+    ) {
+        let out = Outputs {
+            rows: x.len(),
+            value: None,
+            dx,
+            dp,
+        };
+        jacobian(&self.model, Function::Reset(event), x, p, out);
+    }
+}

@@ -1,0 +1,209 @@
+//! Exact derivatives by automatic differentiation ([`AutoDiff`] of a [`HybridModel`]) against
+//! hand-coded ones: the two balls of `examples/two_balls` written once for any scalar, their
+//! Jacobians equal to the hand-coded model's to rounding (vector field with and without the
+//! parameter columns, event gradients, resets), a continuation through them locating the same
+//! codimension-two point; and a model with more variables than one dual evaluation carries
+//! (one evaluation per variable), against its closed-form Jacobian.
+
+#[path = "../examples/two_balls/model.rs"]
+mod model;
+
+use approx::assert_abs_diff_eq;
+use hycont::hycont_continuation::{CurveSpec, OrbitRun, RunDirection, SpecialKind};
+use hycont::{
+    AutoDiff, Direction, EventAction, EventId, EventSpec, HybridJacobians, HybridModel,
+    HybridSystem, Mode, Scalar,
+};
+use model::{A, E1, E2, FLIGHT, G1, IMPACT1, IMPACT2, TwoBalls, WRAP, a_pd, a_sn, bisect};
+use proptest::prelude::*;
+use std::f64::consts::PI;
+
+/// The two balls, written once.
+struct TwoBallsModel;
+
+impl HybridModel for TwoBallsModel {
+    fn state_dim(&self) -> usize {
+        TwoBalls.state_dim()
+    }
+    fn parameter_names(&self) -> &[&'static str] {
+        TwoBalls.parameter_names()
+    }
+    fn mode_count(&self) -> usize {
+        1
+    }
+    fn mode_name(&self, m: Mode) -> &'static str {
+        TwoBalls.mode_name(m)
+    }
+    fn events(&self, m: Mode) -> &[EventId] {
+        TwoBalls.events(m)
+    }
+    fn event_spec(&self, e: EventId) -> EventSpec {
+        TwoBalls.event_spec(e)
+    }
+    fn vector_field<T: Scalar>(&self, _: Mode, x: &[T], p: &[T], f: &mut [T]) {
+        let aw2 = p[0] * p[1] * p[1];
+        f[0] = x[1];
+        f[1] = -p[4] + aw2 * x[4].sin();
+        f[2] = x[3];
+        f[3] = -p[5] + aw2 * (x[4] + p[6]).sin();
+        f[4] = p[1];
+    }
+    fn event<T: Scalar>(&self, e: EventId, x: &[T], _: &[T]) -> T {
+        match e {
+            IMPACT1 => x[0],
+            IMPACT2 => x[2],
+            _ => x[4] - PI,
+        }
+    }
+    fn reset<T: Scalar>(&self, e: EventId, x: &[T], p: &[T], out: &mut [T]) {
+        out.copy_from_slice(x);
+        match e {
+            IMPACT1 => out[1] = -p[2] * x[1],
+            IMPACT2 => out[3] = -p[3] * x[3],
+            _ => out[4] = x[4] - 2.0 * PI,
+        }
+    }
+}
+
+/// The largest difference relative to 1 + |hand-coded|.
+fn worst(a: &[f64], b: &[f64]) -> f64 {
+    a.iter()
+        .zip(b)
+        .map(|(x, y)| (x - y).abs() / (1.0 + y.abs()))
+        .fold(0.0, f64::max)
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(64))]
+    /// Every Jacobian of the AD twin equals the hand-coded one to rounding.
+    #[test]
+    fn jacobians_equal_the_hand_coded_ones(
+        x in proptest::collection::vec(-3.0f64..3.0, 5),
+        p in proptest::collection::vec(0.2f64..2.0, 7),
+    ) {
+        let ad = AutoDiff::new(TwoBallsModel);
+        let (n, np) = (5, 7);
+        let (mut a, mut b) = (vec![0.0; n * n], vec![0.0; n * n]);
+        let (mut ap, mut bp) = (vec![0.0; n * np], vec![0.0; n * np]);
+        ad.vector_field_jacobian(FLIGHT, &x, &p, &mut a, Some(&mut ap));
+        TwoBalls.vector_field_jacobian(FLIGHT, &x, &p, &mut b, Some(&mut bp));
+        prop_assert!(worst(&a, &b) < 1e-15 && worst(&ap, &bp) < 1e-15, "{a:?} {b:?}");
+        // Without the parameter columns: the state block alone, the same.
+        let mut a2 = vec![0.0; n * n];
+        ad.vector_field_jacobian(FLIGHT, &x, &p, &mut a2, None);
+        prop_assert_eq!(&a2, &a);
+        // Together with the vector field.
+        let (mut f, mut g) = (vec![0.0; n], vec![0.0; n]);
+        ad.vector_field_with_jacobian(FLIGHT, &x, &p, &mut f, &mut a2, None);
+        TwoBalls.vector_field(FLIGHT, &x, &p, &mut g);
+        prop_assert!(worst(&f, &g) < 1e-15);
+        for e in [IMPACT1, IMPACT2, WRAP] {
+            let (mut a, mut b) = (vec![0.0; n], vec![0.0; n]);
+            let (mut ap, mut bp) = (vec![0.0; np], vec![0.0; np]);
+            ad.event_gradient(e, &x, &p, &mut a, Some(&mut ap));
+            TwoBalls.event_gradient(e, &x, &p, &mut b, Some(&mut bp));
+            prop_assert!(worst(&a, &b) < 1e-15 && worst(&ap, &bp) < 1e-15);
+            let (mut a, mut b) = (vec![0.0; n * n], vec![0.0; n * n]);
+            let (mut ap, mut bp) = (vec![0.0; n * np], vec![0.0; n * np]);
+            ad.reset_jacobian(e, &x, &p, &mut a, Some(&mut ap));
+            TwoBalls.reset_jacobian(e, &x, &p, &mut b, Some(&mut bp));
+            prop_assert!(worst(&a, &b) < 1e-15 && worst(&ap, &bp) < 1e-15);
+        }
+    }
+}
+
+/// The fold-flip point on ball 1's fold curve at e2 (ball 2's period doubling), by `run`.
+fn fold_flip<S: HybridJacobians>(run: &mut OrbitRun<'_, S>, a_ref: f64) -> f64 {
+    run.bounds(0.3, 3.0);
+    let start = model::orbit(1.1 * a_ref, 0.65, 1.0);
+    let branch = run.run("period-1", &start, RunDirection::Both).unwrap();
+    let sn = branch
+        .special(SpecialKind::Fold)
+        .find(|s| (s.point[A] - a_ref).abs() < 1e-6)
+        .unwrap()
+        .point
+        .label;
+    let spec = CurveSpec::new(E2).bounds(0.56, 0.95);
+    let curve = run.curve_at("SN", &branch, sn, &spec).unwrap();
+    curve.first(SpecialKind::FoldFlip).unwrap().point[E2]
+}
+
+/// The fold-flip point on ball 1's fold curve through the AD twin: at its closed form, and
+/// where the hand-coded model puts it.
+#[test]
+fn a_curve_through_the_ad_twin_finds_the_same_point() {
+    let a_ref = a_sn(E1, G1);
+    let ad = AutoDiff::new(TwoBallsModel);
+    let by_ad = fold_flip(&mut OrbitRun::new(&ad, A).unwrap(), a_ref);
+    let by_hand = fold_flip(&mut OrbitRun::new(&TwoBalls, A).unwrap(), a_ref);
+    let reference = bisect(|e| a_pd(e, 1.0) - a_ref, 0.6, 0.99);
+    assert_abs_diff_eq!(by_ad, reference, epsilon = 1e-8);
+    assert_abs_diff_eq!(by_ad, by_hand, epsilon = 1e-10);
+}
+
+/// A chain of 20 damped pendulums, x_i'' = -sin(x_i) - c x_i' + k (x_{i-1} - 2 x_i + x_{i+1})
+/// (40 states, more than one dual evaluation carries): its Jacobian in closed form.
+struct Chain;
+
+const LINKS: usize = 20;
+
+impl HybridModel for Chain {
+    fn state_dim(&self) -> usize {
+        2 * LINKS
+    }
+    fn parameter_names(&self) -> &[&'static str] {
+        &["c", "k"]
+    }
+    fn mode_count(&self) -> usize {
+        1
+    }
+    fn mode_name(&self, _: Mode) -> &'static str {
+        "chain"
+    }
+    fn events(&self, _: Mode) -> &[EventId] {
+        &[]
+    }
+    fn event_spec(&self, _: EventId) -> EventSpec {
+        EventSpec {
+            name: "none",
+            direction: Direction::Either,
+            action: EventAction::Terminal,
+        }
+    }
+    fn vector_field<T: Scalar>(&self, _: Mode, x: &[T], p: &[T], f: &mut [T]) {
+        for i in 0..LINKS {
+            let left = if i > 0 { x[i - 1] } else { T::from(0.0) };
+            let right = if i + 1 < LINKS {
+                x[i + 1]
+            } else {
+                T::from(0.0)
+            };
+            f[i] = x[LINKS + i];
+            f[LINKS + i] = -x[i].sin() - p[0] * x[LINKS + i] + p[1] * (left - x[i] * 2.0 + right);
+        }
+    }
+    fn event<T: Scalar>(&self, _: EventId, x: &[T], _: &[T]) -> T {
+        x[0]
+    }
+}
+
+#[test]
+fn many_variables_are_differentiated_one_at_a_time() {
+    let n = 2 * LINKS;
+    let x: Vec<f64> = (0..n).map(|i| 0.1 * i as f64 - 1.3).collect();
+    let p = [0.2, 0.7];
+    let (mut dx, mut dp) = (vec![0.0; n * n], vec![0.0; n * 2]);
+    AutoDiff::new(Chain).vector_field_jacobian(Mode(0), &x, &p, &mut dx, Some(&mut dp));
+    let at = |r: usize, c: usize| dx[r + c * n];
+    for i in 0..LINKS {
+        assert_eq!(at(i, LINKS + i), 1.0);
+        assert_eq!(at(LINKS + i, i), -x[i].cos() - 2.0 * p[1]);
+        assert_eq!(at(LINKS + i, LINKS + i), -p[0]);
+        if i > 0 {
+            assert_eq!(at(LINKS + i, i - 1), p[1]);
+        }
+        assert_eq!(dp[LINKS + i], -x[LINKS + i]);
+    }
+    let nonzero = dx.iter().filter(|v| **v != 0.0).count();
+    assert_eq!(nonzero, LINKS + LINKS * 2 + 2 * (LINKS - 1));
+}
