@@ -14,56 +14,10 @@ use hycont::{
     AutoDiff, Direction, EventAction, EventId, EventSpec, HybridJacobians, HybridModel,
     HybridSystem, Mode, Scalar,
 };
-use model::{A, E1, E2, FLIGHT, G1, IMPACT1, IMPACT2, TwoBalls, WRAP, a_pd, a_sn, bisect};
+use model::{
+    A, E1, E2, FLIGHT, G1, IMPACT1, IMPACT2, TwoBalls, TwoBallsModel, WRAP, a_pd, a_sn, bisect,
+};
 use proptest::prelude::*;
-use std::f64::consts::PI;
-
-/// The two balls, written once.
-struct TwoBallsModel;
-
-impl HybridModel for TwoBallsModel {
-    fn state_dim(&self) -> usize {
-        TwoBalls.state_dim()
-    }
-    fn parameter_names(&self) -> &[&'static str] {
-        TwoBalls.parameter_names()
-    }
-    fn mode_count(&self) -> usize {
-        1
-    }
-    fn mode_name(&self, m: Mode) -> &'static str {
-        TwoBalls.mode_name(m)
-    }
-    fn events(&self, m: Mode) -> &[EventId] {
-        TwoBalls.events(m)
-    }
-    fn event_spec(&self, e: EventId) -> EventSpec {
-        TwoBalls.event_spec(e)
-    }
-    fn vector_field<T: Scalar>(&self, _: Mode, x: &[T], p: &[T], f: &mut [T]) {
-        let aw2 = p[0] * p[1] * p[1];
-        f[0] = x[1];
-        f[1] = -p[4] + aw2 * x[4].sin();
-        f[2] = x[3];
-        f[3] = -p[5] + aw2 * (x[4] + p[6]).sin();
-        f[4] = p[1];
-    }
-    fn event<T: Scalar>(&self, e: EventId, x: &[T], _: &[T]) -> T {
-        match e {
-            IMPACT1 => x[0],
-            IMPACT2 => x[2],
-            _ => x[4] - PI,
-        }
-    }
-    fn reset<T: Scalar>(&self, e: EventId, x: &[T], p: &[T], out: &mut [T]) {
-        out.copy_from_slice(x);
-        match e {
-            IMPACT1 => out[1] = -p[2] * x[1],
-            IMPACT2 => out[3] = -p[3] * x[3],
-            _ => out[4] = x[4] - 2.0 * PI,
-        }
-    }
-}
 
 /// The largest difference relative to 1 + |hand-coded|.
 fn worst(a: &[f64], b: &[f64]) -> f64 {

@@ -6,14 +6,15 @@
 // places (derived in `tests/codim2_points.rs`).
 //
 // State `(z1, w1, z2, w2, theta)`: heights and velocities of the balls above their tables, the
-// forcing phase; parameters `(a, omega, e1, e2, g1, g2, psi)`; analytic Jacobians.
+// forcing phase; parameters `(a, omega, e1, e2, g1, g2, psi)`; analytic Jacobians (`TwoBalls`),
+// or exact ones by automatic differentiation (`AutoDiff::new(TwoBallsModel)`).
 
 #![allow(dead_code)] // each includer uses part of the model
 
 use hycont::orbit::{PeriodicOrbit, SegmentEnd, SegmentSpec, Signature};
 use hycont::{
-    Direction, EventAction, EventId, EventSpec, HybridJacobians, HybridSystem, Mode, ParamId,
-    SimulationSettings,
+    Direction, EventAction, EventId, EventSpec, HybridJacobians, HybridModel, HybridSystem, Mode,
+    ParamId, Scalar, SimulationSettings,
 };
 use std::f64::consts::PI;
 
@@ -157,6 +158,54 @@ impl HybridJacobians for TwoBalls {
                 IMPACT2 => dp[18] = -x[3], // d(-e2 w2)/d e2
                 _ => {}
             }
+        }
+    }
+}
+
+/// The two balls written once for any scalar: with `AutoDiff` a system with exact
+/// Jacobians, equal to [`TwoBalls`]' hand-coded ones (`tests/autodiff.rs`).
+pub struct TwoBallsModel;
+
+impl HybridModel for TwoBallsModel {
+    fn state_dim(&self) -> usize {
+        TwoBalls.state_dim()
+    }
+    fn parameter_names(&self) -> &[&'static str] {
+        TwoBalls.parameter_names()
+    }
+    fn mode_count(&self) -> usize {
+        1
+    }
+    fn mode_name(&self, m: Mode) -> &'static str {
+        TwoBalls.mode_name(m)
+    }
+    fn events(&self, m: Mode) -> &[EventId] {
+        TwoBalls.events(m)
+    }
+    fn event_spec(&self, e: EventId) -> EventSpec {
+        TwoBalls.event_spec(e)
+    }
+    fn vector_field<T: Scalar>(&self, _: Mode, x: &[T], p: &[T], f: &mut [T]) {
+        let aw2 = p[0] * p[1] * p[1];
+        f[0] = x[1];
+        f[1] = -p[4] + aw2 * x[4].sin();
+        f[2] = x[3];
+        f[3] = -p[5] + aw2 * (x[4] + p[6]).sin();
+        f[4] = p[1];
+    }
+    fn event<T: Scalar>(&self, e: EventId, x: &[T], _: &[T]) -> T {
+        match e {
+            IMPACT1 => x[0],
+            IMPACT2 => x[2],
+            _ => x[4] - PI,
+        }
+    }
+    fn reset<T: Scalar>(&self, e: EventId, x: &[T], p: &[T], out: &mut [T]) {
+        out.copy_from_slice(x);
+        match e {
+            IMPACT1 => out[1] = -p[2] * x[1],
+            IMPACT2 => out[3] = -p[3] * x[3],
+            _ => out[4] = x[4] - 2.0 * PI,
         }
     }
 }

@@ -1,0 +1,83 @@
+//! Derivatives by hand, by automatic differentiation and by central differences, on two balls
+//! on vibrating tables (`examples/two_balls/model.rs`: `TwoBalls` hand-coded, `TwoBallsModel`
+//! written once for `AutoDiff`, `FiniteDifferences<TwoBalls>`): one vector-field Jacobian with
+//! its parameter columns, and a continuation run (the period-1 branch in `a`, both ways, by
+//! shooting and by collocation; the same points each way). Run with
+//! `cargo bench --bench autodiff`.
+
+#[path = "../examples/two_balls/model.rs"]
+mod model;
+
+use criterion::{Criterion, criterion_group, criterion_main};
+use hycont::hycont_continuation::{OrbitRun, RunDirection};
+use hycont::orbit::{CollocationSettings, OrbitMethod, ShootingSettings};
+use hycont::{AutoDiff, FiniteDifferences, HybridJacobians};
+use model::{A, E1, FLIGHT, G1, TwoBalls, TwoBallsModel, a_sn, orbit};
+use std::hint::black_box;
+
+fn jacobian<S: HybridJacobians>(c: &mut Criterion, name: &str, sys: &S) {
+    let (x, p) = (
+        [0.3, -0.7, 1.1, 0.4, 0.9],
+        [1.2, 1.0, 0.5, 0.7, 1.0, 1.2, -1.5],
+    );
+    let (mut f, mut dx, mut dp) = ([0.0; 5], [0.0; 25], [0.0; 35]);
+    c.bench_function(&format!("autodiff/field_with_jacobian/{name}"), |b| {
+        b.iter(|| {
+            sys.vector_field_with_jacobian(
+                FLIGHT,
+                black_box(&x),
+                &p,
+                &mut f,
+                &mut dx,
+                Some(&mut dp),
+            );
+            black_box(&dp);
+        });
+    });
+}
+
+fn branch<S: HybridJacobians>(c: &mut Criterion, name: &str, sys: &S) {
+    let a_ref = a_sn(E1, G1);
+    let start = orbit(1.1 * a_ref, 0.65, 1.0);
+    for (method_name, method) in [
+        (
+            "shooting",
+            OrbitMethod::Shooting(ShootingSettings::default()),
+        ),
+        (
+            "collocation",
+            OrbitMethod::Collocation(CollocationSettings::default()),
+        ),
+    ] {
+        let mut run = OrbitRun::new(sys, A).expect("a parameter");
+        run.method(method).bounds(0.9, 1.5);
+        let b = run
+            .run("period-1", &start, RunDirection::Both)
+            .expect("the branch");
+        eprintln!("{name} {method_name}: {} points", b.branch.points.len());
+        c.bench_function(&format!("autodiff/branch/{method_name}/{name}"), |bch| {
+            bch.iter(|| black_box(run.run("period-1", &start, RunDirection::Both).unwrap()));
+        });
+    }
+}
+
+fn derivatives(c: &mut Criterion) {
+    hycont::hycont_continuation::check_branches(false);
+    let (ad, fd) = (
+        AutoDiff::new(TwoBallsModel),
+        FiniteDifferences::new(TwoBalls),
+    );
+    jacobian(c, "hand", &TwoBalls);
+    jacobian(c, "ad", &ad);
+    jacobian(c, "fd", &fd);
+    branch(c, "hand", &TwoBalls);
+    branch(c, "ad", &ad);
+    branch(c, "fd", &fd);
+}
+
+criterion_group! {
+    name = benches;
+    config = Criterion::default().sample_size(10);
+    targets = derivatives
+}
+criterion_main!(benches);
