@@ -24,6 +24,7 @@ pub mod continuation;
 pub mod error;
 pub mod figures;
 pub mod model;
+pub mod model_ad;
 pub mod orbits;
 pub mod output;
 pub mod parameters;
