@@ -33,7 +33,7 @@ use hycont::orbit::{
     ShootingSettings, Signature, solve_shooting,
 };
 use hycont::problem::NewtonSettings;
-use hycont::{EventId, Mode, ParamId, SimulationSettings, check_derivatives};
+use hycont::{EventId, HybridJacobians, Mode, ParamId, SimulationSettings, check_derivatives};
 use model::{A, FLIGHT, IMPACT, OMEGA, Table, WRAP};
 use proptest::prelude::*;
 use std::f64::consts::PI;
@@ -142,6 +142,29 @@ fn orbit(a: f64, omega: f64) -> PeriodicOrbit {
 
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(64))]
+    /// The model written once (`TableModel`) differentiated automatically: every Jacobian
+    /// equal to the hand-coded ones below to rounding.
+    #[test]
+    fn automatic_jacobians_equal_the_hand_coded_ones(z in 0.0f64..2.0, w in -3.0f64..3.0,
+                                                     th in -3.0f64..3.0, a in 0.5f64..2.0) {
+        let (x, p) = ([z, w, th], [a, 1.1, E, G]);
+        let ad = hycont::AutoDiff::new(model::TableModel);
+        let (mut j1, mut j2, mut p1, mut p2) = ([0.0; 9], [0.0; 9], [0.0; 12], [0.0; 12]);
+        ad.vector_field_jacobian(FLIGHT, &x, &p, &mut j1, Some(&mut p1));
+        Table.vector_field_jacobian(FLIGHT, &x, &p, &mut j2, Some(&mut p2));
+        let same = |u: &[f64], v: &[f64]| u.iter().zip(v).all(|(a, b)| (a - b).abs() <= 1e-15 * (1.0 + b.abs()));
+        prop_assert!(same(&j1, &j2) && same(&p1, &p2));
+        for e in [IMPACT, WRAP] {
+            ad.reset_jacobian(e, &x, &p, &mut j1, Some(&mut p1));
+            Table.reset_jacobian(e, &x, &p, &mut j2, Some(&mut p2));
+            prop_assert!(same(&j1, &j2) && same(&p1, &p2));
+            let (mut g1, mut g2, mut q1, mut q2) = ([0.0; 3], [0.0; 3], [0.0; 4], [0.0; 4]);
+            ad.event_gradient(e, &x, &p, &mut g1, Some(&mut q1));
+            Table.event_gradient(e, &x, &p, &mut g2, Some(&mut q2));
+            prop_assert!(same(&g1, &g2) && same(&q1, &q2));
+        }
+    }
+
     /// The analytic Jacobians against central differences.
     #[test]
     fn jacobians_match_differences(z in 0.0f64..2.0, w in -3.0f64..3.0, th in -3.0f64..3.0,

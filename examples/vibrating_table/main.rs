@@ -1,11 +1,13 @@
 //! A ball bouncing on a vibrating table (Holmes 1982) through hycont's public API: simulate to
 //! a period-1 orbit, continue it in the table's amplitude `a`, locate the existence fold (SN)
 //! and the period doubling (PD), switch to the period-2 branch at PD, and continue the PD curve
-//! in `(a, omega)`; located points are printed next to their closed forms (derived in
-//! `tests/vibrating_table.rs`): `a_SN omega^2 = pi g (1 - e) / (1 + e)` and
+//! in `(a, omega)`, then the branch again with exact derivatives by automatic
+//! differentiation (`AutoDiff::new(TableModel)`); located points are printed next to their
+//! closed forms (derived in `tests/vibrating_table.rs`): `a_SN omega^2 = pi g (1 - e) / (1 + e)` and
 //! `a_PD omega^2 = g sqrt(4 (1 + e^2)^2 / (1 + e)^4 + pi^2 (1 - e)^2 / (1 + e)^2)`.
 //!
-//! User code: 98 lines (model.rs 54, this file 44; without comments and blank lines).
+//! User code: 142 lines (model.rs 92 with the model written twice, once for central differences
+//! and once for automatic differentiation; this file 50; without comments and blank lines).
 //!
 //! Run with `cargo run --release --example vibrating_table`.
 
@@ -13,8 +15,8 @@ mod model;
 
 use hycont::hycont_continuation::{CurveSpec, OrbitRun, RunDirection, SpecialKind};
 use hycont::orbit::{PeriodicOrbit, SegmentValue};
-use hycont::{FiniteDifferences, SimulationSettings, Simulator};
-use model::{A, FLIGHT, IMPACT, OMEGA, Table};
+use hycont::{AutoDiff, FiniteDifferences, SimulationSettings, Simulator};
+use model::{A, FLIGHT, IMPACT, OMEGA, Table, TableModel};
 use std::f64::consts::PI;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
@@ -57,5 +59,12 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         let what = format!("PD curve at omega = {w:.2}: a =");
         show(&what, a, a_pd / (w * w));
     }
+    // The same branch with exact derivatives, by automatic differentiation of `TableModel`.
+    let exact = AutoDiff::new(TableModel);
+    let mut run = OrbitRun::new(&exact, A)?;
+    run.bounds(0.9, 1.8);
+    let branch = run.run("period-1", &orbit, RunDirection::Both)?;
+    let pd = branch.first(SpecialKind::PeriodDoubling)?;
+    show("PD at a = (automatic differentiation)", pd.point[A], a_pd);
     Ok(())
 }

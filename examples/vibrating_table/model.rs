@@ -5,10 +5,11 @@
 // Between impacts `z' = w`, `w' = -g + a omega^2 sin(theta)`, `theta' = omega`; at an impact
 // (`z` falls through 0) `w -> -e w`; the phase wraps from `pi` to `-pi` (an event that only
 // resets `theta`). Parameters `(a, omega, e, g)`. Derivatives come from `FiniteDifferences`
-// (the library tests supply and check analytic ones).
+// (the library tests supply and check analytic ones), or exactly by automatic differentiation
+// from `TableModel`, the same equations written once for any scalar (`AutoDiff::new(TableModel)`).
 
 use hycont::ParamId;
-use hycont::{Direction, EventAction, EventId, EventSpec, HybridSystem, Mode};
+use hycont::{Direction, EventAction, EventId, EventSpec, HybridModel, HybridSystem, Mode, Scalar};
 use std::f64::consts::PI;
 
 pub const A: ParamId = ParamId(0);
@@ -56,6 +57,47 @@ impl HybridSystem for Table {
         if e == IMPACT { x[0] } else { x[2] - PI }
     }
     fn reset(&self, e: EventId, x: &[f64], p: &[f64], out: &mut [f64]) {
+        out.copy_from_slice(x);
+        if e == IMPACT {
+            out[1] = -p[2] * x[1];
+        } else {
+            out[2] = x[2] - 2.0 * PI;
+        }
+    }
+}
+
+/// The table's equations for any scalar (events and modes are `Table`'s).
+#[allow(dead_code)] // not every includer differentiates automatically
+pub struct TableModel;
+
+impl HybridModel for TableModel {
+    fn state_dim(&self) -> usize {
+        3
+    }
+    fn parameter_names(&self) -> &[&'static str] {
+        Table.parameter_names()
+    }
+    fn mode_count(&self) -> usize {
+        1
+    }
+    fn mode_name(&self, m: Mode) -> &'static str {
+        Table.mode_name(m)
+    }
+    fn events(&self, m: Mode) -> &[EventId] {
+        Table.events(m)
+    }
+    fn event_spec(&self, e: EventId) -> EventSpec {
+        Table.event_spec(e)
+    }
+    fn vector_field<T: Scalar>(&self, _: Mode, x: &[T], p: &[T], f: &mut [T]) {
+        f[0] = x[1];
+        f[1] = -p[3] + p[0] * p[1] * p[1] * x[2].sin();
+        f[2] = p[1];
+    }
+    fn event<T: Scalar>(&self, e: EventId, x: &[T], _: &[T]) -> T {
+        if e == IMPACT { x[0] } else { x[2] - PI }
+    }
+    fn reset<T: Scalar>(&self, e: EventId, x: &[T], p: &[T], out: &mut [T]) {
         out.copy_from_slice(x);
         if e == IMPACT {
             out[1] = -p[2] * x[1];
