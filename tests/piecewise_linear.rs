@@ -280,3 +280,58 @@ fn the_orbits_graze_the_switching_surface_at_the_closed_form() {
         Err(hycont::hycont_continuation::Error::WrongSpecialPoint { .. })
     ));
 }
+
+/// The oscillator written once (`OscillatorModel`) and differentiated automatically: its
+/// Jacobians are the closed forms (in each mode the `(x, v)` block of `A_m`, the forcing
+/// oscillator's `d(r + omega s - r rho)/d(r, s) = (1 - 3 r^2 - s^2, omega - 2 r s)` and
+/// `(-omega - 2 r s, 1 - r^2 - 3 s^2)`, the parameter columns), and a run through it grazes
+/// the switching surface at the closed form f = d D(omega).
+#[test]
+fn automatic_differentiation_gives_the_closed_form_jacobians() {
+    use hycont::{AutoDiff, HybridJacobians};
+    let ad = AutoDiff::new(model::OscillatorModel);
+    let (x, v, r, s) = (0.7, -0.4, 0.6, 0.8);
+    let p = params(0.5, 0.8);
+    for (m, k_m) in [(SOFT, 0.0), (STIFF, K)] {
+        let (mut dx, mut dp) = ([0.0; 16], [0.0; 20]);
+        ad.vector_field_jacobian(m, &[x, v, r, s], &p, &mut dx, Some(&mut dp));
+        let w = p[1];
+        #[rustfmt::skip]
+        let expected = [
+            0.0, -1.0 - k_m, 0.0, 0.0,
+            1.0, -2.0 * ZETA, 0.0, 0.0,
+            0.0, p[0], 1.0 - 3.0 * r * r - s * s, -w - 2.0 * r * s,
+            0.0, 0.0, w - 2.0 * r * s, 1.0 - r * r - 3.0 * s * s,
+        ];
+        for (a, b) in dx.iter().zip(expected) {
+            assert_abs_diff_eq!(*a, b, epsilon = 1e-15);
+        }
+        // Columns f, omega, zeta, k, d.
+        let spring = if m == STIFF { x - D_SWITCH } else { 0.0 };
+        #[rustfmt::skip]
+        let expected_p = [
+            0.0, r, 0.0, 0.0,
+            0.0, 0.0, s, -r,
+            0.0, -2.0 * v, 0.0, 0.0,
+            0.0, -spring, 0.0, 0.0,
+            0.0, k_m, 0.0, 0.0,
+        ];
+        for (a, b) in dp.iter().zip(expected_p) {
+            assert_abs_diff_eq!(*a, b, epsilon = 1e-15);
+        }
+    }
+    let omega = 0.8;
+    let mut run = OrbitRun::new(&ad, F).unwrap();
+    run.bounds(0.1, 1.0);
+    let margin = run.add_measure("margin", GrazingMargin::new([UP])).unwrap();
+    run.add_terminal_event(margin, 0.0, SpecialKind::Grazing)
+        .unwrap();
+    let soft = run
+        .run("soft", &soft_orbit(0.3, omega), RunDirection::Up)
+        .unwrap();
+    let gr = soft
+        .special(SpecialKind::Grazing)
+        .next()
+        .expect("a grazing");
+    assert_abs_diff_eq!(gr.point[F], f_graze(omega), epsilon = 1e-8);
+}
