@@ -94,6 +94,28 @@ fn shooting() -> OrbitMethod {
     OrbitMethod::Shooting(ShootingSettings::default())
 }
 
+/// By both discretisations: exactly one located `found` point on the curve of
+/// [`points_on_curve`], at `e2_ref` (to 1e-8); its multiplier.
+fn the_point_at(
+    start: (f64, f64, f64),
+    (kind, a_ref): (SpecialKind, f64),
+    window: (f64, f64),
+    found: SpecialKind,
+    e2_ref: f64,
+) -> (f64, f64) {
+    let mut critical = (f64::NAN, f64::NAN);
+    for method in [
+        shooting(),
+        OrbitMethod::Collocation(CollocationSettings::default()),
+    ] {
+        let pts = points_on_curve(method, start, kind, a_ref, window, found);
+        assert_eq!(pts.len(), 1, "{method:?}: {pts:?}");
+        assert_abs_diff_eq!(pts[0].0, e2_ref, epsilon = 1e-8);
+        critical = pts[0].2;
+    }
+    critical
+}
+
 #[test]
 fn the_analytic_jacobians_match_differences() {
     for (x, p) in [
@@ -180,42 +202,29 @@ fn a_curve_ends_at_its_domain_boundary() {
 fn a_resonance_one_on_the_fold_curve() {
     let a_ref = a_sn(E1, G1);
     let r = a_ref / (PI * 1.2);
-    let r1_ref = (1.0 - r) / (1.0 + r);
-    for method in [
-        shooting(),
-        OrbitMethod::Collocation(CollocationSettings::default()),
-    ] {
-        let pts = points_on_curve(
-            method,
-            (1.1 * a_ref, 0.8, 1.2),
-            SpecialKind::Fold,
-            a_ref,
-            (0.45, 0.95),
-            SpecialKind::Resonance1,
-        );
-        assert_eq!(pts.len(), 1, "{pts:?}");
-        assert_abs_diff_eq!(pts[0].0, r1_ref, epsilon = 1e-8);
-        assert_abs_diff_eq!(pts[0].2.0, 1.0, epsilon = 1e-6);
-    }
+    let fold = (SpecialKind::Fold, a_ref);
+    let start = (1.1 * a_ref, 0.8, 1.2);
+    let m = the_point_at(
+        start,
+        fold,
+        (0.45, 0.95),
+        SpecialKind::Resonance1,
+        (1.0 - r) / (1.0 + r),
+    );
+    assert_abs_diff_eq!(m.0, 1.0, epsilon = 1e-6);
 }
 
 /// On ball 1's fold curve, ball 2's period doubling: a fold-flip point (LPPD), with a
-/// multiplier -1 besides the held +1, where g2 F(e2) = a_SN(e1, g1).
+/// multiplier -1 besides the held +1, where g2 F(e2) = a_SN(e1, g1); by both
+/// discretisations.
 #[test]
 fn a_fold_flip_on_the_fold_curve() {
     let a_ref = a_sn(E1, G1);
     let e2_ref = bisect(|e| a_pd(e, 1.0) - a_ref, 0.6, 0.99);
-    let pts = points_on_curve(
-        shooting(),
-        (1.1 * a_ref, 0.65, 1.0),
-        SpecialKind::Fold,
-        a_ref,
-        (0.56, 0.95),
-        SpecialKind::FoldFlip,
-    );
-    assert_eq!(pts.len(), 1, "{pts:?}");
-    assert_abs_diff_eq!(pts[0].0, e2_ref, epsilon = 1e-8);
-    assert_abs_diff_eq!(pts[0].2.0, -1.0, epsilon = 1e-6);
+    let fold = (SpecialKind::Fold, a_ref);
+    let start = (1.1 * a_ref, 0.65, 1.0);
+    let m = the_point_at(start, fold, (0.56, 0.95), SpecialKind::FoldFlip, e2_ref);
+    assert_abs_diff_eq!(m.0, -1.0, epsilon = 1e-6);
 }
 
 /// On ball 1's fold curve with g2 = 1.2 (ball 2 between its fold and period doubling, complex
@@ -224,23 +233,10 @@ fn a_fold_flip_on_the_fold_curve() {
 #[test]
 fn a_fold_torus_point_on_the_fold_curve() {
     let a_ref = a_sn(E1, G1);
-    for method in [
-        shooting(),
-        OrbitMethod::Collocation(CollocationSettings::default()),
-    ] {
-        let pts = points_on_curve(
-            method,
-            (1.1 * a_ref, 0.8, 1.2),
-            SpecialKind::Fold,
-            a_ref,
-            (0.7, 1.2),
-            SpecialKind::FoldTorus,
-        );
-        assert_eq!(pts.len(), 1, "{pts:?}");
-        assert_abs_diff_eq!(pts[0].0, 1.0, epsilon = 1e-8);
-        let (re, im) = pts[0].2;
-        assert_abs_diff_eq!(re.hypot(im), 1.0, epsilon = 1e-6);
-    }
+    let fold = (SpecialKind::Fold, a_ref);
+    let start = (1.1 * a_ref, 0.8, 1.2);
+    let (re, im) = the_point_at(start, fold, (0.7, 1.2), SpecialKind::FoldTorus, 1.0);
+    assert_abs_diff_eq!(re.hypot(im), 1.0, epsilon = 1e-6);
 }
 
 /// On ball 1's period-doubling curve (g2 = 1.2): ball 2's fold is LPPD (e2 = (1 - r)/(1 + r)),
@@ -249,35 +245,20 @@ fn a_fold_torus_point_on_the_fold_curve() {
 fn fold_flip_and_resonance_two_on_the_period_doubling_curve() {
     let a_ref = a_pd(E1, G1);
     let r = a_ref / (PI * 1.2);
-    let lppd_ref = (1.0 - r) / (1.0 + r);
+    let flip = (SpecialKind::PeriodDoubling, a_ref);
+    let (window, lppd_ref) = ((0.3, 0.55), (1.0 - r) / (1.0 + r));
+    let m = the_point_at(
+        (1.05 * a_ref, 0.5, 1.2),
+        flip,
+        window,
+        SpecialKind::FoldFlip,
+        lppd_ref,
+    );
+    assert_abs_diff_eq!(m.0, 1.0, epsilon = 1e-6);
     let r2_ref = bisect(|e| a_pd(e, 1.2) - a_ref, 0.57, 0.9);
-    for method in [
-        shooting(),
-        OrbitMethod::Collocation(CollocationSettings::default()),
-    ] {
-        let lppd = points_on_curve(
-            method,
-            (1.05 * a_ref, 0.5, 1.2),
-            SpecialKind::PeriodDoubling,
-            a_ref,
-            (0.3, 0.55),
-            SpecialKind::FoldFlip,
-        );
-        assert_eq!(lppd.len(), 1, "{lppd:?}");
-        assert_abs_diff_eq!(lppd[0].0, lppd_ref, epsilon = 1e-8);
-        assert_abs_diff_eq!(lppd[0].2.0, 1.0, epsilon = 1e-6);
-        let r2 = points_on_curve(
-            method,
-            (0.95 * a_ref, 0.75, 1.2),
-            SpecialKind::PeriodDoubling,
-            a_ref,
-            (0.58, 0.9),
-            SpecialKind::Resonance2,
-        );
-        assert_eq!(r2.len(), 1, "{r2:?}");
-        assert_abs_diff_eq!(r2[0].0, r2_ref, epsilon = 1e-8);
-        assert_abs_diff_eq!(r2[0].2.0, -1.0, epsilon = 1e-6);
-    }
+    let start = (0.95 * a_ref, 0.75, 1.2);
+    let m = the_point_at(start, flip, (0.58, 0.9), SpecialKind::Resonance2, r2_ref);
+    assert_abs_diff_eq!(m.0, -1.0, epsilon = 1e-6);
 }
 
 /// On ball 1's period-doubling curve with g2 = 2 (ball 2 between its fold and period
@@ -285,19 +266,8 @@ fn fold_flip_and_resonance_two_on_the_period_doubling_curve() {
 #[test]
 fn a_flip_torus_point_on_the_period_doubling_curve() {
     let a_ref = a_pd(E1, G1);
-    for method in [
-        shooting(),
-        OrbitMethod::Collocation(CollocationSettings::default()),
-    ] {
-        let pts = points_on_curve(
-            method,
-            (1.05 * a_ref, 0.9, 2.0),
-            SpecialKind::PeriodDoubling,
-            a_ref,
-            (0.75, 1.2),
-            SpecialKind::FlipTorus,
-        );
-        assert_eq!(pts.len(), 1, "{pts:?}");
-        assert_abs_diff_eq!(pts[0].0, 1.0, epsilon = 1e-8);
-    }
+    let flip = (SpecialKind::PeriodDoubling, a_ref);
+    let start = (1.05 * a_ref, 0.9, 2.0);
+    let (re, im) = the_point_at(start, flip, (0.75, 1.2), SpecialKind::FlipTorus, 1.0);
+    assert_abs_diff_eq!(re.hypot(im), 1.0, epsilon = 1e-6);
 }
