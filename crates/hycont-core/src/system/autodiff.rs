@@ -157,6 +157,23 @@ struct Outputs<'a> {
     dp: Option<&'a mut [f64]>,
 }
 
+impl<'a> Outputs<'a> {
+    /// `rows` outputs into `dx` and `dp` (and the value into `value`).
+    fn new(
+        rows: usize,
+        value: Option<&'a mut [f64]>,
+        dx: &'a mut [f64],
+        dp: Option<&'a mut [f64]>,
+    ) -> Self {
+        Self {
+            rows,
+            value,
+            dx,
+            dp,
+        }
+    }
+}
+
 /// The value and Jacobians of `f` in one evaluation on `N`-direction duals (`N` at least the
 /// state's dimension, plus the parameters' when their columns are asked for; `rows`, `n` and
 /// `n_p` at most [`AutoDiff::MAX_VARIABLES`]).
@@ -322,12 +339,7 @@ impl<M: HybridModel> HybridJacobians for AutoDiff<M> {
         dx: &mut [f64],
         dp: Option<&mut [f64]>,
     ) {
-        let out = Outputs {
-            rows: x.len(),
-            value: None,
-            dx,
-            dp,
-        };
+        let out = Outputs::new(x.len(), None, dx, dp);
         jacobian(&self.model, Function::Field(mode), x, p, out);
     }
 
@@ -340,12 +352,7 @@ impl<M: HybridModel> HybridJacobians for AutoDiff<M> {
         dx: &mut [f64],
         dp: Option<&mut [f64]>,
     ) {
-        let out = Outputs {
-            rows: x.len(),
-            value: Some(f),
-            dx,
-            dp,
-        };
+        let out = Outputs::new(x.len(), Some(f), dx, dp);
         jacobian(&self.model, Function::Field(mode), x, p, out);
     }
 
@@ -357,12 +364,7 @@ impl<M: HybridModel> HybridJacobians for AutoDiff<M> {
         dx: &mut [f64],
         dp: Option<&mut [f64]>,
     ) {
-        let out = Outputs {
-            rows: 1,
-            value: None,
-            dx,
-            dp,
-        };
+        let out = Outputs::new(1, None, dx, dp);
         jacobian(&self.model, Function::Event(event), x, p, out);
     }
 
@@ -374,12 +376,7 @@ impl<M: HybridModel> HybridJacobians for AutoDiff<M> {
         dx: &mut [f64],
         dp: Option<&mut [f64]>,
     ) {
-        let out = Outputs {
-            rows: x.len(),
-            value: None,
-            dx,
-            dp,
-        };
+        let out = Outputs::new(x.len(), None, dx, dp);
         jacobian(&self.model, Function::Reset(event), x, p, out);
     }
 }
