@@ -104,25 +104,9 @@ pub struct ContinueArgs {
     /// The parameter to continue in.
     #[arg(long, value_enum)]
     pub free: FreeArg,
-    /// The forcing at the start (the continued parameter's start value and the other's fixed
-    /// value).
+    /// The start: block, forcing, which orbit.
     #[command(flatten)]
-    pub forcing: ForcingArgs,
-    /// The block (fresh starts; a restart continues the saved run's block).
-    #[command(flatten)]
-    pub block: BlockArgs,
-    /// Start: which orbit.
-    #[arg(long, value_enum, default_value_t = KindArg::Symmetric)]
-    pub kind: KindArg,
-    /// Initial angle for --kind simulate.
-    #[arg(long, default_value_t = 0.01, allow_hyphen_values = true)]
-    pub phi0: f64,
-    /// Initial angular velocity for --kind simulate.
-    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
-    pub psi0: f64,
-    /// Forcing phase for --kind simulate.
-    #[arg(long, default_value_t = std::f64::consts::FRAC_PI_2, allow_hyphen_values = true)]
-    pub beta: f64,
+    pub start: StartArgs,
     /// Smallest parameter value (default: 0.5 for omega, 0.01 for alpha).
     #[arg(long, allow_hyphen_values = true)]
     pub min: Option<f64>,
@@ -203,6 +187,31 @@ pub struct RecipeArgs {
     /// the polynomials, in the units of the state) exceeds this.
     #[arg(long = "mesh-tol", default_value_t = Recipe::default().mesh_tol, allow_hyphen_values = true)]
     pub mesh_tol: f64,
+}
+
+/// A fresh start of a continuation (`continue`, `diagram`): the block, the forcing and which
+/// orbit; a restart keeps the saved run's block and forcing.
+#[derive(Debug, Args)]
+pub struct StartArgs {
+    /// The forcing at the start (the continued parameter's start value and the other's fixed
+    /// value).
+    #[command(flatten)]
+    pub forcing: ForcingArgs,
+    /// The block (fresh starts; a restart keeps the saved run's block).
+    #[command(flatten)]
+    pub block: BlockArgs,
+    /// Start: which orbit.
+    #[arg(long, value_enum, default_value_t = KindArg::Symmetric)]
+    pub kind: KindArg,
+    /// Initial angle for --kind simulate.
+    #[arg(long, default_value_t = 0.01, allow_hyphen_values = true)]
+    pub phi0: f64,
+    /// Initial angular velocity for --kind simulate.
+    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
+    pub psi0: f64,
+    /// Forcing phase for --kind simulate.
+    #[arg(long, default_value_t = std::f64::consts::FRAC_PI_2, allow_hyphen_values = true)]
+    pub beta: f64,
 }
 
 /// Orbit kinds on the command line.

@@ -1,6 +1,6 @@
 //! `simulate`, `orbit` and `classify`.
 
-use super::{ClassifyArgs, KindArg, MethodArg, OrbitArgs, SimulateArgs, read_err, stdout_err};
+use super::{ClassifyArgs, MethodArg, OrbitArgs, SimulateArgs, read_err, stdout_err};
 use crate::error::{Error, Result};
 use crate::plot;
 use crate::provenance::Provenance;
@@ -28,7 +28,7 @@ pub(super) fn run_orbit(
     invocation: &Provenance,
     out: &mut dyn Write,
 ) -> Result<()> {
-    use crate::orbits::{OrbitKind, orbit};
+    use crate::orbits::orbit;
     let (params, dims) = super::block_args::resolve(&args.block, &args.forcing)?;
     crate::simulation::check_start(args.phi0, args.psi0, args.beta)?;
     let settings = hycont_core::orbit::CollocationSettings {
@@ -37,12 +37,7 @@ pub(super) fn run_orbit(
         adapt: 1,
     };
     settings.validate()?;
-    let (kind, name) = match args.kind {
-        KindArg::Symmetric => (OrbitKind::Symmetric, "symmetric"),
-        KindArg::AsymmetricPos => (OrbitKind::AsymmetricPos, "asymmetric-pos"),
-        KindArg::AsymmetricNeg => (OrbitKind::AsymmetricNeg, "asymmetric-neg"),
-        KindArg::Simulate => (OrbitKind::Simulate, "simulate"),
-    };
+    let (kind, name) = (args.kind.kind(), args.kind.name());
     let mut found = orbit(&params, kind, Some((args.phi0, args.psi0, args.beta)))?;
     if args.method == MethodArg::Collocation {
         found = found.by_collocation(settings)?;

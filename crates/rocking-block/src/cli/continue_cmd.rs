@@ -9,6 +9,7 @@ use crate::orbits::{OrbitKind, orbit};
 use crate::provenance::Provenance;
 use crate::report::branch_json;
 use hycont_continuation::{OrbitBranch, OrbitMethod, RunDirection};
+use hycont_core::orbit::PeriodicOrbit;
 use std::io::Write;
 
 pub(super) fn run_continue(
@@ -17,13 +18,7 @@ pub(super) fn run_continue(
     out: &mut dyn Write,
 ) -> Result<()> {
     let free = Free::from(args.free);
-    if args.restart.is_some() && (args.block.given() || args.forcing.dimensional_given()) {
-        return Err(Error::InvalidArgument {
-            name: "block options",
-            value: "given with --restart".into(),
-            reason: "a restart continues the saved run's block and forcing; give them for fresh starts only",
-        });
-    }
+    args.start.refuse_with_restart(args.restart.is_some())?;
     let inputs: Vec<&std::path::Path> = args.restart.iter().map(|p| p.as_path()).collect();
     crate::output::check_outputs(&inputs, &output_flags(&args.out, &args.svg, &args.png))?;
     let (branch, dimensional) = continue_branch(args, free)?;
@@ -144,19 +139,58 @@ fn continue_branch(
         let way = (args.direction != DirectionArg::Both).then_some(direction);
         return Ok((run.restart("branch", &saved, label, way)?, None));
     }
-    let (params, dimensional) = super::block_args::resolve(&args.block, &args.forcing)?;
-    crate::simulation::check_start(args.phi0, args.psi0, args.beta)?;
-    let kind = match args.kind {
-        KindArg::Symmetric => OrbitKind::Symmetric,
-        KindArg::AsymmetricPos => OrbitKind::AsymmetricPos,
-        KindArg::AsymmetricNeg => OrbitKind::AsymmetricNeg,
-        KindArg::Simulate => OrbitKind::Simulate,
-    };
-    let start = orbit(&params, kind, Some((args.phi0, args.psi0, args.beta)))?;
+    let (start, dimensional) = args.start.orbit()?;
+    let params = Parameters::from_vec(&start.params);
     let mut run = study_run(free, &params, window, recipe.method)?;
     recipe.apply(&mut run);
-    let branch = run.run("branch", &start.solution.orbit, direction)?;
+    let branch = run.run("branch", &start, direction)?;
     Ok((branch, dimensional))
+}
+
+impl KindArg {
+    /// The orbit asked for.
+    pub(super) fn kind(self) -> OrbitKind {
+        match self {
+            KindArg::Symmetric => OrbitKind::Symmetric,
+            KindArg::AsymmetricPos => OrbitKind::AsymmetricPos,
+            KindArg::AsymmetricNeg => OrbitKind::AsymmetricNeg,
+            KindArg::Simulate => OrbitKind::Simulate,
+        }
+    }
+
+    /// Its name on the command line.
+    pub(super) fn name(self) -> &'static str {
+        match self {
+            KindArg::Symmetric => "symmetric",
+            KindArg::AsymmetricPos => "asymmetric-pos",
+            KindArg::AsymmetricNeg => "asymmetric-neg",
+            KindArg::Simulate => "simulate",
+        }
+    }
+}
+
+impl super::StartArgs {
+    /// Refuses block or dimensional forcing options given with a restart (which keeps the
+    /// saved run's).
+    pub(super) fn refuse_with_restart(&self, restart: bool) -> Result<()> {
+        if restart && (self.block.given() || self.forcing.dimensional_given()) {
+            return Err(Error::InvalidArgument {
+                name: "block options",
+                value: "given with --restart".into(),
+                reason: "a restart continues the saved run's block and forcing; give them for fresh starts only",
+            });
+        }
+        Ok(())
+    }
+
+    /// The start orbit of the block and forcing given (and their dimensional inputs, if any).
+    pub(super) fn orbit(&self) -> Result<(PeriodicOrbit, Option<crate::block::DimensionalInputs>)> {
+        let (params, dimensional) = super::block_args::resolve(&self.block, &self.forcing)?;
+        crate::simulation::check_start(self.phi0, self.psi0, self.beta)?;
+        let ics = Some((self.phi0, self.psi0, self.beta));
+        let found = orbit(&params, self.kind.kind(), ics)?;
+        Ok((found.solution.orbit, dimensional))
+    }
 }
 
 /// The run's summary on stdout: points, end, mesh, special points.

@@ -2,12 +2,11 @@
 //! depth), its period-doubling cascades, and extensions of a saved diagram to a greater depth.
 
 use super::continue_cmd::output_flags;
-use super::{BlockArgs, ForcingArgs, FreeArg, KindArg, RecipeArgs, read_err, stdout_err};
+use super::{FreeArg, RecipeArgs, StartArgs, read_err, stdout_err};
 use crate::continuation::{AMP, Free, study_diagram, study_run};
 use crate::error::{Error, Result};
 use crate::figures::branches::study_labels;
 use crate::model::{Parameters, RockingBlock};
-use crate::orbits::{OrbitKind, orbit};
 use crate::provenance::Provenance;
 use crate::report::branch_json;
 use clap::Args;
@@ -28,25 +27,9 @@ pub struct DiagramArgs {
     /// The parameter to continue in.
     #[arg(long, value_enum)]
     pub free: FreeArg,
-    /// The forcing at the start (the continued parameter's start value and the other's fixed
-    /// value).
+    /// The start: block, forcing, which orbit (an extension keeps the saved diagram's block).
     #[command(flatten)]
-    pub forcing: ForcingArgs,
-    /// The block (fresh starts; an extension keeps the saved diagram's block).
-    #[command(flatten)]
-    pub block: BlockArgs,
-    /// Start: which orbit.
-    #[arg(long, value_enum, default_value_t = KindArg::Symmetric)]
-    pub kind: KindArg,
-    /// Initial angle for --kind simulate.
-    #[arg(long, default_value_t = 0.01, allow_hyphen_values = true)]
-    pub phi0: f64,
-    /// Initial angular velocity for --kind simulate.
-    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
-    pub psi0: f64,
-    /// Forcing phase for --kind simulate.
-    #[arg(long, default_value_t = std::f64::consts::FRAC_PI_2, allow_hyphen_values = true)]
-    pub beta: f64,
+    pub start: StartArgs,
     /// Smallest parameter value (default: 0.5 for omega, 0.01 for alpha).
     #[arg(long, allow_hyphen_values = true)]
     pub min: Option<f64>,
@@ -102,13 +85,7 @@ pub(super) fn run_diagram(
     out: &mut dyn Write,
 ) -> Result<()> {
     let free = Free::from(args.free);
-    if args.restart.is_some() && (args.block.given() || args.forcing.dimensional_given()) {
-        return Err(Error::InvalidArgument {
-            name: "block options",
-            value: "given with --restart".into(),
-            reason: "an extension keeps the saved diagram's block and forcing",
-        });
-    }
+    args.start.refuse_with_restart(args.restart.is_some())?;
     let inputs: Vec<&std::path::Path> = args.restart.iter().map(|p| p.as_path()).collect();
     crate::output::check_outputs(&inputs, &output_flags(&args.out, &args.svg, &args.png))?;
     let (diagram, dimensional) = compute(args, free)?;
@@ -184,25 +161,10 @@ fn compute(
         run.extend_diagram(&mut diagram, &settings)?;
         return Ok((diagram, None));
     }
-    let (params, dimensional) = super::block_args::resolve(&args.block, &args.forcing)?;
-    crate::simulation::check_start(args.phi0, args.psi0, args.beta)?;
-    let (kind, name) = match args.kind {
-        KindArg::Symmetric => (OrbitKind::Symmetric, "symmetric"),
-        KindArg::AsymmetricPos => (OrbitKind::AsymmetricPos, "asymmetric+"),
-        KindArg::AsymmetricNeg => (OrbitKind::AsymmetricNeg, "asymmetric-"),
-        KindArg::Simulate => (OrbitKind::Simulate, "simulated"),
-    };
-    let start = orbit(&params, kind, Some((args.phi0, args.psi0, args.beta)))?;
+    let (start, dimensional) = args.start.orbit()?;
+    let name = args.start.kind.name();
     let mut lines = BranchLines;
-    let diagram = study_diagram(
-        name,
-        free,
-        window,
-        &recipe,
-        &start.solution.orbit,
-        args.depth,
-        &mut lines,
-    )?;
+    let diagram = study_diagram(name, free, window, &recipe, &start, args.depth, &mut lines)?;
     Ok((diagram, dimensional))
 }
 
