@@ -97,11 +97,18 @@ fn the_cascade_in_alpha_doubles_towards_chaos() {
 fn the_diagram_command_prints_extends_and_refuses_bad_input() {
     let dir = scratch("diagram");
     std::fs::create_dir_all(&dir).unwrap();
-    let saved = dir.join("d.json");
+    let (saved, svg) = (dir.join("d.json"), dir.join("d.svg"));
     let out = bin()
         .args(["diagram", "--free", "alpha", "--depth", "2", "--out"])
         .arg(&saved)
+        .arg("--svg")
+        .arg(&svg)
         .run_ok();
+    let picture = std::fs::read_to_string(&svg).unwrap();
+    assert!(
+        picture.contains("<svg") && picture.contains("PD1"),
+        "{picture:.200}"
+    );
     let text = String::from_utf8_lossy(&out.stdout);
     assert!(text.starts_with("3 branches"), "{text}");
     assert!(text.contains("PD label"), "{text}");
@@ -140,6 +147,22 @@ fn the_diagram_command_prints_extends_and_refuses_bad_input() {
             .unwrap(),
         2,
         "other parameter",
+    );
+    fails(
+        &bin()
+            .args([
+                "diagram",
+                "--free",
+                "alpha",
+                "--theta-b",
+                "0.85",
+                "--restart",
+            ])
+            .arg(&saved)
+            .output()
+            .unwrap(),
+        2,
+        "a restart continues the saved run's block",
     );
     std::fs::write(dir.join("bad.json"), "{}").unwrap();
     fails(
