@@ -163,7 +163,7 @@ impl PartialEq for MeasureKeys {
 }
 
 impl MeasureKeys {
-    fn of(names: &[String]) -> Self {
+    pub(crate) fn of(names: &[String]) -> Self {
         Self(names.iter().map(|n| crate::quantity::name_key(n)).collect())
     }
 }

@@ -67,6 +67,7 @@
 // `!(x > 0.0)` deliberately rejects NaN as well.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
+pub mod atlas;
 pub mod branch;
 pub mod codim2;
 pub mod error;
@@ -85,7 +86,7 @@ pub use error::{Error, Result};
 pub use hycont_core::orbit::{Discretisation, OrbitMethod};
 pub use observe::Observer;
 pub use orbit::{
-    Cascade, CurveSpec, Diagram, DiagramBranch, DiagramBranchId, DiagramSettings, OrbitBranch,
+    Cascade, OrbitAtlas, CurveSpec, Diagram, DiagramBranch, DiagramBranchId, DiagramSettings, OrbitBranch,
     OrbitContinuation, OrbitRun, POINT_RESIDUAL_TOL, RunDirection, SharedMeasures, SwitchOutcome,
     SwitchRecord, can_switch,
 };

@@ -1,5 +1,6 @@
 //! Observers: get every accepted point and special point (the CLI's progress bar is one).
 
+use crate::atlas::AtlasChart;
 use crate::branch::{Branch, BranchPoint, SpecialPoint};
 
 /// Receives progress along a branch.
@@ -16,6 +17,10 @@ pub trait Observer {
     fn branch(&mut self, branch: &Branch) {
         let _ = branch;
     }
+    /// A chart was added to an atlas ([`crate::atlas::cover`]); `count` charts so far.
+    fn chart(&mut self, chart: &AtlasChart, count: usize) {
+        let _ = (chart, count);
+    }
 }
 
 impl<O: Observer + ?Sized> Observer for &mut O {
@@ -27,6 +32,9 @@ impl<O: Observer + ?Sized> Observer for &mut O {
     }
     fn branch(&mut self, branch: &Branch) {
         (**self).branch(branch);
+    }
+    fn chart(&mut self, chart: &AtlasChart, count: usize) {
+        (**self).chart(chart, count);
     }
 }
 

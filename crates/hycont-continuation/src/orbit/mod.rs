@@ -2,6 +2,7 @@
 //! switch, curves, whole diagrams) producing saved branches ([`OrbitBranch`]), and the continuation problem it
 //! builds ([`OrbitContinuation`]).
 
+mod atlas;
 mod cascade;
 mod curves;
 mod diagram;
@@ -14,6 +15,7 @@ mod switching;
 mod symmetric;
 mod verify;
 
+pub use atlas::OrbitAtlas;
 pub use cascade::Cascade;
 pub use curves::CurveSpec;
 pub use diagram::{

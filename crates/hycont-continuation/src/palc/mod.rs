@@ -32,6 +32,7 @@ mod start;
 
 use predict::{extrapolate, max_abs};
 use slots::{Crossing, Slot, Source};
+pub(crate) use slots::{pd_test, tr_test};
 
 /// A solved chart with everything the test functions need.
 #[derive(Debug, Clone)]

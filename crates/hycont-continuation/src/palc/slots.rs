@@ -108,14 +108,14 @@ fn codim2_test(info: &PointInfo, held: f64, crossing: Crossing) -> f64 {
 
 /// Product over non-trivial multipliers of $(1 + \lambda)$: changes sign when a real
 /// multiplier crosses $-1$.
-fn pd_test(info: &PointInfo) -> f64 {
+pub(crate) fn pd_test(info: &PointInfo) -> f64 {
     crate::shifted_product(&info.multipliers, &info.trivial, 1.0)
 }
 
 /// Product over pairs of non-trivial multipliers of $(\lambda_i \lambda_j - 1)$, real part: changes
 /// sign when a complex pair crosses the unit circle (also at neutral saddles, which are filtered
 /// out after location).
-fn tr_test(info: &PointInfo) -> f64 {
+pub(crate) fn tr_test(info: &PointInfo) -> f64 {
     let nt: Vec<(f64, f64)> = info
         .multipliers
         .iter()

@@ -1,0 +1,216 @@
+//! Two-dimensional atlases: Henderson's covering of a two-dimensional solution manifold by
+//! charts (COCO's `atlas_2d`), for problems with two more unknowns than equations (e.g. the
+//! periodic orbits of a system with two free parameters, [`crate::OrbitRun::atlas`]).
+//!
+//! A chart is a solution $u$ of $F(u) = 0$ ($F: \mathbb{R}^N \to \mathbb{R}^{N-2}$) with a
+//! $W$-orthonormal basis $T = (t_0, t_1)$ of its tangent plane ($J t_a = 0$; $W$ the problem's
+//! arclength weights), a radius $R$ and a convex polygon $P$ in the tangent coordinates
+//! $s \in \mathbb{R}^2$: the part of the disc $|s| \le R$ the chart is responsible for. $P$ starts
+//! as the octagon circumscribing the disc and is cut by each neighbour $j$ (whose centre
+//! projects to $c = T^\top W (u_j - u)$) to the radical-line halfplane
+//! $c \cdot s \le (|c|^2 + R^2 - R_j^2)/2$. A vertex of $P$ outside the disc is where the
+//! manifold is not yet covered: the atlas grows a new chart there, predicted at
+//! $u + T s$ with $|s| = R$ toward the vertex and corrected in the normal space,
+//! $[F(u); (W T)^\top (u - u_p)] = 0$. A correction that moves farther than
+//! [`AtlasSettings::max_correction`] $R$ or turns the tangent plane by more than
+//! [`AtlasSettings::max_angle`] halves the radius (down to [`AtlasSettings::min_radius`]).
+//! When no chart has a vertex outside its disc the manifold is covered.
+//!
+//! Edges: at each chart the atlas evaluates test functions oriented to be non-negative on
+//! the start's side: the bounds, the problem's terminal events
+//! ([`crate::MonitorEvent::terminal`]: e.g. admissibility, GR and DB) and the
+//! [`AtlasEdges`] asked for (a fold: $\det [J; e_{p_1}^\top; e_{p_2}^\top]$; period doubling,
+//! torus and symmetry breaking from the multipliers). A new chart with a negative test is not
+//! kept: the zero is located between the chart it grew from and it (or, from a chart already
+//! on that edge, across the edge), and the located point becomes a boundary chart, whose
+//! polygon is cut by the edge's tangent line, so that the atlas follows the edge.
+
+mod cover;
+mod edges;
+mod polygon;
+mod settings;
+mod solver;
+mod functions;
+
+pub use cover::{cover, extend};
+pub use polygon::HalfPlane;
+pub use settings::{AtlasBound, AtlasEdges, AtlasSettings};
+
+use crate::branch::{BranchPoint, SpecialKind};
+use crate::quantity::Quantity;
+use serde::{Deserialize, Serialize};
+
+/// Where a boundary chart lies: on which edge of the atlas.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[non_exhaustive]
+pub enum Edge {
+    /// A bound: `on` at `level`.
+    Bound {
+        /// The bounded quantity.
+        on: Quantity,
+        /// The bound's value.
+        level: f64,
+    },
+    /// A zero of a test function: a fold (SN), a symmetry-breaking branch point (BP), a period
+    /// doubling (PD), a torus point (TR), or a terminal event with its label (e.g. GR, DB).
+    Special {
+        /// The kind.
+        kind: SpecialKind,
+    },
+}
+
+impl Edge {
+    /// The label of the edge's kind (EP for a bound).
+    #[must_use]
+    pub fn label(&self) -> String {
+        match self {
+            Edge::Bound { .. } => SpecialKind::EndPoint.label().to_string(),
+            Edge::Special { kind } => kind.label().to_string(),
+        }
+    }
+}
+
+/// One chart of an [`Atlas`].
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct AtlasChart {
+    /// The solution with its analysis (parameters, monitors, multipliers, stability); its
+    /// `tangent` is the first tangent vector, its `step` the radius of the chart it grew from.
+    pub point: BranchPoint,
+    /// The second tangent vector ($W$-orthonormal to `point.tangent`).
+    pub tangent2: Vec<f64>,
+    /// The chart's radius.
+    pub radius: f64,
+    /// The chart's polygon in its tangent coordinates, counter-clockwise.
+    pub polygon: Vec<[f64; 2]>,
+    /// Halfplanes of the edges the chart lies on (boundary charts).
+    pub cuts: Vec<HalfPlane>,
+    /// The edge the chart lies on, if it is a boundary chart.
+    pub edge: Option<Edge>,
+    /// Indices of the charts whose discs meet this one's.
+    pub neighbours: Vec<usize>,
+    /// The chart it grew from (`None` for the first).
+    pub parent: Option<usize>,
+    /// Whether part of its polygon is still uncovered.
+    pub open: bool,
+    /// Whether growing from it failed down to the smallest radius (the manifold may continue
+    /// beyond: a singularity, a hidden edge, or a corrector failure).
+    pub gave_up: bool,
+    /// The test functions' values, oriented non-negative on the start's side.
+    pub tests: Vec<f64>,
+}
+
+impl AtlasChart {
+    /// Whether the chart is a boundary chart.
+    #[must_use]
+    pub fn is_boundary(&self) -> bool {
+        self.edge.is_some()
+    }
+}
+
+/// Why an atlas stopped growing.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[non_exhaustive]
+pub enum AtlasEnd {
+    /// No chart has an uncovered part left: the manifold within the edges is covered.
+    Covered,
+    /// [`AtlasSettings::max_charts`] charts were made; [`extend`] with a larger limit goes on.
+    ChartLimit,
+}
+
+/// Work done by an atlas.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub struct AtlasStatistics {
+    /// Projection corrector solves.
+    pub corrections: usize,
+    /// Jacobian factorisations.
+    pub factorisations: usize,
+    /// Charts rejected (the radius halved).
+    pub rejected: usize,
+    /// Edge points located.
+    pub located: usize,
+}
+
+/// A covering of a two-dimensional solution manifold by charts (serde: save it and
+/// [`extend`] it later).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Atlas {
+    /// The atlas's name.
+    pub name: String,
+    /// The parameters' names.
+    pub parameter_names: Vec<String>,
+    /// The monitors' names.
+    pub monitor_names: Vec<String>,
+    /// The two free parameters' indices in the unknowns.
+    pub unknown_params: [usize; 2],
+    /// The charts, in the order they were made.
+    pub charts: Vec<AtlasChart>,
+    /// The settings it was made with.
+    pub settings: AtlasSettings,
+    /// The test functions' orientation: their sign at the first chart (`tests` are the values
+    /// times this).
+    pub orientation: Vec<f64>,
+    /// The fold test's scale: $\log|\det [J; e_{p_1}^\top; e_{p_2}^\top]|$ at the first chart.
+    pub fold_scale: f64,
+    /// Why it stopped.
+    pub end: AtlasEnd,
+    /// Work done.
+    pub stats: AtlasStatistics,
+}
+
+impl Atlas {
+    /// The boundary charts.
+    pub fn boundary(&self) -> impl Iterator<Item = &AtlasChart> {
+        self.charts.iter().filter(|c| c.is_boundary())
+    }
+
+    /// The boundary charts on edges of `kind` (e.g. [`SpecialKind::Fold`]).
+    pub fn edge_charts(&self, kind: SpecialKind) -> impl Iterator<Item = &AtlasChart> {
+        self.charts
+            .iter()
+            .filter(move |c| c.edge == Some(Edge::Special { kind }))
+    }
+
+    /// Triangles of neighbouring charts (indices, each counted once): a mesh of the covered
+    /// region for pictures and interpolation.
+    #[must_use]
+    pub fn triangles(&self) -> Vec<[usize; 3]> {
+        let mut out = Vec::new();
+        for (i, c) in self.charts.iter().enumerate() {
+            for &j in c.neighbours.iter().filter(|&&j| j > i) {
+                for &k in self.charts[j].neighbours.iter().filter(|&&k| k > j) {
+                    if c.neighbours.contains(&k) {
+                        out.push([i, j, k]);
+                    }
+                }
+            }
+        }
+        out
+    }
+
+    /// The atlas as JSON.
+    ///
+    /// # Errors
+    /// If serialisation fails.
+    pub fn to_json(&self) -> std::result::Result<String, serde_json::Error> {
+        serde_json::to_string(self)
+    }
+
+    /// An atlas from JSON (as written by [`Atlas::to_json`]); measure handles index its
+    /// charts' points again.
+    ///
+    /// # Errors
+    /// If the text is not an atlas.
+    pub fn from_json(text: &str) -> std::result::Result<Self, serde_json::Error> {
+        let mut atlas: Self = serde_json::from_str(text)?;
+        atlas.restore_keys();
+        Ok(atlas)
+    }
+
+    /// Gives every chart's point the measure keys of the atlas's monitor names.
+    pub(crate) fn restore_keys(&mut self) {
+        let keys = crate::branch::MeasureKeys::of(&self.monitor_names);
+        for c in &mut self.charts {
+            c.point.measure_keys = keys.clone();
+        }
+    }
+}

@@ -1,0 +1,164 @@
+//! Two-dimensional atlases ([`OrbitRun::atlas`]) of the vibrating table's period-one orbits
+//! over the forcing amplitude and frequency $(a, \omega)$, against the closed forms of
+//! `tests/vibrating_table.rs`: with $C = \pi g (1-e)/(1+e)$, the period-one orbit impacts at
+//! phase $\theta_0$ with $a\omega^2\cos\theta_0 = C$, at the velocity $-gT/(1+e)$
+//! ($T = 2\pi/\omega$), and the family folds (SN) where $\cos\theta_0 = 1$, on $a\omega^2 = C$.
+//! Started on the stable sheet ($\sin\theta_0 > 0$) with the fold as an edge, the atlas covers
+//! that sheet inside the bounds: every chart's orbit is the closed form's (to the integrator's
+//! and collocation's accuracy), the fold's boundary charts lie on $a\omega^2 = C$, and the
+//! bound charts on the bounds.
+
+#[path = "../examples/vibrating_table/model.rs"]
+mod model;
+
+use approx::assert_abs_diff_eq;
+use hycont::hycont_continuation::atlas::{AtlasEnd, AtlasSettings, Edge};
+use hycont::hycont_continuation::{MeasureId, OrbitAtlas, OrbitRun, SpecialKind};
+use hycont::hycont_core::orbit::{
+    CollocationSettings, PeriodicOrbit, SegmentEnd, SegmentSpec, SegmentValue, Signature,
+};
+use hycont::hycont_continuation::OrbitMethod;
+use hycont::{AutoDiff, SimulationSettings};
+use model::{A, FLIGHT, IMPACT, OMEGA, TableModel, WRAP};
+use std::f64::consts::PI;
+
+const E: f64 = 0.5;
+const G: f64 = 1.0;
+const C: f64 = PI * G * (1.0 - E) / (1.0 + E);
+const OMEGA_RANGE: (f64, f64) = (0.8, 1.25);
+const A_MAX: f64 = 1.6;
+
+/// The stable period-one orbit at `(a, omega)`, from its closed-form post-impact state.
+fn orbit(a: f64, omega: f64) -> PeriodicOrbit {
+    let table = AutoDiff::new(TableModel);
+    let theta0 = (C / (a * omega * omega)).acos();
+    let w_plus = E * G * 2.0 * PI / omega / (1.0 + E);
+    let spec = |end| SegmentSpec { mode: FLIGHT, end };
+    let signature = Signature::new(
+        &table,
+        vec![spec(SegmentEnd::Event(WRAP)), spec(SegmentEnd::Event(IMPACT))],
+    )
+    .unwrap();
+    PeriodicOrbit::from_initial_state(
+        &table,
+        signature,
+        &[0.0, w_plus, theta0],
+        &[a, omega, E, G],
+        20.0,
+        &SimulationSettings::default(),
+    )
+    .unwrap()
+}
+
+/// The atlas of the period-one family through `(1.3, 1.0)` over `omega` in [0.8, 1.25] and
+/// `a <= 1.6`, by `method`; the impact phase and velocity are measured.
+fn table_atlas(method: OrbitMethod, settings: AtlasSettings) -> (OrbitAtlas, [MeasureId; 2]) {
+    let table: &'static _ = Box::leak(Box::new(AutoDiff::new(TableModel)));
+    let mut run = OrbitRun::new(table, A).unwrap();
+    run.method(method);
+    let phase = run.add_measure("impact_phase", SegmentValue::start(0, 2)).unwrap();
+    let velocity = run.add_measure("impact_velocity", SegmentValue::end(1, 1)).unwrap();
+    let settings = settings
+        .bound(OMEGA, OMEGA_RANGE.0, OMEGA_RANGE.1)
+        .bound(A, 0.0, A_MAX);
+    let atlas = run.atlas("period-1", &orbit(1.3, 1.0), OMEGA, &settings).unwrap();
+    (atlas, [phase, velocity])
+}
+
+/// Every chart against the closed forms; the fold's and the bounds' boundary charts on their
+/// curves; the covered region reaches every edge.
+fn check_against_closed_forms((saved, [phase, velocity]): &(OrbitAtlas, [MeasureId; 2]), tol: f64) {
+    let atlas = &saved.atlas;
+    assert_eq!(atlas.end, AtlasEnd::Covered, "{:?}", atlas.stats);
+    let (mut folds, mut bounds) = (0, 0);
+    for c in &atlas.charts {
+        let (a, omega) = (c.point[A], c.point[OMEGA]);
+        let theta0 = c.point.value(*phase).unwrap();
+        let t = 2.0 * PI / omega;
+        assert_abs_diff_eq!(c.point.value(*velocity).unwrap(), -G * t / (1.0 + E), epsilon = tol);
+        assert_abs_diff_eq!(a * omega * omega * theta0.cos(), C, epsilon = tol);
+        // The stable sheet: the impact phase is non-negative up to the fold.
+        assert!(theta0 > -tol, "chart at a = {a}, omega = {omega}: theta0 = {theta0}");
+        assert!(a <= A_MAX + tol && omega >= OMEGA_RANGE.0 - tol && omega <= OMEGA_RANGE.1 + tol);
+        match c.edge {
+            Some(Edge::Special { kind: SpecialKind::Fold }) => {
+                folds += 1;
+                // On the fold: theta0 = 0, a omega^2 = C (within the location tolerance).
+                assert_abs_diff_eq!(a * omega * omega, C, epsilon = 1e-6);
+                assert!(theta0.abs() < 1e-3, "fold chart theta0 = {theta0}");
+            }
+            Some(Edge::Bound { level, .. }) => {
+                bounds += 1;
+                let on_bound = [(a - level).abs(), (omega - level).abs()];
+                assert!(on_bound.iter().any(|d| *d < 1e-6), "{a} {omega} {level}");
+            }
+            Some(other) => panic!("unexpected edge {other:?}"),
+            None => {}
+        }
+    }
+    assert!(folds >= 5 && bounds >= 5, "{folds} fold and {bounds} bound charts");
+    // The fold's charts span the omega range between the bounds (a omega^2 = C meets a = 1.6
+    // at omega = sqrt(C / 1.6) = 0.809).
+    let fold_omegas: Vec<f64> = atlas.edge_charts(SpecialKind::Fold).map(|c| c.point[OMEGA]).collect();
+    let lo = fold_omegas.iter().copied().fold(f64::INFINITY, f64::min);
+    let hi = fold_omegas.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+    assert!(lo < (C / A_MAX).sqrt() + 0.05 && hi > OMEGA_RANGE.1 - 0.05, "{lo} {hi}");
+}
+
+#[test]
+fn shooting_atlas_of_the_table_matches_the_closed_forms() {
+    let saved = table_atlas(OrbitMethod::default(), AtlasSettings::default().radii(0.1, 1e-3, 0.2));
+    eprintln!("{} charts, {:?}", saved.0.atlas.charts.len(), saved.0.atlas.stats);
+    check_against_closed_forms(&saved, 1e-8);
+}
+
+/// Collocation (NTST 20, NCOL 4: discretisation error below 1e-9 on this family, see
+/// `tests/vibrating_table.rs`) covers the same sheet with the same edges.
+#[test]
+fn collocation_atlas_of_the_table_matches_the_closed_forms() {
+    let method = OrbitMethod::Collocation(CollocationSettings::default());
+    let saved = table_atlas(method, AtlasSettings::default().radii(0.1, 1e-3, 0.2));
+    check_against_closed_forms(&saved, 1e-8);
+}
+
+/// An atlas stopped at a chart limit, saved as JSON, read back and grown by
+/// [`OrbitRun::extend_atlas`] is the atlas grown in one go; a run with other measures, or
+/// another first parameter, refuses it.
+#[test]
+fn a_saved_atlas_grows_to_the_uninterrupted_one() {
+    let settings = AtlasSettings::default().radii(0.1, 1e-3, 0.2);
+    let (whole, _) = table_atlas(OrbitMethod::default(), settings.clone());
+    let (part, _) = table_atlas(OrbitMethod::default(), settings.max_charts(60));
+    assert_eq!(part.atlas.end, AtlasEnd::ChartLimit);
+    assert_eq!(part.atlas.charts.len(), 60);
+    let mut read = OrbitAtlas::from_json(&part.to_json().unwrap()).unwrap();
+    assert_eq!(read, part);
+    let table: &'static _ = Box::leak(Box::new(AutoDiff::new(TableModel)));
+    let mut run = OrbitRun::new(table, A).unwrap();
+    run.add_measure("impact_phase", SegmentValue::start(0, 2)).unwrap();
+    run.add_measure("impact_velocity", SegmentValue::end(1, 1)).unwrap();
+    run.extend_atlas(&mut read, 2000).unwrap();
+    assert_eq!(read.atlas.end, AtlasEnd::Covered);
+    assert_eq!(read.atlas.charts.len(), whole.atlas.charts.len());
+    for (a, b) in read.atlas.charts.iter().zip(&whole.atlas.charts) {
+        assert_eq!(a.point.u, b.point.u);
+        assert_eq!(a.edge, b.edge);
+    }
+    let mut other = OrbitRun::new(table, A).unwrap();
+    assert!(other.extend_atlas(&mut read.clone(), 3000).is_err());
+    let mut by_omega = OrbitRun::new(table, OMEGA).unwrap();
+    assert!(by_omega.extend_atlas(&mut read, 3000).is_err());
+}
+
+#[test]
+#[ignore]
+fn debug_dump() {
+    let saved = table_atlas(OrbitMethod::default(), AtlasSettings::default().radii(0.1, 1e-3, 0.2).max_charts(300));
+    let mut out = String::new();
+    for (i, c) in saved.0.atlas.charts.iter().enumerate() {
+        out += &format!("{i} {} {} {} {:?} {:?} {} {}\n", c.point[A], c.point[OMEGA], c.radius, c.edge.map(|e| e.label()), c.parent, c.open, c.gave_up);
+    }
+    std::fs::write("/tmp/atlas_dump.txt", out).unwrap();
+    std::fs::write("/tmp/atlas.json", saved.0.to_json().unwrap()).unwrap();
+    eprintln!("{:?}", saved.0.atlas.stats);
+}
