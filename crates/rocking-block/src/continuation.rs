@@ -9,8 +9,9 @@ pub use crate::model::Free;
 use crate::model::{ALPHA, OMEGA, Parameters, RockingBlock};
 use crate::orbits::{OrbitKind, orbit};
 use hycont_continuation::observe::Observer;
+use hycont_continuation::atlas::AtlasSettings;
 use hycont_continuation::{
-    CurveSpec, Diagram, DiagramSettings, MeasureId, OrbitBranch, OrbitMethod, OrbitRun,
+    CurveSpec, Diagram, DiagramSettings, MeasureId, OrbitAtlas, OrbitBranch, OrbitMethod, OrbitRun,
     RunDirection, SpecialKind,
 };
 use hycont_core::orbit::{Extremum, PeriodicOrbit, ShootingSettings};
@@ -334,4 +335,42 @@ pub fn study_curves(block: &Block, observer: &mut dyn Observer) -> Result<Vec<Cu
         }
     }
     Ok(curves)
+}
+
+/// The window of the study's atlas ([`study_atlas`]): omega in [0.7, 4], alpha in [0.1, 0.9].
+pub const ATLAS_WINDOW: [(f64, f64); 2] = [(0.7, 4.0), (0.1, 0.9)];
+
+/// The settings of the study's atlas: chart radii 0.05 (first), 1e-3 to 0.1 (arclength in the
+/// branches' weighted norm), the window [`ATLAS_WINDOW`], Amp within $\pm\pi/2$ (past it the
+/// block overturns), the fold (SN) as an edge besides the run's GR and DB.
+#[must_use]
+pub fn atlas_settings() -> AtlasSettings {
+    let [(w0, w1), (a0, a1)] = ATLAS_WINDOW;
+    AtlasSettings::default()
+        .radii(0.05, 1e-3, 0.1)
+        .max_charts(5000)
+        .bound(OMEGA, w0, w1)
+        .bound(ALPHA, a0, a1)
+        .bound(AMP, -FRAC_PI_2, FRAC_PI_2)
+}
+
+/// The atlas named `name` of the block's symmetric period-one orbits in (omega, alpha) through
+/// `start` (e.g. the Fig. 2 orbit, [`study_start`]), on half orbits, by `method`
+/// ([`OrbitRun::atlas`] on the study's run: Amp measured, GR and DB edges), with `settings`
+/// ([`atlas_settings`] for the study's): its edges are the fold (SN) curve, the grazing (GR)
+/// curve and the window's bounds.
+///
+/// # Errors
+/// An invalid start or settings; no orbit near the start.
+pub fn study_atlas(
+    name: &str,
+    start: &PeriodicOrbit,
+    method: OrbitMethod,
+    settings: &AtlasSettings,
+    observer: &mut dyn Observer,
+) -> Result<OrbitAtlas> {
+    let params = Parameters::from_vec(&start.params);
+    let mut run = study_run(Free::Omega, &params, ATLAS_WINDOW[0], method)?;
+    run.observer(Box::new(observer));
+    Ok(run.atlas(name, start, ALPHA, settings)?)
 }

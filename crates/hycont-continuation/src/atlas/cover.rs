@@ -17,7 +17,7 @@ const SLACK: f64 = 1e-6;
 
 /// An edge located closer than this fraction of the radius to a chart's centre cuts the
 /// chart instead of making a boundary chart.
-const EDGE_INSIDE: f64 = 0.5;
+const EDGE_INSIDE: f64 = 0.1;
 /// Edge cuts of one chart beyond which it is given up (the edges do not close it).
 const MAX_CUTS: usize = 4;
 

@@ -318,7 +318,8 @@ pub struct OrbitArgs {
 /// Arguments of `rocking-block figure`.
 #[derive(Debug, Args)]
 pub struct FigureArgs {
-    /// Figure number (2 to 10) or `all` (optional with --resume).
+    /// Figure number (2 to 10), `atlas` (the symmetric orbits over (omega, alpha)) or `all`
+    /// (optional with --resume).
     #[arg(required_unless_present = "resume")]
     pub which: Option<String>,
     /// Output directory.

@@ -41,16 +41,19 @@ fn parse_which(which: &str) -> Result<Vec<u32>> {
     if which == "all" {
         return Ok(crate::figures::AVAILABLE.to_vec());
     }
+    if which == "atlas" {
+        return Ok(vec![crate::figures::ATLAS]);
+    }
     let n: u32 = which.parse().map_err(|_| Error::InvalidArgument {
         name: "figure",
         value: which.to_string(),
-        reason: "expected a figure number (2 to 10) or `all`",
+        reason: "expected a figure number (2 to 10), `atlas` or `all`",
     })?;
-    if !crate::figures::AVAILABLE.contains(&n) {
+    if !crate::figures::AVAILABLE.contains(&n) || n == crate::figures::ATLAS {
         return Err(Error::InvalidArgument {
             name: "figure",
             value: which.to_string(),
-            reason: "the study has figures 2 to 10",
+            reason: "the study has figures 2 to 10 (and `atlas`)",
         });
     }
     Ok(vec![n])
@@ -104,7 +107,7 @@ fn figures_to_draw(which: Option<&str>, resume: Option<u32>) -> Result<Vec<u32>>
         (None, None) => Err(Error::InvalidArgument {
             name: "figure",
             value: String::new(),
-            reason: "name a figure (2 to 10 or `all`), or --resume a partial file",
+            reason: "name a figure (2 to 10, `atlas` or `all`), or --resume a partial file",
         }),
     }
 }

@@ -80,7 +80,7 @@ pub fn test_points(
 
 /// A curve's JSON: its points and its user points (UZ) where it crosses alpha = 0.66 or
 /// omega = 1.3, where it meets the special points of Figs. 3 and 4.
-fn curve_json(c: &Curve) -> serde_json::Value {
+pub(crate) fn curve_json(c: &Curve) -> serde_json::Value {
     use crate::continuation::AMP;
     use crate::model::{ALPHA, OMEGA};
     let point = |p: &hycont_continuation::BranchPoint| {

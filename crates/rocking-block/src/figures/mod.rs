@@ -1,5 +1,6 @@
 //! The study's figures: each writes `figN.json` and `figN.svg` into an output directory.
 
+pub mod atlas;
 pub mod branches;
 mod fig2;
 mod fig5;
@@ -9,6 +10,7 @@ mod fig9_files;
 pub mod sampling;
 pub mod tables;
 
+pub use atlas::{ATLAS, figure_atlas};
 pub use branches::branches_figure;
 pub use fig2::figure2;
 pub use fig6::figure6;
@@ -19,8 +21,9 @@ use crate::output::OutDir;
 use crate::provenance::Provenance;
 use std::path::{Path, PathBuf};
 
-/// Figures `rocking-block figure` knows; the others need capabilities still to come.
-pub const AVAILABLE: &[u32] = &[2, 3, 4, 5, 6, 7, 8, 9, 10];
+/// Figures `rocking-block figure` knows: the study's 2 to 10, and the atlas ([`ATLAS`],
+/// `figure atlas`).
+pub const AVAILABLE: &[u32] = &[2, 3, 4, 5, 6, 7, 8, 9, 10, ATLAS];
 
 /// What a figure run wrote.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -81,10 +84,11 @@ pub fn figure_with(
         8 => sampling::figure8(out, &record),
         9 => sampling::figure9(out, options, &record, progress),
         10 => sampling::figure10(out, options, &record, progress),
+        ATLAS => figure_atlas(out, &record, silent),
         _ => Err(Error::InvalidArgument {
             name: "figure",
             value: n.to_string(),
-            reason: "the study has figures 2 to 10",
+            reason: "the study has figures 2 to 10 (and `atlas`)",
         }),
     }
 }

@@ -14,6 +14,8 @@ pub(super) enum Mark {
     Dashed(RGBColor),
     /// A cross (a marked point).
     Cross(RGBColor),
+    /// A dot of a radius (px).
+    Dot(RGBColor, i32),
 }
 
 /// `c` over white at opacity `a` (as drawn with `c.mix(a)`).
@@ -112,6 +114,7 @@ pub(super) fn draw_key<DB: DrawingBackend>(
                     area.draw(&PathElement::new(vec![(17, y), (23, y)], c.stroke_width(1)))
                 }),
             Mark::Cross(c) => area.draw(&Cross::new((16, y), 5, c.stroke_width(2))),
+            Mark::Dot(c, r) => area.draw(&Circle::new((16, y), r, c.filled())),
         }
         .map_err(err)?;
         area.draw(&Text::new(label.clone(), (32, y - 7), font.clone()))

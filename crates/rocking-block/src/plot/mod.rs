@@ -2,6 +2,7 @@
 //! orbits ([`trajectory_svg`], [`orbits_svg`]), branches and curves ([`branches_svg`],
 //! [`curves_svg`], [`test_points_svg`]), sampling maps ([`basins_svg`] and the others).
 
+mod atlas;
 mod basin;
 mod branches;
 mod fine;
@@ -10,6 +11,7 @@ mod orbits;
 mod png;
 mod sampling;
 
+pub use atlas::atlas_svg;
 pub use basin::basin_svg;
 pub use branches::{branches_svg, curve_svg, curves_svg, test_points_svg};
 pub use orbits::{orbits_svg, trajectory_svg};

@@ -1,0 +1,183 @@
+//! The atlas figure: each sheet's charts (their polygons in the (omega, alpha) plane) filled
+//! by Amp, unstable ones dotted, boundary charts marked by their edge, Fig. 6's curves over it.
+
+use super::fine::Pen;
+use super::key::{Mark, curve_colour, draw_key};
+use super::plot_err;
+use crate::continuation::{AMP, ATLAS_WINDOW, Curve};
+use crate::error::Result;
+use hycont_continuation::OrbitAtlas;
+use hycont_continuation::atlas::{AtlasChart, Edge};
+use plotters::prelude::*;
+use std::path::Path;
+
+/// Viridis-like colour of `v` in [0, 1] (dark blue to yellow), by linear interpolation.
+fn amp_colour(v: f64) -> RGBColor {
+    const STOPS: [(f64, f64, f64); 5] = [
+        (68.0, 1.0, 84.0),
+        (59.0, 82.0, 139.0),
+        (33.0, 145.0, 140.0),
+        (94.0, 201.0, 98.0),
+        (253.0, 231.0, 37.0),
+    ];
+    let x = v.clamp(0.0, 1.0) * 4.0;
+    let k = (x.floor() as usize).min(3);
+    let t = x - k as f64;
+    let (a, b) = (STOPS[k], STOPS[k + 1]);
+    let mix = |p: f64, q: f64| (p + t * (q - p)).round() as u8;
+    RGBColor(mix(a.0, b.0), mix(a.1, b.1), mix(a.2, b.2))
+}
+
+/// A chart's polygon in (omega, alpha).
+fn polygon(atlas: &OrbitAtlas, c: &AtlasChart) -> Vec<(f64, f64)> {
+    let [p, q] = atlas.atlas.unknown_params;
+    let u = &c.point.u;
+    c.polygon
+        .iter()
+        .map(|v| {
+            let at = |k: usize| u[k] + c.point.tangent[k] * v[0] + c.tangent2[k] * v[1];
+            (at(p), at(q))
+        })
+        .collect()
+}
+
+/// The edge marks: label, colour.
+fn edge_mark(edge: Edge) -> (String, RGBColor) {
+    match edge {
+        Edge::Bound { .. } => ("boundary chart on a bound".into(), BLACK),
+        Edge::Special { kind } => (
+            format!("boundary chart on {}", kind.label()),
+            curve_colour(kind),
+        ),
+        _ => ("boundary chart".into(), BLACK),
+    }
+}
+
+/// The atlas figure: a panel per sheet, the Amp scale and the key beside them.
+///
+/// # Errors
+/// [`crate::Error::Plot`] if the file cannot be written.
+pub fn atlas_svg(path: &Path, title: &str, sheets: &[OrbitAtlas], curves: &[Curve]) -> Result<()> {
+    let amp_max = sheets
+        .iter()
+        .flat_map(|a| a.atlas.charts.iter())
+        .filter_map(|c| c.point.get(AMP))
+        .fold(0.0f64, f64::max)
+        .max(1e-9);
+    super::titled_picture(path, (1500, 700), title, |root, fine| {
+        let (panels, side) = root.split_horizontally(1230);
+        let areas = panels.split_evenly((1, sheets.len().max(1)));
+        let mut entries: Vec<(String, Mark)> = Vec::new();
+        for (area, atlas) in areas.iter().zip(sheets) {
+            sheet_panel(path, area, fine, atlas, curves, amp_max, &mut entries)?;
+        }
+        fine.here(root, path)?;
+        let (scale, key) = side.split_vertically(300);
+        amp_scale(&scale, amp_max).map_err(|e| plot_err(path, e))?;
+        entries.push(("unstable orbit (chart centre)".into(), Mark::Dot(BLACK, 1)));
+        let mut seen = std::collections::HashSet::new();
+        entries.retain(|(l, _)| seen.insert(l.clone()));
+        draw_key(&key, "key", &entries).map_err(|e| plot_err(path, e))?;
+        Ok(())
+    })
+}
+
+fn sheet_panel(
+    path: &Path,
+    area: &super::Area<'_>,
+    fine: &mut super::fine::Fine,
+    atlas: &OrbitAtlas,
+    curves: &[Curve],
+    amp_max: f64,
+    entries: &mut Vec<(String, Mark)>,
+) -> Result<()> {
+    let [(w0, w1), (a0, a1)] = ATLAS_WINDOW;
+    let caption = format!(
+        "sheet: {} ({} charts)",
+        atlas.atlas.name,
+        atlas.atlas.charts.len()
+    );
+    let mut chart = ChartBuilder::on(area)
+        .caption(caption, ("sans-serif", 15))
+        .margin(12)
+        .x_label_area_size(40)
+        .y_label_area_size(50)
+        .build_cartesian_2d(w0 - 0.1..w1 + 0.1, a0 - 0.03..a1 + 0.03)
+        .map_err(|e| plot_err(path, e))?;
+    chart
+        .configure_mesh()
+        .x_desc("omega")
+        .y_desc("alpha")
+        .draw()
+        .map_err(|e| plot_err(path, e))?;
+    // A chart whose polygon its neighbours cut away entirely covers nothing of its own.
+    for c in atlas.atlas.charts.iter().filter(|c| c.polygon.len() >= 3) {
+        let colour = amp_colour(c.point.get(AMP).unwrap_or(0.0) / amp_max);
+        let mut outline = polygon(atlas, c);
+        chart
+            .draw_series(std::iter::once(Polygon::new(
+                outline.clone(),
+                colour.filled(),
+            )))
+            .map_err(|e| plot_err(path, e))?;
+        // The outline in the fill's colour closes the hairlines between neighbours.
+        outline.push(outline[0]);
+        chart
+            .draw_series(std::iter::once(PathElement::new(outline, colour.stroke_width(1))))
+            .map_err(|e| plot_err(path, e))?;
+    }
+    let centre = |c: &AtlasChart| (c.point[crate::OMEGA], c.point[crate::ALPHA]);
+    let unstable = atlas.atlas.charts.iter().filter(|c| !c.point.stable());
+    chart
+        .draw_series(unstable.map(|c| Circle::new(centre(c), 1, BLACK.filled())))
+        .map_err(|e| plot_err(path, e))?;
+    for c in atlas.atlas.boundary() {
+        let (label, colour) = edge_mark(c.edge.expect("a boundary chart"));
+        chart
+            .draw_series(std::iter::once(Circle::new(centre(c), 3, colour.filled())))
+            .map_err(|e| plot_err(path, e))?;
+        entries.push((label, Mark::Dot(colour, 3)));
+    }
+    let frame = fine.frame(&chart);
+    for c in curves {
+        let col = curve_colour(c.kind);
+        fine.line(&frame, c.points(), Pen::new(col, 1.5));
+        entries.push((format!("Fig. 6 {} curve", c.kind.label()), Mark::Line(col)));
+    }
+    Ok(())
+}
+
+/// The colour scale of Amp (0 to `amp_max`, rad).
+fn amp_scale<DB: DrawingBackend>(
+    area: &DrawingArea<DB, plotters::coord::Shift>,
+    amp_max: f64,
+) -> std::result::Result<(), String> {
+    let mut bar = ChartBuilder::on(area)
+        .caption("Amp = max |phi| (rad)", ("sans-serif", 14))
+        .margin(10)
+        .margin_right(150)
+        .y_label_area_size(45)
+        .build_cartesian_2d(0.0..1.0, 0.0..amp_max)
+        .map_err(|e| e.to_string())?;
+    bar.configure_mesh()
+        .disable_mesh()
+        .disable_x_axis()
+        .y_labels(6)
+        .y_label_style(("sans-serif", 13))
+        .y_label_formatter(&|v| format!("{v:.2}"))
+        .draw()
+        .map_err(|e| e.to_string())?;
+    let steps = 60;
+    bar.draw_series((0..steps).map(|k| {
+        let (lo, hi) = (
+            f64::from(k) / f64::from(steps),
+            f64::from(k + 1) / f64::from(steps),
+        );
+        Rectangle::new(
+            [(0.0, lo * amp_max), (1.0, hi * amp_max)],
+            amp_colour(lo).filled(),
+        )
+    }))
+    .map_err(|e| e.to_string())?;
+    Ok(())
+}
