@@ -1,0 +1,145 @@
+//! The study's atlas (`rocking-block figure atlas`): the symmetric period-one orbits over
+//! (omega, alpha) as two sheets joined along the fold. Checked against independent
+//! computations: every boundary chart on the fold (SN) or the grazing (GR) edge lies on the
+//! SN or GR curve continued from Fig. 3's points (its user point at the chart's alpha has the
+//! chart's omega to 1e-6), bound charts lie on their bounds, and charts of both sheets are the
+//! orbits that two one-parameter branches reach at the same (omega, alpha) (in alpha at
+//! omega = 1.3 from the Fig. 2 orbit, then in omega): Amp and period to 1e-9.
+
+use hycont_continuation::atlas::{AtlasEnd, Edge};
+use hycont_continuation::observe::Silent;
+use hycont_continuation::{CurveSpec, MeasureId, OrbitAtlas, RunDirection, SpecialKind};
+use rocking_block::block::Block;
+use rocking_block::continuation::{
+    AMP, ATLAS_WINDOW, Free, Recipe, default_method, study_branches_from, study_run, study_start,
+};
+use rocking_block::figures::atlas::study_sheets;
+use rocking_block::model::{ALPHA, OMEGA, Parameters};
+use std::sync::OnceLock;
+
+fn sheets() -> &'static [OrbitAtlas] {
+    static SHEETS: OnceLock<Vec<OrbitAtlas>> = OnceLock::new();
+    SHEETS.get_or_init(|| study_sheets(&Block::default(), &mut Silent).unwrap())
+}
+
+#[test]
+fn both_sheets_are_covered_within_the_window() {
+    let [(w0, w1), (a0, a1)] = ATLAS_WINDOW;
+    for sheet in sheets() {
+        let atlas = &sheet.atlas;
+        assert_eq!(atlas.end, AtlasEnd::Covered, "{}", atlas.name);
+        for c in &atlas.charts {
+            let (w, a) = (c.point[OMEGA], c.point[ALPHA]);
+            assert!(w >= w0 - 1e-9 && w <= w1 + 1e-9 && a >= a0 - 1e-9 && a <= a1 + 1e-9);
+            // Located to the location tolerance (relative to the radius) in arclength, which
+            // bounds the change of a parameter or of Amp (weight 1).
+            if let Some(Edge::Bound { on, level }) = c.edge {
+                let tol = atlas.settings.locate_tol * c.radius;
+                assert!((c.point.value(on).unwrap() - level).abs() <= tol, "{level}");
+            }
+        }
+        assert!(atlas.edge_charts(SpecialKind::Fold).count() >= 10, "{}", atlas.name);
+    }
+    // The sheet beyond the fold ends on the grazing curve; the first does not reach it.
+    assert!(sheets()[1].atlas.edge_charts(SpecialKind::Grazing).count() >= 10);
+    assert_eq!(sheets()[0].atlas.edge_charts(SpecialKind::Grazing).count(), 0);
+}
+
+/// The omega of each user point of the curve of `kind` (from Fig. 3's symmetric branch) at
+/// the alphas asked for.
+fn curve_omegas(kind: SpecialKind, alphas: &[f64]) -> Vec<(f64, f64)> {
+    let block = Block::default();
+    let start = study_start(&block).unwrap();
+    let fig3 = study_branches_from(Free::Omega, &block, &Recipe::default(), &start, &mut Silent)
+        .unwrap();
+    let params = block.at(1.3, 0.66);
+    let mut run = study_run(Free::Omega, &params, Free::Omega.range(), default_method()).unwrap();
+    let spec = CurveSpec::new(ALPHA)
+        .bounds(0.05, 0.95)
+        .user_points(ALPHA, alphas.iter().copied());
+    let label = fig3[0].first(kind).unwrap().point.label;
+    let curve = run.curve_at(kind.label(), &fig3[0], label, &spec).unwrap();
+    curve
+        .special(SpecialKind::UserPoint)
+        .map(|s| (s.point[ALPHA], s.point[OMEGA]))
+        .collect()
+}
+
+#[test]
+fn fold_and_grazing_charts_lie_on_the_curves() {
+    for (kind, sheet) in [
+        (SpecialKind::Fold, &sheets()[0]),
+        (SpecialKind::Fold, &sheets()[1]),
+        (SpecialKind::Grazing, &sheets()[1]),
+    ] {
+        // Away from the window's corners, where a chart may sit on a bound and the edge.
+        let charts: Vec<(f64, f64)> = sheet
+            .atlas
+            .edge_charts(kind)
+            .map(|c| (c.point[ALPHA], c.point[OMEGA]))
+            .filter(|(a, _)| *a > 0.12 && *a < 0.88)
+            .collect();
+        assert!(charts.len() >= 8, "{} {kind:?}", sheet.atlas.name);
+        let alphas: Vec<f64> = charts.iter().map(|c| c.0).collect();
+        let uz = curve_omegas(kind, &alphas);
+        for (alpha, omega) in charts {
+            let nearest = uz
+                .iter()
+                .filter(|(a, _)| (a - alpha).abs() < 1e-9)
+                .map(|(_, w)| (w - omega).abs())
+                .fold(f64::INFINITY, f64::min);
+            assert!(nearest < 1e-6, "{kind:?} chart at ({omega}, {alpha}): {nearest:e}");
+        }
+    }
+}
+
+/// The orbit at (omega, alpha) nearest in Amp to `amp`, by two one-parameter branches: in
+/// alpha at omega = 1.3 from the Fig. 2 orbit to alpha (the sheet through it), then in omega
+/// at alpha both ways (it turns at the fold onto the other sheet): Amp and period there.
+fn by_branches(omega: f64, alpha: f64, amp: f64) -> (f64, f64) {
+    let block = Block::default();
+    let start = study_start(&block).unwrap();
+    let params = Parameters::from_vec(&start.params);
+    let mut run = study_run(Free::Alpha, &params, ATLAS_WINDOW[1], default_method()).unwrap();
+    run.add_user_points(ALPHA, [alpha]).unwrap();
+    let in_alpha = run.run("alpha", &start, RunDirection::Both).unwrap();
+    let uz = in_alpha
+        .special(SpecialKind::UserPoint)
+        .max_by(|a, b| a.point[AMP].total_cmp(&b.point[AMP]))
+        .unwrap();
+    let there = in_alpha.orbit_of(&uz.point).unwrap();
+    let params = Parameters::from_vec(&there.params);
+    let mut run = study_run(Free::Omega, &params, ATLAS_WINDOW[0], default_method()).unwrap();
+    run.add_user_points(OMEGA, [omega]).unwrap();
+    let in_omega = run.run("omega", &there, RunDirection::Both).unwrap();
+    let uz = in_omega
+        .special(SpecialKind::UserPoint)
+        .min_by(|a, b| (a.point[AMP] - amp).abs().total_cmp(&(b.point[AMP] - amp).abs()))
+        .unwrap();
+    (uz.point[AMP], uz.point[MeasureId::PERIOD])
+}
+
+#[test]
+fn charts_are_the_orbits_of_one_parameter_branches() {
+    for sheet in sheets() {
+        let interior: Vec<_> = sheet
+            .atlas
+            .charts
+            .iter()
+            // Not next to an edge: a user point a hair from a fold is stepped over with it.
+            .filter(|c| {
+                let beside_edge = c.neighbours.iter().any(|&n| sheet.atlas.charts[n].is_boundary());
+                !c.is_boundary() && !beside_edge && c.point[ALPHA] > 0.5
+            })
+            .collect();
+        // Four charts spread over the sheet (not its first, where the branches start: a user
+        // point at a run's start is not a crossing).
+        for k in 1..=4 {
+            let c = interior[k * (interior.len() - 1) / 4];
+            let (omega, alpha, amp) = (c.point[OMEGA], c.point[ALPHA], c.point[AMP]);
+            let (b_amp, b_period) = by_branches(omega, alpha, amp);
+            assert!((b_amp - amp).abs() < 1e-9, "{}: ({omega}, {alpha}) amp {amp} vs {b_amp}", sheet.atlas.name);
+            assert!((b_period - c.point[MeasureId::PERIOD]).abs() < 1e-9);
+        }
+    }
+}
