@@ -12,12 +12,12 @@
 mod model;
 
 use approx::assert_abs_diff_eq;
+use hycont::hycont_continuation::OrbitMethod;
 use hycont::hycont_continuation::atlas::{AtlasEnd, AtlasSettings, Edge};
 use hycont::hycont_continuation::{MeasureId, OrbitAtlas, OrbitRun, SpecialKind};
 use hycont::hycont_core::orbit::{
     CollocationSettings, PeriodicOrbit, SegmentEnd, SegmentSpec, SegmentValue, Signature,
 };
-use hycont::hycont_continuation::OrbitMethod;
 use hycont::{AutoDiff, SimulationSettings};
 use model::{A, FLIGHT, IMPACT, OMEGA, TableModel, WRAP};
 use std::f64::consts::PI;
@@ -36,7 +36,10 @@ fn orbit(a: f64, omega: f64) -> PeriodicOrbit {
     let spec = |end| SegmentSpec { mode: FLIGHT, end };
     let signature = Signature::new(
         &table,
-        vec![spec(SegmentEnd::Event(WRAP)), spec(SegmentEnd::Event(IMPACT))],
+        vec![
+            spec(SegmentEnd::Event(WRAP)),
+            spec(SegmentEnd::Event(IMPACT)),
+        ],
     )
     .unwrap();
     PeriodicOrbit::from_initial_state(
@@ -56,12 +59,18 @@ fn table_atlas(method: OrbitMethod, settings: AtlasSettings) -> (OrbitAtlas, [Me
     let table: &'static _ = Box::leak(Box::new(AutoDiff::new(TableModel)));
     let mut run = OrbitRun::new(table, A).unwrap();
     run.method(method);
-    let phase = run.add_measure("impact_phase", SegmentValue::start(0, 2)).unwrap();
-    let velocity = run.add_measure("impact_velocity", SegmentValue::end(1, 1)).unwrap();
+    let phase = run
+        .add_measure("impact_phase", SegmentValue::start(0, 2))
+        .unwrap();
+    let velocity = run
+        .add_measure("impact_velocity", SegmentValue::end(1, 1))
+        .unwrap();
     let settings = settings
         .bound(OMEGA, OMEGA_RANGE.0, OMEGA_RANGE.1)
         .bound(A, 0.0, A_MAX);
-    let atlas = run.atlas("period-1", &orbit(1.3, 1.0), OMEGA, &settings).unwrap();
+    let atlas = run
+        .atlas("period-1", &orbit(1.3, 1.0), OMEGA, &settings)
+        .unwrap();
     (atlas, [phase, velocity])
 }
 
@@ -75,13 +84,22 @@ fn check_against_closed_forms((saved, [phase, velocity]): &(OrbitAtlas, [Measure
         let (a, omega) = (c.point[A], c.point[OMEGA]);
         let theta0 = c.point.value(*phase).unwrap();
         let t = 2.0 * PI / omega;
-        assert_abs_diff_eq!(c.point.value(*velocity).unwrap(), -G * t / (1.0 + E), epsilon = tol);
+        assert_abs_diff_eq!(
+            c.point.value(*velocity).unwrap(),
+            -G * t / (1.0 + E),
+            epsilon = tol
+        );
         assert_abs_diff_eq!(a * omega * omega * theta0.cos(), C, epsilon = tol);
         // The stable sheet: the impact phase is non-negative up to the fold.
-        assert!(theta0 > -tol, "chart at a = {a}, omega = {omega}: theta0 = {theta0}");
+        assert!(
+            theta0 > -tol,
+            "chart at a = {a}, omega = {omega}: theta0 = {theta0}"
+        );
         assert!(a <= A_MAX + tol && omega >= OMEGA_RANGE.0 - tol && omega <= OMEGA_RANGE.1 + tol);
         match c.edge {
-            Some(Edge::Special { kind: SpecialKind::Fold }) => {
+            Some(Edge::Special {
+                kind: SpecialKind::Fold,
+            }) => {
                 folds += 1;
                 // On the fold: theta0 = 0, a omega^2 = C (within the location tolerance).
                 assert_abs_diff_eq!(a * omega * omega, C, epsilon = 1e-6);
@@ -96,19 +114,38 @@ fn check_against_closed_forms((saved, [phase, velocity]): &(OrbitAtlas, [Measure
             None => {}
         }
     }
-    assert!(folds >= 5 && bounds >= 5, "{folds} fold and {bounds} bound charts");
+    assert!(
+        folds >= 5 && bounds >= 5,
+        "{folds} fold and {bounds} bound charts"
+    );
     // The fold's charts span the omega range between the bounds (a omega^2 = C meets a = 1.6
     // at omega = sqrt(C / 1.6) = 0.809).
-    let fold_omegas: Vec<f64> = atlas.edge_charts(SpecialKind::Fold).map(|c| c.point[OMEGA]).collect();
+    let fold_omegas: Vec<f64> = atlas
+        .edge_charts(SpecialKind::Fold)
+        .map(|c| c.point[OMEGA])
+        .collect();
     let lo = fold_omegas.iter().copied().fold(f64::INFINITY, f64::min);
-    let hi = fold_omegas.iter().copied().fold(f64::NEG_INFINITY, f64::max);
-    assert!(lo < (C / A_MAX).sqrt() + 0.05 && hi > OMEGA_RANGE.1 - 0.05, "{lo} {hi}");
+    let hi = fold_omegas
+        .iter()
+        .copied()
+        .fold(f64::NEG_INFINITY, f64::max);
+    assert!(
+        lo < (C / A_MAX).sqrt() + 0.05 && hi > OMEGA_RANGE.1 - 0.05,
+        "{lo} {hi}"
+    );
 }
 
 #[test]
 fn shooting_atlas_of_the_table_matches_the_closed_forms() {
-    let saved = table_atlas(OrbitMethod::default(), AtlasSettings::default().radii(0.1, 1e-3, 0.2));
-    eprintln!("{} charts, {:?}", saved.0.atlas.charts.len(), saved.0.atlas.stats);
+    let saved = table_atlas(
+        OrbitMethod::default(),
+        AtlasSettings::default().radii(0.1, 1e-3, 0.2),
+    );
+    eprintln!(
+        "{} charts, {:?}",
+        saved.0.atlas.charts.len(),
+        saved.0.atlas.stats
+    );
     check_against_closed_forms(&saved, 1e-8);
 }
 
@@ -135,8 +172,10 @@ fn a_saved_atlas_grows_to_the_uninterrupted_one() {
     assert_eq!(read, part);
     let table: &'static _ = Box::leak(Box::new(AutoDiff::new(TableModel)));
     let mut run = OrbitRun::new(table, A).unwrap();
-    run.add_measure("impact_phase", SegmentValue::start(0, 2)).unwrap();
-    run.add_measure("impact_velocity", SegmentValue::end(1, 1)).unwrap();
+    run.add_measure("impact_phase", SegmentValue::start(0, 2))
+        .unwrap();
+    run.add_measure("impact_velocity", SegmentValue::end(1, 1))
+        .unwrap();
     run.extend_atlas(&mut read, 2000).unwrap();
     assert_eq!(read.atlas.end, AtlasEnd::Covered);
     assert_eq!(read.atlas.charts.len(), whole.atlas.charts.len());
@@ -153,10 +192,24 @@ fn a_saved_atlas_grows_to_the_uninterrupted_one() {
 #[test]
 #[ignore]
 fn debug_dump() {
-    let saved = table_atlas(OrbitMethod::default(), AtlasSettings::default().radii(0.1, 1e-3, 0.2).max_charts(300));
+    let saved = table_atlas(
+        OrbitMethod::default(),
+        AtlasSettings::default()
+            .radii(0.1, 1e-3, 0.2)
+            .max_charts(300),
+    );
     let mut out = String::new();
     for (i, c) in saved.0.atlas.charts.iter().enumerate() {
-        out += &format!("{i} {} {} {} {:?} {:?} {} {}\n", c.point[A], c.point[OMEGA], c.radius, c.edge.map(|e| e.label()), c.parent, c.open, c.gave_up);
+        out += &format!(
+            "{i} {} {} {} {:?} {:?} {} {}\n",
+            c.point[A],
+            c.point[OMEGA],
+            c.radius,
+            c.edge.map(|e| e.label()),
+            c.parent,
+            c.open,
+            c.gave_up
+        );
     }
     std::fs::write("/tmp/atlas_dump.txt", out).unwrap();
     std::fs::write("/tmp/atlas.json", saved.0.to_json().unwrap()).unwrap();

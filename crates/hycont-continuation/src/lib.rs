@@ -86,9 +86,9 @@ pub use error::{Error, Result};
 pub use hycont_core::orbit::{Discretisation, OrbitMethod};
 pub use observe::Observer;
 pub use orbit::{
-    Cascade, OrbitAtlas, CurveSpec, Diagram, DiagramBranch, DiagramBranchId, DiagramSettings, OrbitBranch,
-    OrbitContinuation, OrbitRun, POINT_RESIDUAL_TOL, RunDirection, SharedMeasures, SwitchOutcome,
-    SwitchRecord, can_switch,
+    Cascade, CurveSpec, Diagram, DiagramBranch, DiagramBranchId, DiagramSettings, OrbitAtlas,
+    OrbitBranch, OrbitContinuation, OrbitRun, POINT_RESIDUAL_TOL, RunDirection, SharedMeasures,
+    SwitchOutcome, SwitchRecord, can_switch,
 };
 pub use quantity::{Label, MeasureId, Quantity};
 

@@ -8,8 +8,8 @@ use crate::error::{Error, Result};
 pub use crate::model::Free;
 use crate::model::{ALPHA, OMEGA, Parameters, RockingBlock};
 use crate::orbits::{OrbitKind, orbit};
-use hycont_continuation::observe::Observer;
 use hycont_continuation::atlas::AtlasSettings;
+use hycont_continuation::observe::Observer;
 use hycont_continuation::{
     CurveSpec, Diagram, DiagramSettings, MeasureId, OrbitAtlas, OrbitBranch, OrbitMethod, OrbitRun,
     RunDirection, SpecialKind,

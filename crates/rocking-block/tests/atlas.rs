@@ -38,11 +38,18 @@ fn both_sheets_are_covered_within_the_window() {
                 assert!((c.point.value(on).unwrap() - level).abs() <= tol, "{level}");
             }
         }
-        assert!(atlas.edge_charts(SpecialKind::Fold).count() >= 10, "{}", atlas.name);
+        assert!(
+            atlas.edge_charts(SpecialKind::Fold).count() >= 10,
+            "{}",
+            atlas.name
+        );
     }
     // The sheet beyond the fold ends on the grazing curve; the first does not reach it.
     assert!(sheets()[1].atlas.edge_charts(SpecialKind::Grazing).count() >= 10);
-    assert_eq!(sheets()[0].atlas.edge_charts(SpecialKind::Grazing).count(), 0);
+    assert_eq!(
+        sheets()[0].atlas.edge_charts(SpecialKind::Grazing).count(),
+        0
+    );
 }
 
 /// The omega of each user point of the curve of `kind` (from Fig. 3's symmetric branch) at
@@ -50,8 +57,8 @@ fn both_sheets_are_covered_within_the_window() {
 fn curve_omegas(kind: SpecialKind, alphas: &[f64]) -> Vec<(f64, f64)> {
     let block = Block::default();
     let start = study_start(&block).unwrap();
-    let fig3 = study_branches_from(Free::Omega, &block, &Recipe::default(), &start, &mut Silent)
-        .unwrap();
+    let fig3 =
+        study_branches_from(Free::Omega, &block, &Recipe::default(), &start, &mut Silent).unwrap();
     let params = block.at(1.3, 0.66);
     let mut run = study_run(Free::Omega, &params, Free::Omega.range(), default_method()).unwrap();
     let spec = CurveSpec::new(ALPHA)
@@ -67,29 +74,34 @@ fn curve_omegas(kind: SpecialKind, alphas: &[f64]) -> Vec<(f64, f64)> {
 
 #[test]
 fn fold_and_grazing_charts_lie_on_the_curves() {
-    for (kind, sheet) in [
-        (SpecialKind::Fold, &sheets()[0]),
-        (SpecialKind::Fold, &sheets()[1]),
-        (SpecialKind::Grazing, &sheets()[1]),
-    ] {
-        // Away from the window's corners, where a chart may sit on a bound and the edge.
-        let charts: Vec<(f64, f64)> = sheet
-            .atlas
-            .edge_charts(kind)
-            .map(|c| (c.point[ALPHA], c.point[OMEGA]))
-            .filter(|(a, _)| *a > 0.12 && *a < 0.88)
-            .collect();
-        assert!(charts.len() >= 8, "{} {kind:?}", sheet.atlas.name);
-        let alphas: Vec<f64> = charts.iter().map(|c| c.0).collect();
-        let uz = curve_omegas(kind, &alphas);
-        for (alpha, omega) in charts {
-            let nearest = uz
-                .iter()
-                .filter(|(a, _)| (a - alpha).abs() < 1e-9)
-                .map(|(_, w)| (w - omega).abs())
-                .fold(f64::INFINITY, f64::min);
-            assert!(nearest < 1e-6, "{kind:?} chart at ({omega}, {alpha}): {nearest:e}");
-        }
+    assert_edge_on_curve(&sheets()[0], SpecialKind::Fold);
+    assert_edge_on_curve(&sheets()[1], SpecialKind::Fold);
+    assert_edge_on_curve(&sheets()[1], SpecialKind::Grazing);
+}
+
+/// Every boundary chart of `sheet` on the edge `kind` (away from the window's corners, where a
+/// chart may sit on a bound and the edge) has the omega of the `kind` curve at its alpha, to
+/// 1e-6 (the location tolerance is 1e-6 of a radius in arclength).
+fn assert_edge_on_curve(sheet: &OrbitAtlas, kind: SpecialKind) {
+    let charts: Vec<(f64, f64)> = sheet
+        .atlas
+        .edge_charts(kind)
+        .map(|c| (c.point[ALPHA], c.point[OMEGA]))
+        .filter(|(a, _)| *a > 0.12 && *a < 0.88)
+        .collect();
+    assert!(charts.len() >= 8, "{} {kind:?}", sheet.atlas.name);
+    let alphas: Vec<f64> = charts.iter().map(|c| c.0).collect();
+    let uz = curve_omegas(kind, &alphas);
+    for (alpha, omega) in charts {
+        let nearest = uz
+            .iter()
+            .filter(|(a, _)| (a - alpha).abs() < 1e-9)
+            .map(|(_, w)| (w - omega).abs())
+            .fold(f64::INFINITY, f64::min);
+        assert!(
+            nearest < 1e-6,
+            "{kind:?} chart at ({omega}, {alpha}): {nearest:e}"
+        );
     }
 }
 
@@ -114,7 +126,11 @@ fn by_branches(omega: f64, alpha: f64, amp: f64) -> (f64, f64) {
     let in_omega = run.run("omega", &there, RunDirection::Both).unwrap();
     let uz = in_omega
         .special(SpecialKind::UserPoint)
-        .min_by(|a, b| (a.point[AMP] - amp).abs().total_cmp(&(b.point[AMP] - amp).abs()))
+        .min_by(|a, b| {
+            (a.point[AMP] - amp)
+                .abs()
+                .total_cmp(&(b.point[AMP] - amp).abs())
+        })
         .unwrap();
     (uz.point[AMP], uz.point[MeasureId::PERIOD])
 }
@@ -128,7 +144,10 @@ fn charts_are_the_orbits_of_one_parameter_branches() {
             .iter()
             // Not next to an edge: a user point a hair from a fold is stepped over with it.
             .filter(|c| {
-                let beside_edge = c.neighbours.iter().any(|&n| sheet.atlas.charts[n].is_boundary());
+                let beside_edge = c
+                    .neighbours
+                    .iter()
+                    .any(|&n| sheet.atlas.charts[n].is_boundary());
                 !c.is_boundary() && !beside_edge && c.point[ALPHA] > 0.5
             })
             .collect();
@@ -138,8 +157,35 @@ fn charts_are_the_orbits_of_one_parameter_branches() {
             let c = interior[k * (interior.len() - 1) / 4];
             let (omega, alpha, amp) = (c.point[OMEGA], c.point[ALPHA], c.point[AMP]);
             let (b_amp, b_period) = by_branches(omega, alpha, amp);
-            assert!((b_amp - amp).abs() < 1e-9, "{}: ({omega}, {alpha}) amp {amp} vs {b_amp}", sheet.atlas.name);
+            assert!(
+                (b_amp - amp).abs() < 1e-9,
+                "{}: ({omega}, {alpha}) amp {amp} vs {b_amp}",
+                sheet.atlas.name
+            );
             assert!((b_period - c.point[MeasureId::PERIOD]).abs() < 1e-9);
         }
     }
+}
+
+/// By collocation (the study's mesh), the sheet through the Fig. 2 orbit has the same fold
+/// edge: its SN charts lie on the SN curve continued by shooting (to 1e-6, the location
+/// tolerance; the discretisations agree to ~1e-10 here).
+#[test]
+fn collocation_covers_the_sheet_with_the_same_fold() {
+    use hycont_continuation::OrbitMethod;
+    use hycont_core::orbit::CollocationSettings;
+    let block = Block::default();
+    let start = study_start(&block).unwrap();
+    let method = OrbitMethod::Collocation(CollocationSettings::default());
+    let settings = rocking_block::continuation::atlas_settings();
+    let sheet = rocking_block::continuation::study_atlas(
+        "collocation",
+        &start,
+        method,
+        &settings,
+        &mut Silent,
+    )
+    .unwrap();
+    assert_eq!(sheet.atlas.end, AtlasEnd::Covered);
+    assert_edge_on_curve(&sheet, SpecialKind::Fold);
 }

@@ -366,7 +366,13 @@ impl<'a, P: ContinuationProblem<'a> + ?Sized> Grower<'_, '_, 'a, P> {
     /// Chart `k`'s centre in chart `i`'s tangent coordinates.
     fn project_centre(&self, i: usize, k: usize) -> [f64; 2] {
         let (ci, ck) = (&self.atlas.charts[i], &self.atlas.charts[k]);
-        let d: Vec<f64> = ck.point.u.iter().zip(&ci.point.u).map(|(a, b)| a - b).collect();
+        let d: Vec<f64> = ck
+            .point
+            .u
+            .iter()
+            .zip(&ci.point.u)
+            .map(|(a, b)| a - b)
+            .collect();
         let w = &self.solver.w;
         [wdot(w, &ci.point.tangent, &d), wdot(w, &ci.tangent2, &d)]
     }
@@ -388,7 +394,13 @@ impl<'a, P: ContinuationProblem<'a> + ?Sized> Grower<'_, '_, 'a, P> {
             if dp.sqrt() >= reach {
                 continue;
             }
-            let d: Vec<f64> = cj.point.u.iter().zip(&ck.point.u).map(|(a, b)| a - b).collect();
+            let d: Vec<f64> = cj
+                .point
+                .u
+                .iter()
+                .zip(&ck.point.u)
+                .map(|(a, b)| a - b)
+                .collect();
             if wdot(&w, &d, &d).sqrt() < reach {
                 found.push(k);
             }

@@ -33,7 +33,14 @@ impl<'a, P: ContinuationProblem<'a> + ?Sized> Grower<'_, '_, 'a, P> {
                 self.across(i, s, [-n[0] / len, -n[1] / len], k, cand.values[k])
             } else if chart.tests[k] > 0.0 {
                 let g0 = chart.tests[k];
-                self.locate(i, k, |t| [t * s[0], t * s[1]], (1.0, cand.values[k]), (0.0, g0), None)
+                self.locate(
+                    i,
+                    k,
+                    |t| [t * s[0], t * s[1]],
+                    (1.0, cand.values[k]),
+                    (0.0, g0),
+                    None,
+                )
             } else {
                 None
             };
@@ -95,7 +102,11 @@ impl<'a, P: ContinuationProblem<'a> + ?Sized> Grower<'_, '_, 'a, P> {
                 break;
             }
             let t = (a * gb - b * ga) / (gb - ga);
-            let t = if t.is_finite() && (t - a) * (t - b) < 0.0 { t } else { 0.5 * (a + b) };
+            let t = if t.is_finite() && (t - a) * (t - b) < 0.0 {
+                t
+            } else {
+                0.5 * (a + b)
+            };
             let (c, _) = self.solve_at(i, line(t))?;
             let g = c.values[k];
             if g < 0.0 {

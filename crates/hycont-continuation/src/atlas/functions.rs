@@ -13,7 +13,11 @@ pub(super) enum Test {
     /// `on - level` (`sign` +1, a lower bound) or `level - on` (`sign` -1, an upper bound).
     Bound { on: Quantity, level: f64, sign: f64 },
     /// A terminal event: `on - level`.
-    Event { kind: SpecialKind, on: Quantity, level: f64 },
+    Event {
+        kind: SpecialKind,
+        on: Quantity,
+        level: f64,
+    },
     /// $\det [J; e_{p_1}^\top; e_{p_2}^\top]$, scaled by the first chart's magnitude.
     Fold,
     /// A half orbit's symmetry-breaking factor.

@@ -27,10 +27,10 @@
 
 mod cover;
 mod edges;
+mod functions;
 mod polygon;
 mod settings;
 mod solver;
-mod functions;
 
 pub use cover::{cover, extend};
 pub use polygon::HalfPlane;

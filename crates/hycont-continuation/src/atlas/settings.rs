@@ -154,10 +154,18 @@ impl AtlasSettings {
             return bad("min_radius", self.min_radius, "must be positive and finite");
         }
         if !positive(self.max_radius) || self.max_radius < self.min_radius {
-            return bad("max_radius", self.max_radius, "must be finite and >= min_radius");
+            return bad(
+                "max_radius",
+                self.max_radius,
+                "must be finite and >= min_radius",
+            );
         }
         if !(self.radius >= self.min_radius && self.radius <= self.max_radius) {
-            return bad("radius", self.radius, "must lie in [min_radius, max_radius]");
+            return bad(
+                "radius",
+                self.radius,
+                "must lie in [min_radius, max_radius]",
+            );
         }
         if !(self.growth >= 1.0 && self.growth.is_finite()) {
             return bad("growth", self.growth, "must be finite and >= 1");

@@ -4,8 +4,8 @@
 
 use super::problem::{OrbitContinuation, check_parameter};
 use super::run::OrbitRun;
-use crate::atlas::{Atlas, AtlasChart, AtlasSettings};
 use crate::ContinuationProblem;
+use crate::atlas::{Atlas, AtlasChart, AtlasSettings};
 use crate::error::{Error, Result};
 use hycont_core::orbit::{Closure, Discretisation, PeriodicOrbit};
 use hycont_core::problem::Activity;
@@ -97,14 +97,7 @@ impl<'a, S: HybridJacobians + ?Sized> OrbitRun<'a, S> {
         let (mut cp, u) = self.problem(start)?;
         let nbase = cp.problem().base_unknowns();
         let (u0, params) = self.release(&mut cp, &u[..nbase], second)?;
-        let atlas = crate::atlas::cover(
-            &mut cp,
-            name,
-            &u0,
-            params,
-            settings,
-            &mut *self.observer,
-        )?;
+        let atlas = crate::atlas::cover(&mut cp, name, &u0, params, settings, &mut *self.observer)?;
         Ok(OrbitAtlas {
             atlas,
             free: [self.free, second],

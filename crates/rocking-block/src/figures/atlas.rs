@@ -28,7 +28,13 @@ pub fn study_sheets(
 ) -> Result<Vec<OrbitAtlas>> {
     let start = study_start(block)?;
     let settings = atlas_settings();
-    let upper = study_atlas("through the Fig. 2 orbit", &start, default_method(), &settings, observer)?;
+    let upper = study_atlas(
+        "through the Fig. 2 orbit",
+        &start,
+        default_method(),
+        &settings,
+        observer,
+    )?;
     let fig3 = study_branches_from(
         crate::model::Free::Omega,
         block,
@@ -37,7 +43,13 @@ pub fn study_sheets(
         observer,
     )?;
     let lower = beyond_fold(&fig3[0])?;
-    let lower = study_atlas("beyond the fold (SN)", &lower, default_method(), &settings, observer)?;
+    let lower = study_atlas(
+        "beyond the fold (SN)",
+        &lower,
+        default_method(),
+        &settings,
+        observer,
+    )?;
     Ok(vec![upper, lower])
 }
 
@@ -49,7 +61,8 @@ fn beyond_fold(branch: &hycont_continuation::OrbitBranch) -> Result<PeriodicOrbi
     let nearest = |kind: SpecialKind| -> Result<usize> {
         let s = &branch.first(kind)?.point;
         let gap = |p: &hycont_continuation::BranchPoint| {
-            (p[OMEGA] - s[OMEGA]).abs() + (p.get(AMP).unwrap_or(0.0) - s.get(AMP).unwrap_or(0.0)).abs()
+            (p[OMEGA] - s[OMEGA]).abs()
+                + (p.get(AMP).unwrap_or(0.0) - s.get(AMP).unwrap_or(0.0)).abs()
         };
         (0..b.points.len())
             .min_by(|&i, &j| gap(&b.points[i]).total_cmp(&gap(&b.points[j])))

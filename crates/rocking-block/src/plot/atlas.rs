@@ -123,7 +123,10 @@ fn sheet_panel(
         // The outline in the fill's colour closes the hairlines between neighbours.
         outline.push(outline[0]);
         chart
-            .draw_series(std::iter::once(PathElement::new(outline, colour.stroke_width(1))))
+            .draw_series(std::iter::once(PathElement::new(
+                outline,
+                colour.stroke_width(1),
+            )))
             .map_err(|e| plot_err(path, e))?;
     }
     let centre = |c: &AtlasChart| (c.point[crate::OMEGA], c.point[crate::ALPHA]);
