@@ -188,30 +188,3 @@ fn a_saved_atlas_grows_to_the_uninterrupted_one() {
     let mut by_omega = OrbitRun::new(table, OMEGA).unwrap();
     assert!(by_omega.extend_atlas(&mut read, 3000).is_err());
 }
-
-#[test]
-#[ignore]
-fn debug_dump() {
-    let saved = table_atlas(
-        OrbitMethod::default(),
-        AtlasSettings::default()
-            .radii(0.1, 1e-3, 0.2)
-            .max_charts(300),
-    );
-    let mut out = String::new();
-    for (i, c) in saved.0.atlas.charts.iter().enumerate() {
-        out += &format!(
-            "{i} {} {} {} {:?} {:?} {} {}\n",
-            c.point[A],
-            c.point[OMEGA],
-            c.radius,
-            c.edge.map(|e| e.label()),
-            c.parent,
-            c.open,
-            c.gave_up
-        );
-    }
-    std::fs::write("/tmp/atlas_dump.txt", out).unwrap();
-    std::fs::write("/tmp/atlas.json", saved.0.to_json().unwrap()).unwrap();
-    eprintln!("{:?}", saved.0.atlas.stats);
-}

@@ -24,7 +24,7 @@ const MAX_CUTS: usize = 4;
 /// What growing from a chart gave.
 enum Outcome {
     /// A new chart: its candidate, radius, and edge cut and edge for a boundary chart.
-    Chart(Candidate, f64, Option<(HalfPlane, super::Edge)>),
+    Chart(Box<Candidate>, f64, Option<(HalfPlane, super::Edge)>),
     /// A cut of the chart by an edge through its disc.
     Cut(HalfPlane),
     /// A rejected chart: the radius shrinks.
@@ -232,7 +232,7 @@ impl<'a, P: ContinuationProblem<'a> + ?Sized> Grower<'_, '_, 'a, P> {
             match self.attempt(i, s) {
                 Outcome::Chart(cand, radius, edge) => {
                     let (cuts, edge) = edge.map_or((Vec::new(), None), |(c, e)| (vec![c], Some(e)));
-                    let j = self.push(cand, radius, Some(i), edge, cuts);
+                    let j = self.push(*cand, radius, Some(i), edge, cuts);
                     observer.chart(&self.atlas.charts[j], j + 1);
                 }
                 Outcome::Cut(cut) => {
@@ -300,7 +300,7 @@ impl<'a, P: ContinuationProblem<'a> + ?Sized> Grower<'_, '_, 'a, P> {
             } else {
                 r
             };
-            return Outcome::Chart(cand, radius, None);
+            return Outcome::Chart(Box::new(cand), radius, None);
         }
         let Some((at, edge_point, k)) = self.edge_point(i, s, &cand) else {
             return Outcome::Reject;
@@ -316,7 +316,7 @@ impl<'a, P: ContinuationProblem<'a> + ?Sized> Grower<'_, '_, 'a, P> {
             };
         }
         match self.cut(&edge_point, k, r) {
-            Some(cut) => Outcome::Chart(edge_point, r, Some((cut, self.tests[k].edge()))),
+            Some(cut) => Outcome::Chart(Box::new(edge_point), r, Some((cut, self.tests[k].edge()))),
             None => Outcome::Reject,
         }
     }

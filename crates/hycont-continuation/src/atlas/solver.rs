@@ -136,8 +136,8 @@ impl<'p, 'a, P: ContinuationProblem<'a> + ?Sized> Solver<'p, 'a, P> {
         for it in 0..=ns.max_iterations {
             self.factor(&u, &rows, JacobianUse::Exact)?;
             let m = self.n - 2;
-            for r in 0..2 {
-                self.res[m + r] = rows[r]
+            for (r, row) in rows.iter().enumerate() {
+                self.res[m + r] = row
                     .iter()
                     .zip(&u)
                     .zip(u_p)
