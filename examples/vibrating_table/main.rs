@@ -2,17 +2,20 @@
 //! a period-1 orbit, continue it in the table's amplitude `a`, locate the existence fold (SN)
 //! and the period doubling (PD), switch to the period-2 branch at PD, and continue the PD curve
 //! in `(a, omega)`, then the branch again with exact derivatives by automatic
-//! differentiation (`AutoDiff::new(TableModel)`); located points are printed next to their
+//! differentiation (`AutoDiff::new(TableModel)`), and the whole family of stable period-1
+//! orbits over `(a, omega)` as an atlas of charts bounded by the fold and the period doubling;
+//! located points are printed next to their
 //! closed forms (derived in `tests/vibrating_table.rs`): `a_SN omega^2 = pi g (1 - e) / (1 + e)` and
 //! `a_PD omega^2 = g sqrt(4 (1 + e^2)^2 / (1 + e)^4 + pi^2 (1 - e)^2 / (1 + e)^2)`.
 //!
-//! User code: 142 lines (model.rs 92 with the model written twice, once for central differences
-//! and once for automatic differentiation; this file 50; without comments and blank lines).
+//! User code: 160 lines (model.rs 92 with the model written twice, once for central differences
+//! and once for automatic differentiation; this file 68; without comments and blank lines).
 //!
 //! Run with `cargo run --release --example vibrating_table`.
 
 mod model;
 
+use hycont::hycont_continuation::atlas::{AtlasChart, AtlasEdges, AtlasSettings};
 use hycont::hycont_continuation::{CurveSpec, OrbitRun, RunDirection, SpecialKind};
 use hycont::orbit::{PeriodicOrbit, SegmentValue};
 use hycont::{AutoDiff, FiniteDifferences, SimulationSettings, Simulator};
@@ -66,5 +69,31 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let branch = run.run("period-1", &orbit, RunDirection::Both)?;
     let pd = branch.first(SpecialKind::PeriodDoubling)?;
     show("PD at a = (automatic differentiation)", pd.point[A], a_pd);
+    // The whole family of stable period-1 orbits over (a, omega) by an atlas of charts: its
+    // edges are the fold and the period doubling (and the bounds); every boundary chart on
+    // them lies on its closed-form curve.
+    let edges = AtlasEdges {
+        period_doubling: true,
+        ..AtlasEdges::default()
+    };
+    let settings = AtlasSettings::default()
+        .radii(0.1, 1e-3, 0.2)
+        .bound(OMEGA, 0.8, 1.25)
+        .bound(A, 0.0, 1.8)
+        .edges(edges);
+    let atlas = run.atlas("period-1", &orbit, OMEGA, &settings)?.atlas;
+    println!("atlas: {} charts ({:?})", atlas.charts.len(), atlas.end);
+    for (kind, closed) in [
+        (SpecialKind::Fold, a_sn),
+        (SpecialKind::PeriodDoubling, a_pd),
+    ] {
+        let off = |c: &AtlasChart| (c.point[A] * c.point[OMEGA].powi(2) - closed).abs();
+        let worst = atlas.edge_charts(kind).map(off).fold(0.0, f64::max);
+        let n = atlas.edge_charts(kind).count();
+        println!(
+            "{n} {} charts, |a omega^2 - closed form| <= {worst:.1e}",
+            kind.label()
+        );
+    }
     Ok(())
 }

@@ -259,10 +259,34 @@ fn derivatives(c: &mut Criterion) {
     bench(c, "differences", &FiniteDifferences::new(RockingBlock));
 }
 
+/// The atlas of the symmetric period-one orbits through the Fig. 2 orbit over the study's
+/// window (`figure atlas`'s first sheet), by shooting and by collocation.
+fn atlas(c: &mut Criterion) {
+    use hycont_continuation::OrbitMethod;
+    use hycont_core::orbit::CollocationSettings;
+    use rocking_block::continuation::{atlas_settings, default_method, study_atlas};
+    hycont_continuation::check_branches(false);
+    let start = study_start(&Block::default()).unwrap();
+    let settings = atlas_settings();
+    for (name, method) in [
+        ("shooting", default_method()),
+        (
+            "collocation",
+            OrbitMethod::Collocation(CollocationSettings::default()),
+        ),
+    ] {
+        let sheet = study_atlas("sheet", &start, method, &settings, &mut Silent).unwrap();
+        eprintln!("atlas by {name}: {} charts", sheet.atlas.charts.len());
+        c.bench_function(&format!("continuation/atlas_{name}"), |b| {
+            b.iter(|| black_box(study_atlas("sheet", &start, method, &settings, &mut Silent)));
+        });
+    }
+}
+
 criterion_group! {
     name = benches;
     config = Criterion::default().sample_size(10);
     targets = figures_3_and_4, symmetric_omega_branch, per_point, figure_6_curves, diagrams,
-        derivatives
+        derivatives, atlas
 }
 criterion_main!(benches);

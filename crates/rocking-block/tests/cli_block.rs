@@ -58,6 +58,7 @@ fn figure_all_for_another_block() {
         "fig8",
         "fig9",
         "fig10",
+        "atlas",
     ] {
         let svg = std::fs::read_to_string(other.join(format!("{name}.svg"))).unwrap();
         assert!(
@@ -66,10 +67,13 @@ fn figure_all_for_another_block() {
         );
         assert!(other.join(format!("{name}.png")).exists(), "{name}.png");
     }
-    for n in 2..=10 {
-        let v = json(&other.join(format!("fig{n}.json")));
+    let names = (2..=10)
+        .map(|n| format!("fig{n}"))
+        .chain(["atlas".to_string()]);
+    for (name, n) in names.zip(2..) {
+        let v = json(&other.join(format!("{name}.json")));
         let p = &v["provenance"];
-        assert_eq!(p["block"]["theta_b"], 0.85, "fig{n}");
+        assert_eq!(p["block"]["theta_b"], 0.85, "{name}");
         assert_eq!(p["hycont_version"], env!("CARGO_PKG_VERSION"));
         let line: Vec<&str> = p["command_line"]
             .as_array()
@@ -77,7 +81,7 @@ fn figure_all_for_another_block() {
             .iter()
             .map(|a| a.as_str().unwrap())
             .collect();
-        assert_eq!(&line[1..4], ["figure", "all", "--theta-b"], "fig{n}");
+        assert_eq!(&line[1..4], ["figure", "all", "--theta-b"], "{name}");
         if [7, 9, 10].contains(&n) {
             assert_eq!(
                 (p["seed"].as_u64(), p["trials"].as_u64()),

@@ -18,6 +18,9 @@ const SLACK: f64 = 1e-6;
 /// An edge located closer than this fraction of the radius to a chart's centre cuts the
 /// chart instead of making a boundary chart.
 const EDGE_INSIDE: f64 = 0.1;
+/// A new chart closer than this fraction of a radius to an existing chart is a duplicate
+/// (e.g. an edge point located again at a corner of two edges): rejected.
+const DUPLICATE: f64 = 0.05;
 /// Edge cuts of one chart beyond which it is given up (the edges do not close it).
 const MAX_CUTS: usize = 4;
 
@@ -211,6 +214,11 @@ impl<'a, P: ContinuationProblem<'a> + ?Sized> Grower<'_, '_, 'a, P> {
     fn grow(&mut self, observer: &mut dyn Observer) {
         let start = self.atlas.charts.len();
         for i in 0..start {
+            if self.atlas.charts[i].centres.len() != self.atlas.charts[i].neighbours.len() {
+                let ks = self.atlas.charts[i].neighbours.clone();
+                self.atlas.charts[i].centres =
+                    ks.iter().map(|&k| self.project_centre(i, k)).collect();
+            }
             self.rebuild(i);
         }
         loop {
@@ -292,6 +300,9 @@ impl<'a, P: ContinuationProblem<'a> + ?Sized> Grower<'_, '_, 'a, P> {
             return Outcome::Reject;
         }
         if cand.values.iter().all(|&v| v >= 0.0) {
+            if self.duplicate(&cand.u, r) {
+                return Outcome::Reject;
+            }
             let easy = cand.iterations <= 3
                 && moved <= 0.25 * set.max_correction * r
                 && cosine >= (0.5 * set.max_angle).cos();
@@ -315,10 +326,31 @@ impl<'a, P: ContinuationProblem<'a> + ?Sized> Grower<'_, '_, 'a, P> {
                 None => Outcome::Reject,
             };
         }
+        if self.duplicate(&edge_point.u, r) {
+            return Outcome::Reject;
+        }
         match self.cut(&edge_point, k, r) {
             Some(cut) => Outcome::Chart(Box::new(edge_point), r, Some((cut, self.tests[k].edge()))),
             None => Outcome::Reject,
         }
+    }
+
+    /// Whether `u` lies within [`DUPLICATE`] radii (the smaller of `r` and the chart's) of an
+    /// existing chart.
+    fn duplicate(&self, u: &[f64], r: f64) -> bool {
+        let w = &self.solver.w;
+        self.atlas.charts.iter().any(|c| {
+            let near = DUPLICATE * r.min(c.radius);
+            let dp: f64 = (self.solver.params.iter())
+                .map(|&n| w[n] * (u[n] - c.point.u[n]).powi(2))
+                .sum();
+            dp < near * near && {
+                let d: f64 = (0..u.len())
+                    .map(|n| w[n] * (u[n] - c.point.u[n]).powi(2))
+                    .sum();
+                d < near * near
+            }
+        })
     }
 
     /// Chart `i` as a candidate (to cut it by an edge).
@@ -353,6 +385,7 @@ impl<'a, P: ContinuationProblem<'a> + ?Sized> Grower<'_, '_, 'a, P> {
             cuts,
             edge,
             neighbours: Vec::new(),
+            centres: Vec::new(),
             parent,
             open: true,
             gave_up: false,
@@ -406,10 +439,18 @@ impl<'a, P: ContinuationProblem<'a> + ?Sized> Grower<'_, '_, 'a, P> {
             }
         }
         for &k in &found {
-            self.atlas.charts[k].neighbours.push(j);
-            self.rebuild(k);
+            // The new neighbour only cuts chart k's polygon further.
+            let centre = self.project_centre(k, j);
+            let c = &mut self.atlas.charts[k];
+            c.neighbours.push(j);
+            c.centres.push(centre);
+            c.polygon = clip(&c.polygon, &HalfPlane::against(centre, c.radius, rj));
+            c.open = c.open && outside_vertex(&c.polygon, c.radius, SLACK).is_some();
         }
-        self.atlas.charts[j].neighbours = found;
+        let centres = found.iter().map(|&k| self.project_centre(j, k)).collect();
+        let c = &mut self.atlas.charts[j];
+        c.neighbours = found;
+        c.centres = centres;
         self.rebuild(j);
     }
 
@@ -422,8 +463,7 @@ impl<'a, P: ContinuationProblem<'a> + ?Sized> Grower<'_, '_, 'a, P> {
         for cut in &c.cuts {
             poly = clip(&poly, cut);
         }
-        for &k in &c.neighbours {
-            let centre = self.project_centre(i, k);
+        for (&k, &centre) in c.neighbours.iter().zip(&c.centres) {
             let rk = self.atlas.charts[k].radius;
             poly = clip(&poly, &HalfPlane::against(centre, r, rk));
         }

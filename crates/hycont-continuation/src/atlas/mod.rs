@@ -88,6 +88,9 @@ pub struct AtlasChart {
     pub edge: Option<Edge>,
     /// Indices of the charts whose discs meet this one's.
     pub neighbours: Vec<usize>,
+    /// The neighbours' centres in this chart's tangent coordinates (in `neighbours`' order).
+    #[serde(default)]
+    pub centres: Vec<[f64; 2]>,
     /// The chart it grew from (`None` for the first).
     pub parent: Option<usize>,
     /// Whether part of its polygon is still uncovered.

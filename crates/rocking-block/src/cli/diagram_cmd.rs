@@ -79,6 +79,28 @@ impl Observer for BranchLines {
     }
 }
 
+/// A line on stderr every 250 charts of an atlas (`figure atlas`).
+#[derive(Debug, Default)]
+struct ChartLines;
+
+impl Observer for ChartLines {
+    fn chart(&mut self, _: &hycont_continuation::atlas::AtlasChart, count: usize) {
+        if count % 250 == 0 {
+            eprintln!("atlas: {count} charts");
+        }
+    }
+}
+
+/// `figure atlas` for `block`, with a line on stderr every 250 charts; the files written.
+pub(super) fn figure_atlas(
+    dir: &crate::output::OutDir,
+    invocation: &Provenance,
+    block: crate::block::Block,
+) -> Result<Vec<PathBuf>> {
+    let record = invocation.clone().with_block(block);
+    Ok(crate::figures::figure_atlas(dir, &record, &mut ChartLines)?.files)
+}
+
 pub(super) fn run_diagram(
     args: &DiagramArgs,
     invocation: &Provenance,

@@ -195,6 +195,8 @@ pub(super) fn run_figure(
                 provenance: Some(invocation.clone()),
             };
             written.extend(sample(file, &dir, args.force, &progress)?);
+        } else if n == crate::figures::ATLAS && Ranks::current().is_root() {
+            written.extend(super::diagram_cmd::figure_atlas(&dir, invocation, block)?);
         } else if Ranks::current().is_root() {
             // In an MPI job, rank 0 alone draws the figures that are not sampled.
             let options = SampleOptions {

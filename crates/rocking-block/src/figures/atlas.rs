@@ -18,10 +18,11 @@ use serde_json::json;
 
 /// The two sheets of the symmetric family: through the Fig. 2 orbit (up to the fold) and
 /// beyond the fold (from the Fig. 3 branch between SN1 and GR1, up to the fold and the
-/// grazing curve), each an atlas with the fold as an edge.
+/// grazing curve), each an atlas with the fold as an edge. A block whose Fig. 3 branch has no
+/// fold followed by a grazing point has the first sheet only.
 ///
 /// # Errors
-/// Numerical failures; a block whose Fig. 3 branch has no fold.
+/// Numerical failures.
 pub fn study_sheets(
     block: &crate::block::Block,
     observer: &mut dyn Observer,
@@ -42,7 +43,9 @@ pub fn study_sheets(
         &start,
         observer,
     )?;
-    let lower = beyond_fold(&fig3[0])?;
+    let Some(lower) = beyond_fold(&fig3[0])? else {
+        return Ok(vec![upper]);
+    };
     let lower = study_atlas(
         "beyond the fold (SN)",
         &lower,
@@ -54,9 +57,12 @@ pub fn study_sheets(
 }
 
 /// An orbit of the symmetric branch beyond its first fold: midway (in points) between the
-/// fold SN1 and the grazing point GR1 of Fig. 3.
-fn beyond_fold(branch: &hycont_continuation::OrbitBranch) -> Result<PeriodicOrbit> {
+/// fold SN1 and the grazing point GR1 of Fig. 3 (`None` without both).
+fn beyond_fold(branch: &hycont_continuation::OrbitBranch) -> Result<Option<PeriodicOrbit>> {
     let b = &branch.branch;
+    if branch.first(SpecialKind::Fold).is_err() || branch.first(SpecialKind::Grazing).is_err() {
+        return Ok(None);
+    }
     // Special points are numbered apart from the points: find the points nearest to them.
     let nearest = |kind: SpecialKind| -> Result<usize> {
         let s = &branch.first(kind)?.point;
@@ -72,7 +78,7 @@ fn beyond_fold(branch: &hycont_continuation::OrbitBranch) -> Result<PeriodicOrbi
     if sn.abs_diff(gr) < 2 {
         return Err(Error::NoOrbit("no point between SN1 and GR1".into()));
     }
-    Ok(branch.orbit_of(&b.points[(sn + gr) / 2])?)
+    Ok(Some(branch.orbit_of(&b.points[(sn + gr) / 2])?))
 }
 
 /// A chart's summary for the figure's JSON.

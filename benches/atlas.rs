@@ -1,0 +1,85 @@
+//! Two-dimensional atlases: the vibrating table's stable period-one orbits over `(a, omega)`
+//! (`examples/vibrating_table/model.rs`, exact derivatives by `AutoDiff`), covered up to the
+//! fold and the period doubling and the bounds `omega` in [0.8, 1.25], `a <= 1.8`, by both
+//! discretisations (the family of `tests/atlas.rs`). Run with `cargo bench --bench atlas`.
+
+#[path = "../examples/vibrating_table/model.rs"]
+mod model;
+
+use criterion::{Criterion, criterion_group, criterion_main};
+use hycont::hycont_continuation::OrbitRun;
+use hycont::hycont_continuation::atlas::{AtlasEdges, AtlasSettings};
+use hycont::orbit::{
+    CollocationSettings, OrbitMethod, PeriodicOrbit, SegmentEnd, SegmentSpec, ShootingSettings,
+    Signature,
+};
+use hycont::{AutoDiff, SimulationSettings};
+use model::{A, FLIGHT, IMPACT, OMEGA, TableModel, WRAP};
+use std::f64::consts::PI;
+use std::hint::black_box;
+
+/// The stable period-one orbit at `a = 1.3`, `omega = 1` (`e = 1/2`, `g = 1`).
+fn start(table: &AutoDiff<TableModel>) -> PeriodicOrbit {
+    let (e, g, a, omega) = (0.5, 1.0, 1.3, 1.0);
+    let theta0 = (PI * g * (1.0 - e) / (1.0 + e) / (a * omega * omega)).acos();
+    let w_plus = e * g * 2.0 * PI / omega / (1.0 + e);
+    let spec = |end| SegmentSpec { mode: FLIGHT, end };
+    let signature = Signature::new(
+        table,
+        vec![
+            spec(SegmentEnd::Event(WRAP)),
+            spec(SegmentEnd::Event(IMPACT)),
+        ],
+    )
+    .expect("a signature");
+    PeriodicOrbit::from_initial_state(
+        table,
+        signature,
+        &[0.0, w_plus, theta0],
+        &[a, omega, e, g],
+        20.0,
+        &SimulationSettings::default(),
+    )
+    .expect("the orbit")
+}
+
+fn atlases(c: &mut Criterion) {
+    hycont::hycont_continuation::check_branches(false);
+    let table = AutoDiff::new(TableModel);
+    let orbit = start(&table);
+    let settings = AtlasSettings::default()
+        .radii(0.1, 1e-3, 0.2)
+        .bound(OMEGA, 0.8, 1.25)
+        .bound(A, 0.0, 1.8)
+        .edges(AtlasEdges {
+            period_doubling: true,
+            ..AtlasEdges::default()
+        });
+    let mut group = c.benchmark_group("atlas");
+    group.sample_size(10);
+    for (name, method) in [
+        (
+            "table_shooting",
+            OrbitMethod::Shooting(ShootingSettings::default()),
+        ),
+        (
+            "table_collocation",
+            OrbitMethod::Collocation(CollocationSettings::default()),
+        ),
+    ] {
+        let mut run = OrbitRun::new(&table, A).expect("a parameter");
+        run.method(method);
+        group.bench_function(name, |b| {
+            b.iter(|| {
+                let atlas = run
+                    .atlas("period-1", &orbit, OMEGA, &settings)
+                    .expect("the atlas");
+                black_box(atlas.atlas.charts.len())
+            });
+        });
+    }
+    group.finish();
+}
+
+criterion_group!(benches, atlases);
+criterion_main!(benches);
