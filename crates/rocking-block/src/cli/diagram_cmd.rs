@@ -85,7 +85,7 @@ struct ChartLines;
 
 impl Observer for ChartLines {
     fn chart(&mut self, _: &hycont_continuation::atlas::AtlasChart, count: usize) {
-        if count % 250 == 0 {
+        if count.is_multiple_of(250) {
             eprintln!("atlas: {count} charts");
         }
     }
