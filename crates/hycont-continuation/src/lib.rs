@@ -13,7 +13,10 @@
 //! curve through a fold-flip point), with their own codimension-two points (cusps CP; R1,
 //! LPPD, R2, LPNS, PDNS from the multipliers besides the held one; [`Detect::codim2`]), and
 //! whole bifurcation diagrams in one call by [`OrbitRun::diagram`] (every BP and PD switched
-//! at to a depth; [`Diagram::cascades`] reads off period-doubling cascades);
+//! at to a depth; [`Diagram::cascades`] reads off period-doubling cascades), and whole
+//! two-parameter families by [`OrbitRun::atlas`] (Henderson's charts, module [`atlas`]: a
+//! covering of the family's surface bounded by the bounds, folds and admissibility, as an
+//! [`OrbitAtlas`] that serialises and grows further);
 //! `examples/symmetric_branch/` in the
 //! `hycont` package shows a half-orbit branch and a switch to the asymmetric branch. The
 //! augmented Jacobians are factorised with the problem's condensed local blocks (collocation's

@@ -24,6 +24,51 @@
 //! kept: the zero is located between the chart it grew from and it (or, from a chart already
 //! on that edge, across the edge), and the located point becomes a boundary chart, whose
 //! polygon is cut by the edge's tangent line, so that the atlas follows the edge.
+//!
+//! ```
+//! use hycont_continuation::atlas::{self, AtlasEnd, AtlasSettings};
+//! use hycont_continuation::{ContinuationProblem, PointInfo, SpecialKind, observe::Silent};
+//! use hycont_core::problem::{Activity, Problem, UnknownMonitor, ZeroFunction};
+//!
+//! /// The unit sphere x^2 + y^2 + z^2 = 1, with x and y free.
+//! struct Sphere;
+//! impl ZeroFunction for Sphere {
+//!     fn unknowns(&self) -> usize { 3 }
+//!     fn equations(&self) -> usize { 1 }
+//!     fn jacobian_pattern(&self) -> Vec<(usize, usize)> { vec![(0, 0), (0, 1), (0, 2)] }
+//!     fn evaluate(&mut self, u: &[f64], r: &mut [f64], j: Option<&mut [f64]>) -> hycont_core::Result<()> {
+//!         r[0] = u[0] * u[0] + u[1] * u[1] + u[2] * u[2] - 1.0;
+//!         if let Some(j) = j { for k in 0..3 { j[k] = 2.0 * u[k]; } }
+//!         Ok(())
+//!     }
+//! }
+//! struct Surface { problem: Problem<'static> }
+//! impl ContinuationProblem<'static> for Surface {
+//!     fn problem(&mut self) -> &mut Problem<'static> { &mut self.problem }
+//!     fn parameter_index(&self) -> usize { 3 }
+//!     fn parameter_position(&self) -> usize { 0 }
+//!     fn parameter_name(&self) -> String { "x".into() }
+//!     fn parameter_names(&self) -> Vec<String> { vec!["x".into(), "y".into()] }
+//!     fn monitor_names(&self) -> Vec<String> { vec![] }
+//!     fn analyse(&mut self, u: &[f64]) -> hycont_core::Result<PointInfo> {
+//!         Ok(PointInfo { params: vec![u[3], u[4]], ..PointInfo::default() })
+//!     }
+//! }
+//! let mut problem = Problem::new(3);
+//! problem.add_part(Box::new(Sphere), vec![0, 1, 2]).unwrap();
+//! for (name, k) in [("x", 0), ("y", 1)] {
+//!     problem.add_monitor(name, Box::new(UnknownMonitor), vec![k], Activity::Active(0.0)).unwrap();
+//! }
+//! let mut surface = Surface { problem };
+//! // Unknowns: x, y, z, then the monitors' values x and y; near the north pole.
+//! let u0 = [0.0, 0.0, 1.0, 0.0, 0.0];
+//! let settings = AtlasSettings::default().radii(0.2, 1e-3, 0.2);
+//! let a = atlas::cover(&mut surface, "cap", &u0, [3, 4], &settings, &mut Silent).unwrap();
+//! // The fold over the (x, y) plane is the equator: the upper hemisphere is covered.
+//! assert_eq!(a.end, AtlasEnd::Covered);
+//! assert!(a.edge_charts(SpecialKind::Fold).all(|c| c.point.u[2].abs() < 1e-6));
+//! assert!(a.charts.iter().all(|c| c.point.u[2] >= 0.0));
+//! ```
 
 mod cover;
 mod edges;
