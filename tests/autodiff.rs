@@ -161,3 +161,56 @@ fn many_variables_are_differentiated_one_at_a_time() {
     let nonzero = dx.iter().filter(|v| **v != 0.0).count();
     assert_eq!(nonzero, LINKS + LINKS * 2 + 2 * (LINKS - 1));
 }
+
+#[path = "../examples/vibrating_table/model.rs"]
+mod table;
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(64))]
+    /// Second derivatives by hyper-dual numbers against the closed forms of the vibrating
+    /// table, $f = (w,\ -g + a\omega^2\sin\theta,\ \omega)$ with parameters $(a, \omega, e, g)$:
+    /// $\partial_\theta^2 f_1 = -a\omega^2\sin\theta$, $\partial_a\partial_\theta f_1 =
+    /// \omega^2\cos\theta$, $\partial_\omega^2 f_1 = 2a\sin\theta$, $\partial_\omega
+    /// \partial_\theta f_1 = 2a\omega\cos\theta$, every other component zero; the impact's reset
+    /// $w \mapsto -e w$ has $\partial_e \partial_w = -1$; and $B(a, b) = B(b, a)$.
+    #[test]
+    fn second_derivatives_equal_the_closed_forms(
+        z in 0.0f64..2.0, w in -3.0f64..3.0, th in -3.0f64..3.0,
+        a in 0.5f64..2.0, om in 0.5f64..2.0,
+    ) {
+        use hycont::Variation;
+        let m = AutoDiff::new(table::TableModel);
+        let (x, p) = ([z, w, th], [a, om, 0.5, 1.0]);
+        let e = |k: usize, n: usize| { let mut v = vec![0.0; n]; v[k] = 1.0; v };
+        let (ex, ep) = (|k| e(k, 3), |k| e(k, 4));
+        let none: [f64; 0] = [];
+        let at = |xa: Vec<f64>, pa: Vec<f64>, xb: Vec<f64>, pb: Vec<f64>| {
+            let mut out = [0.0; 3];
+            m.vector_field_second_derivative(table::FLIGHT, &x, &p,
+                Variation { x: &xa, p: &pa }, Variation { x: &xb, p: &pb }, &mut out);
+            out
+        };
+        let close = |got: [f64; 3], want: f64| {
+            assert_abs_diff_eq!(got[0], 0.0);
+            assert_abs_diff_eq!(got[2], 0.0);
+            assert_abs_diff_eq!(got[1], want, epsilon = 1e-13 * (1.0 + want.abs()));
+        };
+        close(at(ex(2), vec![0.0; 4], ex(2), vec![0.0; 4]), -a * om * om * th.sin());
+        close(at(vec![0.0; 3], ep(table::A.index()), ex(2), vec![0.0; 4]), om * om * th.cos());
+        close(at(vec![0.0; 3], ep(table::OMEGA.index()), vec![0.0; 3], ep(table::OMEGA.index())), 2.0 * a * th.sin());
+        close(at(vec![0.0; 3], ep(table::OMEGA.index()), ex(2), vec![0.0; 4]), 2.0 * a * om * th.cos());
+        close(at(ex(0), vec![0.0; 4], ex(1), vec![0.0; 4]), 0.0);
+        // Symmetry on general directions.
+        let (u, v) = ([0.3, -1.2, 0.7], [1.1, 0.4, -0.5]);
+        let (pu, pv) = ([0.2, -0.3, 0.0, 0.1], [-0.6, 0.5, 0.3, 0.0]);
+        let ab = at(u.to_vec(), pu.to_vec(), v.to_vec(), pv.to_vec());
+        let ba = at(v.to_vec(), pv.to_vec(), u.to_vec(), pu.to_vec());
+        for k in 0..3 {
+            assert_abs_diff_eq!(ab[k], ba[k], epsilon = 1e-13);
+        }
+        let mut r = [0.0; 3];
+        m.reset_second_derivative(table::IMPACT, &x, &p, Variation { x: &ex(1), p: &none },
+            Variation { x: &[0.0; 3], p: &ep(2) }, &mut r);
+        prop_assert_eq!(r, [0.0, -1.0, 0.0]);
+    }
+}

@@ -5,7 +5,7 @@
 //! numbers carrying all $n$ (or $n + n_p$) directions at once.
 
 use super::{EventId, EventSpec, HybridJacobians, HybridSystem, Mode, Z2Symmetry};
-use num_dual::{Dual64, DualNum, DualSVec64};
+use num_dual::{Dual64, DualNum, DualSVec64, HyperDual64};
 
 /// The scalar a [`HybridModel`] is written in: `f64`, or a dual number over it. Write the
 /// model's functions with the operators and the methods of [`num_dual::DualNum`] (`sin`, `exp`,
@@ -127,6 +127,116 @@ impl<M> AutoDiff<M> {
     /// The model.
     pub fn inner(&self) -> &M {
         &self.model
+    }
+}
+
+/// A variation (a direction) of the state and the parameters, for [`AutoDiff`]'s second derivatives.
+#[derive(Debug, Clone, Copy)]
+pub struct Variation<'a> {
+    /// The state's part ($n$ values).
+    pub x: &'a [f64],
+    /// The parameters' part ($n_p$ values; empty for none).
+    pub p: &'a [f64],
+}
+
+impl<M: HybridModel> AutoDiff<M> {
+    /// The second derivative of the vector field of `mode` at `(x, p)` along the directions
+    /// `a` and `b` of the state and the parameters,
+    /// $B(a, b) = \sum_{j,k} \frac{\partial^2 f}{\partial z_j \partial z_k} a_j b_k$ with
+    /// $z = (x, p)$ (the bilinear form of normal-form coefficients, e.g. a fold's
+    /// $\tfrac12 \langle w, B(q, q) \rangle$), into `out` ($n$ values), exactly, from one
+    /// evaluation on hyper-dual numbers.
+    ///
+    /// ```
+    /// # use hycont_core::{AutoDiff, Variation, HybridModel, Scalar, Mode, EventId, EventSpec};
+    /// # struct M;
+    /// # impl HybridModel for M {
+    /// #     fn state_dim(&self) -> usize { 2 }
+    /// #     fn parameter_names(&self) -> &[&'static str] { &["c"] }
+    /// #     fn mode_count(&self) -> usize { 1 }
+    /// #     fn mode_name(&self, _: Mode) -> &'static str { "m" }
+    /// #     fn events(&self, _: Mode) -> &[EventId] { &[] }
+    /// #     fn event_spec(&self, _: EventId) -> EventSpec { unreachable!() }
+    /// #     fn event<T: Scalar>(&self, _: EventId, x: &[T], _: &[T]) -> T { x[0] }
+    /// // f = (c x0^2 x1, sin x0)
+    /// fn vector_field<T: Scalar>(&self, _: Mode, x: &[T], p: &[T], out: &mut [T]) {
+    ///     out[0] = p[0] * x[0] * x[0] * x[1];
+    ///     out[1] = x[0].sin();
+    /// }
+    /// # }
+    /// let m = AutoDiff::new(M);
+    /// let (x, p) = ([0.5, 2.0], [3.0]);
+    /// let a = Variation { x: &[1.0, 0.0], p: &[] };
+    /// let b = Variation { x: &[0.0, 1.0], p: &[] };
+    /// let mut out = [0.0; 2];
+    /// m.vector_field_second_derivative(Mode(0), &x, &p, a, b, &mut out);
+    /// // d^2 f0 / dx0 dx1 = 2 c x0 = 3, d^2 f1 / dx0 dx1 = 0
+    /// assert_eq!(out, [3.0, 0.0]);
+    /// ```
+    pub fn vector_field_second_derivative(
+        &self,
+        mode: Mode,
+        x: &[f64],
+        p: &[f64],
+        a: Variation<'_>,
+        b: Variation<'_>,
+        out: &mut [f64],
+    ) {
+        second(&self.model, Function::Field(mode), x, p, a, b, out);
+    }
+
+    /// The second derivative of an event function along `a` and `b` (one value), as
+    /// [`AutoDiff::vector_field_second_derivative`].
+    pub fn event_second_derivative(
+        &self,
+        event: EventId,
+        x: &[f64],
+        p: &[f64],
+        a: Variation<'_>,
+        b: Variation<'_>,
+    ) -> f64 {
+        let mut out = [0.0];
+        second(&self.model, Function::Event(event), x, p, a, b, &mut out);
+        out[0]
+    }
+
+    /// The second derivative of a reset along `a` and `b` ($n$ values), as
+    /// [`AutoDiff::vector_field_second_derivative`].
+    pub fn reset_second_derivative(
+        &self,
+        event: EventId,
+        x: &[f64],
+        p: &[f64],
+        a: Variation<'_>,
+        b: Variation<'_>,
+        out: &mut [f64],
+    ) {
+        second(&self.model, Function::Reset(event), x, p, a, b, out);
+    }
+}
+
+/// $B(a, b)$ of `f` at `(x, p)` by one evaluation on [`HyperDual64`] numbers
+/// ($z + a\,\varepsilon_1 + b\,\varepsilon_2$: the $\varepsilon_1\varepsilon_2$ part).
+fn second<M: HybridModel + ?Sized>(
+    m: &M,
+    f: Function,
+    x: &[f64],
+    p: &[f64],
+    a: Variation<'_>,
+    b: Variation<'_>,
+    out: &mut [f64],
+) {
+    let part = |d: &[f64], k: usize| d.get(k).copied().unwrap_or(0.0);
+    let xd: Vec<HyperDual64> = (0..x.len())
+        .map(|k| HyperDual64::new(x[k], part(a.x, k), part(b.x, k), 0.0))
+        .collect();
+    let pd: Vec<HyperDual64> = (0..p.len())
+        .map(|k| HyperDual64::new(p[k], part(a.p, k), part(b.p, k), 0.0))
+        .collect();
+    let mut yd = vec![HyperDual64::from_re(0.0); out.len()];
+    f.eval(m, &xd, &pd, &mut yd);
+    for (o, y) in out.iter_mut().zip(&yd) {
+        *o = y.eps1eps2;
     }
 }
 

@@ -313,7 +313,7 @@ pub trait HybridJacobians: HybridSystem {
 mod autodiff;
 mod derivatives;
 mod symmetry;
-pub use autodiff::{AutoDiff, HybridModel, Scalar};
+pub use autodiff::{AutoDiff, HybridModel, Scalar, Variation};
 pub use derivatives::{
     DerivativeCheck, DerivativeKind, DerivativeMismatch, FiniteDifferences, check_derivatives,
 };
