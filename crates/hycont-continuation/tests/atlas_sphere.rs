@@ -209,3 +209,67 @@ fn a_bound_cuts_the_hemisphere_at_its_level() {
     let outside = AtlasSettings::default().bound(ParamId(0), 0.5, 0.9);
     assert!(atlas::cover(&mut s, "outside", &u0, [3, 4], &outside, &mut Silent).is_err());
 }
+
+/// The observer hears every chart once, in order; bad settings, a start of the wrong length
+/// and a problem that is not two-dimensional are typed errors naming the bad value.
+#[test]
+fn observers_and_misuse() {
+    struct Count(usize);
+    impl hycont_continuation::Observer for Count {
+        fn chart(&mut self, _: &atlas::AtlasChart, count: usize) {
+            self.0 += 1;
+            assert_eq!(count, self.0);
+        }
+    }
+    let (mut s, u0) = surface();
+    let mut count = Count(0);
+    let settings = AtlasSettings::default().radii(0.2, 1e-3, 0.2);
+    let a = atlas::cover(&mut s, "cap", &u0, [3, 4], &settings, &mut count).unwrap();
+    assert_eq!(count.0, a.charts.len());
+    let bad = [
+        AtlasSettings::default().radii(0.5, 1e-3, 0.2),
+        AtlasSettings::default().radii(0.1, 0.0, 0.2),
+        AtlasSettings {
+            growth: 0.5,
+            ..AtlasSettings::default()
+        },
+        AtlasSettings::default().max_charts(0),
+        AtlasSettings::default().bound(ParamId(0), 1.0, f64::NAN),
+        AtlasSettings {
+            max_angle: 2.0,
+            ..AtlasSettings::default()
+        },
+    ];
+    for settings in bad {
+        let (mut s, u0) = surface();
+        let e = atlas::cover(&mut s, "bad", &u0, [3, 4], &settings, &mut Silent).unwrap_err();
+        assert!(
+            matches!(e, hycont_continuation::Error::InvalidSetting { .. }),
+            "{e}"
+        );
+    }
+    let (mut s, u0) = surface();
+    assert!(atlas::cover(&mut s, "short", &u0[..4], [3, 4], &settings, &mut Silent).is_err());
+    assert!(atlas::cover(&mut s, "same", &u0, [3, 3], &settings, &mut Silent).is_err());
+    // One active monitor only: a one-dimensional problem.
+    let mut problem = Problem::new(3);
+    problem.add_part(Box::new(Sphere), vec![0, 1, 2]).unwrap();
+    problem
+        .add_monitor(
+            "x",
+            Box::new(UnknownMonitor),
+            vec![0],
+            Activity::Active(0.0),
+        )
+        .unwrap();
+    let mut line = Surface { problem };
+    let e = atlas::cover(
+        &mut line,
+        "1d",
+        &[0.0, 0.0, 1.0, 0.0],
+        [3, 2],
+        &settings,
+        &mut Silent,
+    );
+    assert!(e.is_err());
+}

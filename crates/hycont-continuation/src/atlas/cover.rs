@@ -101,6 +101,7 @@ pub fn cover<'a, P: ContinuationProblem<'a> + ?Sized>(
     };
     let first = grower.evaluate(u, iterations)?;
     grower.orient(first)?;
+    observer.chart(&grower.atlas.charts[0], 1);
     grower.grow(observer);
     Ok(atlas)
 }
