@@ -154,6 +154,17 @@ fn the_whole_sphere_is_covered_and_closes() {
                 .all(|&j| a.charts[j].neighbours.contains(&i))
         );
     }
+    // The triangles of mutual neighbours mesh the surface (at least two per chart on a closed
+    // surface: V - E + F = 2 with E = 3F/2 for a triangulation, more where they overlap).
+    let triangles = a.triangles();
+    assert!(
+        triangles.len() >= 2 * a.charts.len() - 4,
+        "{}",
+        triangles.len()
+    );
+    for [i, j, k] in triangles {
+        assert!(i < j && j < k && a.charts[i].neighbours.contains(&k));
+    }
 }
 
 #[test]
