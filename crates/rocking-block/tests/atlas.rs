@@ -189,3 +189,42 @@ fn collocation_covers_the_sheet_with_the_same_fold() {
     assert_eq!(sheet.atlas.end, AtlasEnd::Covered);
     assert_edge_on_curve(&sheet, SpecialKind::Fold);
 }
+
+mod common;
+
+/// `rocking-block figure atlas --out DIR --format both` writes `atlas.json` with every chart
+/// of both sheets (omega, alpha, Amp, stability, edge, polygon) inside the window, and the
+/// picture as SVG and PNG; `figure atlas` with a recipe option of the branch figures is refused
+/// in one line naming the figure (exit 2).
+#[test]
+fn the_cli_writes_the_atlas_figure() {
+    use common::{RunOk, bin, json, scratch};
+    let dir = scratch("atlas-figure");
+    bin()
+        .args(["figure", "atlas", "--format", "both", "--out"])
+        .arg(&dir)
+        .run_ok();
+    let v = json(&dir.join("atlas.json"));
+    let charts = v["charts"].as_array().unwrap();
+    let sheets = v["sheets"].as_array().unwrap();
+    assert_eq!(sheets.len(), 2);
+    let counted: u64 = sheets.iter().map(|s| s["charts"].as_u64().unwrap()).sum();
+    assert_eq!(charts.len() as u64, counted);
+    let [(w0, w1), (a0, a1)] = ATLAS_WINDOW;
+    for c in charts {
+        let (w, a) = (c["omega"].as_f64().unwrap(), c["alpha"].as_f64().unwrap());
+        assert!(w >= w0 - 1e-9 && w <= w1 + 1e-9 && a >= a0 - 1e-9 && a <= a1 + 1e-9);
+        assert!(c["amp"].as_f64().unwrap() > 0.0);
+        assert!(c["stable"].is_boolean());
+    }
+    let edges = |e: &str| charts.iter().filter(|c| c["edge"] == e).count();
+    assert!(edges("SN") >= 20 && edges("GR") >= 10 && edges("EP") >= 20);
+    assert!(dir.join("atlas.svg").exists() && dir.join("atlas.png").exists());
+    let out = bin()
+        .args(["figure", "atlas", "--method", "collocation", "--out"])
+        .arg(&dir)
+        .output()
+        .unwrap();
+    common::fails(&out, 2, "figures atlas");
+    std::fs::remove_dir_all(&dir).ok();
+}

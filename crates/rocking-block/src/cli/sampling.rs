@@ -231,7 +231,7 @@ fn checked_options(
     if !invocation.recipe().is_study() && !which.iter().any(|n| (3..=5).contains(n)) {
         return Err(Error::InvalidArgument {
             name: "continuation options",
-            value: format!("figures {which:?}"),
+            value: format!("figures {}", crate::figures::names(which)),
             reason: "--method, --h0, --h-min, --h-max, --max-points, --ntst, --ncol, --tol, --adapt-every and --mesh-tol apply to the branch figures 3, 4 and 5",
         });
     }
@@ -245,7 +245,7 @@ fn checked_options(
     if args.halfwidth.is_some() && !which.contains(&9) {
         return Err(Error::InvalidArgument {
             name: "halfwidth",
-            value: format!("figures {which:?}"),
+            value: format!("figures {}", crate::figures::names(which)),
             reason: "applies to Fig. 9 (sampled cell by cell)",
         });
     }

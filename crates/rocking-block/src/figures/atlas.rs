@@ -101,8 +101,9 @@ fn chart_json(a: &OrbitAtlas, c: &hycont_continuation::atlas::AtlasChart) -> ser
     })
 }
 
-/// Writes `atlas.json` (`"sheets": [{"name", "end", "charts": [{"omega", "alpha", "amp",
-/// "stable", "edge", "polygon"}]}]`, and Fig. 6's curves) and `atlas.svg`.
+/// Writes `atlas.json` (`"charts": [{"sheet", "omega", "alpha", "amp", "period", "stable",
+/// "edge", "radius", "polygon"}]` over all sheets, `"sheets": [{"name", "end", "stats",
+/// "charts"}]` with each sheet's chart count, and Fig. 6's curves) and `atlas.svg`.
 ///
 /// # Errors
 /// Numerical or I/O failures.
@@ -122,8 +123,15 @@ pub fn figure_atlas(
             "name": a.atlas.name,
             "end": format!("{:?}", a.atlas.end),
             "stats": a.atlas.stats,
-            "charts": a.atlas.charts.iter().map(|c| chart_json(a, c)).collect::<Vec<_>>(),
+            "charts": a.atlas.charts.len(),
         })).collect::<Vec<_>>(),
+        "charts": sheets.iter().enumerate().flat_map(|(k, a)| {
+            a.atlas.charts.iter().map(move |c| {
+                let mut v = chart_json(a, c);
+                v["sheet"] = json!(k);
+                v
+            })
+        }).collect::<Vec<_>>(),
         "curves": curves.iter().map(super::fig6::curve_json).collect::<Vec<_>>(),
     });
     let json_path = out.join("atlas.json");

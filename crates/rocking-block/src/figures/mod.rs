@@ -93,6 +93,19 @@ pub fn figure_with(
     }
 }
 
+/// The figures named as the command line names them (`3, 4, atlas`).
+#[must_use]
+pub fn names(which: &[u32]) -> String {
+    let name = |n: &u32| {
+        if *n == ATLAS {
+            "atlas".to_string()
+        } else {
+            n.to_string()
+        }
+    };
+    which.iter().map(name).collect::<Vec<_>>().join(", ")
+}
+
 pub(crate) fn write_json(path: &Path, value: &serde_json::Value) -> Result<()> {
     let text = serde_json::to_string_pretty(value).expect("figure JSON serialises");
     crate::output::write_atomic(path, text)
