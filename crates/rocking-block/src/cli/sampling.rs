@@ -37,28 +37,6 @@ pub(super) fn parse_shard(text: &str) -> Result<(u64, u64)> {
     Ok((i, n))
 }
 
-fn parse_which(which: &str) -> Result<Vec<u32>> {
-    if which == "all" {
-        return Ok(crate::figures::AVAILABLE.to_vec());
-    }
-    if which == "atlas" {
-        return Ok(vec![crate::figures::ATLAS]);
-    }
-    let n: u32 = which.parse().map_err(|_| Error::InvalidArgument {
-        name: "figure",
-        value: which.to_string(),
-        reason: "expected a figure number (2 to 10), `atlas` or `all`",
-    })?;
-    if !crate::figures::AVAILABLE.contains(&n) || n == crate::figures::ATLAS {
-        return Err(Error::InvalidArgument {
-            name: "figure",
-            value: which.to_string(),
-            reason: "the study has figures 2 to 10 (and `atlas`)",
-        });
-    }
-    Ok(vec![n])
-}
-
 /// Sizes rayon's pool (only the first call of a process does; results do not depend on it).
 ///
 /// # Errors
@@ -97,13 +75,15 @@ pub(super) fn stop_on_signals(progress: &Arc<Progress>) {
 /// resumed (which a name must then agree with).
 fn figures_to_draw(which: Option<&str>, resume: Option<u32>) -> Result<Vec<u32>> {
     match (resume, which) {
-        (Some(figure), Some(w)) if parse_which(w)? != [figure] => Err(Error::InvalidArgument {
-            name: "figure",
-            value: w.to_string(),
-            reason: "differs from the figure of the --resume file",
-        }),
+        (Some(figure), Some(w)) if crate::figures::parse(w)? != [figure] => {
+            Err(Error::InvalidArgument {
+                name: "figure",
+                value: w.to_string(),
+                reason: "differs from the figure of the --resume file",
+            })
+        }
         (Some(figure), _) => Ok(vec![figure]),
-        (None, Some(w)) => parse_which(w),
+        (None, Some(w)) => crate::figures::parse(w),
         (None, None) => Err(Error::InvalidArgument {
             name: "figure",
             value: String::new(),

@@ -93,6 +93,32 @@ pub fn figure_with(
     }
 }
 
+/// The figures a name on the command line asks for: a number (2 to 10), `atlas` or `all`.
+///
+/// # Errors
+/// [`Error::InvalidArgument`] for any other name.
+pub fn parse(which: &str) -> Result<Vec<u32>> {
+    if which == "all" {
+        return Ok(AVAILABLE.to_vec());
+    }
+    if which == "atlas" {
+        return Ok(vec![ATLAS]);
+    }
+    let n: u32 = which.parse().map_err(|_| Error::InvalidArgument {
+        name: "figure",
+        value: which.to_string(),
+        reason: "expected a figure number (2 to 10), `atlas` or `all`",
+    })?;
+    if !AVAILABLE.contains(&n) || n == ATLAS {
+        return Err(Error::InvalidArgument {
+            name: "figure",
+            value: which.to_string(),
+            reason: "the study has figures 2 to 10 (and `atlas`)",
+        });
+    }
+    Ok(vec![n])
+}
+
 /// The figures named as the command line names them (`3, 4, atlas`).
 #[must_use]
 pub fn names(which: &[u32]) -> String {
