@@ -2,7 +2,7 @@
 //! by Amp, unstable ones dotted, boundary charts marked by their edge, Fig. 6's curves over it.
 
 use super::fine::Pen;
-use super::key::{Mark, curve_colour, draw_key};
+use super::key::{Mark, colour_bar, curve_colour, draw_key};
 use super::plot_err;
 use crate::continuation::{AMP, ATLAS_WINDOW, Curve};
 use crate::error::Result;
@@ -155,32 +155,11 @@ fn amp_scale<DB: DrawingBackend>(
     area: &DrawingArea<DB, plotters::coord::Shift>,
     amp_max: f64,
 ) -> std::result::Result<(), String> {
-    let mut bar = ChartBuilder::on(area)
-        .caption("Amp = max |phi| (rad)", ("sans-serif", 14))
-        .margin(10)
-        .margin_right(150)
-        .y_label_area_size(45)
-        .build_cartesian_2d(0.0..1.0, 0.0..amp_max)
-        .map_err(|e| e.to_string())?;
-    bar.configure_mesh()
-        .disable_mesh()
-        .disable_x_axis()
-        .y_labels(6)
-        .y_label_style(("sans-serif", 13))
-        .y_label_formatter(&|v| format!("{v:.2}"))
-        .draw()
-        .map_err(|e| e.to_string())?;
-    let steps = 60;
-    bar.draw_series((0..steps).map(|k| {
-        let (lo, hi) = (
-            f64::from(k) / f64::from(steps),
-            f64::from(k + 1) / f64::from(steps),
-        );
-        Rectangle::new(
-            [(0.0, lo * amp_max), (1.0, hi * amp_max)],
-            amp_colour(lo).filled(),
-        )
-    }))
-    .map_err(|e| e.to_string())?;
-    Ok(())
+    colour_bar(
+        area,
+        "Amp = max |phi| (rad)",
+        amp_max,
+        (60, 6, 150),
+        amp_colour,
+    )
 }

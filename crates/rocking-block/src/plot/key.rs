@@ -122,3 +122,38 @@ pub(super) fn draw_key<DB: DrawingBackend>(
     }
     Ok(())
 }
+
+/// A vertical colour scale from 0 to `max` under `caption`, `colour` of the fraction of
+/// `max`, in `steps` bands with `labels` ticks (the room right of it: `margin_right` px).
+pub(super) fn colour_bar<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    caption: &str,
+    max: f64,
+    (steps, labels, margin_right): (u32, usize, u32),
+    colour: impl Fn(f64) -> RGBColor,
+) -> Result<(), String> {
+    let mut bar = ChartBuilder::on(area)
+        .caption(caption, ("sans-serif", 14))
+        .margin(10)
+        .margin_right(margin_right)
+        .y_label_area_size(40)
+        .build_cartesian_2d(0.0..1.0, 0.0..max)
+        .map_err(|e| e.to_string())?;
+    bar.configure_mesh()
+        .disable_mesh()
+        .disable_x_axis()
+        .y_labels(labels)
+        .y_label_style(("sans-serif", 13))
+        .y_label_formatter(&|v| format!("{v:.2}"))
+        .draw()
+        .map_err(|e| e.to_string())?;
+    bar.draw_series((0..steps).map(|k| {
+        let (lo, hi) = (
+            f64::from(k) / f64::from(steps),
+            f64::from(k + 1) / f64::from(steps),
+        );
+        Rectangle::new([(0.0, lo * max), (1.0, hi * max)], colour(lo).filled())
+    }))
+    .map_err(|e| e.to_string())?;
+    Ok(())
+}

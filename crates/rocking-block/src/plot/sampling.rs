@@ -1,7 +1,7 @@
 //! Brute-force diagrams, basins, class grids, probability maps and marginals.
 
 use super::fine::{Chart, Fine, Pen};
-use super::key::{Mark, class_colour, class_entries, curve_colour, draw_key};
+use super::key::{Mark, class_colour, class_entries, colour_bar, curve_colour, draw_key};
 use super::{plot_err, range};
 use crate::error::Result;
 use plotters::prelude::*;
@@ -371,30 +371,7 @@ fn probability_key<DB: DrawingBackend>(
 ) -> std::result::Result<(), String> {
     let (scale, legend) = area.split_vertically(320);
     let legend = &legend;
-    let mut bar = ChartBuilder::on(&scale)
-        .caption("probability", ("sans-serif", 14))
-        .margin(10)
-        .margin_right(70)
-        .y_label_area_size(40)
-        .build_cartesian_2d(0.0..1.0, 0.0..1.0)
-        .map_err(|e| e.to_string())?;
-    bar.configure_mesh()
-        .disable_mesh()
-        .disable_x_axis()
-        .y_labels(5)
-        .y_label_style(("sans-serif", 13))
-        .y_label_formatter(&|v| format!("{v:.2}"))
-        .draw()
-        .map_err(|e| e.to_string())?;
-    let steps = 50;
-    bar.draw_series((0..steps).map(|k| {
-        let (lo, hi) = (
-            f64::from(k) / f64::from(steps),
-            f64::from(k + 1) / f64::from(steps),
-        );
-        Rectangle::new([(0.0, lo), (1.0, hi)], probability_colour(lo).filled())
-    }))
-    .map_err(|e| e.to_string())?;
+    colour_bar(&scale, "probability", 1.0, (50, 5, 70), probability_colour)?;
     draw_key(legend, "curves", &curve_entries(curves))
 }
 
