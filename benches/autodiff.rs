@@ -1,9 +1,10 @@
 //! Derivatives by hand, by automatic differentiation and by central differences, on two balls
 //! on vibrating tables (`examples/two_balls/model.rs`: `TwoBalls` hand-coded, `TwoBallsModel`
 //! written once for `AutoDiff`, `FiniteDifferences<TwoBalls>`): one vector-field Jacobian with
-//! its parameter columns, and a continuation run (the period-1 branch in `a`, both ways, by
-//! shooting and by collocation; the same points each way). Run with
-//! `cargo bench --bench autodiff`.
+//! its parameter columns; the field's derivatives along a branch's six directions (what the
+//! variational equations integrate; AD seeds its duals with them); and a continuation run (the
+//! period-1 branch in `a`, both ways, by shooting and by collocation; the same points each
+//! way). Run with `cargo bench --bench autodiff`.
 
 #[path = "../examples/two_balls/model.rs"]
 mod model;
@@ -11,7 +12,7 @@ mod model;
 use criterion::{Criterion, criterion_group, criterion_main};
 use hycont::hycont_continuation::{OrbitRun, RunDirection};
 use hycont::orbit::{CollocationSettings, OrbitMethod, ShootingSettings};
-use hycont::{AutoDiff, FiniteDifferences, HybridJacobians};
+use hycont::{AutoDiff, FiniteDifferences, HybridJacobians, Tangents};
 use model::{A, E1, FLIGHT, G1, TwoBalls, TwoBallsModel, a_sn, orbit};
 use std::hint::black_box;
 
@@ -32,6 +33,29 @@ fn jacobian<S: HybridJacobians>(c: &mut Criterion, name: &str, sys: &S) {
                 Some(&mut dp),
             );
             black_box(&dp);
+        });
+    });
+}
+
+/// The field's derivatives along the 6 directions a branch's variational equations carry at
+/// every stage (5 state sensitivities and one parameter's).
+fn tangents<S: HybridJacobians>(c: &mut Criterion, name: &str, sys: &S) {
+    let (x, p) = (
+        [0.3, -0.7, 1.1, 0.4, 0.9],
+        [1.2, 1.0, 0.5, 0.7, 1.0, 1.2, -1.5],
+    );
+    let dirs: Vec<f64> = (0..30).map(|i| (0.37 * f64::from(i)).sin()).collect();
+    let (mut f, mut out, mut work) = ([0.0; 5], [0.0; 30], [0.0; 60]);
+    c.bench_function(&format!("autodiff/field_with_tangents/{name}"), |b| {
+        b.iter(|| {
+            let t = Tangents {
+                x: black_box(&dirs),
+                params: &[0],
+                out: &mut out,
+                work: &mut work,
+            };
+            sys.vector_field_with_tangents(FLIGHT, black_box(&x), &p, &mut f, t);
+            black_box(&out);
         });
     });
 }
@@ -70,6 +94,9 @@ fn derivatives(c: &mut Criterion) {
     jacobian(c, "hand", &TwoBalls);
     jacobian(c, "ad", &ad);
     jacobian(c, "fd", &fd);
+    tangents(c, "hand", &TwoBalls);
+    tangents(c, "ad", &ad);
+    tangents(c, "fd", &fd);
     branch(c, "hand", &TwoBalls);
     branch(c, "ad", &ad);
     branch(c, "fd", &fd);

@@ -58,5 +58,5 @@ pub use simulate::{
 pub use system::{
     AutoDiff, DerivativeCheck, DerivativeKind, DerivativeMismatch, Direction, EventAction, EventId,
     EventSpec, FiniteDifferences, HybridJacobians, HybridModel, HybridSystem, Mode, ParamId,
-    Scalar, Variation, Z2Symmetry, check_derivatives, checked_symmetry,
+    Scalar, Tangents, Variation, Z2Symmetry, check_derivatives, checked_symmetry,
 };

@@ -3,7 +3,7 @@
 
 use super::signature::SegmentEnd;
 use crate::system::{
-    Direction, EventAction, EventId, EventSpec, HybridJacobians, HybridSystem, Mode,
+    Direction, EventAction, EventId, EventSpec, HybridJacobians, HybridSystem, Mode, Tangents,
 };
 
 const STOP: EventId = EventId(0);
@@ -162,6 +162,38 @@ impl<S: HybridJacobians + ?Sized> HybridJacobians for SegmentFlow<'_, S> {
         } else {
             self.system
                 .vector_field_with_jacobian(self.mode, x, p, f, dx, dp);
+        }
+    }
+    #[inline]
+    fn vector_field_with_tangents(
+        &self,
+        _: Mode,
+        x: &[f64],
+        p: &[f64],
+        f: &mut [f64],
+        tangents: Tangents<'_>,
+    ) {
+        if self.time_sign < 0.0 {
+            let Tangents {
+                x: dirs,
+                params,
+                out,
+                work,
+            } = tangents;
+            let inner = Tangents {
+                x: dirs,
+                params,
+                out: &mut *out,
+                work,
+            };
+            self.system
+                .vector_field_with_tangents(self.mode, x, p, f, inner);
+            for v in f.iter_mut().chain(out.iter_mut()) {
+                *v = -*v;
+            }
+        } else {
+            self.system
+                .vector_field_with_tangents(self.mode, x, p, f, tangents);
         }
     }
     fn event_gradient(

@@ -12,7 +12,7 @@
 //! (the event time moves with the initial state and the parameters).
 
 use crate::error::{Error, Result};
-use crate::system::{EventId, HybridJacobians, HybridSystem, Mode};
+use crate::system::{EventId, HybridJacobians, HybridSystem, Mode, Tangents};
 
 /// How the simulator extends the state: plain, or with variational equations.
 pub(crate) trait Extension<S: HybridSystem + ?Sized> {
@@ -75,8 +75,8 @@ pub(crate) struct Variational {
     n: usize,
     /// Parameters whose columns of $\Phi_p$ are integrated, in increasing order.
     selected: Vec<usize>,
-    a: Vec<f64>,
-    b: Vec<f64>,
+    /// Work space of [`HybridJacobians::vector_field_with_tangents`]: $n (n + n_p)$ values.
+    work: Vec<f64>,
     // Jump work space.
     fm: Vec<f64>,
     fp: Vec<f64>,
@@ -93,8 +93,7 @@ impl Variational {
         Self {
             n,
             selected,
-            a: vec![0.0; n * n],
-            b: vec![0.0; n * np],
+            work: vec![0.0; n * (n + np)],
             fm: vec![0.0; n],
             fp: vec![0.0; n],
             hx: vec![0.0; n],
@@ -143,26 +142,15 @@ impl<S: HybridJacobians + ?Sized> Extension<S> for Variational {
 
     fn rhs(&mut self, system: &S, mode: Mode, p: &[f64], y: &[f64], dy: &mut [f64]) {
         let n = self.n;
-        let x = &y[..n];
-        let bp = if self.with_params() {
-            Some(&mut self.b[..])
-        } else {
-            None
-        };
-        system.vector_field_with_jacobian(mode, x, p, &mut dy[..n], &mut self.a, bp);
-        // Column j of the sensitivities: f_x times column j (plus f_p's column for parameters).
         let cols = self.columns();
-        let sens = (&y[n..n * (1 + cols)], &mut dy[n..n * (1 + cols)]);
-        let fp = (&self.b[..], &self.selected[..]);
-        match n {
-            1 => sensitivity_rhs::<1>(&self.a, fp, sens),
-            2 => sensitivity_rhs::<2>(&self.a, fp, sens),
-            3 => sensitivity_rhs::<3>(&self.a, fp, sens),
-            4 => sensitivity_rhs::<4>(&self.a, fp, sens),
-            5 => sensitivity_rhs::<5>(&self.a, fp, sens),
-            6 => sensitivity_rhs::<6>(&self.a, fp, sens),
-            _ => sensitivity_rhs_any(n, &self.a, fp, sens),
-        }
+        let (f, out) = dy[..n * (1 + cols)].split_at_mut(n);
+        let tangents = Tangents {
+            x: &y[n..n * (1 + cols)],
+            params: &self.selected,
+            out,
+            work: &mut self.work,
+        };
+        system.vector_field_with_tangents(mode, &y[..n], p, f, tangents);
     }
 
     fn jump(
@@ -239,106 +227,5 @@ impl<S: HybridJacobians + ?Sized> Extension<S> for Variational {
             }
         }
         Ok(())
-    }
-}
-
-/// $\dot\Phi = f_x \Phi$ and $\dot\Phi_p = f_x \Phi_p + f_p$, column by column: `a` is $f_x$
-/// (column-major), `b` holds $f_p$'s columns of every parameter and `selected` the parameters of
-/// the columns after the first `n`. The state dimension `N` is known at compile time, so the
-/// accumulators stay in registers; the sums are [`sensitivity_rhs_any`]'s, term by term in the
-/// same order.
-fn sensitivity_rhs<const N: usize>(
-    a: &[f64],
-    (b, selected): (&[f64], &[usize]),
-    (y, dy): (&[f64], &mut [f64]),
-) {
-    let mut fx = [[0.0; N]; N];
-    for (to, from) in fx.iter_mut().zip(a.chunks_exact(N)) {
-        to.copy_from_slice(from);
-    }
-    for (j, (col, out)) in y.chunks_exact(N).zip(dy.chunks_exact_mut(N)).enumerate() {
-        let mut acc = [0.0; N];
-        if j >= N {
-            let q = selected[j - N];
-            acc.copy_from_slice(&b[q * N..(q + 1) * N]);
-        }
-        for (fx_k, &c) in fx.iter().zip(col) {
-            for (acc_i, &f) in acc.iter_mut().zip(fx_k) {
-                *acc_i += f * c;
-            }
-        }
-        out.copy_from_slice(&acc);
-    }
-}
-
-/// [`sensitivity_rhs`] for any state dimension `n`.
-fn sensitivity_rhs_any(
-    n: usize,
-    a: &[f64],
-    (b, selected): (&[f64], &[usize]),
-    (y, dy): (&[f64], &mut [f64]),
-) {
-    for (j, (col, out)) in y.chunks_exact(n).zip(dy.chunks_exact_mut(n)).enumerate() {
-        for (i, o) in out.iter_mut().enumerate() {
-            let mut acc = if j >= n {
-                b[selected[j - n] * n + i]
-            } else {
-                0.0
-            };
-            for (k, c) in col.iter().enumerate() {
-                acc += a[i + k * n] * c;
-            }
-            *o = acc;
-        }
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::{sensitivity_rhs, sensitivity_rhs_any};
-    use proptest::prelude::*;
-
-    /// $f_x \Phi + [0\ f_p]$ column by column, from the definition (the direct term first).
-    fn reference(n: usize, a: &[f64], b: &[f64], selected: &[usize], y: &[f64]) -> Vec<f64> {
-        let cols = y.len() / n;
-        let mut out = vec![0.0; y.len()];
-        for j in 0..cols {
-            for i in 0..n {
-                let mut acc = if j >= n {
-                    b[selected[j - n] * n + i]
-                } else {
-                    0.0
-                };
-                for k in 0..n {
-                    acc += a[i + k * n] * y[k + j * n];
-                }
-                out[i + j * n] = acc;
-            }
-        }
-        out
-    }
-
-    proptest! {
-        /// The kernel for a dimension known at compile time and the general one give the
-        /// definition's sums exactly (the same terms in the same order), with and without
-        /// parameter columns.
-        #[test]
-        fn kernels_match_the_definition(
-            values in proptest::collection::vec(-3.0f64..3.0, 4 * 4 + 4 * 3 + 4 * 6),
-            with_params in any::<bool>(),
-        ) {
-            let n = 4;
-            let (a, rest) = values.split_at(n * n);
-            let (b, y) = rest.split_at(n * 3);
-            let selected: &[usize] = if with_params { &[0, 2] } else { &[] };
-            let y = &y[..n * (n + selected.len())];
-            let want = reference(n, a, b, selected, y);
-            let mut fixed = vec![0.0; y.len()];
-            sensitivity_rhs::<4>(a, (b, selected), (y, &mut fixed));
-            let mut any = vec![0.0; y.len()];
-            sensitivity_rhs_any(n, a, (b, selected), (y, &mut any));
-            prop_assert_eq!(&fixed, &want);
-            prop_assert_eq!(&any, &want);
-        }
     }
 }

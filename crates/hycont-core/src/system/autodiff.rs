@@ -2,9 +2,12 @@
 //! ([`HybridModel`]), and [`AutoDiff`], which makes it a [`HybridSystem`] with
 //! [`HybridJacobians`] from forward-mode dual numbers (`num_dual`): every Jacobian (vector
 //! field, event gradient, reset) exact to rounding, in one evaluation of the model on dual
-//! numbers carrying all $n$ (or $n + n_p$) directions at once.
+//! numbers carrying all $n$ (or $n + n_p$) directions at once; Jacobian-matrix products in one
+//! evaluation on duals seeded with the matrix.
 
-use super::{EventId, EventSpec, HybridJacobians, HybridSystem, Mode, Z2Symmetry};
+use super::{EventId, EventSpec, HybridJacobians, HybridSystem, Mode, Tangents, Z2Symmetry};
+use nalgebra::SVector;
+use num_dual::Derivative;
 use num_dual::{Dual64, DualNum, DualSVec64, HyperDual64};
 
 /// The scalar a [`HybridModel`] is written in: `f64`, or a dual number over it. Write the
@@ -108,7 +111,11 @@ pub trait HybridModel {
 /// A [`HybridModel`] as a [`HybridSystem`] with exact [`HybridJacobians`] by forward-mode
 /// automatic differentiation: each Jacobian (with or without the parameter columns) from one
 /// evaluation on dual numbers with one direction per variable (up to [`AutoDiff::MAX_VARIABLES`]
-/// variables; beyond, one evaluation per variable).
+/// variables; beyond, one evaluation per variable). The derivatives along many directions that
+/// the variational equations integrate ([`HybridJacobians::vector_field_with_tangents`]) come
+/// from one evaluation on duals seeded with the directions (up to
+/// [`AutoDiff::MAX_VARIABLES`] of them), without forming the Jacobians: as wide as the
+/// sensitivities carried, not as the state and all parameters.
 #[derive(Debug, Clone, Copy, Default)]
 pub struct AutoDiff<M> {
     model: M,
@@ -388,6 +395,41 @@ fn jacobian<M: HybridModel + ?Sized>(m: &M, f: Function, x: &[f64], p: &[f64], o
     by_size!(1 2 3 4 5 6 7 8 9 10 11 12 13 14 15 16);
 }
 
+/// The vector field and its derivatives along `t`'s `N` directions in one evaluation on
+/// `N`-direction duals seeded with the directions (a parameter a direction moves gets that
+/// direction's unit component); the Jacobians are never formed.
+fn tangents_n<M: HybridModel + ?Sized, const N: usize>(
+    m: &M,
+    mode: Mode,
+    (x, p): (&[f64], &[f64]),
+    f: &mut [f64],
+    t: Tangents<'_>,
+) {
+    const MAX: usize = 16;
+    let n = x.len();
+    let zero = DualSVec64::<N>::from_re(0.0);
+    let (mut xd, mut pd, mut yd) = ([zero; MAX], [zero; MAX], [zero; MAX]);
+    for (i, v) in x.iter().enumerate() {
+        let seed = SVector::<f64, N>::from_fn(|j, _| t.x[i + j * n]);
+        xd[i] = DualSVec64::new(*v, Derivative::some(seed));
+    }
+    for (j, v) in p.iter().enumerate() {
+        pd[j] = DualSVec64::from_re(*v);
+    }
+    let first = N - t.params.len();
+    for (k, &q) in t.params.iter().enumerate() {
+        pd[q] += zero.derivative(first + k);
+    }
+    m.vector_field(mode, &xd[..n], &pd[..p.len()], &mut yd[..n]);
+    for (i, y) in yd[..n].iter().enumerate() {
+        f[i] = y.re;
+        let eps = y.eps.0.as_ref();
+        for j in 0..N {
+            t.out[i + j * n] = eps.map_or(0.0, |e| e[j]);
+        }
+    }
+}
+
 impl<M: HybridModel> HybridSystem for AutoDiff<M> {
     fn state_dim(&self) -> usize {
         self.model.state_dim()
@@ -464,6 +506,30 @@ impl<M: HybridModel> HybridJacobians for AutoDiff<M> {
     ) {
         let out = Outputs::new(x.len(), Some(f), dx, dp);
         jacobian(&self.model, Function::Field(mode), x, p, out);
+    }
+
+    fn vector_field_with_tangents(
+        &self,
+        mode: Mode,
+        x: &[f64],
+        p: &[f64],
+        f: &mut [f64],
+        tangents: Tangents<'_>,
+    ) {
+        let k = tangents.count(x.len());
+        let fits = x.len() <= 16
+            && p.len() <= 16
+            && tangents.params.len() <= k
+            && tangents.params.iter().all(|&q| q < p.len());
+        macro_rules! by_size {
+            ($($k:literal)*) => {
+                match k {
+                    $( $k if fits => tangents_n::<M, $k>(&self.model, mode, (x, p), f, tangents), )*
+                    _ => super::tangents::by_jacobians(self, mode, x, p, f, tangents),
+                }
+            };
+        }
+        by_size!(1 2 3 4 5 6 7 8 9 10 11 12 13 14 15 16);
     }
 
     fn event_gradient(

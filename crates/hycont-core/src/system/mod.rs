@@ -277,6 +277,59 @@ pub trait HybridJacobians: HybridSystem {
         self.vector_field_jacobian(mode, x, p, dx, dp);
     }
 
+    /// The vector field $f_m$ into `f` and its derivatives along the directions of `tangents`
+    /// (Jacobian-matrix products, see [`Tangents`]): what the variational equations integrate
+    /// at every stage. The default forms the Jacobians with
+    /// [`HybridJacobians::vector_field_with_jacobian`] in `tangents.work` and multiplies;
+    /// [`AutoDiff`] differentiates along the directions directly.
+    ///
+    /// ```
+    /// use hycont_core::{HybridJacobians, Mode, Tangents};
+    /// # use hycont_core::{HybridSystem, EventId, EventSpec};
+    /// /// x' = p0 x^2 (one state, one parameter).
+    /// struct Quadratic;
+    /// # impl HybridSystem for Quadratic {
+    /// #     fn state_dim(&self) -> usize { 1 }
+    /// #     fn parameter_names(&self) -> &[&'static str] { &["p0"] }
+    /// #     fn mode_count(&self) -> usize { 1 }
+    /// #     fn mode_name(&self, _: Mode) -> &'static str { "m" }
+    /// #     fn events(&self, _: Mode) -> &[EventId] { &[] }
+    /// #     fn event_spec(&self, _: EventId) -> EventSpec { unreachable!() }
+    /// #     fn vector_field(&self, _: Mode, x: &[f64], p: &[f64], f: &mut [f64]) {
+    /// #         f[0] = p[0] * x[0] * x[0];
+    /// #     }
+    /// #     fn event(&self, _: EventId, x: &[f64], _: &[f64]) -> f64 { x[0] }
+    /// # }
+    /// impl HybridJacobians for Quadratic {
+    ///     fn vector_field_jacobian(&self, _: Mode, x: &[f64], p: &[f64], dx: &mut [f64],
+    ///                              dp: Option<&mut [f64]>) {
+    ///         dx[0] = 2.0 * p[0] * x[0];
+    ///         if let Some(dp) = dp { dp[0] = x[0] * x[0]; }
+    ///     }
+    ///     fn event_gradient(&self, _: EventId, _: &[f64], _: &[f64], dx: &mut [f64],
+    ///                       dp: Option<&mut [f64]>) {
+    ///         dx[0] = 1.0;
+    ///         if let Some(dp) = dp { dp[0] = 0.0; }
+    ///     }
+    /// }
+    /// // Two directions: the state by 0.5, then the state by 2 and p0 by one.
+    /// let (mut f, mut out, mut work) = ([0.0], [0.0; 2], [0.0; 2]);
+    /// let tangents = Tangents { x: &[0.5, 2.0], params: &[0], out: &mut out, work: &mut work };
+    /// Quadratic.vector_field_with_tangents(Mode(0), &[3.0], &[2.0], &mut f, tangents);
+    /// assert_eq!(f, [18.0]);
+    /// assert_eq!(out, [12.0 * 0.5, 12.0 * 2.0 + 9.0]); // f_x = 2 p0 x = 12, f_p = x^2 = 9
+    /// ```
+    fn vector_field_with_tangents(
+        &self,
+        mode: Mode,
+        x: &[f64],
+        p: &[f64],
+        f: &mut [f64],
+        tangents: Tangents<'_>,
+    ) {
+        tangents::by_jacobians(self, mode, x, p, f, tangents);
+    }
+
     /// $\partial h_e / \partial x$ into `dx` (length $n$) and $\partial h_e / \partial p$ into `dp`
     /// (length $n_p$).
     fn event_gradient(
@@ -313,8 +366,10 @@ pub trait HybridJacobians: HybridSystem {
 mod autodiff;
 mod derivatives;
 mod symmetry;
+mod tangents;
 pub use autodiff::{AutoDiff, HybridModel, Scalar, Variation};
 pub use derivatives::{
     DerivativeCheck, DerivativeKind, DerivativeMismatch, FiniteDifferences, check_derivatives,
 };
 pub use symmetry::{Z2Symmetry, checked_symmetry};
+pub use tangents::Tangents;
