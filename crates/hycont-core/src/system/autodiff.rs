@@ -406,18 +406,24 @@ fn tangents_n<M: HybridModel + ?Sized, const N: usize>(
     t: Tangents<'_>,
 ) {
     const MAX: usize = 16;
+    let Tangents {
+        x: dirs,
+        params,
+        out,
+        ..
+    } = t;
     let n = x.len();
     let zero = DualSVec64::<N>::from_re(0.0);
     let (mut xd, mut pd, mut yd) = ([zero; MAX], [zero; MAX], [zero; MAX]);
     for (i, v) in x.iter().enumerate() {
-        let seed = SVector::<f64, N>::from_fn(|j, _| t.x[i + j * n]);
+        let seed = SVector::<f64, N>::from_fn(|j, _| dirs[i + j * n]);
         xd[i] = DualSVec64::new(*v, Derivative::some(seed));
     }
     for (j, v) in p.iter().enumerate() {
         pd[j] = DualSVec64::from_re(*v);
     }
-    let first = N - t.params.len();
-    for (k, &q) in t.params.iter().enumerate() {
+    let first = N - params.len();
+    for (k, &q) in params.iter().enumerate() {
         pd[q] += zero.derivative(first + k);
     }
     m.vector_field(mode, &xd[..n], &pd[..p.len()], &mut yd[..n]);
@@ -425,7 +431,7 @@ fn tangents_n<M: HybridModel + ?Sized, const N: usize>(
         f[i] = y.re;
         let eps = y.eps.0.as_ref();
         for j in 0..N {
-            t.out[i + j * n] = eps.map_or(0.0, |e| e[j]);
+            out[i + j * n] = eps.map_or(0.0, |e| e[j]);
         }
     }
 }

@@ -31,6 +31,7 @@ pub struct Tangents<'a> {
 
 impl Tangents<'_> {
     /// The number of directions $k$ for state dimension `n`.
+    #[must_use]
     pub fn count(&self, n: usize) -> usize {
         self.x.len().checked_div(n).unwrap_or(0)
     }
