@@ -7,40 +7,16 @@
 mod model;
 
 use criterion::{Criterion, criterion_group, criterion_main};
+use hycont::AutoDiff;
 use hycont::hycont_continuation::OrbitRun;
 use hycont::hycont_continuation::atlas::{AtlasEdges, AtlasSettings};
-use hycont::orbit::{
-    CollocationSettings, OrbitMethod, PeriodicOrbit, SegmentEnd, SegmentSpec, ShootingSettings,
-    Signature,
-};
-use hycont::{AutoDiff, SimulationSettings};
-use model::{A, FLIGHT, IMPACT, OMEGA, TableModel, WRAP};
-use std::f64::consts::PI;
+use hycont::orbit::{CollocationSettings, OrbitMethod, PeriodicOrbit, ShootingSettings};
+use model::{A, OMEGA, TableModel};
 use std::hint::black_box;
 
 /// The stable period-one orbit at `a = 1.3`, `omega = 1` (`e = 1/2`, `g = 1`).
 fn start(table: &AutoDiff<TableModel>) -> PeriodicOrbit {
-    let (e, g, a, omega) = (0.5, 1.0, 1.3, 1.0);
-    let theta0 = (PI * g * (1.0 - e) / (1.0 + e) / (a * omega * omega)).acos();
-    let w_plus = e * g * 2.0 * PI / omega / (1.0 + e);
-    let spec = |end| SegmentSpec { mode: FLIGHT, end };
-    let signature = Signature::new(
-        table,
-        vec![
-            spec(SegmentEnd::Event(WRAP)),
-            spec(SegmentEnd::Event(IMPACT)),
-        ],
-    )
-    .expect("a signature");
-    PeriodicOrbit::from_initial_state(
-        table,
-        signature,
-        &[0.0, w_plus, theta0],
-        &[a, omega, e, g],
-        20.0,
-        &SimulationSettings::default(),
-    )
-    .expect("the orbit")
+    model::period_one(table, [1.3, 1.0, 0.5, 1.0]).expect("the orbit")
 }
 
 fn atlases(c: &mut Criterion) {

@@ -1,20 +1,26 @@
-//! Derivatives by hand, by automatic differentiation and by central differences, on two balls
-//! on vibrating tables (`examples/two_balls/model.rs`: `TwoBalls` hand-coded, `TwoBallsModel`
-//! written once for `AutoDiff`, `FiniteDifferences<TwoBalls>`): one vector-field Jacobian with
-//! its parameter columns; the field's derivatives along a branch's six directions (what the
-//! variational equations integrate; AD seeds its duals with them); and a continuation run (the
-//! period-1 branch in `a`, both ways, by shooting and by collocation; the same points each
-//! way). Run with `cargo bench --bench autodiff`.
+//! Derivatives by hand, by automatic differentiation and by central differences: one
+//! vector-field Jacobian with its parameter columns and the field's derivatives along a
+//! branch's six directions (what the variational equations integrate; AD seeds its duals with
+//! them) on two balls on vibrating tables (`examples/two_balls/model.rs`: `TwoBalls`
+//! hand-coded, `TwoBallsModel` written once for `AutoDiff`, `FiniteDifferences<TwoBalls>`);
+//! and a continuation run (the period-1 branch in `a`, both ways, by shooting and by
+//! collocation; the same points each way) of the two balls and of one ball on a vibrating
+//! table (`examples/vibrating_table/model.rs`: `Table`, `TableModel`). Run with
+//! `cargo bench --bench autodiff`.
 
 #[path = "../examples/two_balls/model.rs"]
 mod model;
+#[path = "../examples/vibrating_table/model.rs"]
+#[allow(dead_code)] // the table's model file serves examples and tests too
+mod table;
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use hycont::hycont_continuation::{OrbitRun, RunDirection};
-use hycont::orbit::{CollocationSettings, OrbitMethod, ShootingSettings};
-use hycont::{AutoDiff, FiniteDifferences, HybridJacobians, Tangents};
+use hycont::orbit::{CollocationSettings, OrbitMethod, PeriodicOrbit, ShootingSettings};
+use hycont::{AutoDiff, FiniteDifferences, HybridJacobians, ParamId, Tangents};
 use model::{A, E1, FLIGHT, G1, TwoBalls, TwoBallsModel, a_sn, orbit};
 use std::hint::black_box;
+use table::{Table, TableModel};
 
 fn jacobian<S: HybridJacobians>(c: &mut Criterion, name: &str, sys: &S) {
     let (x, p) = (
@@ -60,9 +66,15 @@ fn tangents<S: HybridJacobians>(c: &mut Criterion, name: &str, sys: &S) {
     });
 }
 
-fn branch<S: HybridJacobians>(c: &mut Criterion, name: &str, sys: &S) {
-    let a_ref = a_sn(E1, G1);
-    let start = orbit(1.1 * a_ref, 0.65, 1.0);
+/// The branch of `family` in parameter `param` over `bounds` through `start`, both ways, by
+/// shooting and by collocation, with `sys`'s derivatives (`name`).
+fn branch<S: HybridJacobians>(
+    c: &mut Criterion,
+    (family, name): (&str, &str),
+    sys: &S,
+    (param, bounds): (ParamId, (f64, f64)),
+    start: &PeriodicOrbit,
+) {
     for (method_name, method) in [
         (
             "shooting",
@@ -73,14 +85,18 @@ fn branch<S: HybridJacobians>(c: &mut Criterion, name: &str, sys: &S) {
             OrbitMethod::Collocation(CollocationSettings::default()),
         ),
     ] {
-        let mut run = OrbitRun::new(sys, A).expect("a parameter");
-        run.method(method).bounds(0.9, 1.5);
+        let mut run = OrbitRun::new(sys, param).expect("a parameter");
+        run.method(method).bounds(bounds.0, bounds.1);
         let b = run
-            .run("period-1", &start, RunDirection::Both)
+            .run("period-1", start, RunDirection::Both)
             .expect("the branch");
-        eprintln!("{name} {method_name}: {} points", b.branch.points.len());
-        c.bench_function(&format!("autodiff/branch/{method_name}/{name}"), |bch| {
-            bch.iter(|| black_box(run.run("period-1", &start, RunDirection::Both).unwrap()));
+        eprintln!(
+            "{family} {name} {method_name}: {} points",
+            b.branch.points.len()
+        );
+        let id = format!("autodiff/{family}/{method_name}/{name}");
+        c.bench_function(&id, |bch| {
+            bch.iter(|| black_box(run.run("period-1", start, RunDirection::Both).unwrap()));
         });
     }
 }
@@ -97,9 +113,18 @@ fn derivatives(c: &mut Criterion) {
     tangents(c, "hand", &TwoBalls);
     tangents(c, "ad", &ad);
     tangents(c, "fd", &fd);
-    branch(c, "hand", &TwoBalls);
-    branch(c, "ad", &ad);
-    branch(c, "fd", &fd);
+    let start = orbit(1.1 * a_sn(E1, G1), 0.65, 1.0);
+    let on = (A, (0.9, 1.5));
+    branch(c, ("two_balls", "hand"), &TwoBalls, on, &start);
+    branch(c, ("two_balls", "ad"), &ad, on, &start);
+    branch(c, ("two_balls", "fd"), &fd, on, &start);
+    // One ball: the vibrating table's period-1 branch in a over [0.9, 1.8] from a = 1.3.
+    let start = table::period_one(&Table, [1.3, 1.0, 0.5, 1.0]).expect("the table's orbit");
+    let on = (table::A, (0.9, 1.8));
+    let (ad, fd) = (AutoDiff::new(TableModel), FiniteDifferences::new(Table));
+    branch(c, ("table", "hand"), &Table, on, &start);
+    branch(c, ("table", "ad"), &ad, on, &start);
+    branch(c, ("table", "fd"), &fd, on, &start);
 }
 
 criterion_group! {

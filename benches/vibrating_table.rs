@@ -11,16 +11,12 @@
 mod model;
 
 use criterion::{Criterion, criterion_group, criterion_main};
+use hycont::FiniteDifferences;
 use hycont::hycont_continuation::{
     CurveSpec, DiagramSettings, OrbitBranch, OrbitRun, RunDirection, SpecialKind,
 };
-use hycont::orbit::{
-    CollocationSettings, OrbitMethod, PeriodicOrbit, SegmentEnd, SegmentSpec, ShootingSettings,
-    Signature,
-};
-use hycont::{FiniteDifferences, SimulationSettings};
-use model::{A, FLIGHT, IMPACT, OMEGA, Table, WRAP};
-use std::f64::consts::PI;
+use hycont::orbit::{CollocationSettings, OrbitMethod, PeriodicOrbit, ShootingSettings};
+use model::{A, OMEGA, Table};
 use std::hint::black_box;
 
 const E: f64 = 0.5;
@@ -29,27 +25,7 @@ const G: f64 = 1.0;
 /// The stable period-1 orbit at `a = 1.3`, `omega = 1` from its closed-form post-impact state
 /// (see `tests/vibrating_table.rs`).
 fn start(table: &FiniteDifferences<Table>) -> PeriodicOrbit {
-    let (a, omega) = (1.3, 1.0);
-    let theta0 = (PI * G * (1.0 - E) / ((1.0 + E) * a)).acos();
-    let w_plus = E * G * 2.0 * PI / omega / (1.0 + E);
-    let segment = |end| SegmentSpec { mode: FLIGHT, end };
-    let signature = Signature::new(
-        table,
-        vec![
-            segment(SegmentEnd::Event(WRAP)),
-            segment(SegmentEnd::Event(IMPACT)),
-        ],
-    )
-    .expect("valid signature");
-    PeriodicOrbit::from_initial_state(
-        table,
-        signature,
-        &[0.0, w_plus, theta0],
-        &[a, omega, E, G],
-        20.0,
-        &SimulationSettings::default(),
-    )
-    .expect("the start orbit")
+    model::period_one(table, [1.3, 1.0, E, G]).expect("the start orbit")
 }
 
 fn amplitude_run(

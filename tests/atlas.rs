@@ -12,14 +12,12 @@
 mod model;
 
 use approx::assert_abs_diff_eq;
+use hycont::AutoDiff;
 use hycont::hycont_continuation::OrbitMethod;
 use hycont::hycont_continuation::atlas::{AtlasEnd, AtlasSettings, Edge};
 use hycont::hycont_continuation::{MeasureId, OrbitAtlas, OrbitRun, SpecialKind};
-use hycont::hycont_core::orbit::{
-    CollocationSettings, PeriodicOrbit, SegmentEnd, SegmentSpec, SegmentValue, Signature,
-};
-use hycont::{AutoDiff, SimulationSettings};
-use model::{A, FLIGHT, IMPACT, OMEGA, TableModel, WRAP};
+use hycont::hycont_core::orbit::{CollocationSettings, PeriodicOrbit, SegmentValue};
+use model::{A, OMEGA, TableModel};
 use std::f64::consts::PI;
 
 const E: f64 = 0.5;
@@ -30,27 +28,7 @@ const A_MAX: f64 = 1.6;
 
 /// The stable period-one orbit at `(a, omega)`, from its closed-form post-impact state.
 fn orbit(a: f64, omega: f64) -> PeriodicOrbit {
-    let table = AutoDiff::new(TableModel);
-    let theta0 = (C / (a * omega * omega)).acos();
-    let w_plus = E * G * 2.0 * PI / omega / (1.0 + E);
-    let spec = |end| SegmentSpec { mode: FLIGHT, end };
-    let signature = Signature::new(
-        &table,
-        vec![
-            spec(SegmentEnd::Event(WRAP)),
-            spec(SegmentEnd::Event(IMPACT)),
-        ],
-    )
-    .unwrap();
-    PeriodicOrbit::from_initial_state(
-        &table,
-        signature,
-        &[0.0, w_plus, theta0],
-        &[a, omega, E, G],
-        20.0,
-        &SimulationSettings::default(),
-    )
-    .unwrap()
+    model::period_one(&AutoDiff::new(TableModel), [a, omega, E, G]).unwrap()
 }
 
 /// The atlas of the period-one family through `(1.3, 1.0)` over `omega` in [0.8, 1.25] and

@@ -29,72 +29,14 @@ use hycont::hycont_continuation::{
     Label, OrbitBranch, OrbitRun, RunDirection, SpecialKind, SwitchOutcome,
 };
 use hycont::orbit::{
-    CollocationSettings, OrbitMethod, PeriodicOrbit, SegmentEnd, SegmentSpec, SegmentValue,
-    ShootingSettings, Signature, solve_shooting,
+    CollocationSettings, OrbitMethod, PeriodicOrbit, SegmentEnd, SegmentValue, ShootingSettings,
+    solve_shooting,
 };
 use hycont::problem::NewtonSettings;
-use hycont::{EventId, HybridJacobians, Mode, ParamId, SimulationSettings, check_derivatives};
+use hycont::{HybridJacobians, ParamId, SimulationSettings, check_derivatives};
 use model::{A, FLIGHT, IMPACT, OMEGA, Table, WRAP};
 use proptest::prelude::*;
 use std::f64::consts::PI;
-
-/// Analytic derivatives of the model (checked against central differences below).
-impl hycont::HybridJacobians for Table {
-    fn vector_field_jacobian(
-        &self,
-        _: Mode,
-        x: &[f64],
-        p: &[f64],
-        dx: &mut [f64],
-        dp: Option<&mut [f64]>,
-    ) {
-        // Column-major 3 x 3: only d(w')/d(theta) and d(z')/d(w) are non-zero.
-        dx.fill(0.0);
-        dx[3] = 1.0;
-        dx[7] = p[0] * p[1] * p[1] * x[2].cos();
-        if let Some(dp) = dp {
-            // Column-major 3 x 4: columns a, omega, e, g.
-            dp.fill(0.0);
-            dp[1] = p[1] * p[1] * x[2].sin();
-            dp[4] = 2.0 * p[0] * p[1] * x[2].sin();
-            dp[5] = 1.0;
-            dp[10] = -1.0;
-        }
-    }
-    fn event_gradient(
-        &self,
-        e: EventId,
-        _: &[f64],
-        _: &[f64],
-        dx: &mut [f64],
-        dp: Option<&mut [f64]>,
-    ) {
-        dx.fill(0.0);
-        dx[if e == IMPACT { 0 } else { 2 }] = 1.0;
-        if let Some(dp) = dp {
-            dp.fill(0.0);
-        }
-    }
-    fn reset_jacobian(
-        &self,
-        e: EventId,
-        x: &[f64],
-        p: &[f64],
-        dx: &mut [f64],
-        dp: Option<&mut [f64]>,
-    ) {
-        dx.fill(0.0);
-        dx[0] = 1.0;
-        dx[4] = if e == IMPACT { -p[2] } else { 1.0 };
-        dx[8] = 1.0;
-        if let Some(dp) = dp {
-            dp.fill(0.0);
-            if e == IMPACT {
-                dp[7] = -x[1]; // d(-e w)/de, column e = 2
-            }
-        }
-    }
-}
 
 const E: f64 = 0.5;
 const G: f64 = 1.0;
@@ -113,31 +55,7 @@ fn a_pd(omega: f64) -> f64 {
 /// post-impact state, integrated along the signature [flight to the phase wrap, flight to the
 /// impact].
 fn orbit(a: f64, omega: f64) -> PeriodicOrbit {
-    let theta0 = (a_fold(omega) / a).acos();
-    let w_plus = E * G * 2.0 * PI / omega / (1.0 + E);
-    let signature = Signature::new(
-        &Table,
-        vec![
-            SegmentSpec {
-                mode: FLIGHT,
-                end: SegmentEnd::Event(WRAP),
-            },
-            SegmentSpec {
-                mode: FLIGHT,
-                end: SegmentEnd::Event(IMPACT),
-            },
-        ],
-    )
-    .unwrap();
-    PeriodicOrbit::from_initial_state(
-        &Table,
-        signature,
-        &[0.0, w_plus, theta0],
-        &[a, omega, E, G],
-        20.0,
-        &SimulationSettings::default(),
-    )
-    .unwrap()
+    model::period_one(&Table, [a, omega, E, G]).unwrap()
 }
 
 proptest! {

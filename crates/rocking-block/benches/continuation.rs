@@ -229,29 +229,35 @@ fn diagrams(c: &mut Criterion) {
     }
 }
 
-/// The symmetric branch in alpha from the Fig. 2 orbit (the study's discretisation, both ways)
-/// with the block's hand-coded Jacobians, by automatic differentiation
+/// The symmetric branch in alpha from the Fig. 2 orbit (both ways; by the study's shooting and
+/// by collocation) with the block's hand-coded Jacobians, by automatic differentiation
 /// (`AutoDiff<RockingBlockModel>`) and by central differences: the cost of each per point.
 fn derivatives(c: &mut Criterion) {
-    use hycont_continuation::{OrbitRun, RunDirection};
+    use hycont_continuation::{OrbitMethod, OrbitRun, RunDirection};
+    use hycont_core::orbit::CollocationSettings;
     use hycont_core::{AutoDiff, FiniteDifferences, HybridJacobians};
     use rocking_block::model_ad::RockingBlockModel;
     use rocking_block::{ALPHA, RockingBlock};
     fn bench<S: HybridJacobians>(c: &mut Criterion, name: &str, sys: &S) {
         let start = study_start(&Block::default()).unwrap();
-        let mut run = OrbitRun::new(sys, ALPHA).unwrap();
-        run.method(rocking_block::continuation::default_method())
-            .bounds(0.01, 1.06);
-        let points = run
-            .run("symmetric", &start, RunDirection::Both)
-            .unwrap()
-            .branch
-            .points
-            .len();
-        eprintln!("{name}: {points} points");
-        c.bench_function(&format!("continuation/derivatives_{name}"), |b| {
-            b.iter(|| black_box(run.run("symmetric", &start, RunDirection::Both).unwrap()));
-        });
+        let methods = [
+            ("shooting", rocking_block::continuation::default_method()),
+            (
+                "collocation",
+                OrbitMethod::Collocation(CollocationSettings::default()),
+            ),
+        ];
+        for (method_name, method) in methods {
+            let mut run = OrbitRun::new(sys, ALPHA).unwrap();
+            run.method(method).bounds(0.01, 1.06);
+            let branch = run.run("symmetric", &start, RunDirection::Both).unwrap();
+            let points = branch.branch.points.len();
+            eprintln!("{name} {method_name}: {points} points");
+            let id = format!("continuation/derivatives/{method_name}/{name}");
+            c.bench_function(&id, |b| {
+                b.iter(|| black_box(run.run("symmetric", &start, RunDirection::Both).unwrap()));
+            });
+        }
     }
     hycont_continuation::check_branches(false);
     bench(c, "hand", &RockingBlock);
