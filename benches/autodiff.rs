@@ -1,12 +1,12 @@
-//! Derivatives by hand, by automatic differentiation and by central differences: one
-//! vector-field Jacobian with its parameter columns and the field's derivatives along a
-//! branch's six directions (what the variational equations integrate; AD seeds its duals with
-//! them) on two balls on vibrating tables (`examples/two_balls/model.rs`: `TwoBalls`
-//! hand-coded, `TwoBallsModel` written once for `AutoDiff`, `FiniteDifferences<TwoBalls>`);
-//! and a continuation run (the period-1 branch in `a`, both ways, by shooting and by
-//! collocation; the same points each way) of the two balls and of one ball on a vibrating
-//! table (`examples/vibrating_table/model.rs`: `Table`, `TableModel`). Run with
-//! `cargo bench --bench autodiff`.
+//! Derivatives by hand, by automatic differentiation and by central differences: their
+//! accuracy against the hand-coded ones (printed); one vector-field Jacobian with its
+//! parameter columns and the field's derivatives along a branch's six directions (what the
+//! variational equations integrate; AD seeds its duals with them) on two balls on vibrating
+//! tables (`examples/two_balls/model.rs`: `TwoBalls` hand-coded, `TwoBallsModel` written once
+//! for `AutoDiff`, `FiniteDifferences<TwoBalls>`); and a continuation run (the period-1 branch
+//! in `a`, both ways, by shooting and by collocation; the same points each way) of the two
+//! balls and of one ball on a vibrating table (`examples/vibrating_table/model.rs`: `Table`,
+//! `TableModel`). Run with `cargo bench --bench autodiff`.
 
 #[path = "../examples/two_balls/model.rs"]
 mod model;
@@ -17,7 +17,10 @@ mod table;
 use criterion::{Criterion, criterion_group, criterion_main};
 use hycont::hycont_continuation::{OrbitRun, RunDirection};
 use hycont::orbit::{CollocationSettings, OrbitMethod, PeriodicOrbit, ShootingSettings};
-use hycont::{AutoDiff, FiniteDifferences, HybridJacobians, ParamId, Tangents};
+use hycont::{
+    AutoDiff, FiniteDifferences, HybridJacobians, Mode, ParamId, Tangents,
+    check_derivatives_against,
+};
 use model::{A, E1, FLIGHT, G1, TwoBalls, TwoBallsModel, a_sn, orbit};
 use std::hint::black_box;
 use table::{Table, TableModel};
@@ -66,6 +69,31 @@ fn tangents<S: HybridJacobians>(c: &mut Criterion, name: &str, sys: &S) {
     });
 }
 
+/// The largest scaled error |d - d_hand| / (1 + |d_hand|) of `sys`'s derivatives (vector field
+/// with parameter columns, event gradients, reset Jacobians) against the hand-coded
+/// `reference`'s in `mode` over 200 spread points with `n` states and `np` parameters
+/// (printed, not timed).
+fn accuracy<S: HybridJacobians, R: HybridJacobians>(
+    name: &str,
+    (sys, reference): (&S, &R),
+    mode: Mode,
+    (n, np): (usize, usize),
+) {
+    let worst = (0..200)
+        .map(|k| {
+            let k = f64::from(k);
+            let x: Vec<f64> = (0..n)
+                .map(|i| 2.0 * (1.3 * k + 0.7 * i as f64).sin())
+                .collect();
+            let p: Vec<f64> = (0..np)
+                .map(|j| 1.0 + 0.5 * (2.1 * k + 1.1 * j as f64).sin())
+                .collect();
+            check_derivatives_against(sys, reference, mode, &x, &p).max_error()
+        })
+        .fold(0.0, f64::max);
+    eprintln!("accuracy {name} against hand-coded: {worst:.1e}");
+}
+
 /// The branch of `family` in parameter `param` over `bounds` through `start`, both ways, by
 /// shooting and by collocation, with `sys`'s derivatives (`name`).
 fn branch<S: HybridJacobians>(
@@ -107,6 +135,8 @@ fn derivatives(c: &mut Criterion) {
         AutoDiff::new(TwoBallsModel),
         FiniteDifferences::new(TwoBalls),
     );
+    accuracy("two_balls ad", (&ad, &TwoBalls), FLIGHT, (5, 7));
+    accuracy("two_balls fd", (&fd, &TwoBalls), FLIGHT, (5, 7));
     jacobian(c, "hand", &TwoBalls);
     jacobian(c, "ad", &ad);
     jacobian(c, "fd", &fd);
@@ -122,6 +152,8 @@ fn derivatives(c: &mut Criterion) {
     let start = table::period_one(&Table, [1.3, 1.0, 0.5, 1.0]).expect("the table's orbit");
     let on = (table::A, (0.9, 1.8));
     let (ad, fd) = (AutoDiff::new(TableModel), FiniteDifferences::new(Table));
+    accuracy("table ad", (&ad, &Table), table::FLIGHT, (3, 4));
+    accuracy("table fd", (&fd, &Table), table::FLIGHT, (3, 4));
     branch(c, ("table", "hand"), &Table, on, &start);
     branch(c, ("table", "ad"), &ad, on, &start);
     branch(c, ("table", "fd"), &fd, on, &start);

@@ -58,5 +58,6 @@ pub use simulate::{
 pub use system::{
     AutoDiff, DerivativeCheck, DerivativeKind, DerivativeMismatch, Direction, EventAction, EventId,
     EventSpec, FiniteDifferences, HybridJacobians, HybridModel, HybridSystem, Mode, ParamId,
-    Scalar, Tangents, Variation, Z2Symmetry, check_derivatives, checked_symmetry,
+    Scalar, Tangents, Variation, Z2Symmetry, check_derivatives, check_derivatives_against,
+    checked_symmetry,
 };

@@ -231,13 +231,14 @@ fn diagrams(c: &mut Criterion) {
 
 /// The symmetric branch in alpha from the Fig. 2 orbit (both ways; by the study's shooting and
 /// by collocation) with the block's hand-coded Jacobians, by automatic differentiation
-/// (`AutoDiff<RockingBlockModel>`) and by central differences: the cost of each per point.
+/// (`AutoDiff<RockingBlockModel>`) and by central differences: the cost of each per point, and
+/// (printed) the accuracy of the latter two against the hand-coded Jacobians.
 fn derivatives(c: &mut Criterion) {
     use hycont_continuation::{OrbitMethod, OrbitRun, RunDirection};
     use hycont_core::orbit::CollocationSettings;
-    use hycont_core::{AutoDiff, FiniteDifferences, HybridJacobians};
+    use hycont_core::{AutoDiff, FiniteDifferences, HybridJacobians, check_derivatives_against};
     use rocking_block::model_ad::RockingBlockModel;
-    use rocking_block::{ALPHA, RockingBlock};
+    use rocking_block::{ALPHA, MINUS, PLUS, REST, RockingBlock};
     fn bench<S: HybridJacobians>(c: &mut Criterion, name: &str, sys: &S) {
         let start = study_start(&Block::default()).unwrap();
         let methods = [
@@ -259,7 +260,33 @@ fn derivatives(c: &mut Criterion) {
             });
         }
     }
+    /// The largest scaled error |d - d_hand| / (1 + |d_hand|) of `sys`'s derivatives against
+    /// the hand-coded ones in every mode over 200 spread points of the proptests' ranges.
+    fn accuracy<S: HybridJacobians>(name: &str, sys: &S) {
+        let worst = (0..200)
+            .flat_map(|k| [PLUS, MINUS, REST].map(|m| (f64::from(k), m)))
+            .map(|(k, mode)| {
+                let w = |a: f64, b: f64| (a * k + b).sin();
+                let x = [
+                    1.5 * w(1.3, 0.0),
+                    2.0 * w(0.7, 1.0),
+                    0.99 * w(1.9, 2.0),
+                    w(2.3, 3.0),
+                ];
+                let p = [
+                    2.15 + 1.85 * w(2.1, 0.5),
+                    0.6 + 0.6 * w(1.7, 1.5),
+                    0.05 + 0.05 * w(1.1, 2.5),
+                    1.075 + 0.425 * w(0.9, 3.5),
+                ];
+                check_derivatives_against(sys, &RockingBlock, mode, &x, &p).max_error()
+            })
+            .fold(0.0, f64::max);
+        eprintln!("accuracy {name} against hand-coded: {worst:.1e}");
+    }
     hycont_continuation::check_branches(false);
+    accuracy("autodiff", &AutoDiff::new(RockingBlockModel));
+    accuracy("differences", &FiniteDifferences::new(RockingBlock));
     bench(c, "hand", &RockingBlock);
     bench(c, "autodiff", &AutoDiff::new(RockingBlockModel));
     bench(c, "differences", &FiniteDifferences::new(RockingBlock));

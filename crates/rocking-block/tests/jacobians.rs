@@ -1,8 +1,11 @@
 //! Analytic Jacobians of the rocking block against central differences, at random states and
 //! parameters (proptest), in every mode, including event gradients and reset Jacobians.
 
-use hycont_core::{HybridJacobians, Mode, check_derivatives};
+use hycont_core::{
+    AutoDiff, DerivativeKind, HybridJacobians, Mode, check_derivatives, check_derivatives_against,
+};
 use proptest::prelude::*;
+use rocking_block::model_ad::RockingBlockModel;
 use rocking_block::{MINUS, PLUS, REST, RockingBlock};
 
 /// Central differences with step eps^(1/3) have truncation error ~ h^2 |f'''| / 6 ~ 1e-11 here;
@@ -37,7 +40,8 @@ proptest! {
     }
 }
 
-/// The check must be able to fail: a deliberately wrong Jacobian is caught.
+/// The checks must be able to fail: a deliberately wrong Jacobian is caught by central
+/// differences and, entry by entry, by the AD twin.
 #[test]
 fn a_wrong_jacobian_is_detected() {
     struct Wrong;
@@ -93,11 +97,32 @@ fn a_wrong_jacobian_is_detected() {
             RockingBlock.event_gradient(e, x, p, dx, dp);
         }
     }
-    let check = check_derivatives(
-        &Wrong,
-        PLUS,
-        &[0.3, 0.2, 0.5, 0.8],
-        &[1.3, 0.66, 0.00022, 0.8795],
-    );
+    let (x, p) = ([0.3, 0.2, 0.5, 0.8], [1.3, 0.66, 0.00022, 0.8795]);
+    let check = check_derivatives(&Wrong, PLUS, &x, &p);
     assert!(check.max_error() > 1e-4, "{check:?}");
+    // Against the exact derivatives of the AD twin the wrong entry is named, with the error the
+    // 0.1 % makes (|0.001 v| / (1 + |v|)) to rounding; the parameter columns are right to
+    // rounding, and the missing reset Jacobian (the identity) is caught too.
+    let exact = AutoDiff::new(RockingBlockModel);
+    let check = check_derivatives_against(&Wrong, &exact, PLUS, &x, &p);
+    let of = |kind: DerivativeKind| check.worst.iter().find(|m| m.kind == kind).unwrap();
+    let state = of(DerivativeKind::VectorFieldState);
+    assert_eq!((state.row, state.col), (1, 0), "{state:?}");
+    let v = state.numeric;
+    assert!(
+        (state.error - 0.001 * v.abs() / (1.0 + v.abs())).abs() < 1e-14,
+        "{state:?}"
+    );
+    assert!(of(DerivativeKind::VectorFieldParams).error < 1e-15);
+    let resets = check
+        .worst
+        .iter()
+        .filter(|m| matches!(m.kind, DerivativeKind::ResetState(_)));
+    assert!(
+        resets.clone().count() > 0 && resets.clone().all(|m| m.error > 1e-2),
+        "{check:?}"
+    );
+    // The right system against it: rounding everywhere.
+    let check = check_derivatives_against(&RockingBlock, &exact, PLUS, &x, &p);
+    assert!(check.max_error() < 1e-14, "{check:?}");
 }

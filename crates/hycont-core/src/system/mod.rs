@@ -370,6 +370,7 @@ mod tangents;
 pub use autodiff::{AutoDiff, HybridModel, Scalar, Variation};
 pub use derivatives::{
     DerivativeCheck, DerivativeKind, DerivativeMismatch, FiniteDifferences, check_derivatives,
+    check_derivatives_against,
 };
 pub use symmetry::{Z2Symmetry, checked_symmetry};
 pub use tangents::Tangents;
