@@ -2,19 +2,23 @@
 //! (omega, alpha) as two sheets joined along the fold. Checked against independent
 //! computations: every boundary chart on the fold (SN) or the grazing (GR) edge lies on the
 //! SN or GR curve continued from Fig. 3's points (its user point at the chart's alpha has the
-//! chart's omega to 1e-6), bound charts lie on their bounds, and charts of both sheets are the
-//! orbits that two one-parameter branches reach at the same (omega, alpha) (in alpha at
-//! omega = 1.3 from the Fig. 2 orbit, then in omega): Amp and period to 1e-9.
+//! chart's omega to 1e-6), bound charts lie on their bounds, and every other chart of both
+//! sheets (all but those on or beside a fold or grazing edge) is the orbit that one-parameter
+//! branches reach at the same (omega, alpha), chart to neighbouring chart from the sheet's
+//! start; four of them also by two long branches from the Fig. 2 orbit (in alpha at
+//! omega = 1.3, then in omega): Amp and period to 1e-9.
 
 use hycont_continuation::atlas::{AtlasEnd, Edge};
 use hycont_continuation::observe::Silent;
 use hycont_continuation::{CurveSpec, MeasureId, OrbitAtlas, RunDirection, SpecialKind};
+use hycont_core::orbit::PeriodicOrbit;
+use rocking_block::RockingBlock;
 use rocking_block::block::Block;
 use rocking_block::continuation::{
-    AMP, ATLAS_WINDOW, Free, Recipe, default_method, study_branches_from, study_run, study_start,
+    AMP, ATLAS_WINDOW, Recipe, default_method, study_branches_from, study_run, study_start,
 };
 use rocking_block::figures::atlas::study_sheets;
-use rocking_block::model::{ALPHA, OMEGA, Parameters};
+use rocking_block::model::{ALPHA, Free, OMEGA, Parameters};
 use std::sync::OnceLock;
 
 fn sheets() -> &'static [OrbitAtlas] {
@@ -164,6 +168,101 @@ fn charts_are_the_orbits_of_one_parameter_branches() {
             );
             assert!((b_period - c.point[MeasureId::PERIOD]).abs() < 1e-9);
         }
+    }
+}
+
+/// One one-parameter branch of the study's recipe from `from` in `free` to `to`: the run goes
+/// that way only, bounded a little past `to`, and the orbit, Amp and period of its user point
+/// at `to` are returned (`from` itself when it is already there).
+fn leg(from: &PeriodicOrbit, free: Free, to: f64) -> Option<(PeriodicOrbit, f64, f64)> {
+    const PAST: f64 = 1e-2;
+    let at = from.params[free.id().index()];
+    let params = Parameters::from_vec(&from.params);
+    let (range, direction) = if to >= at {
+        ((at - PAST, to + PAST), RunDirection::Up)
+    } else {
+        ((to - PAST, at + PAST), RunDirection::Down)
+    };
+    let mut run = study_run(free, &params, range, default_method()).ok()?;
+    if to == at {
+        let branch = run.run("here", from, RunDirection::Up).ok()?;
+        let p = branch.branch.points.first()?;
+        return Some((from.clone(), p[AMP], p[MeasureId::PERIOD]));
+    }
+    run.add_user_points(free.id(), [to]).ok()?;
+    let branch = run.run("leg", from, direction).ok()?;
+    let uz = branch.special(SpecialKind::UserPoint).next()?;
+    let orbit = branch.orbit_of(&uz.point).ok()?;
+    Some((orbit, uz.point[AMP], uz.point[MeasureId::PERIOD]))
+}
+
+/// `from` continued to (omega, alpha) by two one-parameter branches: in alpha, then in omega
+/// (or the other way round when that path leaves the sheet).
+fn continued(from: &PeriodicOrbit, omega: f64, alpha: f64) -> Option<(PeriodicOrbit, f64, f64)> {
+    let path = |first: Free, second: Free| {
+        let value = |f: Free| if f == Free::Alpha { alpha } else { omega };
+        let (there, ..) = leg(from, first, value(first))?;
+        leg(&there, second, value(second))
+    };
+    path(Free::Alpha, Free::Omega).or_else(|| path(Free::Omega, Free::Alpha))
+}
+
+/// Every chart of both sheets, except those on a fold or grazing edge and their neighbours
+/// (those are checked against the SN and GR curves above; a user point a hair from a fold is
+/// ill-posed for a one-parameter branch), is the orbit that one-parameter branches reach at its
+/// (omega, alpha): from the sheet's start (the Fig. 2 orbit; Fig. 3's orbit beyond the fold),
+/// chart to neighbouring chart, each reference orbit continued from its parent's reference (not
+/// from a chart) by a branch in alpha and one in omega. Amp and period to 1e-9.
+#[test]
+fn every_chart_is_the_orbit_of_one_parameter_branches() {
+    for sheet in sheets() {
+        let charts = &sheet.atlas.charts;
+        let on_curve = |i: usize| matches!(charts[i].edge, Some(Edge::Special { .. }));
+        let checked = |i: usize| !on_curve(i) && !charts[i].neighbours.iter().any(|&n| on_curve(n));
+        let root = sheet.orbit_of(&RockingBlock, &charts[0]).unwrap();
+        let mut reached = vec![false; charts.len()];
+        reached[0] = true;
+        let mut worst: f64 = 0.0;
+        let mut queue = std::collections::VecDeque::from([(0, root)]);
+        while let Some((i, reference)) = queue.pop_front() {
+            for &n in &charts[i].neighbours {
+                if reached[n] || !checked(n) {
+                    continue;
+                }
+                let c = &charts[n];
+                let (omega, alpha) = (c.point[OMEGA], c.point[ALPHA]);
+                let Some((orbit, amp, period)) = continued(&reference, omega, alpha) else {
+                    continue; // tried again from another neighbour
+                };
+                let name = &sheet.atlas.name;
+                worst = worst
+                    .max((amp - c.point[AMP]).abs())
+                    .max((period - c.point[MeasureId::PERIOD]).abs());
+                assert!(
+                    (amp - c.point[AMP]).abs() < 1e-9,
+                    "{name} chart {n} at ({omega}, {alpha}): Amp {} vs {amp}",
+                    c.point[AMP]
+                );
+                assert!((period - c.point[MeasureId::PERIOD]).abs() < 1e-9);
+                reached[n] = true;
+                queue.push_back((n, orbit));
+            }
+        }
+        let eligible = (0..charts.len()).filter(|&i| checked(i)).count();
+        eprintln!(
+            "{}: {eligible} of {} charts checked, worst difference {worst:.1e}",
+            sheet.atlas.name,
+            charts.len()
+        );
+        let missed: Vec<usize> = (0..charts.len())
+            .filter(|&i| checked(i) && !reached[i])
+            .collect();
+        assert!(
+            missed.is_empty(),
+            "{}: {} of {eligible} charts not reached: {missed:?}",
+            sheet.atlas.name,
+            missed.len()
+        );
     }
 }
 
