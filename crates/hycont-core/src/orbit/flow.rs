@@ -294,3 +294,92 @@ impl<S: HybridSystem + ?Sized> HybridSystem for GuardedFlow<'_, S> {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::SegmentFlow;
+    use crate::system::{
+        AutoDiff, Direction, EventAction, EventId, EventSpec, FiniteDifferences, HybridJacobians,
+        HybridModel, Mode, Scalar, Tangents,
+    };
+    use approx::assert_relative_eq;
+
+    /// A pendulum, x0' = x1, x1' = -p0 sin x0 + p1.
+    struct Pendulum;
+
+    impl HybridModel for Pendulum {
+        fn state_dim(&self) -> usize {
+            2
+        }
+        fn parameter_names(&self) -> &[&'static str] {
+            &["g", "torque"]
+        }
+        fn mode_count(&self) -> usize {
+            1
+        }
+        fn mode_name(&self, _: Mode) -> &'static str {
+            "swing"
+        }
+        fn events(&self, _: Mode) -> &[EventId] {
+            &[]
+        }
+        fn event_spec(&self, _: EventId) -> EventSpec {
+            EventSpec {
+                name: "none",
+                direction: Direction::Either,
+                action: EventAction::Terminal,
+            }
+        }
+        fn vector_field<T: Scalar>(&self, _: Mode, x: &[T], p: &[T], f: &mut [T]) {
+            f[0] = x[1];
+            f[1] = -p[0] * x[0].sin() + p[1];
+        }
+        fn event<T: Scalar>(&self, _: EventId, x: &[T], _: &[T]) -> T {
+            x[0]
+        }
+    }
+
+    /// The field and its derivatives along the directions through `flow`.
+    fn tangents<S: HybridJacobians>(flow: &S) -> ([f64; 2], [f64; 6]) {
+        let (mut f, mut out, mut work) = ([0.0; 2], [0.0; 6], [0.0; 8]);
+        let t = Tangents {
+            x: &[0.3, -1.2, 0.5, 0.7, 1.1, -0.4],
+            params: &[1],
+            out: &mut out,
+            work: &mut work,
+        };
+        flow.vector_field_with_tangents(Mode(0), &[0.8, -0.6], &[9.81, 0.2], &mut f, t);
+        (f, out)
+    }
+
+    /// Backward in time the field and every derivative along the directions change sign exactly
+    /// (AD's seeded evaluation and the default's Jacobian products alike), and forward the
+    /// segment's flow is the system's.
+    #[test]
+    fn backward_flow_negates_the_field_and_its_tangents() {
+        let ad = AutoDiff::new(Pendulum);
+        let direct = tangents(&ad);
+        let forward = tangents(&SegmentFlow::plain(&ad, Mode(0)));
+        let backward = tangents(&SegmentFlow::backward(&ad, Mode(0)));
+        assert_eq!(forward, direct);
+        assert_eq!(backward.0, direct.0.map(|v| -v));
+        assert_eq!(backward.1, direct.1.map(|v| -v));
+        // The default (Jacobians formed, here by central differences, then multiplied).
+        let fd = FiniteDifferences::new(AutoDiff::new(Pendulum));
+        let (f, out) = tangents(&fd);
+        assert_eq!(
+            tangents(&SegmentFlow::backward(&fd, Mode(0))),
+            (f.map(|v| -v), out.map(|v| -v))
+        );
+        assert_relative_eq!(out[..], direct.1[..], max_relative = 1e-8);
+        // The third direction moves the torque: its derivative is f_x x_3 + (0, 1), to rounding.
+        let (c, s) = (0.8f64.cos(), 0.8f64.sin());
+        assert_relative_eq!(
+            direct.0[..],
+            [-0.6, -9.81 * s + 0.2][..],
+            max_relative = 1e-15
+        );
+        let want = [-0.4, -9.81 * c * 1.1 + 1.0];
+        assert_relative_eq!(direct.1[4..], want[..], max_relative = 1e-15);
+    }
+}
