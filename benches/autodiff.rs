@@ -59,7 +59,7 @@ fn tangents<S: HybridJacobians>(c: &mut Criterion, name: &str, sys: &S) {
         b.iter(|| {
             let t = Tangents {
                 x: black_box(&dirs),
-                params: &[0],
+                params: &[ParamId(0)],
                 out: &mut out,
                 work: &mut work,
             };

@@ -12,7 +12,7 @@ use approx::assert_abs_diff_eq;
 use hycont::hycont_continuation::{CurveSpec, OrbitRun, RunDirection, SpecialKind};
 use hycont::{
     AutoDiff, Direction, EventAction, EventId, EventSpec, HybridJacobians, HybridModel,
-    HybridSystem, Mode, Scalar, Tangents,
+    HybridSystem, Mode, ParamId, Scalar, Tangents,
 };
 use model::{
     A, E1, E2, FLIGHT, G1, IMPACT1, IMPACT2, TwoBalls, TwoBallsModel, WRAP, a_pd, a_sn, bisect,
@@ -79,7 +79,7 @@ proptest! {
         p in proptest::collection::vec(0.2f64..2.0, 7),
         dirs in proptest::collection::vec(-3.0f64..3.0, 5 * 8),
         state_directions in 1usize..=5,
-        params in proptest::sample::subsequence(vec![0usize, 1, 2, 3, 4, 5, 6], 0..=3),
+        params in proptest::sample::subsequence((0..7).map(ParamId).collect::<Vec<_>>(), 0..=3),
     ) {
         let ad = AutoDiff::new(TwoBallsModel);
         let (n, np) = (5, 7);
@@ -199,7 +199,7 @@ fn many_variables_are_differentiated_one_at_a_time() {
     let (mut f, mut out, mut work) = (vec![0.0; n], vec![0.0; 2 * n], vec![0.0; n * (n + 2)]);
     let tangents = Tangents {
         x: &dirs,
-        params: &[1],
+        params: &[ParamId(1)],
         out: &mut out,
         work: &mut work,
     };

@@ -5,7 +5,7 @@
 
 use hycont_continuation::{OrbitRun, RunDirection, SpecialKind};
 use hycont_core::orbit::PeriodicOrbit;
-use hycont_core::{AutoDiff, EventId, HybridJacobians, HybridSystem, Tangents};
+use hycont_core::{AutoDiff, EventId, HybridJacobians, HybridSystem, ParamId, Tangents};
 use proptest::prelude::*;
 use rocking_block::block::Block;
 use rocking_block::continuation::study_start;
@@ -70,7 +70,7 @@ fn tangents_match(
     (h, hp): (&[f64], &[f64]),
 ) -> Result<(), TestCaseError> {
     let (n, k) = (4, 6);
-    let params = [param, (param + 1) % 4];
+    let params = [ParamId(param), ParamId((param + 1) % 4)];
     let (mut f, mut out, mut work) = ([0.0; 4], [0.0; 24], [0.0; 32]);
     let tangents = Tangents {
         x: dirs,
@@ -82,7 +82,7 @@ fn tangents_match(
     for j in 0..k {
         for i in 0..n {
             let direct = if j >= 4 {
-                hp[i + params[j - 4] * n]
+                hp[i + params[j - 4].index() * n]
             } else {
                 0.0
             };

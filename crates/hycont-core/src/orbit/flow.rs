@@ -300,7 +300,7 @@ mod tests {
     use super::SegmentFlow;
     use crate::system::{
         AutoDiff, Direction, EventAction, EventId, EventSpec, FiniteDifferences, HybridJacobians,
-        HybridModel, Mode, Scalar, Tangents,
+        HybridModel, Mode, ParamId, Scalar, Tangents,
     };
     use approx::assert_relative_eq;
 
@@ -344,7 +344,7 @@ mod tests {
         let (mut f, mut out, mut work) = ([0.0; 2], [0.0; 6], [0.0; 8]);
         let t = Tangents {
             x: &[0.3, -1.2, 0.5, 0.7, 1.1, -0.4],
-            params: &[1],
+            params: &[ParamId(1)],
             out: &mut out,
             work: &mut work,
         };

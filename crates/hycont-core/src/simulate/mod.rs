@@ -25,7 +25,7 @@ pub use trajectory::{
 };
 
 use crate::error::{Error, Result, check_finite, check_len};
-use crate::system::{EventAction, EventId, HybridJacobians, HybridSystem, Mode};
+use crate::system::{EventAction, EventId, HybridJacobians, HybridSystem, Mode, ParamId};
 use events::EventState;
 use stepping::Records;
 use variational::{Extension, Plain, Variational};
@@ -222,7 +222,9 @@ impl Simulator {
             Sensitivities::State
             | Sensitivities::StateAndParameters
             | Sensitivities::StateAndSomeParameters(_) => {
-                let selected = (0..np).filter(|&q| which.includes_parameter(q));
+                let selected = (0..np)
+                    .filter(|&q| which.includes_parameter(q))
+                    .map(ParamId);
                 let mut ext = match self.variational.take() {
                     Some(mut v) if v.fits(n, np) => {
                         v.select(selected);

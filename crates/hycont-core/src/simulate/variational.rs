@@ -12,7 +12,7 @@
 //! (the event time moves with the initial state and the parameters).
 
 use crate::error::{Error, Result};
-use crate::system::{EventId, HybridJacobians, HybridSystem, Mode, Tangents};
+use crate::system::{EventId, HybridJacobians, HybridSystem, Mode, ParamId, Tangents};
 
 /// How the simulator extends the state: plain, or with variational equations.
 pub(crate) trait Extension<S: HybridSystem + ?Sized> {
@@ -74,7 +74,7 @@ impl<S: HybridSystem + ?Sized> Extension<S> for Plain {
 pub(crate) struct Variational {
     n: usize,
     /// Parameters whose columns of $\Phi_p$ are integrated, in increasing order.
-    selected: Vec<usize>,
+    selected: Vec<ParamId>,
     /// Work space of [`HybridJacobians::vector_field_with_tangents`]: $n (n + n_p)$ values.
     work: Vec<f64>,
     // Jump work space.
@@ -89,7 +89,7 @@ pub(crate) struct Variational {
 }
 
 impl Variational {
-    pub(crate) fn new(n: usize, np: usize, selected: Vec<usize>) -> Self {
+    pub(crate) fn new(n: usize, np: usize, selected: Vec<ParamId>) -> Self {
         Self {
             n,
             selected,
@@ -111,7 +111,7 @@ impl Variational {
     }
 
     /// Selects the parameters whose columns of $\Phi_p$ are integrated (increasing order).
-    pub(crate) fn select(&mut self, selected: impl Iterator<Item = usize>) {
+    pub(crate) fn select(&mut self, selected: impl Iterator<Item = ParamId>) {
         self.selected.clear();
         self.selected.extend(selected);
     }
@@ -220,7 +220,7 @@ impl<S: HybridJacobians + ?Sized> Extension<S> for Variational {
                     acc += self.salt[i + k * n] * c;
                 }
                 if j >= n {
-                    let q = self.selected[j - n];
+                    let q = self.selected[j - n].index();
                     acc += self.gp[i + q * n] + self.v[i] * self.hp[q] / denom;
                 }
                 y_plus[n + j * n + i] = acc;

@@ -424,7 +424,7 @@ fn tangents_n<M: HybridModel + ?Sized, const N: usize>(
     }
     let first = N - params.len();
     for (k, &q) in params.iter().enumerate() {
-        pd[q] += zero.derivative(first + k);
+        pd[q.index()] += zero.derivative(first + k);
     }
     m.vector_field(mode, &xd[..n], &pd[..p.len()], &mut yd[..n]);
     for (i, y) in yd[..n].iter().enumerate() {
@@ -526,7 +526,7 @@ impl<M: HybridModel> HybridJacobians for AutoDiff<M> {
         let fits = x.len() <= 16
             && p.len() <= 16
             && tangents.params.len() <= k
-            && tangents.params.iter().all(|&q| q < p.len());
+            && tangents.params.iter().all(|q| q.index() < p.len());
         macro_rules! by_size {
             ($($k:literal)*) => {
                 match k {

@@ -284,7 +284,7 @@ pub trait HybridJacobians: HybridSystem {
     /// [`AutoDiff`] differentiates along the directions directly.
     ///
     /// ```
-    /// use hycont_core::{HybridJacobians, Mode, Tangents};
+    /// use hycont_core::{HybridJacobians, Mode, ParamId, Tangents};
     /// # use hycont_core::{HybridSystem, EventId, EventSpec};
     /// /// x' = p0 x^2 (one state, one parameter).
     /// struct Quadratic;
@@ -314,7 +314,7 @@ pub trait HybridJacobians: HybridSystem {
     /// }
     /// // Two directions: the state by 0.5, then the state by 2 and p0 by one.
     /// let (mut f, mut out, mut work) = ([0.0], [0.0; 2], [0.0; 2]);
-    /// let tangents = Tangents { x: &[0.5, 2.0], params: &[0], out: &mut out, work: &mut work };
+    /// let tangents = Tangents { x: &[0.5, 2.0], params: &[ParamId(0)], out: &mut out, work: &mut work };
     /// Quadratic.vector_field_with_tangents(Mode(0), &[3.0], &[2.0], &mut f, tangents);
     /// assert_eq!(f, [18.0]);
     /// assert_eq!(out, [12.0 * 0.5, 12.0 * 2.0 + 9.0]); // f_x = 2 p0 x = 12, f_p = x^2 = 9

@@ -6,7 +6,7 @@
 //! default; [`super::AutoDiff`] seeds its dual numbers with the directions instead and gets the
 //! products from one evaluation as wide as the directions, without forming the Jacobians.
 
-use super::{HybridJacobians, Mode};
+use super::{HybridJacobians, Mode, ParamId};
 
 /// Directions along which [`HybridJacobians::vector_field_with_tangents`]
 /// differentiates a vector field $f(x, p)$, and where the derivatives go.
@@ -21,7 +21,7 @@ pub struct Tangents<'a> {
     /// The state's parts of the $k$ directions, $n \times k$, column-major.
     pub x: &'a [f64],
     /// The parameters the last `params.len()` directions move by one, in order.
-    pub params: &'a [usize],
+    pub params: &'a [ParamId],
     /// The $k$ derivatives, $n \times k$, column-major.
     pub out: &'a mut [f64],
     /// Work space for implementations that form the Jacobians first (the default does):
@@ -66,7 +66,7 @@ pub(crate) fn by_jacobians<S: HybridJacobians + ?Sized>(
 pub(crate) fn product(
     n: usize,
     a: &[f64],
-    (b, params): (&[f64], &[usize]),
+    (b, params): (&[f64], &[ParamId]),
     (y, dy): (&[f64], &mut [f64]),
 ) {
     match n {
@@ -84,7 +84,7 @@ pub(crate) fn product(
 /// in registers; the sums are [`product_any`]'s, term by term in the same order.
 fn product_n<const N: usize>(
     a: &[f64],
-    (b, params): (&[f64], &[usize]),
+    (b, params): (&[f64], &[ParamId]),
     (y, dy): (&[f64], &mut [f64]),
 ) {
     let mut fx = [[0.0; N]; N];
@@ -95,7 +95,7 @@ fn product_n<const N: usize>(
     for (j, (col, out)) in y.chunks_exact(N).zip(dy.chunks_exact_mut(N)).enumerate() {
         let mut acc = [0.0; N];
         if j >= first {
-            let q = params[j - first];
+            let q = params[j - first].index();
             acc.copy_from_slice(&b[q * N..(q + 1) * N]);
         }
         for (fx_k, &c) in fx.iter().zip(col) {
@@ -111,14 +111,14 @@ fn product_n<const N: usize>(
 fn product_any(
     n: usize,
     a: &[f64],
-    (b, params): (&[f64], &[usize]),
+    (b, params): (&[f64], &[ParamId]),
     (y, dy): (&[f64], &mut [f64]),
 ) {
     let first = y.len() / n - params.len();
     for (j, (col, out)) in y.chunks_exact(n).zip(dy.chunks_exact_mut(n)).enumerate() {
         for (i, o) in out.iter_mut().enumerate() {
             let mut acc = if j >= first {
-                b[params[j - first] * n + i]
+                b[params[j - first].index() * n + i]
             } else {
                 0.0
             };
@@ -133,17 +133,18 @@ fn product_any(
 #[cfg(test)]
 mod tests {
     use super::{product_any, product_n};
+    use crate::system::ParamId;
     use proptest::prelude::*;
 
     /// $f_x X + [0\ f_p]$ column by column, from the definition (the direct term first).
-    fn reference(n: usize, a: &[f64], b: &[f64], params: &[usize], y: &[f64]) -> Vec<f64> {
+    fn reference(n: usize, a: &[f64], b: &[f64], params: &[ParamId], y: &[f64]) -> Vec<f64> {
         let cols = y.len() / n;
         let first = cols - params.len();
         let mut out = vec![0.0; y.len()];
         for j in 0..cols {
             for i in 0..n {
                 let mut acc = if j >= first {
-                    b[params[j - first] * n + i]
+                    b[params[j - first].index() * n + i]
                 } else {
                     0.0
                 };
@@ -169,7 +170,7 @@ mod tests {
             let n = 4;
             let (a, rest) = values.split_at(n * n);
             let (b, y) = rest.split_at(n * 3);
-            let params: &[usize] = if with_params { &[0, 2] } else { &[] };
+            let params: &[ParamId] = if with_params { &[ParamId(0), ParamId(2)] } else { &[] };
             let y = &y[..n * (state_directions + params.len())];
             let want = reference(n, a, b, params, y);
             let mut fixed = vec![0.0; y.len()];
