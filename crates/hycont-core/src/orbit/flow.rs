@@ -171,24 +171,12 @@ impl<S: HybridJacobians + ?Sized> HybridJacobians for SegmentFlow<'_, S> {
         x: &[f64],
         p: &[f64],
         f: &mut [f64],
-        tangents: Tangents<'_>,
+        mut tangents: Tangents<'_>,
     ) {
         if self.time_sign < 0.0 {
-            let Tangents {
-                x: dirs,
-                params,
-                out,
-                work,
-            } = tangents;
-            let inner = Tangents {
-                x: dirs,
-                params,
-                out: &mut *out,
-                work,
-            };
             self.system
-                .vector_field_with_tangents(self.mode, x, p, f, inner);
-            for v in f.iter_mut().chain(out.iter_mut()) {
+                .vector_field_with_tangents(self.mode, x, p, f, tangents.reborrow());
+            for v in f.iter_mut().chain(tangents.out.iter_mut()) {
                 *v = -*v;
             }
         } else {

@@ -35,6 +35,17 @@ impl Tangents<'_> {
     pub fn count(&self, n: usize) -> usize {
         self.x.len().checked_div(n).unwrap_or(0)
     }
+
+    /// The same directions and buffers, borrowed for a shorter time: to pass them on to a
+    /// wrapped system and still use `out` afterwards (e.g. to change its sign).
+    pub fn reborrow(&mut self) -> Tangents<'_> {
+        Tangents {
+            x: self.x,
+            params: self.params,
+            out: &mut *self.out,
+            work: &mut *self.work,
+        }
+    }
 }
 
 /// [`HybridJacobians::vector_field_with_tangents`] by forming the Jacobians in
