@@ -301,6 +301,57 @@ fn pitchfork_branch_point_is_located_and_switched() {
     }
 }
 
+/// A multiplier $\lambda = 1 - 2 \cdot 10^5\, l$ on the pitchfork's branches: $-1$ (a period
+/// doubling) at $l = 10^{-5}$.
+fn steep_multiplier(u: &[f64]) -> Vec<(f64, f64)> {
+    vec![(1.0 - 2e5 * u[1], 0.0)]
+}
+
+/// A branch continued along a direction from a branch point tests its first step like any
+/// other: on $l = x^2$ from the pitchfork at $l = 0$, the first step (0.01 in arclength, so
+/// $x \approx \pm 0.01$, $l \approx 10^{-4}$) passes the period doubling of
+/// `steep_multiplier` at $l = 10^{-5}$ and a user point at $l = 4 \cdot 10^{-5}$: both are
+/// located there (to the location tolerance), both ways; the branch point itself is not
+/// reported again.
+#[test]
+fn a_switched_branch_tests_its_first_step() {
+    let mut t = Test::new(1, pitchfork, steep_multiplier);
+    t.events = vec![MonitorEvent {
+        kind: SpecialKind::UserPoint,
+        on: Quantity::Parameter(hycont_core::ParamId(0)),
+        level: 4e-5,
+        terminal: false,
+    }];
+    let s = settings().parameter_bounds(-2.0, 1.0);
+    let u0 = t.start(&[0.0], -1.0);
+    let trivial = continue_branch(&mut t, "trivial", &u0, 1.0, &s, &mut Silent).unwrap();
+    let bp = trivial.special(SpecialKind::BranchPoint).next().unwrap();
+    let phi = branch_switch_direction(&mut t, &bp.point.u, &bp.point.tangent).unwrap();
+    for dir in [1.0, -1.0] {
+        let other =
+            continue_along(&mut t, "x^2 = l", &bp.point.u, &phi, dir, &s, &mut Silent).unwrap();
+        let kinds: Vec<_> = other.special_points.iter().map(|s| s.kind).collect();
+        assert_eq!(
+            kinds,
+            [
+                SpecialKind::PeriodDoubling,
+                SpecialKind::UserPoint,
+                SpecialKind::EndPoint
+            ],
+            "direction {dir}"
+        );
+        let (pd, uz) = (&other.special_points[0], &other.special_points[1]);
+        assert!(pd.located && uz.located);
+        assert_abs_diff_eq!(pd.point.params[0], 1e-5, epsilon = 1e-12);
+        assert_abs_diff_eq!(uz.point.params[0], 4e-5, epsilon = 1e-12);
+        assert_abs_diff_eq!(pd.point.u[0], dir * 1e-5f64.sqrt(), epsilon = 1e-8);
+        assert!(
+            other.points[0].params[0] > 4e-5,
+            "the first chart is past both"
+        );
+    }
+}
+
 /// The bifurcating branch of a pitchfork, $l = x^2$, turns in $l$ at the branch point itself:
 /// continued through it, the parameter's tangent component changes sign there, which is the
 /// branch point's doing, not a fold (the tangent is undefined at a branch point).

@@ -6,8 +6,8 @@
 //! NCOL 4) in 0.32-0.39 s on the project machine, ~1.5 ms a point.
 
 use criterion::{Criterion, criterion_group, criterion_main};
-use hycont_continuation::RunStatistics;
 use hycont_continuation::observe::Silent;
+use hycont_continuation::{DiagramSettings, RunStatistics};
 use rocking_block::block::Block;
 use rocking_block::continuation::{
     Free, Recipe, study_branches, study_branches_from, study_curves, study_diagram, study_start,
@@ -219,7 +219,10 @@ fn diagrams(c: &mut Criterion) {
                         free.range(),
                         &recipe,
                         &start,
-                        depth,
+                        &DiagramSettings {
+                            depth,
+                            ..Default::default()
+                        },
                         &mut Silent,
                     )
                     .unwrap(),

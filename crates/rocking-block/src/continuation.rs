@@ -247,9 +247,10 @@ pub fn study_branches_from(
 /// The block's bifurcation diagram in `free` over `window` from `start` (its first branch named
 /// `name`) in one call
 /// ([`OrbitRun::diagram`] on the study's run: Amp, SB events, GR and DB ends, the [`Recipe`]'s
-/// steps): the branch through `start` both ways, then at every BP and PD up to `depth` levels
-/// the branch switched on there. From the Fig. 2 orbit at depth 2 it holds every special point
-/// of Fig. 3 (in omega) or Fig. 4 (in alpha); deeper in alpha, the period-doubling cascade.
+/// steps): the branch through `start` both ways, then at every BP and PD up to
+/// `settings.depth` levels (and `settings.max_branches` branches) the branch switched on
+/// there. From the Fig. 2 orbit at depth 2 it holds every special point of Fig. 3 (in omega)
+/// or Fig. 4 (in alpha); deeper in alpha, the period-doubling cascade.
 ///
 /// # Errors
 /// Invalid parameters or recipe; no branch through `start`.
@@ -259,7 +260,7 @@ pub fn study_diagram(
     window: (f64, f64),
     recipe: &Recipe,
     start: &PeriodicOrbit,
-    depth: usize,
+    settings: &DiagramSettings,
     observer: &mut dyn Observer,
 ) -> Result<Diagram> {
     recipe.validate()?;
@@ -267,11 +268,7 @@ pub fn study_diagram(
     let mut run = study_run(free, &params, window, recipe.method)?;
     recipe.apply(&mut run);
     run.observer(Box::new(observer));
-    let settings = DiagramSettings {
-        depth,
-        ..DiagramSettings::default()
-    };
-    Ok(run.diagram(name, start, &settings)?)
+    Ok(run.diagram(name, start, settings)?)
 }
 
 /// A two-parameter curve of Fig. 6: the kind of point it continues and the curve.

@@ -7,8 +7,8 @@ use approx::assert_abs_diff_eq;
 mod common;
 
 use common::{RunOk, bin, fails, scratch};
-use hycont_continuation::SpecialKind;
 use hycont_continuation::observe::Silent;
+use hycont_continuation::{DiagramSettings, SpecialKind};
 use rocking_block::block::Block;
 use rocking_block::continuation::{
     AMP, Free, Recipe, study_branches_from, study_diagram, study_start,
@@ -28,7 +28,7 @@ fn one_call_holds_every_special_point_of_figures_3_and_4() {
             free.range(),
             &recipe,
             &start,
-            2,
+            &DiagramSettings::default(),
             &mut Silent,
         )
         .unwrap();
@@ -63,34 +63,72 @@ fn one_call_holds_every_special_point_of_figures_3_and_4() {
 /// Beyond the study's PD1 and PD2 (alpha ~ 0.7365, 0.7542): each doubled branch's own
 /// doubling, located by continuation, the intervals shrinking by ratios that approach
 /// Feigenbaum's delta = 4.6692, and the doublings accumulating below alpha ~ 0.759 where the
-/// brute-force diagram (Fig. 5) turns chaotic.
+/// brute-force diagram (Fig. 5) turns chaotic. `diagram --free alpha --depth 7` with default
+/// settings reaches PD6 on the period-32 branch, whose first step (from PD5, multiplier +1,
+/// to alpha = 0.7588331, multiplier -1.18) holds it: a switched branch's first step is tested
+/// like any other. PD1 to PD5 are the README's values (1e-9); PD6 is where a multiplier is -1
+/// (to the critical tolerance 1e-6) and within 2e-8 of the Feigenbaum estimate
+/// PD5 + (PD5 - PD4) / delta = 0.75883010 (the ratios' own distance from delta, 1e-3
+/// relative, times the interval PD5 - PD6 = 3.6e-5).
 #[test]
 fn the_cascade_in_alpha_doubles_towards_chaos() {
-    let block = Block::default();
-    let start = study_start(&block).unwrap();
-    let d = study_diagram(
-        "symmetric",
-        Free::Alpha,
-        Free::Alpha.range(),
-        &Recipe::default(),
-        &start,
-        5,
-        &mut Silent,
-    )
-    .unwrap();
-    let cascades = d.cascades();
+    let out = bin()
+        .args(["diagram", "--free", "alpha", "--depth", "7", "--json"])
+        .run_ok();
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let cascades = v["cascades"].as_array().unwrap();
     assert_eq!(cascades.len(), 1, "{cascades:?}");
-    let c = &cascades[0];
-    assert!(c.doublings.len() >= 4, "{c:?}");
-    assert_abs_diff_eq!(c.doublings[0], 0.7365, epsilon = 1e-4);
-    assert_abs_diff_eq!(c.doublings[1], 0.7542, epsilon = 1e-4);
-    assert!(c.doublings.windows(2).all(|w| w[1] > w[0]));
-    assert!(*c.doublings.last().unwrap() < 0.759);
-    let ratios = c.ratios();
+    let doublings: Vec<f64> = cascades[0]["doublings"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|x| x.as_f64().unwrap())
+        .collect();
+    assert!(doublings.len() >= 6, "{doublings:?}");
+    let readme = [
+        0.736_530_171_2,
+        0.754_152_661_8,
+        0.757_840_937_5,
+        0.758_626_102_8,
+        0.758_794_112_5,
+    ];
+    for (pd, expected) in doublings.iter().zip(readme) {
+        assert_abs_diff_eq!(*pd, expected, epsilon = 1e-9);
+    }
+    const DELTA: f64 = 4.669_201_609_102_99;
+    let estimate = doublings[4] + (doublings[4] - doublings[3]) / DELTA;
+    assert_abs_diff_eq!(doublings[5], estimate, epsilon = 2e-8);
+    assert!(doublings.windows(2).all(|w| w[1] > w[0]));
+    assert!(*doublings.last().unwrap() < 0.759);
+    let ratios: Vec<f64> = cascades[0]["ratios"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|x| x.as_f64().unwrap())
+        .collect();
     assert!(ratios.iter().all(|r| (4.5..5.0).contains(r)), "{ratios:?}");
     // The ratios approach delta from above.
     assert!(ratios.windows(2).all(|w| w[1] < w[0]), "{ratios:?}");
-    assert_abs_diff_eq!(*ratios.last().unwrap(), 4.6692, epsilon = 0.05);
+    assert_abs_diff_eq!(*ratios.last().unwrap(), DELTA, epsilon = 0.01);
+    // PD6 is a genuine doubling: its branch (period 32, depth 6) reports it with a
+    // multiplier at -1.
+    let branches = v["branches"].as_array().unwrap();
+    let pd6 = branches
+        .iter()
+        .filter(|b| b["depth"] == 6)
+        .flat_map(|b| b["special_points"].as_array().unwrap())
+        .find(|s| s["kind"] == "PD")
+        .unwrap_or_else(|| panic!("no PD on the period-32 branch"));
+    assert_abs_diff_eq!(
+        pd6["alpha"].as_f64().unwrap(),
+        doublings[5],
+        epsilon = 1e-12
+    );
+    let at_minus_one = pd6["multipliers"].as_array().unwrap().iter().any(|m| {
+        let (re, im) = (m[0].as_f64().unwrap(), m[1].as_f64().unwrap());
+        (re + 1.0).abs() <= 1e-6 && im.abs() <= 1e-8
+    });
+    assert!(at_minus_one, "{}", pd6["multipliers"]);
 }
 
 #[test]
@@ -138,6 +176,22 @@ fn the_diagram_command_prints_extends_and_refuses_bad_input() {
     assert_eq!(v["branches"].as_array().unwrap().len(), 4);
     assert_eq!(v["cascades"][0]["doublings"].as_array().unwrap().len(), 3);
     assert_eq!(v["branches"][3]["depth"], 3);
+    // --max-branches bounds a fresh diagram too: at depth 6 with 2 branches the PD1 switch
+    // on the second branch is left at the limit.
+    let out = bin()
+        .args([
+            "diagram",
+            "--free",
+            "alpha",
+            "--depth",
+            "6",
+            "--max-branches",
+            "2",
+        ])
+        .run_ok();
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(text.starts_with("2 branches"), "{text}");
+    assert!(text.contains("not followed (--max-branches)"), "{text}");
     // Bad input: one line, exit 2.
     fails(
         &bin()

@@ -292,13 +292,25 @@ impl<'p, 'a, P: ContinuationProblem<'a> + ?Sized> Palc<'p, 'a, P> {
     /// The test functions that change sign between `a` and `b` (a step `h`), each located:
     /// (arclength along the step, slot, chart, located, accuracy), in the order of the step.
     /// Branch points first: a fold test change next to a located one is the branch point's.
-    fn located_in_step(&mut self, a: &Chart, b: &Chart, h: f64) -> Vec<Located> {
+    ///
+    /// From a singular start (`from_singular`: the first step of a run along a given
+    /// direction, which starts at a branch point or period doubling) the fold and
+    /// branch-point tests are not watched: they vanish at the start itself.
+    fn located_in_step(
+        &mut self,
+        a: &Chart,
+        b: &Chart,
+        h: f64,
+        from_singular: bool,
+    ) -> Vec<Located> {
         let det_ref = a.det.1;
         let ta = self.tests(a, det_ref);
         let tb = self.tests(b, det_ref);
+        let singular =
+            |slot: Slot| matches!(slot, Slot::Fold | Slot::BranchPoint | Slot::Cusp { .. });
         let changed = |slot: usize| {
             let (ga, gb) = (ta.values[slot], tb.values[slot]);
-            ga != 0.0 && ga * gb <= 0.0
+            ga != 0.0 && ga * gb <= 0.0 && !(from_singular && singular(self.slots[slot]))
         };
         let mut order: Vec<usize> = (0..self.slots.len()).filter(|&k| changed(k)).collect();
         order.sort_by_key(|&k| self.slots[k] != Slot::BranchPoint);
@@ -411,8 +423,9 @@ impl<'p, 'a, P: ContinuationProblem<'a> + ?Sized> Palc<'p, 'a, P> {
         label: &mut usize,
         branch: &mut Branch,
         observer: &mut dyn Observer,
+        from_singular: bool,
     ) -> Option<EndReason> {
-        for f in self.located_in_step(a, b, h) {
+        for f in self.located_in_step(a, b, h, from_singular) {
             let slot = f.slot;
             let Some(special) = self.special_point(f, (a, b), h, *label + 1) else {
                 self.stats.discarded_tests += 1;
@@ -468,6 +481,21 @@ impl<'p, 'a, P: ContinuationProblem<'a> + ?Sized> Palc<'p, 'a, P> {
             statistics: RunStatistics::default(),
         };
         observer.point(&branch.points[0], self.parameter(&a.u));
+        // Along a given direction the first chart is a step away from the start: that step
+        // is tested like any other (a period doubling just past the one switched at, say).
+        if let Some(t) = initial_tangent {
+            let z = self.directed_start(u0, t, &a)?;
+            let h0 = self.settings.first_step();
+            if let Some(end) =
+                self.record_special_points((&z, &a), h0, &mut label, &mut branch, observer, true)
+            {
+                branch.end = end;
+                branch.points.clear();
+                branch.statistics = self.stats;
+                branch.attach_measure_keys();
+                return Ok(branch);
+            }
+        }
         let start = (a.u.clone(), a.info.clone());
         let mut h = self.settings.first_step();
         let mut travelled = 0.0;
@@ -493,7 +521,7 @@ impl<'p, 'a, P: ContinuationProblem<'a> + ?Sized> Palc<'p, 'a, P> {
                 }
             };
             if let Some(end) =
-                self.record_special_points((&a, &b), h, &mut label, &mut branch, observer)
+                self.record_special_points((&a, &b), h, &mut label, &mut branch, observer, false)
             {
                 branch.end = end;
                 break;

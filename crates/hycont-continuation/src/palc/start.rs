@@ -68,6 +68,26 @@ impl<'a, P: ContinuationProblem<'a> + ?Sized> Palc<'_, 'a, P> {
         Ok(a)
     }
 
+    /// The chart of a directed start `u0` (a branch point or period doubling switched at),
+    /// for testing the step to the first chart `a`: its own analysis, the direction `t`
+    /// oriented as `a`'s tangent, and `a`'s determinant (the augmented Jacobian is singular
+    /// at the start; the branch-point test is not watched on that step).
+    pub(super) fn directed_start(&mut self, u0: &[f64], t: &[f64], a: &Chart) -> Result<Chart> {
+        let mut dir = t.to_vec();
+        self.wnormalize(&mut dir);
+        if self.wdot(&dir, &a.t) < 0.0 {
+            dir.iter_mut().for_each(|x| *x = -*x);
+        }
+        let info = self.analyse(u0)?;
+        Ok(Chart {
+            u: u0.to_vec(),
+            t: dir,
+            info,
+            iterations: 0,
+            det: a.det,
+        })
+    }
+
     /// The first chart from `u0` without a direction: corrected with the continued parameter
     /// held, or on a generic hyperplane where it cannot be held.
     fn held_start(&mut self, u0: &[f64]) -> Result<Chart> {

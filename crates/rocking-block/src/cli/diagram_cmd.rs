@@ -186,7 +186,7 @@ fn compute(
     let (start, dimensional) = args.start.orbit()?;
     let name = args.start.kind.name();
     let mut lines = BranchLines;
-    let diagram = study_diagram(name, free, window, &recipe, &start, args.depth, &mut lines)?;
+    let diagram = study_diagram(name, free, window, &recipe, &start, &settings, &mut lines)?;
     Ok((diagram, dimensional))
 }
 

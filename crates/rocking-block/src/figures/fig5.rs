@@ -76,7 +76,10 @@ pub fn figure5(out: &OutDir, provenance: &Provenance) -> Result<FigureFiles> {
         crate::continuation::Free::Alpha.range(),
         &provenance.recipe(),
         &start,
-        CASCADE_DEPTH,
+        &hycont_continuation::DiagramSettings {
+            depth: CASCADE_DEPTH,
+            ..Default::default()
+        },
         &mut hycont_continuation::observe::Silent,
     )?;
     let bp3 = cont.branches[0]
