@@ -278,13 +278,19 @@ impl<'a, S: HybridJacobians + ?Sized> ContinuationProblem<'a> for Codim2<'a, S> 
             2 * n - 3 - self.inner.parameter_index()
         })
     }
-    /// $+1$ on a fold curve, $-1$ on a period-doubling curve, of full orbits (a half orbit's
-    /// multipliers are its half map's: their meeting points are not these).
+    /// The full orbit's multiplier the curve holds: $+1$ on a fold curve, $-1$ on a
+    /// period-doubling curve. On a half orbit the analysis reports the full orbit's
+    /// multipliers $\lambda = \mu^2$ (the full monodromy is the square of the half map
+    /// $S \circ \phi_{T/2}$, whose multipliers are $\mu$): a symmetric fold ($\mu = +1$)
+    /// and a symmetry-breaking point ($\mu = -1$) both hold $\lambda = +1$, so their curves
+    /// report the full orbit's R1 (another $\mu$ at $\pm 1$), LPNS (a complex $\mu$ pair on
+    /// the unit circle) and LPPD ($\mu = \pm i$, a double $\lambda = -1$: not generic on
+    /// these curves). R2 and PDNS need a full multiplier held at $-1$, which a symmetric
+    /// orbit only has doubled ($\mu = \pm i$): period doubling is continued on full orbits.
     fn held_multiplier(&self) -> Option<f64> {
         match self.condition {
-            _ if self.inner.is_half_orbit() => None,
-            CurveCondition::Fold => Some(1.0),
-            CurveCondition::PeriodDoubling => Some(-1.0),
+            CurveCondition::Fold | CurveCondition::SymmetryBreaking => Some(1.0),
+            CurveCondition::PeriodDoubling if !self.inner.is_half_orbit() => Some(-1.0),
             _ => None,
         }
     }
