@@ -71,6 +71,16 @@ pub enum Error {
         /// What fails.
         reason: String,
     },
+    /// A saved result (a diagram, an atlas, a branch) read back does not fit the run or
+    /// system given, or is not consistent in itself: it was edited, or written by another
+    /// system or run.
+    #[error("the saved {what} does not fit: {reason}")]
+    InvalidSaved {
+        /// What was read (e.g. `diagram`, `atlas`).
+        what: &'static str,
+        /// What does not fit.
+        reason: String,
+    },
     /// A label does not exist in the branch.
     #[error("no point labelled {label} in branch {branch}")]
     NoSuchLabel {

@@ -78,6 +78,7 @@ pub mod observe;
 pub mod orbit;
 mod palc;
 pub mod quantity;
+mod recheck;
 pub mod settings;
 pub mod switch;
 
@@ -94,6 +95,7 @@ pub use orbit::{
     SwitchOutcome, SwitchRecord, can_switch,
 };
 pub use quantity::{Label, MeasureId, Quantity};
+pub use recheck::ANALYSIS_TOL;
 
 /// Whether every branch and curve an [`OrbitRun`] returns is re-checked point by point (the
 /// `invariants` feature, on in the test suites).

@@ -40,28 +40,17 @@ pub fn branch_switch_direction<'a, P: ContinuationProblem<'a> + ?Sized>(
     t: &[f64],
 ) -> Result<Vec<f64>> {
     let problem = p.problem();
-    let (mut pattern, k) = augmented_pattern(problem)?;
-    let (n, m) = (problem.unknowns(), problem.equations());
-    let mut values = Vec::new();
-    let mut res = vec![0.0; m];
-    problem.evaluate(u, &mut res, Some(&mut values))?;
-    values.truncate(k);
-    values.extend_from_slice(t);
-    pattern.factorize(&values)?;
-    // Inverse iteration from a fixed, generic start vector.
-    let mut x: Vec<f64> = (0..n)
-        .map(|i| ((i as f64 + 1.0) * 0.754_877_666).fract() - 0.5)
-        .collect();
-    for _ in 0..4 {
-        pattern.solve_in_place(&mut x)?;
-        let norm = x.iter().map(|v| v * v).sum::<f64>().sqrt();
-        if !(norm > 0.0 && norm.is_finite()) {
-            return Err(Error::SwitchFailed {
-                reason: "inverse iteration broke down".into(),
-            });
+    // Where the augmented Jacobian is singular to the last bit (a branch point located exactly,
+    // e.g. a symmetry breaking at a parameter of exactly 0), the iteration runs a hair along
+    // the branch (1e-9 of the point's scale: far below a located point's accuracy).
+    let mut x = match inverse_iteration(problem, u, t) {
+        Ok(x) => x,
+        Err(_) => {
+            let scale = 1e-9 * (1.0 + hycont_core::linalg::max_norm(u));
+            let moved: Vec<f64> = u.iter().zip(t).map(|(a, b)| a + scale * b).collect();
+            inverse_iteration(problem, &moved, t)?
         }
-        x.iter_mut().for_each(|v| *v /= norm);
-    }
+    };
     // Remove the tangent component and check that J x is small.
     let tx: f64 = t.iter().zip(&x).map(|(a, b)| a * b).sum();
     for (xi, ti) in x.iter_mut().zip(t) {
@@ -82,6 +71,33 @@ pub fn branch_switch_direction<'a, P: ContinuationProblem<'a> + ?Sized>(
         return Err(Error::SwitchFailed {
             reason: format!("no second null direction: |J phi| = {jx:e}"),
         });
+    }
+    Ok(x)
+}
+
+/// Four steps of inverse iteration on $[J(u); t^\top]$ from a fixed, generic start vector:
+/// the direction of its smallest singular value, normalised.
+fn inverse_iteration(problem: &mut Problem<'_>, u: &[f64], t: &[f64]) -> Result<Vec<f64>> {
+    let (mut pattern, k) = augmented_pattern(problem)?;
+    let (n, m) = (problem.unknowns(), problem.equations());
+    let mut values = Vec::new();
+    let mut res = vec![0.0; m];
+    problem.evaluate(u, &mut res, Some(&mut values))?;
+    values.truncate(k);
+    values.extend_from_slice(t);
+    pattern.factorize(&values)?;
+    let mut x: Vec<f64> = (0..n)
+        .map(|i| ((i as f64 + 1.0) * 0.754_877_666).fract() - 0.5)
+        .collect();
+    for _ in 0..4 {
+        pattern.solve_in_place(&mut x)?;
+        let norm = x.iter().map(|v| v * v).sum::<f64>().sqrt();
+        if !(norm > 0.0 && norm.is_finite()) {
+            return Err(Error::SwitchFailed {
+                reason: "inverse iteration broke down".into(),
+            });
+        }
+        x.iter_mut().for_each(|v| *v /= norm);
     }
     Ok(x)
 }

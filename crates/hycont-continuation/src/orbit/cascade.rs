@@ -36,12 +36,15 @@ impl Cascade {
 impl Diagram {
     /// The period-doubling cascades: from every doubling that was switched at on a branch not
     /// itself born at a doubling, the chain of doubled branches, each followed through the
-    /// first doubling switched at on it. Chains of one doubling are included.
+    /// first doubling switched at on it. Chains of one doubling are included. (Never panics,
+    /// also on a diagram that does not pass [`Diagram::check_tree`]; its cascades then say
+    /// what its records say.)
     #[must_use]
     pub fn cascades(&self) -> Vec<Cascade> {
         let pd = |r: &&SwitchRecord| r.kind == SpecialKind::PeriodDoubling;
         let born_at_pd = |b: DiagramBranchId| {
-            self.branches[b.0].origin.is_some_and(|(parent, label)| {
+            let origin = self.branches.get(b.0).and_then(|b| b.origin);
+            origin.is_some_and(|(parent, label)| {
                 self.switches.iter().any(|r| {
                     r.branch == parent && r.label == label && r.kind == SpecialKind::PeriodDoubling
                 })
@@ -57,7 +60,12 @@ impl Diagram {
                     doublings: vec![first.parameter],
                 };
                 let mut record = first;
+                // (A chain that comes back to one of its branches, only in an edited
+                // diagram that did not pass `Diagram::check_tree`, ends there.)
                 while let SwitchOutcome::Followed(child) = record.outcome {
+                    if cascade.branches.contains(&child) {
+                        break;
+                    }
                     cascade.branches.push(child);
                     // The child's own doublings, not the one it was born at.
                     let mut own = self

@@ -294,7 +294,7 @@ impl<'a, S: HybridJacobians + ?Sized> OrbitRun<'a, S> {
         settings: &DiagramSettings,
     ) -> Result<Diagram> {
         settings.validate()?;
-        root.validate(self.system)?;
+        self.check_saved(&root)?;
         self.observer.branch(&root.branch);
         let mut diagram = Diagram {
             branches: vec![DiagramBranch {
@@ -310,19 +310,20 @@ impl<'a, S: HybridJacobians + ?Sized> OrbitRun<'a, S> {
 
     /// Extends a diagram (e.g. one read from a file) with other settings: points left at the
     /// depth or branch limit are switched at where the new settings allow, and the new
-    /// branches' points in turn.
+    /// branches' points in turn. The diagram is checked first ([`OrbitRun::check_diagram`]:
+    /// its tree, and every point of every branch an orbit of this run whose analysis is what
+    /// it says), so that a diagram edited or written by another system or run is refused,
+    /// not extended from points where no orbit is.
     ///
     /// # Errors
-    /// Invalid settings; a branch that does not fit the system.
+    /// Invalid settings; a diagram that does not pass [`OrbitRun::check_diagram`].
     pub fn extend_diagram(
         &mut self,
         diagram: &mut Diagram,
         settings: &DiagramSettings,
     ) -> Result<()> {
         settings.validate()?;
-        for b in &diagram.branches {
-            b.branch.validate(self.system)?;
-        }
+        self.check_diagram(diagram)?;
         diagram.switches.retain(|r| !r.outcome.pending());
         self.explore(diagram, settings)
     }
@@ -373,7 +374,8 @@ impl<'a, S: HybridJacobians + ?Sized> OrbitRun<'a, S> {
         let tol = settings.same_point_tol;
         let here = &d.branches[id.0];
         if let Some((parent, label)) = here.origin
-            && let Ok(p) = d.branches[parent.0].branch.special_at(label)
+            && let Some(parent) = d.branches.get(parent.0)
+            && let Ok(p) = parent.branch.special_at(label)
             && same_point(&p.point, &s.point, tol)
         {
             return SwitchOutcome::Origin;

@@ -1,7 +1,10 @@
 //! Re-checking the points of a saved branch: each is an orbit of the system (its orbit
 //! equations hold) and, where asked, a physical one (admissible).
 
+use super::problem::OrbitContinuation;
+use super::run::OrbitRun;
 use super::saved::OrbitBranch;
+use crate::ContinuationProblem;
 use crate::codim2::CurveCondition;
 use crate::error::{Error, Result};
 use hycont_core::HybridJacobians;
@@ -78,5 +81,98 @@ impl OrbitBranch {
             }
         }
         Ok(())
+    }
+}
+
+impl<S: HybridJacobians + ?Sized> OrbitRun<'_, S> {
+    /// Re-checks a saved one-parameter branch (e.g. read from a file) before this run uses
+    /// it: written for this system (its parameter names) and continued in this run's
+    /// parameter with this run's measures (monitor names); every point an orbit
+    /// ([`OrbitBranch::check_points`], admissible when the run's admissibility is on), whose
+    /// parameters are those of its unknowns and whose monitors, multipliers and stability are
+    /// what this run's analysis gives at its unknowns again (to [`crate::ANALYSIS_TOL`] relative),
+    /// and whose tangent is in the null space of the Jacobian there ($|J t|$ at most
+    /// [`crate::ANALYSIS_TOL`] of $\max_i \sum_j |J_{ij} t_j|$; a branch point's, the tangent of the
+    /// chart before it, at most a tenth); points labelled in order along the branch, special
+    /// points after them.
+    ///
+    /// # Errors
+    /// [`Error::InvalidSaved`] naming what does not fit; [`Error::InvalidPoint`] naming the
+    /// first point that is not what it says.
+    pub fn check_saved(&self, saved: &OrbitBranch) -> Result<()> {
+        let what = "branch";
+        let invalid = |reason: String| Error::InvalidSaved { what, reason };
+        saved.validate(self.system)?;
+        let b = &saved.branch;
+        if saved.second.is_some() || saved.condition.is_some() {
+            return Err(invalid(format!(
+                "{} is a two-parameter curve, not a branch",
+                b.name
+            )));
+        }
+        if saved.free != self.free {
+            return Err(invalid(format!(
+                "{} was continued in parameter {}, this run continues {}",
+                b.name,
+                saved.free.index(),
+                self.free.index()
+            )));
+        }
+        let names: Vec<String> = self
+            .system
+            .parameter_names()
+            .iter()
+            .map(|n| (*n).to_string())
+            .collect();
+        if b.parameter_names != names || b.parameter_index != self.free.index() {
+            return Err(invalid(format!(
+                "{} names the parameters {:?} (continued: {}), the system {names:?}",
+                b.name, b.parameter_names, b.parameter_index
+            )));
+        }
+        check_labels(b).map_err(|r| invalid(format!("{}: {r}", b.name)))?;
+        let monitors = self.monitor_names_of(saved)?;
+        if b.monitor_names != monitors {
+            return Err(invalid(format!(
+                "{} records the measures {:?}, this run {monitors:?}",
+                b.name, b.monitor_names
+            )));
+        }
+        saved.check_points(self.system, self.admissibility_on())?;
+        self.check_analyses(saved)
+    }
+
+    /// The monitor names of a run of this one on `saved`'s layout.
+    fn monitor_names_of(&self, saved: &OrbitBranch) -> Result<Vec<String>> {
+        let cp = OrbitContinuation::on_discretisation(
+            self.system,
+            saved.template.clone(),
+            saved.discretisation.clone(),
+            self.free,
+            self.measures.clone(),
+            self.events.clone(),
+        )?;
+        Ok(cp.monitor_names())
+    }
+}
+
+/// Points labelled `1..=n` in order, special points `n + 1..` after them (as a run labels
+/// them, [`crate::Branch::relabel`]).
+fn check_labels(b: &crate::Branch) -> std::result::Result<(), String> {
+    let n = b.points.len();
+    if n == 0 {
+        return Err("the branch has no points".into());
+    }
+    let labels = b
+        .points
+        .iter()
+        .chain(b.special_points.iter().map(|s| &s.point))
+        .map(|p| p.label);
+    match labels.enumerate().find(|(i, l)| *l != i + 1) {
+        Some((i, l)) => Err(format!(
+            "its labels are not in order (label {l} at position {})",
+            i + 1
+        )),
+        None => Ok(()),
     }
 }

@@ -42,7 +42,7 @@ pub(super) fn critical_multiplier(
 
 /// Whether a sign change of `kind`'s test function is genuine: the problem has no multipliers,
 /// or one sits within `tol` of the critical value. Returns the critical multiplier too.
-pub(super) fn genuine(kind: SpecialKind, info: &PointInfo, tol: f64) -> (bool, Option<(f64, f64)>) {
+pub(crate) fn genuine(kind: SpecialKind, info: &PointInfo, tol: f64) -> (bool, Option<(f64, f64)>) {
     let checked = matches!(
         kind,
         SpecialKind::Fold

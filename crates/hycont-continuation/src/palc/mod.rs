@@ -24,7 +24,7 @@ use hycont_core::linalg::SparsePattern;
 
 mod adapt;
 mod corrector;
-mod critical;
+pub(crate) mod critical;
 mod locate;
 mod predict;
 mod slots;

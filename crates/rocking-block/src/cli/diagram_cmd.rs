@@ -12,7 +12,8 @@ use crate::report::branch_json;
 use clap::Args;
 use hycont_continuation::observe::Observer;
 use hycont_continuation::{
-    Branch, Diagram, DiagramBranchId, DiagramSettings, SpecialKind, SwitchOutcome,
+    Branch, Diagram, DiagramBranchId, DiagramSettings, Error as ContinuationError, SpecialKind,
+    SwitchOutcome,
 };
 use serde_json::json;
 use std::io::Write;
@@ -180,7 +181,18 @@ fn compute(
         )?;
         recipe.apply(&mut run);
         run.observer(Box::new(BranchLines));
-        run.extend_diagram(&mut diagram, &settings)?;
+        // The saved diagram is checked first: one that is not this run's, as it says, is bad
+        // input.
+        run.extend_diagram(&mut diagram, &settings)
+            .map_err(|e| match e {
+                ContinuationError::InvalidSaved { .. } | ContinuationError::InvalidPoint { .. } => {
+                    Error::InvalidFile {
+                        path: path.clone(),
+                        reason: e.to_string(),
+                    }
+                }
+                other => other.into(),
+            })?;
         return Ok((diagram, None));
     }
     let (start, dimensional) = args.start.orbit()?;
