@@ -166,3 +166,159 @@ fn a_saved_atlas_grows_to_the_uninterrupted_one() {
     let mut by_omega = OrbitRun::new(table, OMEGA).unwrap();
     assert!(by_omega.extend_atlas(&mut read, 3000).is_err());
 }
+
+/// The table with a stronger gravity in its vector field (`g + 0.05`): the same names, sizes
+/// and events, other orbits.
+struct Heavier;
+
+impl hycont::HybridSystem for Heavier {
+    fn state_dim(&self) -> usize {
+        3
+    }
+    fn parameter_names(&self) -> &[&'static str] {
+        model::Table.parameter_names()
+    }
+    fn mode_count(&self) -> usize {
+        1
+    }
+    fn mode_name(&self, m: hycont::Mode) -> &'static str {
+        model::Table.mode_name(m)
+    }
+    fn events(&self, m: hycont::Mode) -> &[hycont::EventId] {
+        model::Table.events(m)
+    }
+    fn event_spec(&self, e: hycont::EventId) -> hycont::EventSpec {
+        model::Table.event_spec(e)
+    }
+    fn vector_field(&self, m: hycont::Mode, x: &[f64], p: &[f64], f: &mut [f64]) {
+        model::Table.vector_field(m, x, p, f);
+        f[1] -= 0.05;
+    }
+    fn event(&self, e: hycont::EventId, x: &[f64], p: &[f64]) -> f64 {
+        model::Table.event(e, x, p)
+    }
+    fn reset(&self, e: hycont::EventId, x: &[f64], p: &[f64], out: &mut [f64]) {
+        model::Table.reset(e, x, p, out);
+    }
+}
+
+impl hycont::HybridJacobians for Heavier {
+    fn vector_field_jacobian(
+        &self,
+        m: hycont::Mode,
+        x: &[f64],
+        p: &[f64],
+        dx: &mut [f64],
+        dp: Option<&mut [f64]>,
+    ) {
+        model::Table.vector_field_jacobian(m, x, p, dx, dp);
+    }
+    fn event_gradient(
+        &self,
+        e: hycont::EventId,
+        x: &[f64],
+        p: &[f64],
+        dx: &mut [f64],
+        dp: Option<&mut [f64]>,
+    ) {
+        model::Table.event_gradient(e, x, p, dx, dp);
+    }
+    fn reset_jacobian(
+        &self,
+        e: hycont::EventId,
+        x: &[f64],
+        p: &[f64],
+        dx: &mut [f64],
+        dp: Option<&mut [f64]>,
+    ) {
+        model::Table.reset_jacobian(e, x, p, dx, dp);
+    }
+}
+
+/// A run that measures what `table_atlas` does, on `system`.
+fn measured_run<'a, S: hycont::HybridJacobians>(system: &'a S) -> OrbitRun<'a, S> {
+    let mut run = OrbitRun::new(system, A).unwrap();
+    run.add_measure("impact_phase", SegmentValue::start(0, 2))
+        .unwrap();
+    run.add_measure("impact_velocity", SegmentValue::end(1, 1))
+        .unwrap();
+    run
+}
+
+/// A saved atlas is checked against the run that grows it (`OrbitRun::check_atlas`): with
+/// its parameters' unknowns swapped, or grown by another system with the same names and
+/// sizes, it is refused; `orbit_of` refuses a system of other parameters; an atlas bounded by
+/// a measure handle of another run is refused, not bounded by this run's measure of that
+/// index.
+#[test]
+fn saved_atlases_are_checked_against_the_run() {
+    let settings = AtlasSettings::default()
+        .radii(0.1, 1e-3, 0.2)
+        .max_charts(40);
+    let (part, _) = table_atlas(OrbitMethod::default(), settings);
+    let table: &'static _ = Box::leak(Box::new(AutoDiff::new(TableModel)));
+    measured_run(table).check_atlas(&part).unwrap();
+    let mut swapped = part.clone();
+    swapped.atlas.unknown_params.reverse();
+    let e = measured_run(table)
+        .extend_atlas(&mut swapped, 100)
+        .unwrap_err();
+    assert!(e.to_string().contains("unknowns"), "{e}");
+    let e = measured_run(&Heavier)
+        .extend_atlas(&mut part.clone(), 100)
+        .unwrap_err();
+    assert!(
+        matches!(e, hycont::hycont_continuation::Error::InvalidSaved { .. }),
+        "{e}"
+    );
+    assert!(part.orbit_of(table, &part.atlas.charts[3]).is_ok());
+    struct Renamed;
+    impl hycont::HybridSystem for Renamed {
+        fn state_dim(&self) -> usize {
+            3
+        }
+        fn parameter_names(&self) -> &[&'static str] {
+            &["b", "omega", "e", "g"]
+        }
+        fn mode_count(&self) -> usize {
+            1
+        }
+        fn mode_name(&self, m: hycont::Mode) -> &'static str {
+            model::Table.mode_name(m)
+        }
+        fn events(&self, m: hycont::Mode) -> &[hycont::EventId] {
+            model::Table.events(m)
+        }
+        fn event_spec(&self, e: hycont::EventId) -> hycont::EventSpec {
+            model::Table.event_spec(e)
+        }
+        fn vector_field(&self, m: hycont::Mode, x: &[f64], p: &[f64], f: &mut [f64]) {
+            model::Table.vector_field(m, x, p, f);
+        }
+        fn event(&self, e: hycont::EventId, x: &[f64], p: &[f64]) -> f64 {
+            model::Table.event(e, x, p)
+        }
+    }
+    let e = part.orbit_of(&Renamed, &part.atlas.charts[3]).unwrap_err();
+    assert!(e.to_string().contains("parameters"), "{e}");
+    // A handle of another run's measure at an index where this run has another measure.
+    let mut other = OrbitRun::new(table, A).unwrap();
+    other
+        .add_measure("apex", SegmentValue::start(0, 0))
+        .unwrap();
+    let apex = other
+        .add_measure("apex2", SegmentValue::start(0, 1))
+        .unwrap();
+    let mut run = measured_run(table);
+    let bounded = AtlasSettings::default()
+        .radii(0.1, 1e-3, 0.2)
+        .bound(OMEGA, OMEGA_RANGE.0, OMEGA_RANGE.1)
+        .bound(apex, -10.0, 10.0);
+    let e = run
+        .atlas("period-1", &orbit(1.3, 1.0), OMEGA, &bounded)
+        .unwrap_err();
+    assert!(
+        matches!(e, hycont::hycont_continuation::Error::ForeignHandle { .. }),
+        "{e}"
+    );
+}

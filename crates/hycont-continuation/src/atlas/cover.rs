@@ -4,7 +4,7 @@
 use super::functions::{Test, tests, values};
 use super::polygon::{HalfPlane, circumscribed, clip, outside_vertex};
 use super::solver::{Basis, Solver, wdot};
-use super::{Atlas, AtlasChart, AtlasEnd, AtlasSettings, AtlasStatistics};
+use super::{Atlas, AtlasChart, AtlasEnd, AtlasSettings, AtlasStatistics, EdgeCut};
 use crate::branch::BranchPoint;
 use crate::error::{Error, Result};
 use crate::observe::Observer;
@@ -22,14 +22,14 @@ const EDGE_INSIDE: f64 = 0.1;
 /// (e.g. an edge point located again at a corner of two edges): rejected.
 const DUPLICATE: f64 = 0.05;
 /// Edge cuts of one chart beyond which it is given up (the edges do not close it).
-const MAX_CUTS: usize = 4;
+pub(super) const MAX_CUTS: usize = 4;
 
 /// What growing from a chart gave.
 enum Outcome {
     /// A new chart: its candidate, radius, and edge cut and edge for a boundary chart.
-    Chart(Box<Candidate>, f64, Option<(HalfPlane, super::Edge)>),
+    Chart(Box<Candidate>, f64, Option<(EdgeCut, super::Edge)>),
     /// A cut of the chart by an edge through its disc.
-    Cut(HalfPlane),
+    Cut(EdgeCut),
     /// A rejected chart: the radius shrinks.
     Reject,
 }
@@ -107,10 +107,14 @@ pub fn cover<'a, P: ContinuationProblem<'a> + ?Sized>(
 }
 
 /// Grows a saved `atlas` of the problem `p` further, up to `max_charts` charts in all (e.g.
-/// after [`AtlasEnd::ChartLimit`]).
+/// after [`AtlasEnd::ChartLimit`]). The atlas is checked first: the problem's (its names and
+/// tests), consistent in itself, every chart a solution with its tangent plane, analysis and
+/// test values there (to [`crate::ANALYSIS_TOL`]; `atlas/check.rs`), so that an atlas edited
+/// or written by another problem is refused, not grown from charts off the solutions.
 ///
 /// # Errors
-/// A problem that does not fit the atlas (another number of unknowns or test functions).
+/// A problem that does not fit the atlas (another number of unknowns or test functions);
+/// [`Error::InvalidSaved`] for an atlas that does not pass the checks.
 pub fn extend<'a, P: ContinuationProblem<'a> + ?Sized>(
     p: &mut P,
     atlas: &mut Atlas,
@@ -118,27 +122,44 @@ pub fn extend<'a, P: ContinuationProblem<'a> + ?Sized>(
     observer: &mut dyn Observer,
 ) -> Result<()> {
     atlas.settings.max_charts = max_charts;
-    atlas.settings.validate()?;
-    let tests = tests(p, &atlas.settings)?;
-    let solver = Solver::new(p, atlas.unknown_params, atlas.settings.newton)?;
-    let fits = atlas.orientation.len() == tests.len()
-        && atlas.charts.iter().all(|c| c.point.u.len() == solver.n);
-    if !fits || atlas.charts.is_empty() {
-        return Err(Error::InvalidSetting {
-            name: "atlas",
-            value: atlas.charts.len() as f64,
-            reason: "does not fit the problem (unknowns or test functions differ)",
-        });
-    }
-    let det_ref = atlas.fold_scale;
-    let mut grower = Grower {
-        solver,
-        tests,
-        atlas,
-        det_ref,
-    };
+    let mut grower = Grower::of_saved(p, atlas)?;
+    grower.check_saved()?;
     grower.grow(observer);
     Ok(())
+}
+
+/// Checks a saved `atlas` against the problem `p` as [`extend`] does before it grows it.
+///
+/// # Errors
+/// As [`extend`].
+pub fn check<'a, P: ContinuationProblem<'a> + ?Sized>(p: &mut P, atlas: &Atlas) -> Result<()> {
+    let mut copy = atlas.clone();
+    Grower::of_saved(p, &mut copy)?.check_saved()
+}
+
+impl<'s, 'p, 'a, P: ContinuationProblem<'a> + ?Sized> Grower<'s, 'p, 'a, P> {
+    /// The grower of a saved atlas of `p`, once its layout fits the problem.
+    fn of_saved(p: &'p mut P, atlas: &'s mut Atlas) -> Result<Self> {
+        atlas.settings.validate()?;
+        let tests = tests(p, &atlas.settings)?;
+        let solver = Solver::new(p, atlas.unknown_params, atlas.settings.newton)?;
+        let fits = atlas.orientation.len() == tests.len()
+            && atlas.charts.iter().all(|c| c.point.u.len() == solver.n);
+        if !fits || atlas.charts.is_empty() {
+            return Err(Error::InvalidSetting {
+                name: "atlas",
+                value: atlas.charts.len() as f64,
+                reason: "does not fit the problem (unknowns or test functions differ)",
+            });
+        }
+        let det_ref = atlas.fold_scale;
+        Ok(Grower {
+            solver,
+            tests,
+            atlas,
+            det_ref,
+        })
+    }
 }
 
 impl<'a, P: ContinuationProblem<'a> + ?Sized> Grower<'_, '_, 'a, P> {
@@ -213,13 +234,12 @@ impl<'a, P: ContinuationProblem<'a> + ?Sized> Grower<'_, '_, 'a, P> {
 
     /// Grows until every chart is closed or the chart limit is reached.
     fn grow(&mut self, observer: &mut dyn Observer) {
+        // The neighbours' centres and the polygons are derived: made afresh for the charts
+        // there are (a saved atlas's included).
         let start = self.atlas.charts.len();
         for i in 0..start {
-            if self.atlas.charts[i].centres.len() != self.atlas.charts[i].neighbours.len() {
-                let ks = self.atlas.charts[i].neighbours.clone();
-                self.atlas.charts[i].centres =
-                    ks.iter().map(|&k| self.project_centre(i, k)).collect();
-            }
+            let ks = self.atlas.charts[i].neighbours.clone();
+            self.atlas.charts[i].centres = ks.iter().map(|&k| self.project_centre(i, k)).collect();
             self.rebuild(i);
         }
         loop {
@@ -276,7 +296,7 @@ impl<'a, P: ContinuationProblem<'a> + ?Sized> Grower<'_, '_, 'a, P> {
 
     /// The cosine of the largest principal angle between chart `i`'s tangent plane and
     /// `basis`: the smaller singular value of $T_i^\top W T$.
-    fn plane_cosine(&self, i: usize, basis: &Basis) -> f64 {
+    pub(super) fn plane_cosine(&self, i: usize, basis: &Basis) -> f64 {
         let ti = self.basis(i);
         let w = &self.solver.w;
         let m = |a: usize, b: usize| wdot(w, &ti[a], &basis[b]);
@@ -355,7 +375,7 @@ impl<'a, P: ContinuationProblem<'a> + ?Sized> Grower<'_, '_, 'a, P> {
     }
 
     /// Chart `i` as a candidate (to cut it by an edge).
-    fn own_candidate(&self, i: usize) -> Candidate {
+    pub(super) fn own_candidate(&self, i: usize) -> Candidate {
         let c = &self.atlas.charts[i];
         Candidate {
             u: c.point.u.clone(),
@@ -373,7 +393,7 @@ impl<'a, P: ContinuationProblem<'a> + ?Sized> Grower<'_, '_, 'a, P> {
         radius: f64,
         parent: Option<usize>,
         edge: Option<super::Edge>,
-        cuts: Vec<HalfPlane>,
+        cuts: Vec<EdgeCut>,
     ) -> usize {
         let step = parent.map_or(0.0, |p| self.atlas.charts[p].radius);
         let [t0, t1] = cand.basis;
@@ -462,7 +482,7 @@ impl<'a, P: ContinuationProblem<'a> + ?Sized> Grower<'_, '_, 'a, P> {
         let r = c.radius;
         let mut poly = circumscribed(r, SIDES);
         for cut in &c.cuts {
-            poly = clip(&poly, cut);
+            poly = clip(&poly, &cut.line);
         }
         for (&k, &centre) in c.neighbours.iter().zip(&c.centres) {
             let rk = self.atlas.charts[k].radius;

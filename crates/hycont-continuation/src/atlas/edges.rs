@@ -1,6 +1,7 @@
 //! Boundary charts: locating an edge (a test function's zero) between a chart and a
 //! candidate beyond it, and the edge's tangent line as a cut of the boundary chart's polygon.
 
+use super::EdgeCut;
 use super::cover::{Candidate, Grower};
 use super::polygon::HalfPlane;
 use crate::ContinuationProblem;
@@ -28,7 +29,7 @@ impl<'a, P: ContinuationProblem<'a> + ?Sized> Grower<'_, '_, 'a, P> {
             let edge = self.tests[k].edge();
             let chart = &self.atlas.charts[i];
             let located = if chart.edge == Some(edge) && !chart.cuts.is_empty() {
-                let n = chart.cuts[0].normal;
+                let n = chart.cuts[0].line.normal;
                 let len = n[0].hypot(n[1]);
                 self.across(i, s, [-n[0] / len, -n[1] / len], k, cand.values[k])
             } else if chart.tests[k] > 0.0 {
@@ -132,7 +133,7 @@ impl<'a, P: ContinuationProblem<'a> + ?Sized> Grower<'_, '_, 'a, P> {
     /// $g + \nabla g \cdot s \ge 0$; $g \approx 0$ on a boundary chart), with the gradient of the test in the chart's tangent
     /// coordinates from differences over a quarter of the radius `r` (a secant over the
     /// chart's size: the cut stands for the edge across the chart).
-    pub(super) fn cut(&mut self, cand: &Candidate, k: usize, r: f64) -> Option<HalfPlane> {
+    pub(super) fn cut(&mut self, cand: &Candidate, k: usize, r: f64) -> Option<EdgeCut> {
         let h = 0.25 * r;
         let mut grad = [0.0; 2];
         for (a, g) in grad.iter_mut().enumerate() {
@@ -147,9 +148,13 @@ impl<'a, P: ContinuationProblem<'a> + ?Sized> Grower<'_, '_, 'a, P> {
             *g = (c.values[k] - cand.values[k]) / h;
         }
         let len = grad[0].hypot(grad[1]);
-        (len > 0.0 && len.is_finite()).then(|| HalfPlane {
-            normal: [-grad[0] / len, -grad[1] / len],
-            offset: cand.values[k] / len,
+        (len > 0.0 && len.is_finite()).then(|| EdgeCut {
+            line: HalfPlane {
+                normal: [-grad[0] / len, -grad[1] / len],
+                offset: cand.values[k] / len,
+            },
+            test: k,
+            radius: r,
         })
     }
 }

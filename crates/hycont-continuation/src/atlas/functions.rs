@@ -56,16 +56,25 @@ pub(super) fn tests<'a, P: ContinuationProblem<'a> + ?Sized>(
     p: &P,
     settings: &AtlasSettings,
 ) -> Result<Vec<Test>> {
-    let (np, nm) = (p.parameter_names().len(), p.monitor_names().len());
+    let (np, monitors) = (p.parameter_names().len(), p.monitor_names());
+    let nm = monitors.len();
     let check = |q: Quantity| {
         let (index, count) = match q {
             Quantity::Parameter(id) => (id.index(), np),
             Quantity::Measure(m) => (m.index(), nm),
         };
-        if index < count {
-            Ok(())
-        } else {
-            Err(Error::NoSuchQuantity { quantity: q, count })
+        if index >= count {
+            return Err(Error::NoSuchQuantity { quantity: q, count });
+        }
+        // A measure handle of another run names another measure at that index here.
+        match q {
+            Quantity::Measure(m) if !m.fits_key(crate::quantity::name_key(&monitors[index])) => {
+                Err(Error::ForeignHandle {
+                    quantity: q,
+                    reason: format!("the measure at that index here is {}", monitors[index]),
+                })
+            }
+            _ => Ok(()),
         }
     };
     let mut out = Vec::new();

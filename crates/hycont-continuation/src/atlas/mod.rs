@@ -70,6 +70,7 @@
 //! assert!(a.charts.iter().all(|c| c.point.u[2] >= 0.0));
 //! ```
 
+mod check;
 mod cover;
 mod edges;
 mod functions;
@@ -77,7 +78,7 @@ mod polygon;
 mod settings;
 mod solver;
 
-pub use cover::{cover, extend};
+pub use cover::{check, cover, extend};
 pub use polygon::HalfPlane;
 pub use settings::{AtlasBound, AtlasEdges, AtlasSettings};
 
@@ -127,8 +128,8 @@ pub struct AtlasChart {
     pub radius: f64,
     /// The chart's polygon in its tangent coordinates, counter-clockwise.
     pub polygon: Vec<[f64; 2]>,
-    /// Halfplanes of the edges the chart lies on (boundary charts).
-    pub cuts: Vec<HalfPlane>,
+    /// The cuts of the chart by the edges it lies on or that cross its disc.
+    pub cuts: Vec<EdgeCut>,
     /// The edge the chart lies on, if it is a boundary chart.
     pub edge: Option<Edge>,
     /// Indices of the charts whose discs meet this one's.
@@ -145,6 +146,20 @@ pub struct AtlasChart {
     pub gave_up: bool,
     /// The test functions' values, oriented non-negative on the start's side.
     pub tests: Vec<f64>,
+}
+
+/// A cut of a chart's polygon by an edge: the edge's tangent line in the chart's tangent
+/// coordinates, and how it was made (so that a saved atlas's cuts are checked by making them
+/// again).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct EdgeCut {
+    /// The halfplane kept: the inside of the edge, linearised at the chart.
+    pub line: HalfPlane,
+    /// The index of the test function whose zero the edge is (in the order of the atlas's
+    /// orientations: bounds, terminal events, then the edges asked for).
+    pub test: usize,
+    /// The radius the test's gradient was taken over (by differences a quarter of it away).
+    pub radius: f64,
 }
 
 impl AtlasChart {

@@ -174,6 +174,14 @@ impl<'p, 'a, P: ContinuationProblem<'a> + ?Sized> Solver<'p, 'a, P> {
         }))
     }
 
+    /// Factorises $[J(u); (W T)^\top]$ at `u` (a saved chart with its tangent basis `basis`)
+    /// as [`Solver::project`] leaves it at its solution; the largest residual $|F(u)|$.
+    pub(super) fn factor_at(&mut self, u: &[f64], basis: &Basis) -> Result<f64> {
+        let rows = self.rows(basis);
+        self.factor(u, &rows, JacobianUse::Exact)?;
+        Ok(max_abs(&self.res[..self.n - 2]))
+    }
+
     /// The tangent plane at the point [`Solver::project`] converged to: the null space of
     /// $J$, from the factorisation of $[J; (W T)^\top]$ ($x_a$ with $J x_a = 0$,
     /// $\langle t_b, x_a \rangle_W = \delta_{ab}$), $W$-orthonormalised.

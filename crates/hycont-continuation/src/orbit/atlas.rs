@@ -33,12 +33,25 @@ impl OrbitAtlas {
     /// orbits).
     ///
     /// # Errors
-    /// A chart that does not fit the atlas's layout, or a half orbit that cannot be unfolded.
+    /// A system that is not the atlas's (other parameter names, or a template that does not
+    /// fit it: [`Error::InvalidSaved`], [`Error::Core`]), a chart that does not fit the
+    /// atlas's layout, or a half orbit that cannot be unfolded.
     pub fn orbit_of<S: HybridSystem + ?Sized>(
         &self,
         system: &S,
         chart: &AtlasChart,
     ) -> Result<PeriodicOrbit> {
+        let names: Vec<&str> = system.parameter_names().to_vec();
+        if self.atlas.parameter_names != names {
+            return Err(Error::InvalidSaved {
+                what: "atlas",
+                reason: format!(
+                    "it names the parameters {:?}, the system {names:?}",
+                    self.atlas.parameter_names
+                ),
+            });
+        }
+        self.template.validate(system)?;
         let base = self.discretisation.segment_values(&self.template)
             + self.template.segment_count()
             + self.template.params.len();
@@ -106,12 +119,33 @@ impl<'a, S: HybridJacobians + ?Sized> OrbitRun<'a, S> {
         })
     }
 
-    /// Grows a saved atlas of this run's orbits further, up to `max_charts` charts in all.
+    /// Grows a saved atlas of this run's orbits further, up to `max_charts` charts in all,
+    /// once it passes [`OrbitRun::check_atlas`].
     ///
     /// # Errors
     /// An atlas that does not fit the system or the run (another first parameter, other
-    /// measures or events).
+    /// measures or events), or does not pass [`OrbitRun::check_atlas`].
     pub fn extend_atlas(&mut self, saved: &mut OrbitAtlas, max_charts: usize) -> Result<()> {
+        let mut cp = self.saved_problem(saved)?;
+        crate::atlas::extend(&mut cp, &mut saved.atlas, max_charts, &mut *self.observer)
+    }
+
+    /// Checks a saved atlas (e.g. read from a file) against this run: the system's (its
+    /// parameter names, the template), in this run's parameter and a second one with this
+    /// run's measures and events, its parameters at the unknowns this run releases, and every
+    /// chart a solution with its tangent plane, analysis and test values there
+    /// ([`crate::atlas::check`]). [`OrbitRun::extend_atlas`] checks so before it grows it.
+    ///
+    /// # Errors
+    /// As [`OrbitRun::extend_atlas`], without growing anything.
+    pub fn check_atlas(&mut self, saved: &OrbitAtlas) -> Result<()> {
+        let mut cp = self.saved_problem(saved)?;
+        crate::atlas::check(&mut cp, &saved.atlas)
+    }
+
+    /// The problem of a saved atlas: this run's, with the atlas's second parameter released
+    /// at the unknowns the atlas says.
+    fn saved_problem(&mut self, saved: &OrbitAtlas) -> Result<OrbitContinuation<'a, S>> {
         saved.template.validate(self.system)?;
         if saved.free[0] != self.free {
             return Err(Error::InvalidSetting {
@@ -146,8 +180,17 @@ impl<'a, S: HybridJacobians + ?Sized> OrbitRun<'a, S> {
                 reason: "has no charts of this layout",
             });
         }
-        self.release(&mut cp, &base[..nbase], saved.free[1])?;
-        crate::atlas::extend(&mut cp, &mut saved.atlas, max_charts, &mut *self.observer)
+        let (_, params) = self.release(&mut cp, &base[..nbase], saved.free[1])?;
+        if params != saved.atlas.unknown_params {
+            return Err(Error::InvalidSaved {
+                what: "atlas",
+                reason: format!(
+                    "its parameters are the unknowns {:?}, this run's {params:?}",
+                    saved.atlas.unknown_params
+                ),
+            });
+        }
+        Ok(cp)
     }
 
     fn check_second(&self, second: ParamId) -> Result<()> {
