@@ -108,6 +108,60 @@ pub enum Error {
         /// The state at which the vector field was evaluated.
         state: Vec<f64>,
     },
+    /// An event function returned a non-finite value during integration: its crossings
+    /// cannot be found there (a NaN is never crossed, so a trajectory would pass through the
+    /// event's surface unseen).
+    #[error(
+        "event {event} of mode {mode} returned {value} at t = {t} (state {state:?}): an event function must be finite wherever the flow goes"
+    )]
+    NonFiniteEvent {
+        /// The event.
+        event: crate::system::EventId,
+        /// The mode being integrated.
+        mode: Mode,
+        /// Time of the evaluation.
+        t: f64,
+        /// The value returned.
+        value: f64,
+        /// The state at which it was evaluated.
+        state: Vec<f64>,
+    },
+    /// A reset returned a non-finite state.
+    #[error(
+        "the reset of event {event} returned {value} in component {index} from state {state:?}"
+    )]
+    NonFiniteReset {
+        /// The event.
+        event: crate::system::EventId,
+        /// The component that was not finite.
+        index: usize,
+        /// The value returned.
+        value: f64,
+        /// The state before the jump.
+        state: Vec<f64>,
+    },
+    /// A derivative the system returned (an entry of the Jacobian of a vector field, an event
+    /// function or a reset) is not finite. Automatic differentiation gives NaN derivatives at
+    /// points where a function is not differentiable (e.g. `sqrt` at 0, `abs` at 0 gives a
+    /// one-sided choice), where the system itself may be finite.
+    #[error(
+        "the derivative of the {of} is {value} at row {row}, column {column} ({columns}) at state {state:?}; derivatives must be finite where the flow goes (dual numbers give NaN where a function is not differentiable, e.g. sqrt at 0)"
+    )]
+    NonFiniteDerivative {
+        /// Whose derivative: e.g. `vector field of mode 0`, `reset of event 1`.
+        of: String,
+        /// The row (component of the function).
+        row: usize,
+        /// The column (state component, or parameter after them).
+        column: usize,
+        /// What the columns are: `state`, `parameter` or, in the variational equations,
+        /// `sensitivity`.
+        columns: &'static str,
+        /// The value returned.
+        value: f64,
+        /// The state at which it was evaluated.
+        state: Vec<f64>,
+    },
     /// The step size fell below what floating point can resolve.
     #[error("step size {} underflowed at t = {} in mode {mode}", num(*h), num(*t))]
     StepSizeUnderflow {
@@ -176,6 +230,13 @@ pub enum Error {
     #[error("invalid symmetry: {reason}")]
     InvalidSymmetry {
         /// What is wrong, naming the bad entry or map.
+        reason: String,
+    },
+    /// A system does not fit what it is used with (e.g. a reference system of another layout
+    /// in [`crate::check_derivatives_against`], or a state space of no dimension).
+    #[error("invalid system: {reason}")]
+    InvalidSystem {
+        /// What does not fit.
         reason: String,
     },
     /// An event transition was requested by the system that it cannot carry out.
@@ -256,5 +317,31 @@ pub fn check_len(what: &'static str, values: &[f64], expected: usize) -> Result<
             expected,
             found: values.len(),
         })
+    }
+}
+
+/// The first non-finite entry of the column-major matrix `m` of `rows` rows, as
+/// [`Error::NonFiniteDerivative`] of `of()` at `state`: its columns are `columns` numbered
+/// from `first_column` (e.g. the parameters after the state's).
+///
+/// # Errors
+/// That error, if an entry is not finite.
+pub(crate) fn finite_derivative(
+    m: &[f64],
+    rows: usize,
+    (columns, first_column): (&'static str, usize),
+    of: impl FnOnce() -> String,
+    state: &[f64],
+) -> Result<()> {
+    match m.iter().position(|v| !v.is_finite()) {
+        None => Ok(()),
+        Some(k) => Err(Error::NonFiniteDerivative {
+            of: of(),
+            row: k % rows.max(1),
+            column: first_column + k / rows.max(1),
+            columns,
+            value: m[k],
+            state: state.to_vec(),
+        }),
     }
 }

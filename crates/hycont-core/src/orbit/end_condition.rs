@@ -6,7 +6,8 @@
 //! $y_k - x_{k+1} = 0$ and $y_{k,c} - v = 0$: $n + 1$ rows per segment.
 
 use super::signature::{Closure, SegmentEnd, Signature};
-use crate::system::HybridJacobians;
+use crate::error::{Error, Result, finite_derivative};
+use crate::system::{HybridJacobians, Mode};
 
 /// Evaluation and linearisation of the end conditions, with their work space.
 pub(crate) struct EndConditions {
@@ -54,24 +55,46 @@ impl EndConditions {
         }
     }
 
-    /// The $n + 1$ residual rows of a segment ending in `y` with `end`, reaching `target`.
+    /// The $n + 1$ residual rows of a segment in `mode` ending in `y` with `end`, reaching
+    /// `target`.
+    ///
+    /// # Errors
+    /// [`Error::NonFiniteReset`] or [`Error::NonFiniteEvent`] (at the segment's end, `t` 0)
+    /// where the end's reset or event function is not finite at `y`.
     pub(crate) fn residual<S: HybridJacobians + ?Sized>(
         &mut self,
         system: &S,
-        end: SegmentEnd,
+        (mode, end): (Mode, SegmentEnd),
         y: &[f64],
         p: &[f64],
         target: &[f64],
         out: &mut [f64],
-    ) {
+    ) -> Result<()> {
         let n = self.n;
         match end {
             SegmentEnd::Event(e) => {
                 system.reset(e, y, p, &mut self.gy);
+                if let Some(index) = self.gy.iter().position(|v| !v.is_finite()) {
+                    return Err(Error::NonFiniteReset {
+                        event: e,
+                        index,
+                        value: self.gy[index],
+                        state: y.to_vec(),
+                    });
+                }
                 for i in 0..n {
                     out[i] = self.gy[i] - target[i];
                 }
                 out[n] = system.event(e, y, p);
+                if !out[n].is_finite() {
+                    return Err(Error::NonFiniteEvent {
+                        event: e,
+                        mode,
+                        t: 0.0,
+                        value: out[n],
+                        state: y.to_vec(),
+                    });
+                }
             }
             SegmentEnd::Interior { component, value } => {
                 for i in 0..n {
@@ -80,21 +103,33 @@ impl EndConditions {
                 out[n] = y[component] - value;
             }
         }
+        Ok(())
     }
 
     /// Linearises the conditions at `y` (then read with [`Self::state_derivative`] and
     /// [`Self::parameter_derivative`]).
+    ///
+    /// # Errors
+    /// [`Error::NonFiniteDerivative`] naming the first entry of the reset's Jacobian or the
+    /// event's gradient that is not finite.
     pub(crate) fn linearise<S: HybridJacobians + ?Sized>(
         &mut self,
         system: &S,
         end: SegmentEnd,
         y: &[f64],
         p: &[f64],
-    ) {
+    ) -> Result<()> {
         match end {
             SegmentEnd::Event(e) => {
+                let n = self.n;
                 system.reset_jacobian(e, y, p, &mut self.gx, Some(&mut self.gp));
                 system.event_gradient(e, y, p, &mut self.hx, Some(&mut self.hp));
+                let reset = || format!("reset of event {e}");
+                finite_derivative(&self.gx, n, ("state", 0), reset, y)?;
+                finite_derivative(&self.gp, n, ("parameter", 0), reset, y)?;
+                let event = || format!("event function {e}");
+                finite_derivative(&self.hx, 1, ("state", 0), event, y)?;
+                finite_derivative(&self.hp, 1, ("parameter", 0), event, y)?;
             }
             SegmentEnd::Interior { component, .. } => {
                 self.gx.fill(0.0);
@@ -107,6 +142,7 @@ impl EndConditions {
                 self.hp.fill(0.0);
             }
         }
+        Ok(())
     }
 
     /// $\partial\,\mathrm{row}_i / \partial y_j$ ($g_x$ for $i < n$, $h_x$ for $i = n$).

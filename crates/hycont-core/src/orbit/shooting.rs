@@ -276,9 +276,9 @@ impl<S: HybridJacobians + ?Sized> Shooting<'_, S> {
         wrap: bool,
         jac: &mut [f64],
         pos: &mut usize,
-    ) {
+    ) -> Result<()> {
         let (n, np) = (self.n, self.np);
-        self.ends.linearise(self.system, end, y, p);
+        self.ends.linearise(self.system, end, y, p)?;
         for i in 0..=n {
             let row = |j: usize| self.ends.state_derivative(i, j);
             for j in 0..n {
@@ -296,6 +296,7 @@ impl<S: HybridJacobians + ?Sized> Shooting<'_, S> {
                 self.ends.write_target_entries(i, wrap, jac, pos);
             }
         }
+        Ok(())
     }
 
     /// The residual and, if asked, the Jacobian with the parameter sensitivities `which` (the
@@ -345,8 +346,8 @@ impl<S: HybridJacobians + ?Sized> Shooting<'_, S> {
             let target = self.ends.target(wrap, &u[next_start..next_start + n]);
             let r0 = k * (n + 1);
             let end = self.signature.segments()[k].end;
-            self.ends
-                .residual(self.system, end, y, &p, &target, &mut residual[r0..=r0 + n]);
+            let rows = &mut residual[r0..=r0 + n];
+            (self.ends).residual(self.system, (mode, end), y, &p, &target, rows)?;
             let Some(jac) = jac.as_deref_mut() else {
                 continue;
             };
@@ -363,7 +364,7 @@ impl<S: HybridJacobians + ?Sized> Shooting<'_, S> {
             if !loose {
                 self.cache_segment(k, (x, t), &p, y, phi);
             }
-            self.end_rows(end, (y, &p), (phi, phi_p), wrap, jac, &mut pos);
+            self.end_rows(end, (y, &p), (phi, phi_p), wrap, jac, &mut pos)?;
         }
         Ok(())
     }

@@ -253,6 +253,13 @@ impl Simulator {
                 count: system.mode_count(),
             });
         }
+        if system.state_dim() == 0 {
+            return Err(Error::InvalidSystem {
+                reason:
+                    "its state has no components (state_dim() = 0): there is nothing to integrate"
+                        .into(),
+            });
+        }
         check_len("initial state", x0, system.state_dim())?;
         check_len("parameters", p, system.parameter_count())?;
         check_finite("initial state", x0)?;
@@ -371,6 +378,7 @@ impl Simulator {
             let earliest = self
                 .earliest_event(system, p, (t, t_new), s.event_tolerance, &mut rhs)
                 .map_err(|e| to_error(e, mode))?;
+            self.events_finite(mode, t_new, &self.stepper.new_state()[..n], true)?;
 
             let t_stop = earliest.map_or(t_new, |(te, _)| te);
             // A sample that coincides with the end time up to rounding (k * period computed
@@ -505,12 +513,29 @@ impl Simulator {
     }
 }
 
-/// The error of a right-hand side that returned a non-finite value in `mode` (`n` states).
+/// The error of a right-hand side that returned a non-finite value in `mode` (`n` states):
+/// of the vector field, or of the variational equations carried with it (their components
+/// after the state's are the sensitivities, column-major: to the start's state, then to the
+/// parameters), whose non-finite values come from the vector field's Jacobian.
 fn non_finite(e: &NonFiniteEvaluation, mode: Mode, n: usize) -> Error {
-    Error::NonFiniteVectorField {
-        t: e.t,
-        mode,
-        index: e.index,
+    if e.index < n {
+        return Error::NonFiniteVectorField {
+            t: e.t,
+            mode,
+            index: e.index,
+            value: e.value,
+            state: e.state[..n].to_vec(),
+        };
+    }
+    let k = e.index - n;
+    Error::NonFiniteDerivative {
+        of: format!(
+            "vector field of mode {mode} (in the variational equations at t = {})",
+            e.t
+        ),
+        row: k % n,
+        column: k / n,
+        columns: "sensitivity",
         value: e.value,
         state: e.state[..n].to_vec(),
     }

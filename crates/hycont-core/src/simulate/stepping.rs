@@ -94,6 +94,14 @@ impl Simulator {
             &self.y_minus,
             &mut self.y_plus,
         )?;
+        if let Some(index) = self.y_plus[..n].iter().position(|v| !v.is_finite()) {
+            return Err(Error::NonFiniteReset {
+                event,
+                index,
+                value: self.y_plus[index],
+                state: self.y_minus[..n].to_vec(),
+            });
+        }
         rec.stats.jumps += 1;
         rec.count_jump(te, event, from)?;
         if self.settings.record_events {
@@ -129,6 +137,7 @@ impl Simulator {
             p,
             &mut self.x_probe[..n],
         );
+        self.events_finite(mode, te, &self.y_plus[..n], false)?;
         Ok(Continue(mode))
     }
 
@@ -179,6 +188,7 @@ impl Simulator {
             p,
             &mut self.x_probe[..n],
         );
+        self.events_finite(mode, t0, &self.y0[..n], false)?;
         let span = (t_end - t0).max(f64::MIN_POSITIVE);
         Ok(match self.resume_step.or(self.settings.h_initial) {
             Some(h) => h.min(span),
@@ -187,6 +197,26 @@ impl Simulator {
                 .initial_step(&mut rhs, 1.0, self.settings.h_max.min(span))
                 .map_err(|e| non_finite(&e, mode, n))?,
         })
+    }
+
+    /// An error naming the first event of the current segment whose value is not finite at
+    /// the segment's start (`pending == false`) or at the end of the pending step at `t` in
+    /// state `x`.
+    pub(super) fn events_finite(&self, mode: Mode, t: f64, x: &[f64], pending: bool) -> Result<()> {
+        let bad = self.events.iter().find(|e| {
+            let v = if pending { e.value_new } else { e.value };
+            !v.is_finite()
+        });
+        match bad {
+            Some(e) => Err(Error::NonFiniteEvent {
+                event: e.id,
+                mode,
+                t,
+                value: if pending { e.value_new } else { e.value },
+                state: x.to_vec(),
+            }),
+            None => Ok(()),
+        }
     }
 
     /// The earliest event of the current segment located in the accepted, pending step from

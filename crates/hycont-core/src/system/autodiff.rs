@@ -12,7 +12,18 @@ use num_dual::{Dual64, DualNum, DualSVec64, HyperDual64};
 
 /// The scalar a [`HybridModel`] is written in: `f64`, or a dual number over it. Write the
 /// model's functions with the operators and the methods of [`num_dual::DualNum`] (`sin`, `exp`,
-/// `powi`, ...); constants enter as `T::from(c)` or through arithmetic with `f64`.
+/// `powi`, ...); constants enter as `T::from(c)` or through arithmetic with `f64` on the
+/// right (`x * 2.0 + 1.0`, `x / 3.0`): `f64` cannot stand left of a generic scalar (`2.0 * x`
+/// does not compile for a generic `T`; Rust has no `f64: Mul<T>` to name), so write
+/// `T::from(2.0) * x` or `x * 2.0`.
+///
+/// Dual numbers differentiate the operations as written: where a function is not
+/// differentiable the derivative they give is not finite, even where the value is (`sqrt` at
+/// 0: `sqrt(x * x)` has the derivative `0 / 0` = NaN at `x = 0`; `abs` at 0 gives one side's).
+/// Write such points out of the model (`x.abs()` rather than `sqrt(x * x)`), or keep the flow
+/// away from them: a non-finite derivative met by a simulation with sensitivities, a shooting
+/// or a collocation solve is an error naming the function and the entry
+/// ([`crate::Error::NonFiniteDerivative`]), not a silent NaN.
 pub trait Scalar: DualNum<Primitive = f64> + Copy {}
 
 impl<T: DualNum<Primitive = f64> + Copy> Scalar for T {}
@@ -176,10 +187,16 @@ impl<M: HybridModel> AutoDiff<M> {
     /// let a = Variation { x: &[1.0, 0.0], p: &[] };
     /// let b = Variation { x: &[0.0, 1.0], p: &[] };
     /// let mut out = [0.0; 2];
-    /// m.vector_field_second_derivative(Mode(0), &x, &p, a, b, &mut out);
+    /// m.vector_field_second_derivative(Mode(0), &x, &p, a, b, &mut out).unwrap();
     /// // d^2 f0 / dx0 dx1 = 2 c x0 = 3, d^2 f1 / dx0 dx1 = 0
     /// assert_eq!(out, [3.0, 0.0]);
     /// ```
+    ///
+    /// # Errors
+    /// [`crate::Error::InvalidMode`] for a mode the model does not have;
+    /// [`crate::Error::DimensionMismatch`] naming a slice of the wrong length (`x`, `out` and
+    /// the variations' state parts have the state's $n$ values, `p` the parameters', the
+    /// variations' parameter parts as many or none).
     pub fn vector_field_second_derivative(
         &self,
         mode: Mode,
@@ -188,12 +205,24 @@ impl<M: HybridModel> AutoDiff<M> {
         a: Variation<'_>,
         b: Variation<'_>,
         out: &mut [f64],
-    ) {
+    ) -> crate::Result<()> {
+        if mode.0 >= self.model.mode_count() {
+            return Err(crate::Error::InvalidMode {
+                mode,
+                count: self.model.mode_count(),
+            });
+        }
+        self.check_second(x, p, (a, b), out.len(), self.model.state_dim())?;
         second(&self.model, Function::Field(mode), x, p, a, b, out);
+        Ok(())
     }
 
     /// The second derivative of an event function along `a` and `b` (one value), as
     /// [`AutoDiff::vector_field_second_derivative`].
+    ///
+    /// # Errors
+    /// [`crate::Error::IndexOutOfRange`] for an event the model does not have; as
+    /// [`AutoDiff::vector_field_second_derivative`] for slices of the wrong length.
     pub fn event_second_derivative(
         &self,
         event: EventId,
@@ -201,14 +230,19 @@ impl<M: HybridModel> AutoDiff<M> {
         p: &[f64],
         a: Variation<'_>,
         b: Variation<'_>,
-    ) -> f64 {
+    ) -> crate::Result<f64> {
+        self.check_event(event)?;
+        self.check_second(x, p, (a, b), 1, 1)?;
         let mut out = [0.0];
         second(&self.model, Function::Event(event), x, p, a, b, &mut out);
-        out[0]
+        Ok(out[0])
     }
 
     /// The second derivative of a reset along `a` and `b` ($n$ values), as
     /// [`AutoDiff::vector_field_second_derivative`].
+    ///
+    /// # Errors
+    /// As [`AutoDiff::event_second_derivative`].
     pub fn reset_second_derivative(
         &self,
         event: EventId,
@@ -217,8 +251,60 @@ impl<M: HybridModel> AutoDiff<M> {
         a: Variation<'_>,
         b: Variation<'_>,
         out: &mut [f64],
-    ) {
+    ) -> crate::Result<()> {
+        self.check_event(event)?;
+        self.check_second(x, p, (a, b), out.len(), self.model.state_dim())?;
         second(&self.model, Function::Reset(event), x, p, a, b, out);
+        Ok(())
+    }
+
+    /// An event of some mode of the model.
+    fn check_event(&self, event: EventId) -> crate::Result<()> {
+        let m = &self.model;
+        let known = (0..m.mode_count()).any(|k| m.events(Mode(k)).contains(&event));
+        if known {
+            Ok(())
+        } else {
+            Err(crate::Error::IndexOutOfRange {
+                what: "event",
+                index: event.0,
+                count: (0..m.mode_count())
+                    .flat_map(|k| m.events(Mode(k)).iter().map(|e| e.0 + 1))
+                    .max()
+                    .unwrap_or(0),
+            })
+        }
+    }
+
+    /// The lengths of a second derivative's point, variations and output (`rows` of `out`,
+    /// `expected` of them).
+    fn check_second(
+        &self,
+        x: &[f64],
+        p: &[f64],
+        (a, b): (Variation<'_>, Variation<'_>),
+        rows: usize,
+        expected: usize,
+    ) -> crate::Result<()> {
+        use crate::error::check_len;
+        let (n, np) = (self.model.state_dim(), self.model.parameter_names().len());
+        check_len("state", x, n)?;
+        check_len("parameters", p, np)?;
+        for (what, v) in [("variation a", a), ("variation b", b)] {
+            check_len(what, v.x, n)?;
+            if !v.p.is_empty() {
+                check_len(what, v.p, np)?;
+            }
+        }
+        if rows == expected {
+            Ok(())
+        } else {
+            Err(crate::Error::DimensionMismatch {
+                what: "second derivative output",
+                expected,
+                found: rows,
+            })
+        }
     }
 }
 

@@ -287,15 +287,16 @@ fn compare(
 /// $h = \epsilon^{1/3} \max(1, |v|)$, so agreement to about `1e-7` (scaled) is expected for
 /// well-scaled smooth functions.
 ///
-/// # Panics
-/// Never; slices of the wrong length are a programming error caught by debug assertions in the
-/// system's own code.
+/// # Errors
+/// [`crate::Error::InvalidMode`] for a mode the system does not have,
+/// [`crate::Error::DimensionMismatch`] for `x` or `p` of the wrong length.
 pub fn check_derivatives<S: HybridJacobians + ?Sized>(
     system: &S,
     mode: Mode,
     x: &[f64],
     p: &[f64],
-) -> DerivativeCheck {
+) -> crate::Result<DerivativeCheck> {
+    check_point(system, mode, x, p)?;
     let n = system.state_dim();
     let np = system.parameter_count();
     let mut worst = Vec::new();
@@ -381,7 +382,7 @@ pub fn check_derivatives<S: HybridJacobians + ?Sized>(
             worst.push(compare(DerivativeKind::ResetParams(e), n, &ap, &npm));
         }
     }
-    DerivativeCheck { worst }
+    Ok(DerivativeCheck { worst })
 }
 
 /// Compares a system's derivatives in `mode` at `(x, p)` against those of a `reference` system
@@ -389,6 +390,10 @@ pub fn check_derivatives<S: HybridJacobians + ?Sized>(
 /// the mode; `numeric` of each [`DerivativeMismatch`] is the reference's value): hand-coded
 /// Jacobians against an [`super::AutoDiff`] twin's agree to rounding, about `1e-15` scaled,
 /// where [`check_derivatives`]'s central differences only resolve about `1e-7`.
+///
+/// # Errors
+/// As [`check_derivatives`]; [`crate::Error::InvalidSystem`] for a reference of another
+/// layout (states, parameters, modes, or the mode's events).
 ///
 /// ```
 /// use hycont_core::{AutoDiff, FiniteDifferences, HybridModel, Mode, EventId, EventSpec, Scalar,
@@ -408,7 +413,7 @@ pub fn check_derivatives<S: HybridJacobians + ?Sized>(
 ///     fn event<T: Scalar>(&self, _: EventId, x: &[T], _: &[T]) -> T { x[0] }
 /// }
 /// let (exact, differences) = (AutoDiff::new(Cubic), FiniteDifferences::new(AutoDiff::new(Cubic)));
-/// let check = check_derivatives_against(&differences, &exact, Mode(0), &[1.5], &[2.0]);
+/// let check = check_derivatives_against(&differences, &exact, Mode(0), &[1.5], &[2.0]).unwrap();
 /// assert!(check.max_error() > 0.0 && check.max_error() < 1e-8);
 /// ```
 pub fn check_derivatives_against<S, R>(
@@ -417,11 +422,39 @@ pub fn check_derivatives_against<S, R>(
     mode: Mode,
     x: &[f64],
     p: &[f64],
-) -> DerivativeCheck
+) -> crate::Result<DerivativeCheck>
 where
     S: HybridJacobians + ?Sized,
     R: HybridJacobians + ?Sized,
 {
+    check_point(system, mode, x, p)?;
+    let (a, b) = (
+        (
+            system.state_dim(),
+            system.parameter_count(),
+            system.mode_count(),
+        ),
+        (
+            reference.state_dim(),
+            reference.parameter_count(),
+            reference.mode_count(),
+        ),
+    );
+    if a != b || system.events(mode) != reference.events(mode) {
+        return Err(crate::Error::InvalidSystem {
+            reason: format!(
+                "the reference has another layout: {} states, {} parameters, {} modes and events {:?} in mode {mode}, against {} states, {} parameters, {} modes and events {:?}",
+                b.0,
+                b.1,
+                b.2,
+                reference.events(mode),
+                a.0,
+                a.1,
+                a.2,
+                system.events(mode)
+            ),
+        });
+    }
     let (n, np) = (system.state_dim(), system.parameter_count());
     let mut worst = Vec::new();
     let (mut ax, mut ap) = (vec![0.0; n * n], vec![0.0; n * np]);
@@ -444,5 +477,23 @@ where
             worst.push(compare(DerivativeKind::ResetParams(e), n, &ap, &rp));
         }
     }
-    DerivativeCheck { worst }
+    Ok(DerivativeCheck { worst })
+}
+
+/// Checks a point of `system` in `mode`: the mode exists, `x` and `p` have the system's
+/// lengths.
+fn check_point<S: HybridSystem + ?Sized>(
+    system: &S,
+    mode: Mode,
+    x: &[f64],
+    p: &[f64],
+) -> crate::Result<()> {
+    if mode.0 >= system.mode_count() {
+        return Err(crate::Error::InvalidMode {
+            mode,
+            count: system.mode_count(),
+        });
+    }
+    crate::error::check_len("state", x, system.state_dim())?;
+    crate::error::check_len("parameters", p, system.parameter_count())
 }

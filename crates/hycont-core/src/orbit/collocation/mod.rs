@@ -297,7 +297,7 @@ impl<S: HybridJacobians + ?Sized> ZeroFunction for Collocation<'_, S> {
                     let row = r0 + (j * ncol + c) * n;
                     let point = Point { mode, c, h, t: t_k };
                     let res = &mut residual[row..row + n];
-                    self.collocation_point(point, nodes, &p, res, out.as_deref_mut());
+                    self.collocation_point(point, nodes, &p, res, out.as_deref_mut())?;
                 }
                 if jac.is_some() {
                     pos += block;
@@ -311,7 +311,7 @@ impl<S: HybridJacobians + ?Sized> ZeroFunction for Collocation<'_, S> {
                 &mut residual[rb..=rb + n],
                 jac.as_deref_mut(),
                 &mut pos,
-            );
+            )?;
         }
         Ok(())
     }
@@ -406,6 +406,11 @@ struct Point {
 impl<S: HybridJacobians + ?Sized> Collocation<'_, S> {
     /// The `n` equations at collocation point `at` of the interval with node values `nodes`
     /// (and, with `jac`, their rows of the Jacobian: the nodes, the duration, the parameters).
+    ///
+    /// # Errors
+    /// [`crate::Error::NonFiniteVectorField`] or [`crate::Error::NonFiniteDerivative`] where
+    /// the vector field or its Jacobian is not finite at the point (`t` there is the
+    /// segment's duration).
     fn collocation_point(
         &mut self,
         at: Point,
@@ -413,7 +418,7 @@ impl<S: HybridJacobians + ?Sized> Collocation<'_, S> {
         p: &[f64],
         res: &mut [f64],
         jac: Option<&mut [f64]>,
-    ) {
+    ) -> Result<()> {
         let n = self.n;
         let (lc, dlc) = (&self.basis.l[at.c], &self.basis.dl[at.c]);
         // xi = p(z_c)
@@ -432,8 +437,20 @@ impl<S: HybridJacobians + ?Sized> Collocation<'_, S> {
                 &mut self.a,
                 Some(&mut self.fp),
             );
+            let of = || format!("vector field of mode {}", at.mode);
+            crate::error::finite_derivative(&self.a, n, ("state", 0), of, &self.xi)?;
+            crate::error::finite_derivative(&self.fp, n, ("parameter", 0), of, &self.xi)?;
         } else {
             self.system.vector_field(at.mode, &self.xi, p, &mut self.f);
+        }
+        if let Some(index) = self.f.iter().position(|v| !v.is_finite()) {
+            return Err(crate::Error::NonFiniteVectorField {
+                t: at.t,
+                mode: at.mode,
+                index,
+                value: self.f[index],
+                state: self.xi.clone(),
+            });
         }
         let ht = -at.h * at.t;
         for (r, f) in res.iter_mut().zip(&self.f) {
@@ -445,7 +462,7 @@ impl<S: HybridJacobians + ?Sized> Collocation<'_, S> {
             }
         }
         let Some(block) = jac else {
-            return;
+            return Ok(());
         };
         // Rows (c, i) of the interval's column-major block (`ncol * n` rows): column (node,
         // comp) is L_node'(z_c) e_comp - h T L_node(z_c) A[:, comp] on the point's n rows; then
@@ -482,6 +499,7 @@ impl<S: HybridJacobians + ?Sized> Collocation<'_, S> {
                 *o = ht * d;
             }
         }
+        Ok(())
     }
 
     /// The `n + 1` conditions at the end of segment `k` (continuity into the next segment and
@@ -494,19 +512,20 @@ impl<S: HybridJacobians + ?Sized> Collocation<'_, S> {
         res: &mut [f64],
         jac: Option<&mut [f64]>,
         pos: &mut usize,
-    ) {
+    ) -> Result<()> {
         let (n, np, kk) = (self.n, self.np, self.signature.len());
         let last = self.segment_offset(k) + (self.nodes_in(k) - 1) * n;
         let y = &u[last..last + n];
         let next_off = self.segment_offset((k + 1) % kk);
         let wrap = k + 1 == kk;
         let target = self.ends.target(wrap, &u[next_off..next_off + n]);
-        let end = self.signature.segments()[k].end;
-        self.ends.residual(self.system, end, y, p, &target, res);
+        let segment = self.signature.segments()[k];
+        let end = segment.end;
+        (self.ends).residual(self.system, (segment.mode, end), y, p, &target, res)?;
         let Some(jac) = jac else {
-            return;
+            return Ok(());
         };
-        self.ends.linearise(self.system, end, y, p);
+        self.ends.linearise(self.system, end, y, p)?;
         for i in 0..=n {
             for comp in 0..n {
                 jac[*pos] = self.ends.state_derivative(i, comp);
@@ -520,6 +539,7 @@ impl<S: HybridJacobians + ?Sized> Collocation<'_, S> {
                 self.ends.write_target_entries(i, wrap, jac, pos);
             }
         }
+        Ok(())
     }
 }
 
