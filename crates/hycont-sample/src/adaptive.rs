@@ -149,6 +149,78 @@ impl CellCounts {
         Ok(())
     }
 
+    /// Checks the table against the rule and study that made it (e.g. one read from a file,
+    /// before it is merged, resumed or drawn): every cell ran whole batches, at most up to the
+    /// batch that reached the cap; a cell is settled exactly when it meets the rule (its
+    /// half-width at most the target, or the cap reached), or, without trials, when it has
+    /// none to run (it lies outside a binned variable's range); the cells outside `cells`
+    /// (another shard's) ran none.
+    ///
+    /// # Errors
+    /// [`Error::IncompatibleCounts`] naming the first cell that breaks the rule;
+    /// as [`CellCounts::validate`] and [`Study::cell_trial`].
+    pub fn check_rule(
+        &self,
+        rule: &Adaptive,
+        study: &Study,
+        cells: std::ops::Range<usize>,
+    ) -> Result<()> {
+        self.validate()?;
+        rule.validate()?;
+        let bad = |c: usize, reason: String| {
+            Err(Error::IncompatibleCounts {
+                reason: format!("cell {c}: {reason}"),
+            })
+        };
+        if self.counts.len() != study.cells() {
+            return Err(Error::IncompatibleCounts {
+                reason: format!(
+                    "{} cells for a study of {}",
+                    self.counts.len(),
+                    study.cells()
+                ),
+            });
+        }
+        let cap = rule.max_trials.div_ceil(rule.batch) * rule.batch;
+        for c in 0..self.counts.len() {
+            let (trials, settled) = (self.trials[c], self.settled[c]);
+            if !cells.contains(&c) {
+                if trials > 0 || settled {
+                    return bad(c, "another shard's cell has trials here".into());
+                }
+                continue;
+            }
+            if trials % rule.batch != 0 || trials > cap {
+                return bad(
+                    c,
+                    format!(
+                        "{trials} trials: not whole batches of {} up to the cap of {}",
+                        rule.batch, rule.max_trials
+                    ),
+                );
+            }
+            let record = CellRecord::of(self, c);
+            let meets = if trials == 0 {
+                study.cell_trial(c, 0)?.is_none()
+            } else {
+                record.meets(rule)
+            };
+            if settled != meets {
+                return bad(
+                    c,
+                    format!(
+                        "it says it is{} settled, with {trials} trials and a half-width of {:.4} (rule: {} or {} trials)",
+                        if settled { "" } else { " not" },
+                        self.halfwidth(c),
+                        rule.halfwidth,
+                        rule.max_trials
+                    ),
+                );
+            }
+        }
+        Ok(())
+    }
+
     /// The largest 95 % Wilson half-width over the classes of `cell` (1 for a cell without
     /// classified trials).
     #[must_use]

@@ -96,7 +96,9 @@ impl BasinCellFile {
         if self.table.classes != expected || self.table.counts.len() != self.study.cells() {
             return Err("the table does not fit the study's cells and classes".into());
         }
-        self.table.validate().map_err(|e| e.to_string())
+        (self.table)
+            .check_rule(&self.rule, &self.study, self.cells())
+            .map_err(|e| e.to_string())
     }
 }
 

@@ -88,11 +88,15 @@ impl CellFile {
         if self.tables.len() != expected.len() {
             return Err(format!("{} tables; Fig. 9 has 2", self.tables.len()));
         }
-        for (k, (t, e)) in self.tables.iter().zip(&expected).enumerate() {
+        let studies = crate::figures::fig9_cells::fig9_cell_studies(&self.options());
+        for (k, ((t, e), study)) in self.tables.iter().zip(&expected).zip(&studies).enumerate() {
             if t.classes != e.classes || t.counts.len() != e.counts.len() {
                 return Err(format!("table {k} is not a Fig. 9 table"));
             }
-            t.validate().map_err(|e| format!("table {k}: {e}"))?;
+            // Every cell as the rule leaves it: whole batches, settled exactly when it meets
+            // the rule, nothing in another shard's cells.
+            (t.check_rule(&self.rule, study, self.cells()))
+                .map_err(|e| format!("table {k}: {e}"))?;
         }
         Ok(())
     }
