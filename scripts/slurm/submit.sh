@@ -5,8 +5,11 @@
 #   scripts/slurm/submit.sh N OUT COMMAND [ARGS...]
 #   e.g. scripts/slurm/submit.sh 50 results figure 10 --trials 2000000 --seed 1
 #
-# Options for sbatch (partition, account, time, CPUs) go in $SBATCH_OPTIONS; both jobs
-# run `rocking-block` from $ROCKING_BLOCK or PATH. Prints the two job ids.
+# COMMAND is `figure 7|9|10` or `basin` (the commands that shard; others are refused before
+# anything is submitted). With N = 1 the one task runs the whole study and writes the result
+# (figK.json) itself; the merge job then checks it is there. Options for sbatch (partition,
+# account, time, CPUs) go in $SBATCH_OPTIONS; both jobs run `rocking-block` from
+# $ROCKING_BLOCK or PATH. Prints the two job ids.
 set -euo pipefail
 if [[ $# -lt 3 ]]; then
   echo "usage: submit.sh N OUT COMMAND [ARGS...]" >&2
@@ -18,6 +21,14 @@ if ! [[ $n =~ ^[0-9]+$ ]] || ((n < 1)); then
   exit 2
 fi
 here=$(cd "$(dirname "$0")" && pwd)
+# shellcheck source=common.sh
+source "$here/common.sh"
+# Refuse a command that cannot be sharded before anything is submitted.
+if ! result_name "${@:3}" > /dev/null; then
+  exit 2
+fi
+# The jobs run copies of their scripts (from Slurm's spool): they find common.sh here.
+export RB_SLURM_SCRIPTS="$here"
 # shellcheck disable=SC2086 # SBATCH_OPTIONS holds separate options
 array=$(sbatch --parsable ${SBATCH_OPTIONS:-} --array="0-$((n - 1))" "$here/shard.sbatch" "$@")
 array=${array%%;*}

@@ -133,11 +133,81 @@ fn a_job_array_and_its_merge_write_what_one_process_writes() {
     std::fs::remove_dir_all(&dir).ok();
 }
 
+/// With one task the task runs the whole study and writes the figure itself (as `--shard
+/// 0/1` does), the merge job finds it, a requeued task resumes from the whole run's partial
+/// file, and a finished task is not redone.
+#[test]
+fn one_task_writes_the_whole_run() {
+    let dir = scratch("slurm-one");
+    let out = dir.join("out");
+    let run = ["figure", "7", "--trials", "300", "--seed", "5"];
+    // Interrupted before, as by the time limit: the whole run's partial file.
+    let first = bin()
+        .args(run)
+        .args([
+            "--shard",
+            "0/1",
+            "--stop-after",
+            "1",
+            "--threads",
+            "1",
+            "--out",
+        ])
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert_eq!(first.status.code(), Some(1));
+    let partial = out.join("fig7.partial.json");
+    assert!(
+        partial.exists(),
+        "{}",
+        String::from_utf8_lossy(&first.stderr)
+    );
+    let slurm = fake_slurm(&dir);
+    let path = format!(
+        "{}:{}",
+        slurm.display(),
+        std::env::var("PATH").unwrap_or_default()
+    );
+    let submit = || {
+        Command::new("bash")
+            .arg(scripts().join("submit.sh"))
+            .arg("1")
+            .arg(&out)
+            .args(run)
+            .env("PATH", &path)
+            .env("ROCKING_BLOCK", env!("CARGO_BIN_EXE_rocking-block"))
+            .run_ok()
+    };
+    submit();
+    assert!(!partial.exists(), "the requeued task did not resume");
+    let whole = dir.join("whole");
+    bin().args(run).arg("--out").arg(&whole).run_ok();
+    assert_eq!(
+        without_provenance(&json(&out.join("fig7.json"))),
+        without_provenance(&json(&whole.join("fig7.json")))
+    );
+    let merge_out = std::fs::read_to_string(slurm.join("job-101.out")).unwrap();
+    assert!(merge_out.contains("written by the task"), "{merge_out}");
+    // Submitted again: the task finds the figure written and skips it.
+    submit();
+    let task = std::fs::read_to_string(slurm.join("job-102-0.out")).unwrap();
+    assert!(task.contains("already written"), "{task}");
+    std::fs::remove_dir_all(&dir).ok();
+}
+
 #[test]
 fn the_scripts_refuse_what_they_cannot_run() {
     for (script, args, env) in [
         ("submit.sh", vec!["0", "out", "figure", "7"], None),
         ("submit.sh", vec!["3"], None),
+        (
+            "submit.sh",
+            vec!["3", "out", "simulate", "--omega", "1.3"],
+            None,
+        ),
+        ("submit.sh", vec!["3", "out", "figure", "5"], None),
+        ("shard.sbatch", vec!["3", "out", "figure", "all"], Some("0")),
         ("shard.sbatch", vec!["3", "out", "simulate"], Some("0")),
         ("merge.sbatch", vec!["3", "out", "orbit"], None),
     ] {
@@ -146,8 +216,25 @@ fn the_scripts_refuse_what_they_cannot_run() {
         if let Some(task) = env {
             cmd.env("SLURM_ARRAY_TASK_ID", task);
         }
-        let out = cmd.output().unwrap();
+        // An sbatch that must not be called: a refused command submits nothing.
+        let dir = scratch(&format!("slurm-refuse-{}", args.len()));
+        let slurm = fake_slurm(&dir);
+        let path = format!(
+            "{}:{}",
+            slurm.display(),
+            std::env::var("PATH").unwrap_or_default()
+        );
+        let out = cmd.env("PATH", &path).output().unwrap();
         assert_eq!(out.status.code(), Some(2), "{script} {args:?}");
+        let jobs = std::fs::read_dir(&slurm)
+            .unwrap()
+            .filter(|e| {
+                e.as_ref()
+                    .is_ok_and(|e| e.file_name().to_string_lossy().starts_with("job-"))
+            })
+            .count();
+        assert_eq!(jobs, 0, "{script} {args:?} submitted a job");
+        std::fs::remove_dir_all(&dir).ok();
     }
     // Outside an array a shard does not guess its task.
     let out = Command::new("bash")
