@@ -313,6 +313,8 @@ pub enum EndReason {
     Closed,
     /// A special point of a kind in [`crate::ContinuationSettings::stop_at`] was reached.
     Reached(SpecialKind),
+    /// The observer asked the run to stop ([`crate::Observer::stop`], e.g. on an interrupt).
+    Stopped,
 }
 
 /// A branch: its points, special points, and how it ended.

@@ -21,6 +21,15 @@ pub trait Observer {
     fn chart(&mut self, chart: &AtlasChart, count: usize) {
         let _ = (chart, count);
     }
+    /// Whether the run should stop now (default: never), e.g. on an interrupt. Asked after
+    /// every point of a branch or curve, every chart of an atlas and before every switch of a
+    /// diagram: a stopped run ends cleanly with what it has (a branch ending with
+    /// [`crate::EndReason::Stopped`], an atlas with [`crate::atlas::AtlasEnd::Stopped`], a
+    /// diagram with the branches so far, whose points not yet switched at
+    /// [`crate::OrbitRun::extend_diagram`] switches at later).
+    fn stop(&mut self) -> bool {
+        false
+    }
 }
 
 impl<O: Observer + ?Sized> Observer for &mut O {
@@ -35,6 +44,29 @@ impl<O: Observer + ?Sized> Observer for &mut O {
     }
     fn chart(&mut self, chart: &AtlasChart, count: usize) {
         (**self).chart(chart, count);
+    }
+    fn stop(&mut self) -> bool {
+        (**self).stop()
+    }
+}
+
+/// Stops a run once a flag is set (e.g. by a signal handler), and tells nothing else.
+///
+/// ```
+/// use hycont_continuation::observe::{Observer, StopFlag};
+/// use std::sync::atomic::{AtomicBool, Ordering};
+/// let flag = AtomicBool::new(false);
+/// let mut observer = StopFlag(&flag);
+/// assert!(!observer.stop());
+/// flag.store(true, Ordering::Relaxed);
+/// assert!(observer.stop());
+/// ```
+#[derive(Debug, Clone, Copy)]
+pub struct StopFlag<'f>(pub &'f std::sync::atomic::AtomicBool);
+
+impl Observer for StopFlag<'_> {
+    fn stop(&mut self) -> bool {
+        self.0.load(std::sync::atomic::Ordering::Relaxed)
     }
 }
 

@@ -646,3 +646,33 @@ fn detectors_can_be_switched_off_and_settings_are_validated() {
         .is_err()
     );
 }
+
+/// An observer that asks to stop after hearing `left` points.
+struct StopAfterPoints {
+    left: usize,
+}
+
+impl hycont_continuation::Observer for StopAfterPoints {
+    fn point(&mut self, _: &hycont_continuation::BranchPoint, _: f64) {
+        self.left = self.left.saturating_sub(1);
+    }
+    fn stop(&mut self) -> bool {
+        self.left == 0
+    }
+}
+
+/// A run whose observer asks it to stop ends cleanly with the points it has, `Stopped`, all
+/// on the branch.
+#[test]
+fn a_run_stops_when_its_observer_asks() {
+    let mut t = Test::new(1, parabola, no_multipliers);
+    let u0 = t.start(&[1.0], 1.0);
+    let mut stop = StopAfterPoints { left: 5 };
+    let s = settings().parameter_bounds(-1.0, 2.0);
+    let b = continue_branch(&mut t, "parabola", &u0, -1.0, &s, &mut stop).unwrap();
+    assert_eq!(b.end, EndReason::Stopped);
+    assert_eq!(b.points.len(), 5);
+    for p in &b.points {
+        assert_abs_diff_eq!(p.u[0] * p.u[0], p.u[1], epsilon = 1e-9);
+    }
+}

@@ -215,3 +215,28 @@ fn random_edits_are_refused_or_change_nothing() {
         }
     });
 }
+
+/// Asks to stop once it has heard `charts` charts.
+struct StopAt(usize);
+
+impl hycont_continuation::Observer for StopAt {
+    fn chart(&mut self, _: &atlas::AtlasChart, count: usize) {
+        self.0 = self.0.saturating_sub(usize::from(count > 0));
+    }
+    fn stop(&mut self) -> bool {
+        self.0 == 0
+    }
+}
+
+/// An atlas whose observer asks it to stop ends `Stopped` with the charts it has, and grows
+/// from there to the atlas grown in one go.
+#[test]
+fn a_stopped_atlas_grows_to_the_whole_one() {
+    let (mut s, u0) = surface();
+    let stopped = atlas::cover(&mut s, "cap", &u0, [3, 4], &settings(), &mut StopAt(25)).unwrap();
+    assert_eq!(stopped.end, AtlasEnd::Stopped);
+    assert_eq!(stopped.charts.len(), 25);
+    let whole = hemisphere(None);
+    let grown = grown(&stopped.to_json().unwrap()).unwrap();
+    assert!(same_atlas(&grown, &whole));
+}

@@ -311,3 +311,37 @@ fn cascades_of_an_unchecked_diagram_never_panic() {
     let _ = d.cascades();
     assert!(d.check_tree().is_err());
 }
+
+/// Stops after `after` answers of `stop` (points, switches), and hears nothing else.
+struct StopAfter(usize);
+
+impl hycont_continuation::Observer for StopAfter {
+    fn stop(&mut self) -> bool {
+        if self.0 == 0 {
+            return true;
+        }
+        self.0 -= 1;
+        false
+    }
+}
+
+/// A diagram whose observer asks it to stop ends cleanly where it is: the branch it was
+/// continuing ends `Stopped` with its points so far, and the diagram is a consistent one (it
+/// passes the re-check an extension makes), smaller than the whole.
+#[test]
+fn a_stopped_diagram_ends_cleanly() {
+    let whole = diagram(2);
+    for after in [10, 30, 60] {
+        let mut run = run();
+        run.observer(Box::new(StopAfter(after)));
+        let stopped = run
+            .diagram("symmetric", &circle(-0.3, 0.0), &DiagramSettings::default())
+            .unwrap();
+        let ended = |b: &hycont_continuation::DiagramBranch| {
+            b.branch.branch.end == hycont_continuation::EndReason::Stopped
+        };
+        assert!(stopped.branches.iter().any(ended), "after {after}");
+        assert!(!same_diagram(&stopped, &whole, 0));
+        self::run().check_diagram(&stopped).unwrap();
+    }
+}

@@ -1,6 +1,7 @@
 //! Brute-force (stroboscopic) bifurcation diagrams: sweep a parameter, integrate a transient,
 //! record samples, continue from the last state.
 
+use crate::basin::Progress;
 use hycont_core::{
     HybridSystem, Mode, Result, SampleTimes, SimulationSettings, Simulator, StopReason,
 };
@@ -36,7 +37,9 @@ pub struct SweepPoint {
 
 /// Runs a brute-force sweep of `system` from `(mode, x0)` with parameters `p` (the swept one is
 /// overwritten), continuing each value from the previous value's final state. After a terminal
-/// event (e.g. overturning) the next value restarts from `(mode, x0)`.
+/// event (e.g. overturning) the next value restarts from `(mode, x0)`. Stops between values
+/// when `progress` says so ([`Progress::stopping`], e.g. on an interrupt), with the values
+/// swept so far (values are not trials: they do not count in `progress.done`).
 ///
 /// # Errors
 /// Integration failures or invalid inputs.
@@ -47,6 +50,7 @@ pub fn brute_force<S: HybridSystem + ?Sized>(
     p: &[f64],
     sweep: &Sweep,
     settings: &SimulationSettings,
+    progress: &Progress,
 ) -> Result<Vec<SweepPoint>> {
     let mut sim = Simulator::new(
         settings
@@ -59,6 +63,9 @@ pub fn brute_force<S: HybridSystem + ?Sized>(
     let mut t0 = 0.0;
     let mut out = Vec::with_capacity(sweep.values.len());
     for &v in &sweep.values {
+        if progress.stopping() {
+            break;
+        }
         params[sweep.parameter] = v;
         let total = (sweep.transient + sweep.recorded) as f64 * sweep.period;
         let traj = sim.run(system, m, t0, &x, &params, t0 + total)?;

@@ -222,6 +222,7 @@ fn brute_force_sweep_reaches_the_closed_form_steady_state() {
         &[omega, 0.5],
         &sweep,
         &SimulationSettings::default(),
+        &hycont_sample::basin::Progress::default(),
     )
     .unwrap();
     assert_eq!(pts.len(), 2);

@@ -26,7 +26,16 @@ fn sampling(c: &mut Criterion) {
     let mut g = c.benchmark_group("sampling");
     g.sample_size(10);
     g.bench_function("figure5_study_settings_both_sweeps", |b| {
-        b.iter(|| black_box(figure5(&OutDir::new(&dir), &Provenance::default()).unwrap()));
+        b.iter(|| {
+            black_box(
+                figure5(
+                    &OutDir::new(&dir),
+                    &Provenance::default(),
+                    &Progress::default(),
+                )
+                .unwrap(),
+            )
+        });
     });
     let classifier = RockingClassifier::default();
     for omega in [1.16, 4.0] {

@@ -229,17 +229,27 @@ pub fn study_branches_from(
     let mut run = study_run(free, &params, free.range(), recipe.method)?;
     recipe.apply(&mut run);
     run.observer(Box::new(observer));
-    let mut out = vec![run.run("symmetric", start, RunDirection::Both)?];
+    let mut out = vec![whole(run.run("symmetric", start, RunDirection::Both)?)?];
     let Some(bp) = out[0].special(SpecialKind::BranchPoint).next() else {
         return Ok(out);
     };
     let bp = bp.point.label;
     run.stop_at(SpecialKind::BranchPoint);
-    out.push(run.switch_at("asymmetric", &out[0], bp, RunDirection::Up)?);
+    out.push(whole(run.switch_at(
+        "asymmetric",
+        &out[0],
+        bp,
+        RunDirection::Up,
+    )?)?);
     run.settings_mut().stop_at.clear();
     let pd = out[1].special(SpecialKind::PeriodDoubling).next();
     if let Some(pd) = pd.map(|s| s.point.label) {
-        out.push(run.switch_at("period-2", &out[1], pd, RunDirection::Up)?);
+        out.push(whole(run.switch_at(
+            "period-2",
+            &out[1],
+            pd,
+            RunDirection::Up,
+        )?)?);
     }
     Ok(out)
 }
@@ -324,7 +334,7 @@ pub fn study_curves(block: &Block, observer: &mut dyn Observer) -> Result<Vec<Cu
             .user_points(OMEGA, [1.3]);
         for (kind, branch, last) in starts {
             let at = label(branch, kind, last)?;
-            let curve = run.curve_at(kind.label(), branch, at, &spec)?;
+            let curve = whole(run.curve_at(kind.label(), branch, at, &spec)?)?;
             curves.push(Curve {
                 kind,
                 branch: curve,
@@ -369,5 +379,25 @@ pub fn study_atlas(
     let params = Parameters::from_vec(&start.params);
     let mut run = study_run(Free::Omega, &params, ATLAS_WINDOW[0], method)?;
     run.observer(Box::new(observer));
-    Ok(run.atlas(name, start, ALPHA, settings)?)
+    let atlas = run.atlas(name, start, ALPHA, settings)?;
+    if atlas.atlas.end == hycont_continuation::atlas::AtlasEnd::Stopped {
+        return Err(stopped());
+    }
+    Ok(atlas)
+}
+
+/// A branch or curve of the recipe, unless its observer stopped it ([`Error::Interrupted`]:
+/// the recipe is not complete without it).
+fn whole(branch: OrbitBranch) -> Result<OrbitBranch> {
+    if branch.branch.end == hycont_continuation::EndReason::Stopped {
+        Err(stopped())
+    } else {
+        Ok(branch)
+    }
+}
+
+fn stopped() -> Error {
+    Error::Interrupted {
+        detail: "the continuation was stopped".into(),
+    }
 }

@@ -244,7 +244,12 @@ fn figure_7_reference_behaviour() {
 fn figure_5_shows_the_period_doubling_cascade() {
     let dir = std::env::temp_dir().join(format!("rocking-block-fig5-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
-    figure5(&OutDir::new(&dir), &Provenance::default()).unwrap();
+    figure5(
+        &OutDir::new(&dir),
+        &Provenance::default(),
+        &Progress::default(),
+    )
+    .unwrap();
     let v: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(dir.join("fig5.json")).unwrap()).unwrap();
     // The picture marks the study's special points and says what every mark is.
@@ -504,6 +509,43 @@ fn figure_8_grid_matches_the_studys_description() {
     key_names(&texts, &drawn);
     for curve in ["SN curve", "BP curve", "PD curve", "final class"] {
         assert!(texts.iter().any(|t| t == curve), "{curve}");
+    }
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// An interrupt during a figure that is not sampled stops its computation where it is (the
+/// sweeps of Fig. 5 between values, the continuations of Figs. 3-6 and the atlas between
+/// points and charts), and the figure is not written: an `Interrupted` error, no file. (With
+/// the stop flag set before it starts, each figure must stop at its first check: before, the
+/// flag was only read between figures.)
+#[test]
+fn an_interrupt_stops_a_figure_inside_it() {
+    let dir = std::env::temp_dir().join(format!("rocking-block-stop-{}", std::process::id()));
+    std::fs::remove_dir_all(&dir).ok();
+    let progress = Progress::default();
+    progress
+        .stop
+        .store(true, std::sync::atomic::Ordering::Relaxed);
+    let options = SampleOptions {
+        trials: 100,
+        seed: 1,
+        block: Block::default(),
+    };
+    for n in [3, 4, 5, 6, rocking_block::figures::ATLAS] {
+        let e = rocking_block::figures::figure_with(
+            n,
+            &OutDir::new(&dir),
+            options,
+            &Provenance::default(),
+            &progress,
+        )
+        .unwrap_err();
+        assert!(
+            matches!(e, rocking_block::error::Error::Interrupted { .. }),
+            "figure {n}: {e}"
+        );
+        let files = std::fs::read_dir(&dir).map_or(0, |d| d.count());
+        assert_eq!(files, 0, "figure {n} wrote files");
     }
     std::fs::remove_dir_all(&dir).ok();
 }

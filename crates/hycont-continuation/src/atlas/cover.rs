@@ -251,6 +251,10 @@ impl<'a, P: ContinuationProblem<'a> + ?Sized> Grower<'_, '_, 'a, P> {
                 self.atlas.end = AtlasEnd::ChartLimit;
                 break;
             }
+            if observer.stop() {
+                self.atlas.end = AtlasEnd::Stopped;
+                break;
+            }
             let c = &self.atlas.charts[i];
             let Some(v) = outside_vertex(&c.polygon, c.radius, SLACK) else {
                 self.atlas.charts[i].open = false;

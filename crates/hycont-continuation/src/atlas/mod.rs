@@ -178,6 +178,8 @@ pub enum AtlasEnd {
     Covered,
     /// [`AtlasSettings::max_charts`] charts were made; [`extend`] with a larger limit goes on.
     ChartLimit,
+    /// The observer asked it to stop ([`crate::Observer::stop`]); [`extend`] goes on.
+    Stopped,
 }
 
 /// Work done by an atlas.

@@ -349,6 +349,11 @@ impl<'a, S: HybridJacobians + ?Sized> OrbitRun<'a, S> {
                 {
                     continue;
                 }
+                // Asked to stop: the points left have no record yet (an extension switches
+                // there).
+                if self.observer.stop() {
+                    return Ok(());
+                }
                 let outcome = self.outcome(d, id, &s, settings);
                 d.switches.push(SwitchRecord {
                     branch: id,

@@ -56,7 +56,12 @@ impl<'a, S: HybridJacobians + ?Sized> OrbitRun<'a, S> {
             }
             RunDirection::Both => {
                 let mut back = go(-1.0, observer)?;
-                if back.end == EndReason::Closed {
+                if back.end == EndReason::Stopped {
+                    // Asked to stop: the way run so far.
+                    mark_start(&mut back, None, &user_points);
+                    back.relabel();
+                    back
+                } else if back.end == EndReason::Closed {
                     mark_start(&mut back, None, &user_points);
                     closed(back)
                 } else {

@@ -530,6 +530,10 @@ impl<'p, 'a, P: ContinuationProblem<'a> + ?Sized> Palc<'p, 'a, P> {
             let point = self.point(&b, label, h);
             observer.point(&point, self.parameter(&b.u));
             branch.points.push(point);
+            if observer.stop() {
+                branch.end = EndReason::Stopped;
+                break;
+            }
             travelled += h;
             let step = h;
             // Closed branch: back near the start after a long way.

@@ -184,8 +184,15 @@ pub(super) fn run_figure(
                 seed: args.seed,
                 block,
             };
-            let files = crate::figures::figure_with(n, &dir, options, invocation, &progress)?;
-            written.extend(files.files);
+            match crate::figures::figure_with(n, &dir, options, invocation, &progress) {
+                Ok(files) => written.extend(files.files),
+                Err(e @ Error::Interrupted { .. }) => {
+                    // Stopped inside the figure: the ones before it are complete.
+                    print_written(out, &written, args.json)?;
+                    return Err(e);
+                }
+                Err(e) => return Err(e),
+            }
         }
         if progress.stop.load(Ordering::Relaxed) {
             // Rank 0 reports an interrupt for the job (the other ranks wrote nothing).

@@ -115,6 +115,7 @@ pub fn figure_atlas(
     let block = provenance.block;
     let sheets = study_sheets(&block, observer)?;
     let curves = study_curves(&block, observer)?;
+    super::stopped_by(observer, crate::figures::ATLAS)?;
     let json = json!({
         "figure": "atlas",
         "window": crate::continuation::ATLAS_WINDOW,

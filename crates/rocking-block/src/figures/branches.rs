@@ -27,6 +27,12 @@ pub fn branches_figure(
     let params = provenance.block.at(1.3, 0.66);
     let recipe = provenance.recipe();
     let branches = study_branches_with(free, &provenance.block, &recipe, observer)?;
+    let n = if free == crate::continuation::Free::Omega {
+        3
+    } else {
+        4
+    };
+    super::stopped_by(observer, n)?;
     let (n, offsets, title) = match free {
         Free::Omega => (3, vec![], "Fig. 3: continuation in omega at alpha = 0.66"),
         Free::Alpha => (

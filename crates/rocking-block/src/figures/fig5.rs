@@ -30,9 +30,16 @@ fn outcome(p: &SweepPoint) -> &'static str {
 /// and 100 recorded periods per value, 301 values in [0.5, 0.8], continuing from the last
 /// state), swept up and down (hysteresis), from phi0 = 0.01, psi0 = 0, beta = pi/2.
 ///
+/// Stops when `progress` is asked to (an interrupt): the sweeps between values, the
+/// continuation between points, and then writes nothing.
+///
 /// # Errors
-/// Numerical or I/O failures.
-pub fn figure5(out: &OutDir, provenance: &Provenance) -> Result<FigureFiles> {
+/// Numerical or I/O failures; [`crate::error::Error::Interrupted`] when stopped.
+pub fn figure5(
+    out: &OutDir,
+    provenance: &Provenance,
+    progress: &hycont_sample::basin::Progress,
+) -> Result<FigureFiles> {
     let params = provenance.block.at(1.3, 0.66);
     let values: Vec<f64> = (0..=300)
         .map(|i| 0.5 + 0.3 * f64::from(i) / 300.0)
@@ -50,10 +57,31 @@ pub fn figure5(out: &OutDir, provenance: &Provenance) -> Result<FigureFiles> {
     let up = sweep_of(values.clone());
     let down = sweep_of(values.iter().rev().copied().collect());
     let (a, b) = rayon::join(
-        || brute_force(&RockingBlock, mode, &x0, &params.to_vec(), &up, &settings),
-        || brute_force(&RockingBlock, mode, &x0, &params.to_vec(), &down, &settings),
+        || {
+            brute_force(
+                &RockingBlock,
+                mode,
+                &x0,
+                &params.to_vec(),
+                &up,
+                &settings,
+                progress,
+            )
+        },
+        || {
+            brute_force(
+                &RockingBlock,
+                mode,
+                &x0,
+                &params.to_vec(),
+                &down,
+                &settings,
+                progress,
+            )
+        },
     );
     let (a, b) = (a?, b?);
+    super::stopped(progress, 5)?;
     let diagram = |pts: &[SweepPoint]| -> Vec<Value> {
         pts.iter()
             .map(|p| {
@@ -80,8 +108,9 @@ pub fn figure5(out: &OutDir, provenance: &Provenance) -> Result<FigureFiles> {
             depth: CASCADE_DEPTH,
             ..Default::default()
         },
-        &mut hycont_continuation::observe::Silent,
+        &mut hycont_continuation::observe::StopFlag(&progress.stop),
     )?;
+    super::stopped(progress, 5)?;
     let bp3 = cont.branches[0]
         .branch
         .special(hycont_continuation::SpecialKind::BranchPoint)

@@ -114,6 +114,7 @@ pub fn figure6(
     let block = provenance.block;
     let params = block.at(1.3, 0.66);
     let curves = study_curves(&block, observer)?;
+    super::stopped_by(observer, 6)?;
     // Another block may have no fold on the study's lines: then there are no test points.
     let (tests, trajectories) = match curves.iter().find(|c| c.kind == SpecialKind::Fold) {
         Some(sn) => test_points(sn, &block)?,

@@ -73,23 +73,60 @@ pub fn figure_with(
         source,
     })?;
     let record = provenance.clone().with_block(options.block);
-    let silent = &mut hycont_continuation::observe::Silent;
-    match n {
+    // The computations stop where they are when the run is interrupted, and write nothing.
+    let stop = &mut hycont_continuation::observe::StopFlag(&progress.stop);
+    let files = match n {
         2 => figure2(out, &record),
-        3 => branches_figure(crate::continuation::Free::Omega, out, &record, silent),
-        4 => branches_figure(crate::continuation::Free::Alpha, out, &record, silent),
-        5 => sampling::figure5(out, &record),
-        6 => figure6(out, &record, silent),
+        3 => branches_figure(crate::continuation::Free::Omega, out, &record, stop),
+        4 => branches_figure(crate::continuation::Free::Alpha, out, &record, stop),
+        5 => sampling::figure5(out, &record, progress),
+        6 => figure6(out, &record, stop),
         7 => sampling::figure7(out, options, &record, progress),
         8 => sampling::figure8(out, &record),
         9 => sampling::figure9(out, options, &record, progress),
         10 => sampling::figure10(out, options, &record, progress),
-        ATLAS => figure_atlas(out, &record, silent),
+        ATLAS => figure_atlas(out, &record, stop),
         _ => Err(Error::InvalidArgument {
             name: "figure",
             value: n.to_string(),
             reason: "the study has figures 2 to 10 (and `atlas`)",
         }),
+    };
+    // However the computation was stopped, say which figure was not written.
+    files.map_err(|e| match e {
+        Error::Interrupted { .. } => Error::Interrupted {
+            detail: format!("during figure {}: none of it was written", names(&[n])),
+        },
+        e => e,
+    })
+}
+
+/// [`Error::Interrupted`] where `observer` asked the computation of figure `n` to stop (it
+/// ended early: it is not the figure).
+///
+/// # Errors
+/// That.
+pub(crate) fn stopped_by(observer: &mut dyn hycont_continuation::Observer, n: u32) -> Result<()> {
+    if observer.stop() {
+        Err(Error::Interrupted {
+            detail: format!("during figure {}: none of it was written", names(&[n])),
+        })
+    } else {
+        Ok(())
+    }
+}
+
+/// [`Error::Interrupted`] once `progress` was asked to stop during figure `n`.
+///
+/// # Errors
+/// That.
+pub(crate) fn stopped(progress: &hycont_sample::basin::Progress, n: u32) -> Result<()> {
+    if progress.stop.load(std::sync::atomic::Ordering::Relaxed) {
+        Err(Error::Interrupted {
+            detail: format!("during figure {}: none of it was written", names(&[n])),
+        })
+    } else {
+        Ok(())
     }
 }
 
