@@ -84,8 +84,19 @@ fn two_ranks_write_what_one_process_writes() {
         let said = String::from_utf8_lossy(&mpirun(&m, args).run_ok().stdout).into_owned();
         single(&s, args).run_ok();
         same_files(&m.join("res"), &s.join("res"), files);
-        // Rank 0 alone reports what it wrote.
+        // Rank 0 alone reports what it wrote; the ranks' checkpoints are gone.
         assert_eq!(said.lines().count(), files.len(), "{said}");
+        let left: Vec<_> = std::fs::read_dir(m.join("res"))
+            .unwrap()
+            .flatten()
+            .filter(|e| {
+                e.file_name()
+                    .to_string_lossy()
+                    .ends_with(".checkpoint.json")
+            })
+            .map(|e| e.file_name())
+            .collect();
+        assert!(left.is_empty(), "{left:?}");
     }
     std::fs::remove_dir_all(&dir).ok();
 }
@@ -152,6 +163,92 @@ fn interrupted_ranks_keep_every_trial_and_resume_on_two_ranks() {
         read(&s.join("res/fig7.json"))
     );
     same_files(&m.join("res"), &s.join("res"), &["fig7.svg"]);
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// The pid of rank `rank` of the job whose processes run in `cwd` (read off /proc: the
+/// process's working directory and Open MPI's rank variable).
+fn rank_pid(cwd: &Path, rank: u32) -> Option<u32> {
+    let want = format!("OMPI_COMM_WORLD_RANK={rank}");
+    std::fs::read_dir("/proc").ok()?.flatten().find_map(|e| {
+        let pid: u32 = e.file_name().to_string_lossy().parse().ok()?;
+        let here = std::fs::read_link(e.path().join("cwd")).ok()?;
+        let env = std::fs::read(e.path().join("environ")).ok()?;
+        let ours = here == cwd && env.split(|b| *b == 0).any(|v| v == want.as_bytes());
+        ours.then_some(pid)
+    })
+}
+
+/// A rank killed outright (SIGKILL: no signal handler runs, `mpirun` ends the job, rank 0
+/// never gathers) loses at most a round of the trials: every rank checkpoints its counts after
+/// each twentieth of its share, `merge` gathers the checkpoints into the partial file, and the
+/// resumed run is the figure one process writes.
+#[test]
+fn a_rank_killed_outright_loses_at_most_a_round() {
+    let dir = scratch("mpi-kill");
+    let run = [
+        "figure", "10", "--trials", "100000", "--seed", "3", "--out", "res",
+    ];
+    let m = dir.join("mpi");
+    let mut job = mpirun(&m, &run)
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::null())
+        .spawn()
+        .expect("mpirun runs (install an MPI: see the README)");
+    let checkpoints = [0, 1].map(|r| m.join(format!("res/fig10.rank-{r}-of-2.checkpoint.json")));
+    // Until both ranks have checkpointed (a round is 2,500 of each rank's 50,000 trials);
+    // the job must not have ended first.
+    while !checkpoints.iter().all(|c| c.exists()) {
+        assert!(job.try_wait().unwrap().is_none(), "the job ended first");
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+    let pid = rank_pid(&m.canonicalize().unwrap(), 1).expect("rank 1's process");
+    Command::new("kill").args(["-9", &pid.to_string()]).run_ok();
+    let status = job.wait().unwrap();
+    assert!(!status.success());
+    assert!(!m.join("res/fig10.json").exists());
+    // The checkpoints merge into the run's partial file (incomplete: exit 1) ...
+    let merged = single(&m, &["merge"])
+        .args(checkpoints.iter().map(|c| c.strip_prefix(&m).unwrap()))
+        .args(["--out", "res"])
+        .output()
+        .unwrap();
+    assert_eq!(merged.status.code(), Some(1));
+    let partial: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(m.join("res/fig10.partial.json")).unwrap())
+            .unwrap();
+    let counted: u64 = partial["counts"][0]["ranges"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|r| r[1].as_u64().unwrap() - r[0].as_u64().unwrap())
+        .sum();
+    // Each rank had checkpointed a round at least: 2 x 2,500 of the 100,000 trials.
+    assert!(counted >= 5000, "{counted} trials kept");
+    // ... which the resumed run completes into what one process writes.
+    single(
+        &m,
+        &[
+            "figure",
+            "--resume",
+            "res/fig10.partial.json",
+            "--out",
+            "res",
+        ],
+    )
+    .run_ok();
+    let s = dir.join("one");
+    single(&s, &run).run_ok();
+    let read = |p: &Path| -> serde_json::Value {
+        let mut v: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(p).unwrap()).unwrap();
+        v.as_object_mut().unwrap().remove("provenance");
+        v
+    };
+    assert_eq!(
+        read(&m.join("res/fig10.json")),
+        read(&s.join("res/fig10.json"))
+    );
     std::fs::remove_dir_all(&dir).ok();
 }
 

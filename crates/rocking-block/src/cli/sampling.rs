@@ -11,10 +11,10 @@ use super::ranks::Ranks;
 use super::shard_file::{MAX_TRIALS, SAMPLING, ShardFile};
 use super::{FigureArgs, MergeArgs, print_written};
 use crate::error::{Error, Result};
-use crate::figures::sampling::{SampleOptions, empty_tables, fill, render};
+use crate::figures::sampling::{SampleOptions, empty_tables};
 use crate::output::OutDir;
 use crate::provenance::Provenance;
-use hycont_sample::basin::{Counts, Progress};
+use hycont_sample::basin::Progress;
 use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
@@ -335,6 +335,8 @@ pub(super) fn sample<F: CountFile>(
     );
     bar.set_message(file.what());
     let finished = AtomicBool::new(false);
+    let checkpoint = (ranks.part().1 > 1)
+        .then(|| super::checkpoint::checkpoint_path(&file.paths(&out.dir).0, ranks.part()));
     let result = std::thread::scope(|scope| {
         scope.spawn(|| {
             while !finished.load(Ordering::Relaxed) {
@@ -347,7 +349,12 @@ pub(super) fn sample<F: CountFile>(
         } else {
             file.cleared()
         };
-        let r = counted.fill(&todo, progress).map(|()| counted);
+        // Several ranks: each checkpoints its counts after every round of its share.
+        let r = match &checkpoint {
+            Some(path) => super::checkpoint::fill_in_rounds(&mut counted, &todo, progress, path),
+            None => counted.fill(&todo, progress),
+        }
+        .map(|()| counted);
         finished.store(true, Ordering::Relaxed);
         r
     });
@@ -355,19 +362,30 @@ pub(super) fn sample<F: CountFile>(
     let Some(file) = ranks.gather(result)? else {
         return Ok(Vec::new());
     };
+    // Once rank 0 has written what every rank counted, their checkpoints are not needed (it
+    // removes them from the output directory, shared by the ranks on a cluster).
+    let drop_checkpoint = || {
+        if let Some(path) = &checkpoint {
+            super::checkpoint::remove_all(path, ranks.part().1);
+        }
+    };
     let (complete, partial) = file.paths(&out.dir);
     let whole = file.shard().1 == 1;
     if file.is_complete() {
-        if whole {
-            return file.render(out);
-        }
-        file.write(&complete)?;
-        return Ok(vec![complete]);
+        let written = if whole {
+            file.render(out)?
+        } else {
+            file.write(&complete)?;
+            vec![complete]
+        };
+        drop_checkpoint();
+        return Ok(written);
     }
     let (partial, write) = partial_path(&file, partial);
     if write {
         file.write(&partial)?;
     }
+    drop_checkpoint();
     if force && whole {
         file.render(out)?;
     }
@@ -406,89 +424,6 @@ fn partial_path<F: CountFile>(file: &F, partial: PathBuf) -> (PathBuf, bool) {
     let stem = name.strip_suffix(".partial.json").unwrap_or(&name);
     let beside = partial.with_file_name(format!("{stem}.{}.partial.json", std::process::id()));
     (beside, true)
-}
-
-impl CountFile for ShardFile {
-    fn what(&self) -> String {
-        format!("figure {}", self.figure)
-    }
-    fn progress(&self) -> (u64, u64) {
-        ShardFile::progress(self)
-    }
-    fn shard(&self) -> (u64, u64) {
-        self.shard
-    }
-    fn paths(&self, dir: &Path) -> (PathBuf, PathBuf) {
-        ShardFile::paths(self, dir)
-    }
-    fn todo(&self, part: (u64, u64)) -> Result<Todo> {
-        crate::figures::sampling::missing(self.figure, &self.counts, self.range(), part)
-    }
-    fn fill(&mut self, todo: &[Vec<std::ops::Range<u64>>], progress: &Progress) -> Result<()> {
-        let options = self.options();
-        fill(self.figure, options, &mut self.counts, todo, progress)
-    }
-    fn cleared(&self) -> Self {
-        ShardFile {
-            counts: self
-                .counts
-                .iter()
-                .map(|c| Counts::new(c.classes.clone(), c.counts.len()))
-                .collect(),
-            provenance: self.provenance.clone(),
-            ..*self
-        }
-    }
-    fn render(&self, out: &OutDir) -> Result<Vec<PathBuf>> {
-        let invocation = self.provenance.clone().unwrap_or_default();
-        Ok(render(self.figure, out, self.options(), &invocation, &self.counts)?.files)
-    }
-    fn write(&self, path: &Path) -> Result<()> {
-        ShardFile::write(self, path)
-    }
-    fn merge(&mut self, other: &Self) -> std::result::Result<(), String> {
-        if self.block != other.block {
-            return Err(format!(
-                "block {:?} differs from the files before ({:?})",
-                other.block, self.block
-            ));
-        }
-        if (self.figure, self.trials, self.seed) != (other.figure, other.trials, other.seed) {
-            return Err(format!(
-                "figure {}, {} trials, seed {} differ from the files before (figure {}, {} trials, seed {})",
-                other.figure, other.trials, other.seed, self.figure, self.trials, self.seed
-            ));
-        }
-        for (a, b) in self.counts.iter_mut().zip(&other.counts) {
-            a.merge(b).map_err(|e| e.to_string())?;
-        }
-        Ok(())
-    }
-    fn whole(self) -> Self {
-        ShardFile {
-            shard: (0, 1),
-            ..self
-        }
-    }
-    fn read(path: &Path) -> Result<Self> {
-        ShardFile::read(path)
-    }
-    fn subsumes(&self, other: &Self) -> bool {
-        let range = self.range();
-        (self.figure, self.trials, self.seed, self.shard, self.block)
-            == (
-                other.figure,
-                other.trials,
-                other.seed,
-                other.shard,
-                other.block,
-            )
-            && self
-                .counts
-                .iter()
-                .zip(&other.counts)
-                .all(|(a, b)| super::shard_file::covers(a, b, &range))
-    }
 }
 
 /// Merges count files of one run: the result when complete, a partial file otherwise.

@@ -1,12 +1,16 @@
-//! The count tables of a sampling figure on disk: a shard (`figN.shard-I-of-N.json`), a
+//! The count tables of a sampling figure on disk (and how `figure`, `merge` and `--resume`
+//! count into them, [`CountFile`]): a shard (`figN.shard-I-of-N.json`), a
 //! partial run (`*.partial.json`, written on an interrupt or by an incomplete merge) or both.
 //! Every file read is checked against the figure's tables before it is used.
 
+use super::sampling::{CountFile, Todo};
 use crate::block::Block;
 use crate::error::{Error, Result};
 use crate::figures::sampling::empty_tables;
+use crate::figures::sampling::{fill, render};
+use crate::output::OutDir;
 use crate::provenance::Provenance;
-use hycont_sample::basin::Counts;
+use hycont_sample::basin::{Counts, Progress};
 use std::path::{Path, PathBuf};
 
 /// The sampling figures that have count tables.
@@ -253,5 +257,88 @@ impl ShardFile {
     pub fn write(&self, path: &Path) -> Result<()> {
         debug_assert!(self.block.validate().is_ok());
         write_count_file(self, path)
+    }
+}
+
+impl CountFile for ShardFile {
+    fn what(&self) -> String {
+        format!("figure {}", self.figure)
+    }
+    fn progress(&self) -> (u64, u64) {
+        ShardFile::progress(self)
+    }
+    fn shard(&self) -> (u64, u64) {
+        self.shard
+    }
+    fn paths(&self, dir: &Path) -> (PathBuf, PathBuf) {
+        ShardFile::paths(self, dir)
+    }
+    fn todo(&self, part: (u64, u64)) -> Result<Todo> {
+        crate::figures::sampling::missing(self.figure, &self.counts, self.range(), part)
+    }
+    fn fill(&mut self, todo: &[Vec<std::ops::Range<u64>>], progress: &Progress) -> Result<()> {
+        let options = self.options();
+        fill(self.figure, options, &mut self.counts, todo, progress)
+    }
+    fn cleared(&self) -> Self {
+        ShardFile {
+            counts: self
+                .counts
+                .iter()
+                .map(|c| Counts::new(c.classes.clone(), c.counts.len()))
+                .collect(),
+            provenance: self.provenance.clone(),
+            ..*self
+        }
+    }
+    fn render(&self, out: &OutDir) -> Result<Vec<PathBuf>> {
+        let invocation = self.provenance.clone().unwrap_or_default();
+        Ok(render(self.figure, out, self.options(), &invocation, &self.counts)?.files)
+    }
+    fn write(&self, path: &Path) -> Result<()> {
+        ShardFile::write(self, path)
+    }
+    fn merge(&mut self, other: &Self) -> std::result::Result<(), String> {
+        if self.block != other.block {
+            return Err(format!(
+                "block {:?} differs from the files before ({:?})",
+                other.block, self.block
+            ));
+        }
+        if (self.figure, self.trials, self.seed) != (other.figure, other.trials, other.seed) {
+            return Err(format!(
+                "figure {}, {} trials, seed {} differ from the files before (figure {}, {} trials, seed {})",
+                other.figure, other.trials, other.seed, self.figure, self.trials, self.seed
+            ));
+        }
+        for (a, b) in self.counts.iter_mut().zip(&other.counts) {
+            a.merge(b).map_err(|e| e.to_string())?;
+        }
+        Ok(())
+    }
+    fn whole(self) -> Self {
+        ShardFile {
+            shard: (0, 1),
+            ..self
+        }
+    }
+    fn read(path: &Path) -> Result<Self> {
+        ShardFile::read(path)
+    }
+    fn subsumes(&self, other: &Self) -> bool {
+        let range = self.range();
+        (self.figure, self.trials, self.seed, self.shard, self.block)
+            == (
+                other.figure,
+                other.trials,
+                other.seed,
+                other.shard,
+                other.block,
+            )
+            && self
+                .counts
+                .iter()
+                .zip(&other.counts)
+                .all(|(a, b)| covers(a, b, &range))
     }
 }
