@@ -85,7 +85,14 @@ pub struct ContinuationSettings {
     pub target_iterations: usize,
     /// Newton settings of the corrector (chord steps are disabled in the corrector).
     pub newton: NewtonSettings,
-    /// Special points are located until the parameter bracket is below this (default `1e-10`).
+    /// Special points are located until their bracket is below this (default `1e-10`): a
+    /// bracket in arclength along the step, in the problem's weighted norm
+    /// ([`crate::ContinuationProblem::unknown_weights`]; a parameter weighs 1). The located
+    /// parameter is therefore within `locate_tol` times $|dp/ds| \le 1$ (the parameter's
+    /// component of the unit tangent) of the zero of the test function: `1e-10` or better,
+    /// and closer where the branch turns (at a fold $dp/ds \to 0$). For orbits, unknowns
+    /// other than parameters are the node or start states (weighted as a mean square over a
+    /// segment, so that the norm does not depend on the mesh) and the durations.
     pub locate_tol: f64,
     /// Bounds ending the run.
     pub bounds: Vec<Bound>,

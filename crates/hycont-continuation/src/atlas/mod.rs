@@ -235,8 +235,11 @@ impl Atlas {
             .filter(move |c| c.edge == Some(Edge::Special { kind }))
     }
 
-    /// Triangles of neighbouring charts (indices, each counted once): a mesh of the covered
-    /// region for pictures and interpolation.
+    /// Triangles of three mutually neighbouring charts (indices increasing, each triple once),
+    /// for pictures and interpolation. They cover the region the charts cover but are not a
+    /// disjoint mesh: where four or more charts' discs overlap, their triangles overlap (6,076
+    /// for 806 charts of the rocking block's atlas, against about 2 per chart of a
+    /// triangulation).
     #[must_use]
     pub fn triangles(&self) -> Vec<[usize; 3]> {
         let mut out = Vec::new();

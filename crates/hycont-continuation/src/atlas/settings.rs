@@ -50,7 +50,12 @@ pub struct AtlasBound {
 /// Settings of [`crate::atlas::cover`] (Henderson's covering by charts, in two dimensions).
 ///
 /// Chart radii are arclengths in the problem's weighted norm
-/// ([`crate::ContinuationProblem::unknown_weights`]), as PALC's steps.
+/// ([`crate::ContinuationProblem::unknown_weights`]), as PALC's steps: $\|v\|^2 = \sum_i
+/// w_i v_i^2$ over all unknowns. Parameters weigh 1; an orbit's states weigh as a mean square
+/// over each segment (collocation: each node `copies / nodes`; shooting: each start
+/// `copies`, with `copies` 2 on half orbits) and durations `copies`. So a radius of `0.1` is
+/// a move of at most `0.1` in the two free parameters, less where the orbits change fast
+/// with them (the states take their share of the arclength).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct AtlasSettings {
     /// The first chart's radius (default `0.05`).

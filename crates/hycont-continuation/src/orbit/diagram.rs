@@ -145,6 +145,15 @@ pub struct DiagramBranch {
 
 /// A bifurcation diagram: branches as a tree ([`DiagramBranch::origin`]) and every special
 /// point switched at with its outcome, in the order they were met.
+///
+/// Saved as JSON ([`Diagram::to_json`]): `{"branches": [{"branch": <OrbitBranch>, "origin":
+/// [parent, label] | null, "depth": d}, ...], "switches": [{"branch": b, "label": l, "kind":
+/// "BP" | "PD", "parameter": p, "outcome": <SwitchOutcome>}, ...]}`, branches referred to by
+/// their index. A [`SwitchOutcome`] is written as `{"followed": b}`, `"origin"`,
+/// `{"known": {"branch": b, "label": l}}`, `{"duplicate": b}`, `"depth_limit"`,
+/// `"branch_limit"` or `{"failed": "why"}`. A diagram read back is checked before it is used
+/// ([`OrbitRun::check_diagram`], which [`OrbitRun::extend_diagram`] calls): an edited one is
+/// refused, not extended.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Diagram {
     /// The branches; the start's is first.

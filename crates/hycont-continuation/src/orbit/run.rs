@@ -433,6 +433,12 @@ impl<'a, S: HybridJacobians + ?Sized> OrbitRun<'a, S> {
     /// ways). A collocation branch restarted by collocation keeps its mesh and unknowns; other
     /// restarts start from the point's orbit.
     ///
+    /// A restart continues the branch through the point's orbit as any run does, from the
+    /// orbit with the parameter held: at a point where two branches meet it may follow either.
+    /// The first point of a branch switched at a branch point ([`OrbitRun::switch_at`]) is the
+    /// branch point itself, where a restart can follow the family switched from; restart a
+    /// switched branch from its second point on to stay on it.
+    ///
     /// # Errors
     /// A branch that does not fit the system, a two-parameter curve, an unknown label; as
     /// [`OrbitRun::run`].

@@ -260,7 +260,7 @@ impl SparsePattern {
             Ok(())
         } else {
             Err(Error::SingularMatrix {
-                reason: "the solution of the linear system is not finite".into(),
+                reason: "the solution is not finite: the matrix is singular to working precision (for an orbit's equations: a segment ending at an event its flow does not cross, with rate zero there, or conditions that depend on each other; non-finite values of the system are reported by name before this)".into(),
             })
         }
     }
