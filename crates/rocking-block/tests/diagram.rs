@@ -220,33 +220,30 @@ fn the_diagram_command_prints_extends_and_refuses_bad_input() {
     );
     // A saved diagram is checked before it is extended: edited, it is bad input.
     let text = std::fs::read_to_string(&saved).unwrap();
-    let mut v: serde_json::Value = serde_json::from_str(&text).unwrap();
-    v["branches"][1]["origin"][0] = 42.into();
-    std::fs::write(dir.join("edited.json"), v.to_string()).unwrap();
-    fails(
-        &bin()
+    let refused = |edit: &dyn Fn(&mut serde_json::Value), needle: &str| {
+        let mut v: serde_json::Value = serde_json::from_str(&text).unwrap();
+        edit(&mut v);
+        std::fs::write(dir.join("edited.json"), v.to_string()).unwrap();
+        let out = bin()
             .args(["diagram", "--free", "alpha", "--depth", "3", "--restart"])
             .arg(dir.join("edited.json"))
             .output()
-            .unwrap(),
-        2,
+            .unwrap();
+        fails(&out, 2, needle);
+    };
+    refused(
+        &|v| v["branches"][1]["origin"][0] = 42.into(),
         "origin on branch 42",
     );
-    let mut v: serde_json::Value = serde_json::from_str(&text).unwrap();
-    for p in v["branches"][2]["branch"]["branch"]["points"]
-        .as_array_mut()
-        .unwrap()
-    {
-        p["u"][0] = (p["u"][0].as_f64().unwrap() + 0.3).into();
-    }
-    std::fs::write(dir.join("edited.json"), v.to_string()).unwrap();
-    fails(
-        &bin()
-            .args(["diagram", "--free", "alpha", "--depth", "3", "--restart"])
-            .arg(dir.join("edited.json"))
-            .output()
-            .unwrap(),
-        2,
+    refused(
+        &|v| {
+            for p in v["branches"][2]["branch"]["branch"]["points"]
+                .as_array_mut()
+                .unwrap()
+            {
+                p["u"][0] = (p["u"][0].as_f64().unwrap() + 0.3).into();
+            }
+        },
         "orbit equations do not hold",
     );
     std::fs::write(dir.join("bad.json"), "{}").unwrap();

@@ -8,7 +8,7 @@
 
 mod common;
 
-use common::{RunOk, bin, scratch};
+use common::{RunOk, bin, json, scratch, without_provenance};
 use std::path::Path;
 use std::process::Command;
 
@@ -152,15 +152,9 @@ fn interrupted_ranks_keep_every_trial_and_resume_on_two_ranks() {
     assert!(!partial.exists());
     let s = dir.join("one");
     single(&s, &run).run_ok();
-    let read = |p: &Path| -> serde_json::Value {
-        let mut v: serde_json::Value =
-            serde_json::from_str(&std::fs::read_to_string(p).unwrap()).unwrap();
-        v.as_object_mut().unwrap().remove("provenance");
-        v
-    };
     assert_eq!(
-        read(&m.join("res/fig7.json")),
-        read(&s.join("res/fig7.json"))
+        without_provenance(&json(&m.join("res/fig7.json"))),
+        without_provenance(&json(&s.join("res/fig7.json")))
     );
     same_files(&m.join("res"), &s.join("res"), &["fig7.svg"]);
     std::fs::remove_dir_all(&dir).ok();
@@ -239,15 +233,9 @@ fn a_rank_killed_outright_loses_at_most_a_round() {
     .run_ok();
     let s = dir.join("one");
     single(&s, &run).run_ok();
-    let read = |p: &Path| -> serde_json::Value {
-        let mut v: serde_json::Value =
-            serde_json::from_str(&std::fs::read_to_string(p).unwrap()).unwrap();
-        v.as_object_mut().unwrap().remove("provenance");
-        v
-    };
     assert_eq!(
-        read(&m.join("res/fig10.json")),
-        read(&s.join("res/fig10.json"))
+        without_provenance(&json(&m.join("res/fig10.json"))),
+        without_provenance(&json(&s.join("res/fig10.json")))
     );
     std::fs::remove_dir_all(&dir).ok();
 }
