@@ -6,7 +6,8 @@
 //! event fires there, in its direction. For segment $k$ in mode $m$ with duration $T_k$ and
 //! every event $e$ that $m$ monitors with a direction ($\sigma_e = +1$ for a falling event,
 //! $-1$ for a rising one, so that $\sigma_e h_e > 0$ before a crossing):
-//! - $T_k > 0$;
+//! - $T_k \ge 0$ (a segment of zero duration is one point: at a grazing, a flight of no
+//!   length between two impacts; its end conditions put it on its end event's surface);
 //! - no **interior touch or crossing**: every local minimum of $\sigma_e h_e$ reached from the
 //!   pre-crossing side (found on the dense output by [`super::scan`], not only at mesh points)
 //!   is positive, and so is the end value of every other event reached from that side;
@@ -37,7 +38,7 @@ pub const ADMISSIBILITY_TOL: f64 = 1e-8;
 /// How a segment leaves its mode's domain.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub enum Violation {
-    /// The segment's duration is not positive.
+    /// The segment's duration is negative.
     Duration,
     /// The flow touches or crosses the event's surface inside the segment.
     InteriorCrossing,
@@ -52,7 +53,7 @@ pub enum Violation {
 impl std::fmt::Display for Violation {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.write_str(match self {
-            Violation::Duration => "its duration is not positive",
+            Violation::Duration => "its duration is negative",
             Violation::InteriorCrossing => "it touches or crosses an event surface inside",
             Violation::WrongDirection => {
                 "it reaches its end event against the event's direction (or tangentially)"
@@ -320,7 +321,7 @@ pub fn check_admissible_collapsed<S: HybridJacobians + ?Sized>(
         .durations
         .iter()
         .enumerate()
-        .position(|(k, d)| !(*d > 0.0 || (collapsed.contains(&k) && d.abs() <= 1e-8)))
+        .position(|(k, d)| !(*d >= 0.0 || (collapsed.contains(&k) && d.abs() <= 1e-8)))
     {
         return Err(Error::Inadmissible {
             segment: k,

@@ -12,6 +12,7 @@ mod discretisation;
 mod end_condition;
 mod floquet;
 mod flow;
+mod grazing;
 mod measure;
 mod measure_set;
 mod periodic_orbit;
@@ -35,6 +36,7 @@ pub use collocation::{
 };
 pub use discretisation::{Discretisation, OrbitEquations, OrbitMethod, orbit_problem};
 pub use floquet::{Floquet, NEUTRAL_BAND, saltation_matrix};
+pub use grazing::{GrazingSplit, split_at_grazing};
 pub use measure::{
     Extremum, ExtremumKind, GrazingMargin, Measure, SegmentDuration, SegmentPoint, SegmentValue,
     TimeAverage,

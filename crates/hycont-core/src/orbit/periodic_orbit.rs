@@ -380,7 +380,8 @@ impl PeriodicOrbit {
         Self::new(system, signature, starts, durations, self.params.clone())
     }
 
-    /// Dense samples of each segment (`points` per segment, both ends included), e.g. for plots.
+    /// Dense samples of each segment (`points` per segment, both ends included; a zero-length
+    /// segment its one point), e.g. for plots.
     ///
     /// # Errors
     /// If integration fails.
@@ -395,6 +396,13 @@ impl PeriodicOrbit {
         let mut t0 = 0.0;
         for (k, seg) in self.signature.segments().iter().enumerate() {
             let d = self.durations[k];
+            if d == 0.0 {
+                // A zero-length segment: its one point.
+                let mut ts = TimeSeries::new(system.state_dim());
+                ts.push(t0, seg.mode, &self.starts[k]);
+                out.push(ts);
+                continue;
+            }
             let s = settings
                 .clone()
                 .samples(crate::SampleTimes::new(0.0, d / (points - 1) as f64));

@@ -73,11 +73,12 @@ pub(crate) fn initial_nodes<S: HybridJacobians + ?Sized>(
             .chain(std::iter::once(1.0))
             .collect();
         // Uniform meshes: one run with the node times as samples (dense output); otherwise
-        // integrate from node to node.
+        // integrate from node to node (a zero-length segment: every node is its start).
         let flow = crate::orbit::flow::SegmentFlow::plain(system, seg.mode);
-        let uniform = meshes[k]
-            .windows(2)
-            .all(|w| ((w[1] - w[0]) - 1.0 / (meshes[k].len() - 1) as f64).abs() < 1e-14);
+        let uniform = orbit.durations[k] > 0.0
+            && meshes[k]
+                .windows(2)
+                .all(|w| ((w[1] - w[0]) - 1.0 / (meshes[k].len() - 1) as f64).abs() < 1e-14);
         let mut vals = Vec::with_capacity(taus.len() * n);
         if uniform {
             let step = orbit.durations[k] / (taus.len() - 1) as f64;
