@@ -117,7 +117,7 @@ pub(crate) fn checking_branches() -> bool {
     CHECK_BRANCHES.load(std::sync::atomic::Ordering::Relaxed)
 }
 pub use settings::{Bound, BoundOn, ContinuationSettings, Detect};
-pub use switch::branch_switch_direction;
+pub use switch::{branch_switch_direction, null_directions};
 
 use hycont_core::problem::Problem;
 use serde::{Deserialize, Serialize};
@@ -216,6 +216,20 @@ pub trait ContinuationProblem<'a> {
         jacobian: &hycont_core::linalg::SparsePattern,
     ) -> hycont_core::Result<PointInfo> {
         let _ = jacobian;
+        self.analyse(u)
+    }
+    /// [`ContinuationProblem::analyse`] by a second, independent computation where the
+    /// problem has one (shooting: the monodromy integrated afresh rather than composed from
+    /// the linearisation its last evaluation cached; collocation: from the solution rather than
+    /// the factorisation). The re-checks of saved points compare the two where a saved
+    /// multiplier differs from the recomputed one: their difference is the multipliers' own
+    /// accuracy, which near a grazing (an impact at nearly zero speed, whose saltation
+    /// amplifies the integration's rounding) can be a percent of a multiplier of $10^{30}$.
+    /// The default is [`ContinuationProblem::analyse`].
+    ///
+    /// # Errors
+    /// As [`ContinuationProblem::analyse`].
+    fn analyse_afresh(&mut self, u: &[f64]) -> hycont_core::Result<PointInfo> {
         self.analyse(u)
     }
     /// Checks the corrected start of a run (after the first corrector solve, before any step),

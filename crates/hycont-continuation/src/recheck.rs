@@ -8,11 +8,39 @@
 /// edit that would change what the point says.
 pub const ANALYSIS_TOL: f64 = 1e-6;
 
-/// The saved multipliers against the recomputed ones (matched nearest first, trivial ones to
-/// trivial ones), and the saved stability against the saved multipliers.
-pub(crate) fn check_multipliers(
+/// [`check_multipliers`], and where it fails, again within the multipliers' own accuracy: the
+/// distance of each recomputed multiplier from the nearest of a second, independent
+/// computation (`afresh`, [`crate::ContinuationProblem::analyse_afresh`]), twice over.
+pub(crate) fn check_multipliers_within(
     p: &crate::BranchPoint,
     info: &crate::PointInfo,
+    afresh: impl FnOnce() -> std::result::Result<crate::PointInfo, String>,
+) -> std::result::Result<(), String> {
+    if check_multipliers(p, info, &[]).is_ok() {
+        return Ok(());
+    }
+    let other = afresh()?;
+    let spread: Vec<f64> = info
+        .multipliers
+        .iter()
+        .map(|m| {
+            other
+                .multipliers
+                .iter()
+                .map(|o| distance(*o, *m))
+                .fold(f64::INFINITY, f64::min)
+        })
+        .collect();
+    check_multipliers(p, info, &spread)
+}
+
+/// The saved multipliers against the recomputed ones (matched nearest first, trivial ones to
+/// trivial ones; each within the tolerances, plus twice its `spread` where given), and the
+/// saved stability against the saved multipliers.
+fn check_multipliers(
+    p: &crate::BranchPoint,
+    info: &crate::PointInfo,
+    spread: &[f64],
 ) -> std::result::Result<(), String> {
     let saved = &p.multipliers;
     if saved.len() != info.multipliers.len() || p.trivial.len() != saved.len() {
@@ -31,14 +59,16 @@ pub(crate) fn check_multipliers(
         .iter()
         .fold(0.0f64, |m, (re, im)| m.max(re.hypot(*im)));
     let noise = 1e-12 * largest;
-    let allowed = |m: (f64, f64)| ANALYSIS_TOL * (1.0 + m.0.hypot(m.1)) + noise;
+    let allowed = |m: (f64, f64), i: usize| {
+        ANALYSIS_TOL * (1.0 + m.0.hypot(m.1)) + noise + 2.0 * spread.get(i).copied().unwrap_or(0.0)
+    };
     let mut claimed = vec![false; saved.len()];
-    for (m, t) in info.multipliers.iter().zip(&info.trivial) {
+    for (i, (m, t)) in info.multipliers.iter().zip(&info.trivial).enumerate() {
         let nearest = (0..saved.len())
             .filter(|&j| !claimed[j] && p.trivial[j] == *t)
             .min_by(|&a, &b| distance(saved[a], *m).total_cmp(&distance(saved[b], *m)));
         match nearest {
-            Some(j) if distance(saved[j], *m) <= allowed(*m) => {
+            Some(j) if distance(saved[j], *m) <= allowed(*m, i) => {
                 claimed[j] = true;
             }
             _ => {

@@ -101,3 +101,92 @@ fn inverse_iteration(problem: &mut Problem<'_>, u: &[f64], t: &[f64]) -> Result<
     }
     Ok(x)
 }
+
+/// The directions of the solution set through a solution `u`: unit null vectors of the
+/// Jacobian $J$ (one more unknown than equations): one where `u` is a regular point (the
+/// tangent), two (orthonormal) where the rank of $J$ drops by one, at a branch point where two
+/// families cross (e.g. at a grazing, the family of the new signature and a family whose new
+/// segment stays of zero length).
+///
+/// # Errors
+/// [`Error::SwitchFailed`] when no null direction is found (`u` is not a solution), or the
+/// problem is not one-dimensional.
+pub fn null_directions<'a, P: ContinuationProblem<'a> + ?Sized>(
+    p: &mut P,
+    u: &[f64],
+) -> Result<Vec<Vec<f64>>> {
+    let problem = p.problem();
+    let n = problem.unknowns();
+    let generic: Vec<f64> = (0..n)
+        .map(|i| ((i as f64 + 1.0) * 0.618_033_988_7).fract() - 0.5)
+        .collect();
+    let first = null_vector(problem, u, &generic)?.ok_or_else(|| Error::SwitchFailed {
+        reason: "no null direction of the Jacobian there".into(),
+    })?;
+    let mut out = vec![first.clone()];
+    // A second one orthogonal to the first: the null vector of [J; x1^T] (at a regular point
+    // that is x1 itself, removed below).
+    if let Some(mut second) = null_vector(problem, u, &first)? {
+        let c: f64 = first.iter().zip(&second).map(|(a, b)| a * b).sum();
+        second.iter_mut().zip(&first).for_each(|(x, f)| *x -= c * f);
+        let norm = second.iter().map(|v| v * v).sum::<f64>().sqrt();
+        if norm > 1e-3 {
+            second.iter_mut().for_each(|v| *v /= norm);
+            if null_defect(problem, u, &second)? <= NULL_TOL {
+                out.push(second);
+            }
+        }
+    }
+    Ok(out)
+}
+
+/// How small $|J x|$ must be, relative to $\max_i \sum_j |J_{ij} x_j|$, for `x` to be a null
+/// direction.
+const NULL_TOL: f64 = 1e-6;
+
+/// A unit null vector of $J$ at `u` with the row `row` fixing it: the solution of
+/// $[J; r^\top] x = e_N$ (one solve: at a branch point, where that matrix is singular, the
+/// solve is a step of inverse iteration toward its null vector), if it is one.
+fn null_vector(problem: &mut Problem<'_>, u: &[f64], row: &[f64]) -> Result<Option<Vec<f64>>> {
+    let (mut pattern, k) = augmented_pattern(problem)?;
+    let (n, m) = (problem.unknowns(), problem.equations());
+    let mut values = Vec::new();
+    let mut res = vec![0.0; m];
+    problem.evaluate(u, &mut res, Some(&mut values))?;
+    values.truncate(k);
+    values.extend_from_slice(row);
+    if pattern.factorize(&values).is_err() {
+        return Ok(inverse_iteration(problem, u, row).ok());
+    }
+    let mut x = vec![0.0; n];
+    x[n - 1] = 1.0;
+    if pattern.solve_in_place(&mut x).is_err() {
+        return Ok(inverse_iteration(problem, u, row).ok());
+    }
+    let norm = x.iter().map(|v| v * v).sum::<f64>().sqrt();
+    if !(norm > 0.0 && norm.is_finite()) {
+        return Ok(None);
+    }
+    x.iter_mut().for_each(|v| *v /= norm);
+    Ok((null_defect(problem, u, &x)? <= NULL_TOL).then_some(x))
+}
+
+/// $\max_i |(J x)_i|$ over $\max_i \sum_j |J_{ij} x_j|$ at `u`.
+fn null_defect(problem: &mut Problem<'_>, u: &[f64], x: &[f64]) -> Result<f64> {
+    let m = problem.equations();
+    let mut values = Vec::new();
+    let mut res = vec![0.0; m];
+    problem.evaluate(u, &mut res, Some(&mut values))?;
+    let (mut jx, mut scale) = (vec![0.0; m], vec![0.0; m]);
+    for ((i, j), v) in problem.jacobian_entries().into_iter().zip(&values) {
+        jx[i] += v * x[j];
+        scale[i] += (v * x[j]).abs();
+    }
+    let worst = jx.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+    let scale = scale.iter().fold(0.0f64, |a, v| a.max(*v));
+    Ok(if scale > 0.0 {
+        worst / scale
+    } else {
+        f64::INFINITY
+    })
+}

@@ -9,7 +9,7 @@ use super::functions::values;
 use super::solver::wdot;
 use crate::ContinuationProblem;
 use crate::error::{Error, Result};
-use crate::recheck::{ANALYSIS_TOL, check_multipliers, close, same_values};
+use crate::recheck::{ANALYSIS_TOL, check_multipliers_within, close, same_values};
 
 impl<'a, P: ContinuationProblem<'a> + ?Sized> Grower<'_, '_, 'a, P> {
     /// Checks the saved atlas against the problem (see the module docs). The work is not
@@ -193,7 +193,9 @@ impl<'a, P: ContinuationProblem<'a> + ?Sized> Grower<'_, '_, 'a, P> {
                 p.params, p.monitors, info.params, info.monitors
             ));
         }
-        check_multipliers(p, &info)?;
+        check_multipliers_within(p, &info, || {
+            self.solver.p.analyse_afresh(&u).map_err(|e| e.to_string())
+        })?;
         let tests = values(&self.tests, &info, det, self.atlas.fold_scale);
         let agree = tests
             .iter()

@@ -24,7 +24,9 @@ pub struct DiagramSettings {
     /// at a point of a depth-`d` branch at depth `d + 1`; points on branches at `depth` are not
     /// switched at (their records say [`SwitchOutcome::DepthLimit`]).
     pub depth: usize,
-    /// The kinds of special points switched at (default BP and PD; only these two switch).
+    /// The kinds of special points switched at (default BP, PD and GR: at a grazing the
+    /// diagram goes on with the signature beyond it, [`OrbitRun::switch_at`]; only these
+    /// switch).
     pub kinds: Vec<SpecialKind>,
     /// Most branches in the diagram (default 64); further switches are recorded as
     /// [`SwitchOutcome::BranchLimit`].
@@ -40,7 +42,11 @@ impl Default for DiagramSettings {
     fn default() -> Self {
         Self {
             depth: 2,
-            kinds: vec![SpecialKind::BranchPoint, SpecialKind::PeriodDoubling],
+            kinds: vec![
+                SpecialKind::BranchPoint,
+                SpecialKind::PeriodDoubling,
+                SpecialKind::Grazing,
+            ],
             max_branches: 64,
             same_point_tol: 1e-6,
         }
@@ -53,15 +59,16 @@ impl DiagramSettings {
     /// # Errors
     /// [`Error::InvalidSetting`] naming the bad setting.
     pub fn validate(&self) -> Result<()> {
-        if let Some(k) = self
-            .kinds
-            .iter()
-            .find(|k| !matches!(k, SpecialKind::BranchPoint | SpecialKind::PeriodDoubling))
-        {
+        if let Some(k) = self.kinds.iter().find(|k| {
+            !matches!(
+                k,
+                SpecialKind::BranchPoint | SpecialKind::PeriodDoubling | SpecialKind::Grazing
+            )
+        }) {
             return Err(Error::InvalidSetting {
                 name: "kinds",
                 value: self.kinds.iter().position(|x| x == k).unwrap_or(0) as f64,
-                reason: "branches are switched at BP and PD points only",
+                reason: "branches are switched at BP, PD and GR points only",
             });
         }
         if self.max_branches == 0 {
@@ -407,12 +414,12 @@ impl<'a, S: HybridJacobians + ?Sized> OrbitRun<'a, S> {
         let name = format!("{}>{}{}", parent.branch.name, s.kind.label(), s.point.label);
         let depth = here.depth + 1;
         // Both ways from a branch point (the two halves may differ); one way from a period
-        // doubling: the two ways along the flip direction are the same doubled family, one
-        // traversal apart.
-        let direction = if s.kind == SpecialKind::PeriodDoubling {
-            RunDirection::Up
-        } else {
+        // doubling (the two ways along the flip direction are the same doubled family, one
+        // traversal apart) and from a grazing (the way the new signature is physical).
+        let direction = if s.kind == SpecialKind::BranchPoint {
             RunDirection::Both
+        } else {
+            RunDirection::Up
         };
         let child = match self.switch_at(&name, parent, s.point.label, direction) {
             Ok(c) => c,

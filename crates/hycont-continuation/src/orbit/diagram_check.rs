@@ -57,10 +57,10 @@ impl Diagram {
                 .map_err(|r| invalid(format!("branch {i} has its origin at {r}")))?;
             if !matches!(
                 s.kind,
-                SpecialKind::BranchPoint | SpecialKind::PeriodDoubling
+                SpecialKind::BranchPoint | SpecialKind::PeriodDoubling | SpecialKind::Grazing
             ) {
                 return Err(invalid(format!(
-                    "branch {i} has its origin at a {} point (branches switch at BP and PD)",
+                    "branch {i} has its origin at a {} point (branches switch at BP, PD and GR)",
                     s.kind
                 )));
             }

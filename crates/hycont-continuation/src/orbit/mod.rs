@@ -8,6 +8,7 @@ mod curves;
 mod diagram;
 mod diagram_check;
 mod drive;
+mod grazing_switch;
 mod problem;
 mod revisions;
 mod run;

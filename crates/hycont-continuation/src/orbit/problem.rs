@@ -464,6 +464,11 @@ impl<'a, S: HybridJacobians + ?Sized> ContinuationProblem<'a> for OrbitContinuat
         let info = self.info(&orbit, floquet)?;
         Ok(self.with_error_estimate(info, u))
     }
+    fn analyse_afresh(&mut self, u: &[f64]) -> hycont_core::Result<PointInfo> {
+        let (orbit, floquet) = self.disc.floquet(self.system, &self.like, u, None)?;
+        let info = self.info(&orbit, floquet)?;
+        Ok(self.with_error_estimate(info, u))
+    }
     /// Collocation reads the multipliers off the factorisation's condensed intervals.
     fn analyse_factorised(
         &mut self,

@@ -10,7 +10,7 @@ use super::saved::OrbitBranch;
 use crate::ContinuationProblem;
 use crate::branch::{BranchPoint, SpecialKind};
 use crate::error::{Error, Result};
-use crate::recheck::{ANALYSIS_TOL, check_multipliers, close, distance, same_values};
+use crate::recheck::{ANALYSIS_TOL, check_multipliers_within, close, distance, same_values};
 use hycont_core::HybridJacobians;
 use hycont_core::orbit::{Discretisation, PeriodicOrbit};
 
@@ -88,7 +88,8 @@ impl<'a, S: HybridJacobians + ?Sized> OrbitRun<'a, S> {
                     p.monitors, info.monitors
                 )));
             }
-            check_multipliers(p, &info).map_err(bad)?;
+            let afresh = || slot.cp.analyse_afresh(&u).map_err(|e| e.to_string());
+            check_multipliers_within(p, &info, afresh).map_err(bad)?;
             let special = b.special_points.iter().find(|s| std::ptr::eq(&s.point, p));
             if let Some(special) = special {
                 let s = &self.settings;

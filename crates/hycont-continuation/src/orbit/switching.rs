@@ -1,7 +1,7 @@
 //! Branch switching in one call (BifurcationKit's `continuation(br, ind_bif, opts)`, COCO's
 //! `ode_BP2hspo` and `ode_PD2hspo`): at a labelled branch point, along the second null
 //! direction of the full orbit's problem; at a labelled period doubling, on the orbit traversed
-//! twice.
+//! twice; at a labelled grazing, in the signature beyond it (`grazing_switch`).
 
 use super::problem::OrbitContinuation;
 use super::run::{OrbitRun, RunDirection};
@@ -25,11 +25,19 @@ impl<'a, S: HybridJacobians + ?Sized> OrbitRun<'a, S> {
     ///   the new branch's side, the corrector can slip onto the parent branch, which crosses the
     ///   chart's hyperplanes there too;
     /// - at a period doubling (PD) the new branch is that of the orbit traversed twice, along
-    ///   the null direction of its problem there, starting at the doubled orbit.
+    ///   the null direction of its problem there, starting at the doubled orbit;
+    /// - at a grazing (GR) of the run's admissibility margin where an interior turning point
+    ///   touches an event surface, the new branch is that of the neighbouring signature: the
+    ///   segment split at the turning point with the event's reset there and, where the reset
+    ///   leads into another mode, a zero-length segment in it
+    ///   ([`hycont_core::orbit::split_at_grazing`]). It starts at the grazing orbit and goes
+    ///   the way in which its orbits are physical, past the grazing parameter or back from it
+    ///   (`direction` is not used: the physical side decides).
     ///
     /// # Errors
-    /// A branch that does not fit the system, an unknown label, a special point other than BP
-    /// or PD ([`Error::WrongSpecialPoint`]), no second direction there
+    /// A branch that does not fit the system, an unknown label, a special point other than BP,
+    /// PD or GR ([`Error::WrongSpecialPoint`]), no second direction there, a grazing that is
+    /// not an interior turning point, a new signature physical on neither side
     /// ([`Error::SwitchFailed`]).
     pub fn switch_at(
         &mut self,
@@ -95,7 +103,11 @@ impl<'a, S: HybridJacobians + ?Sized> OrbitRun<'a, S> {
                 )?;
                 self.saved(&doubled, b, None)
             }
-            _ => Err(wrong("branches are switched at BP and PD points")),
+            SpecialKind::Grazing => {
+                let special = special.clone();
+                self.switch_at_grazing(name, branch, &special)
+            }
+            _ => Err(wrong("branches are switched at BP, PD and GR points")),
         }
     }
 }

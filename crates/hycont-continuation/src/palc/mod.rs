@@ -34,6 +34,10 @@ use predict::{extrapolate, max_abs};
 use slots::{Crossing, Slot, Source};
 pub(crate) use slots::{pd_test, tr_test};
 
+/// Within this of an event's level (relative to `1 + |level|`), a directed run's start lies
+/// on the event: its first step does not locate it again ([`Palc::located_in_step`]).
+const START_EVENT_TOL: f64 = 1e-9;
+
 /// A solved chart with everything the test functions need.
 #[derive(Debug, Clone)]
 struct Chart {
@@ -294,8 +298,10 @@ impl<'p, 'a, P: ContinuationProblem<'a> + ?Sized> Palc<'p, 'a, P> {
     /// Branch points first: a fold test change next to a located one is the branch point's.
     ///
     /// From a singular start (`from_singular`: the first step of a run along a given
-    /// direction, which starts at a branch point or period doubling) the fold and
-    /// branch-point tests are not watched: they vanish at the start itself.
+    /// direction, which starts at a branch point, period doubling or grazing) the fold and
+    /// branch-point tests are not watched, they vanish at the start itself, and neither are
+    /// events and bounds the start lies on (within [`START_EVENT_TOL`] of their level, e.g.
+    /// the grazing a switch starts at): the start is located on them already.
     fn located_in_step(
         &mut self,
         a: &Chart,
@@ -308,9 +314,17 @@ impl<'p, 'a, P: ContinuationProblem<'a> + ?Sized> Palc<'p, 'a, P> {
         let tb = self.tests(b, det_ref);
         let singular =
             |slot: Slot| matches!(slot, Slot::Fold | Slot::BranchPoint | Slot::Cusp { .. });
+        let on_it = |slot: usize| match self.slots[slot] {
+            Slot::Event { level, .. } | Slot::Bound { level, .. } => {
+                ta.values[slot].abs() <= START_EVENT_TOL * (1.0 + level.abs())
+            }
+            _ => false,
+        };
         let changed = |slot: usize| {
             let (ga, gb) = (ta.values[slot], tb.values[slot]);
-            ga != 0.0 && ga * gb <= 0.0 && !(from_singular && singular(self.slots[slot]))
+            ga != 0.0
+                && ga * gb <= 0.0
+                && !(from_singular && (singular(self.slots[slot]) || on_it(slot)))
         };
         let mut order: Vec<usize> = (0..self.slots.len()).filter(|&k| changed(k)).collect();
         order.sort_by_key(|&k| self.slots[k] != Slot::BranchPoint);

@@ -1,0 +1,134 @@
+//! Switching signature at a grazing (GR) point of a branch: where an interior turning point
+//! of a segment's flow touches an event surface, the family beyond has an impact there (and,
+//! where that impact leads into another mode, a flight of zero length at the grazing in it:
+//! [`split_at_grazing`]). The grazing orbit, written in the new signature, starts the new
+//! family's branch. Where the impact leads into another mode, the grazing orbit is also a
+//! point of a family whose zero-length flight stays of zero length (two impacts at one
+//! instant, not physical: after them the flow leaves its mode's domain), so the new
+//! signature's problem has a branch point there; the new family is the other branch through
+//! it, the one along which the flight's duration changes. The branch goes the way in which
+//! its orbits are physical (admissible), which may be past the grazing parameter or back from
+//! it (both families then on one side: a nonsmooth fold).
+
+use super::problem::OrbitContinuation;
+use super::run::{OrbitRun, RunDirection};
+use super::saved::OrbitBranch;
+use crate::ContinuationProblem;
+use crate::branch::{BranchPoint, SpecialPoint};
+use crate::error::{Error, Result};
+use crate::quantity::Quantity;
+use crate::switch::null_directions;
+use hycont_core::HybridJacobians;
+use hycont_core::orbit::{check_admissible, split_at_grazing};
+
+impl<'a, S: HybridJacobians + ?Sized> OrbitRun<'a, S> {
+    /// The branch of the signature beyond the grazing `special` of `branch` (see the module
+    /// docs), named `name`.
+    pub(super) fn switch_at_grazing(
+        &mut self,
+        name: &str,
+        branch: &OrbitBranch,
+        special: &SpecialPoint,
+    ) -> Result<OrbitBranch> {
+        let failed = |reason: String| Error::SwitchFailed { reason };
+        let margin = match (special.on, self.admissibility) {
+            (Some(Quantity::Measure(m)), Some((grazing, _))) if m == grazing => m,
+            _ => {
+                return Err(failed(
+                    "only a grazing of the run's admissibility margin (an interior touch of an event surface) switches signature".into(),
+                ));
+            }
+        };
+        let full = branch.orbit_of(&special.point)?;
+        let orbit = if self.half_orbits && full.is_symmetric(self.system, self.symmetry_tol) {
+            full.half_of_symmetric(self.system, self.symmetry_tol)?
+        } else {
+            full
+        };
+        // The measure set's index of the margin (the monitors begin with period and shortest
+        // segment).
+        let touch = self
+            .measures
+            .touch(self.system, &orbit, margin.index() - 2)?
+            .ok_or_else(|| failed("the margin is attained by no touch here".into()))?;
+        let split = split_at_grazing(self.system, &orbit, &touch)?;
+        let (mut cp, u0) = OrbitContinuation::new(
+            self.system,
+            &split.orbit,
+            &self.method,
+            branch.free,
+            self.measures.clone(),
+            self.events.clone(),
+        )?;
+        cp.require_admissible(self.admissibility_on());
+        let direction = self.grazing_direction(&mut cp, &u0, split.zero_length)?;
+        let info = cp.analyse(&u0)?;
+        let start = BranchPoint::from_info(&info, u0.clone(), direction.clone(), 0, 0.0);
+        let settings = self.settings.clone();
+        let mut why = Vec::new();
+        for way in [RunDirection::Up, RunDirection::Down] {
+            match self.continue_in(
+                &mut cp,
+                name,
+                &u0,
+                Some((&start, &direction)),
+                way,
+                &settings,
+            ) {
+                Ok(b) => {
+                    // Physical beyond its start: its first point after the grazing orbit.
+                    let beyond = b.points.get(1).map(|p| cp.orbit(&p.u));
+                    let physical = beyond.as_ref().map(|o| {
+                        o.unfold_symmetric(self.system)
+                            .or_else(|_| Ok(o.clone()))
+                            .and_then(|o| check_admissible(self.system, &o))
+                    });
+                    match physical {
+                        Some(Ok(())) => return self.saved(&cp, cp.into_full_branch(b), None),
+                        Some(Err(e)) => why.push(e.to_string()),
+                        None => why.push("no point beyond the grazing".into()),
+                    }
+                }
+                Err(e) => why.push(e.to_string()),
+            }
+        }
+        Err(failed(format!(
+            "the new signature is physical neither way from the grazing ({})",
+            why.join("; ")
+        )))
+    }
+
+    /// The direction of the new family at the grazing orbit `u0`: the tangent where the new
+    /// problem is regular there; at its branch point (a zero-length segment, unknown
+    /// `zero_length`'s duration), the null direction along which that duration changes (the
+    /// other null direction, by inverse iteration, is the zero-length family's).
+    fn grazing_direction(
+        &self,
+        cp: &mut OrbitContinuation<'a, S>,
+        u0: &[f64],
+        zero_length: Option<usize>,
+    ) -> Result<Vec<f64>> {
+        let dirs = null_directions(cp, u0)?;
+        let Some(k) = zero_length else {
+            return Ok(dirs[0].clone());
+        };
+        let z = cp.discretisation().segment_values(cp.template()) + k;
+        let x1 = dirs[0].clone();
+        let x2 = match dirs.get(1) {
+            Some(x2) => x2.clone(),
+            None => crate::switch::branch_switch_direction(cp, u0, &x1)?,
+        };
+        // In the plane of the two: orthogonal to the direction that keeps the duration.
+        let (c1, c2) = (x1[z], x2[z]);
+        let mut d: Vec<f64> = x1.iter().zip(&x2).map(|(a, b)| c1 * a + c2 * b).collect();
+        let norm = d.iter().map(|v| v * v).sum::<f64>().sqrt();
+        if !(norm > 0.0 && norm.is_finite()) {
+            return Err(Error::SwitchFailed {
+                reason: "no direction at the grazing changes the zero-length segment's duration"
+                    .into(),
+            });
+        }
+        d.iter_mut().for_each(|v| *v /= norm);
+        Ok(d)
+    }
+}
