@@ -202,13 +202,34 @@ fn figure_6_curves(c: &mut Criterion) {
 }
 
 /// Whole diagrams in one call from the Fig. 2 orbit (found once): in omega at depth 2 (Fig. 3's
-/// branches, the asymmetric one as a closed loop through both branch points) and in alpha at
-/// depth 6 (Fig. 4's branches, then the cascade to period 32: PD1 to PD5).
+/// branches, the asymmetric one as a closed loop through both branch points, and the branch
+/// past GR1 with the one switched at its branch point) and in alpha at depth 6 (Fig. 4's
+/// branches, the cascade to period 32: PD1 to PD5, and past GR2 a second cascade). The
+/// branch count is printed, for the time per branch.
 fn diagrams(c: &mut Criterion) {
     hycont_continuation::check_branches(false);
     let block = Block::default();
     let (start, recipe) = (study_start(&block).unwrap(), Recipe::default());
     for (free, depth) in [(Free::Omega, 2), (Free::Alpha, 6)] {
+        let settings = DiagramSettings {
+            depth,
+            ..Default::default()
+        };
+        let d = study_diagram(
+            "symmetric",
+            free,
+            free.range(),
+            &recipe,
+            &start,
+            &settings,
+            &mut Silent,
+        )
+        .unwrap();
+        eprintln!(
+            "diagram in {} at depth {depth}: {} branches",
+            free.name(),
+            d.branches.len()
+        );
         let name = format!("continuation/diagram_{}_depth_{depth}", free.name());
         c.bench_function(&name, |b| {
             b.iter(|| {

@@ -159,7 +159,13 @@ pub fn study_run<'a>(
 /// The study's branches of Fig. 3 (in omega at alpha = 0.66) or Fig. 4 (in alpha at omega =
 /// 1.3): the symmetric branch from the Fig. 2 orbit, the asymmetric branch switched on at its
 /// first branch point (to where it rejoins the symmetric one), the period-2 branch switched on
-/// at the asymmetric branch's first period doubling.
+/// at the asymmetric branch's first period doubling; then, beyond the study, the branch
+/// switched on at the symmetric branch's grazing point ([`GRAZED`], last): where the orbit's
+/// interior dip touches phi = 0 it splits into two impacts with a zero-length flight between
+/// them, and the family with those two extra impacts goes on from there (in both figures it
+/// turns back from the grazing parameter: a branch point, a fold, and a grazing of its own).
+/// Where that switch fails (another block, say) the study's branches are returned without
+/// it ([`past_grazing`] says why).
 ///
 /// # Errors
 /// Numerical failures at the start or at a branch switch.
@@ -230,7 +236,14 @@ pub fn study_branches_from(
     recipe.apply(&mut run);
     run.observer(Box::new(observer));
     let mut out = vec![whole(run.run("symmetric", start, RunDirection::Both)?)?];
+    // Beyond the study: a switch that fails leaves the study's branches whole (the figure
+    // says why, from [`past_grazing`]).
+    let grazed = match grazed_from(&mut run, &out[0]) {
+        Ok(b) => b.map(whole).transpose()?,
+        Err(_) => None,
+    };
     let Some(bp) = out[0].special(SpecialKind::BranchPoint).next() else {
+        out.extend(grazed);
         return Ok(out);
     };
     let bp = bp.point.label;
@@ -251,7 +264,49 @@ pub fn study_branches_from(
             RunDirection::Up,
         )?)?);
     }
+    out.extend(grazed);
     Ok(out)
+}
+
+/// The name of the branch [`study_branches_from`] switches to at the symmetric branch's
+/// grazing point: the symmetric orbits with the dip's two extra impacts.
+pub const GRAZED: &str = "past grazing";
+
+/// The branch past the first grazing point of `symmetric` (a symmetric branch of Fig. 3 or 4
+/// in `free`, e.g. the first of [`study_branches_from`]), by `recipe` (`None` without a
+/// grazing point): what [`study_branches_from`] adds to the study's branches where the switch
+/// succeeds.
+///
+/// # Errors
+/// An invalid recipe; the switch's failure ([`Error::Continuation`]).
+pub fn past_grazing(
+    free: Free,
+    block: &Block,
+    recipe: &Recipe,
+    symmetric: &OrbitBranch,
+    observer: &mut dyn Observer,
+) -> Result<Option<OrbitBranch>> {
+    recipe.validate()?;
+    let mut run = study_run(free, &block.at(1.3, 0.66), free.range(), recipe.method)?;
+    recipe.apply(&mut run);
+    run.observer(Box::new(observer));
+    grazed_from(&mut run, symmetric)?.map(whole).transpose()
+}
+
+fn grazed_from(
+    run: &mut OrbitRun<'_, RockingBlock>,
+    symmetric: &OrbitBranch,
+) -> Result<Option<OrbitBranch>> {
+    let Some(gr) = symmetric.special(SpecialKind::Grazing).next() else {
+        return Ok(None);
+    };
+    let label = gr.point.label;
+    Ok(Some(run.switch_at(
+        GRAZED,
+        symmetric,
+        label,
+        RunDirection::Up,
+    )?))
 }
 
 /// The block's bifurcation diagram in `free` over `window` from `start` (its first branch named

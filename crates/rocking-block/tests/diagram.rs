@@ -1,6 +1,7 @@
 //! Whole diagrams of the rocking block in one call: every special point of Figs. 3 and 4 (as
-//! the study's recipe of separate runs and switches computes them, to 1e-9), the
-//! period-doubling cascade in alpha at omega = 1.3 beyond PD1 and PD2, and the `diagram`
+//! the study's recipe of separate runs and switches computes them, to 1e-9, past grazing
+//! too), the period-doubling cascade in alpha at omega = 1.3 beyond PD1 and PD2 and a second
+//! one past GR2, and the `diagram`
 //! command (output, saved diagrams extended deeper, bad input).
 
 use approx::assert_abs_diff_eq;
@@ -55,7 +56,7 @@ fn one_call_holds_every_special_point_of_figures_3_and_4() {
             matched += 1;
         }
         // Fig. 3: GR, SN, BP1, BP2, SB1, SB2, BP2 again on the asymmetric branch; Fig. 4: GR,
-        // SN, BP3, SB3, PD1, PD2.
+        // SN, BP3, SB3, PD1, PD2; in both the branch past grazing's BP, SN and GR.
         assert!(matched >= 6, "{matched} special points in {}", free.name());
     }
 }
@@ -77,13 +78,22 @@ fn the_cascade_in_alpha_doubles_towards_chaos() {
         .run_ok();
     let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     let cascades = v["cascades"].as_array().unwrap();
-    assert_eq!(cascades.len(), 1, "{cascades:?}");
-    let doublings: Vec<f64> = cascades[0]["doublings"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .map(|x| x.as_f64().unwrap())
-        .collect();
+    let numbers = |c: &serde_json::Value, key: &str| -> Vec<f64> {
+        c[key]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|x| x.as_f64().unwrap())
+            .collect()
+    };
+    // The study's cascade from PD1, and one past grazing (below).
+    assert_eq!(cascades.len(), 2, "{cascades:?}");
+    let (study, past) = if (numbers(&cascades[0], "doublings")[0] - 0.7365).abs() < 1e-3 {
+        (&cascades[0], &cascades[1])
+    } else {
+        (&cascades[1], &cascades[0])
+    };
+    let doublings = numbers(study, "doublings");
     assert!(doublings.len() >= 6, "{doublings:?}");
     let readme = [
         0.736_530_171_2,
@@ -100,24 +110,20 @@ fn the_cascade_in_alpha_doubles_towards_chaos() {
     assert_abs_diff_eq!(doublings[5], estimate, epsilon = 2e-8);
     assert!(doublings.windows(2).all(|w| w[1] > w[0]));
     assert!(*doublings.last().unwrap() < 0.759);
-    let ratios: Vec<f64> = cascades[0]["ratios"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .map(|x| x.as_f64().unwrap())
-        .collect();
+    let ratios = numbers(study, "ratios");
     assert!(ratios.iter().all(|r| (4.5..5.0).contains(r)), "{ratios:?}");
     // The ratios approach delta from above.
     assert!(ratios.windows(2).all(|w| w[1] < w[0]), "{ratios:?}");
     assert_abs_diff_eq!(*ratios.last().unwrap(), DELTA, epsilon = 0.01);
-    // PD6 is a genuine doubling: its branch (period 32, depth 6) reports it with a
+    // PD6 is a genuine doubling: its branch (period 32, depth 6, above PD1 where the study's
+    // cascade lies; the cascade past grazing has depth-6 branches too) reports it with a
     // multiplier at -1.
     let branches = v["branches"].as_array().unwrap();
     let pd6 = branches
         .iter()
         .filter(|b| b["depth"] == 6)
         .flat_map(|b| b["special_points"].as_array().unwrap())
-        .find(|s| s["kind"] == "PD")
+        .find(|s| s["kind"] == "PD" && s["alpha"].as_f64().unwrap() > readme[0])
         .unwrap_or_else(|| panic!("no PD on the period-32 branch"));
     assert_abs_diff_eq!(
         pd6["alpha"].as_f64().unwrap(),
@@ -129,6 +135,23 @@ fn the_cascade_in_alpha_doubles_towards_chaos() {
         (re + 1.0).abs() <= 1e-6 && im.abs() <= 1e-8
     });
     assert!(at_minus_one, "{}", pd6["multipliers"]);
+    // Past GR2 (alpha = 0.5976) the family with the dip's extra impacts has a branch point
+    // (alpha = 0.5606); the branch switched there doubles in a cascade of its own, between the
+    // two, its ratios approaching delta from below.
+    let doublings = numbers(past, "doublings");
+    assert!(doublings.len() >= 4, "{doublings:?}");
+    assert!(
+        doublings.iter().all(|a| (0.5606..0.5976).contains(a)),
+        "{doublings:?}"
+    );
+    assert!(doublings.windows(2).all(|w| w[1] > w[0]));
+    let ratios = numbers(past, "ratios");
+    assert!(ratios.windows(2).all(|w| w[1] > w[0]), "{ratios:?}");
+    assert!(
+        ratios.iter().all(|r| (4.0..DELTA).contains(r)),
+        "{ratios:?}"
+    );
+    assert_abs_diff_eq!(*ratios.last().unwrap(), DELTA, epsilon = 0.01);
 }
 
 #[test]
@@ -148,7 +171,8 @@ fn the_diagram_command_prints_extends_and_refuses_bad_input() {
         "{picture:.200}"
     );
     let text = String::from_utf8_lossy(&out.stdout);
-    assert!(text.starts_with("3 branches"), "{text}");
+    // The symmetric branch, the branches switched at its GR and BP, and at theirs.
+    assert!(text.starts_with("5 branches"), "{text}");
     assert!(text.contains("PD label"), "{text}");
     assert!(text.contains("period-doubling cascade"), "{text}");
     // A line per branch on stderr.
@@ -156,10 +180,10 @@ fn the_diagram_command_prints_extends_and_refuses_bad_input() {
         String::from_utf8_lossy(&out.stderr)
             .matches("branch ")
             .count(),
-        3
+        5
     );
-    // Extended one level deeper: the period-4 branch, and the JSON's cascade has three
-    // doublings.
+    // Extended one level deeper: the period-4 branch (and past GR2 the doubled branch of the
+    // branch switched at its branch point's), and the study's cascade has three doublings.
     let out = bin()
         .args([
             "diagram",
@@ -173,11 +197,18 @@ fn the_diagram_command_prints_extends_and_refuses_bad_input() {
         .arg(&saved)
         .run_ok();
     let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
-    assert_eq!(v["branches"].as_array().unwrap().len(), 4);
-    assert_eq!(v["cascades"][0]["doublings"].as_array().unwrap().len(), 3);
-    assert_eq!(v["branches"][3]["depth"], 3);
-    // --max-branches bounds a fresh diagram too: at depth 6 with 2 branches the PD1 switch
-    // on the second branch is left at the limit.
+    let branches = v["branches"].as_array().unwrap();
+    assert_eq!(branches.len(), 7);
+    assert_eq!(branches.iter().filter(|b| b["depth"] == 3).count(), 2);
+    let study = v["cascades"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|c| (c["doublings"][0].as_f64().unwrap() - 0.736_530_171_2).abs() < 1e-9)
+        .unwrap();
+    assert_eq!(study["doublings"].as_array().unwrap().len(), 3);
+    // --max-branches bounds a fresh diagram too: at depth 6 with 2 branches (the symmetric
+    // one and the one past GR2) the switch at BP3 is left at the limit.
     let out = bin()
         .args([
             "diagram",

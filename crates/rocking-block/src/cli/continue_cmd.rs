@@ -40,6 +40,7 @@ pub(super) fn run_continue(
                 free,
                 &labels,
                 params.static_boundary(),
+                None,
             )
         })?;
     }
@@ -135,6 +136,9 @@ fn continue_branch(
         let params = Parameters::from_vec(&saved.template.params);
         let mut run = study_run(free, &params, window, recipe.method)?;
         recipe.apply(&mut run);
+        if args.switch {
+            return Ok((run.switch_at("switched", &saved, label, direction)?, None));
+        }
         // Restarting both ways: keep going the way the saved run went.
         let way = (args.direction != DirectionArg::Both).then_some(direction);
         return Ok((run.restart("branch", &saved, label, way)?, None));

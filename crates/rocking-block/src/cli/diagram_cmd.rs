@@ -138,6 +138,7 @@ pub(super) fn run_diagram(
                 free,
                 &labels,
                 params.static_boundary(),
+                None,
             )
         })?;
     }

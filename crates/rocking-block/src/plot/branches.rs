@@ -19,8 +19,31 @@ fn branch_colour(i: usize) -> RGBColor {
     ][i % 4]
 }
 
+/// A zoomed view drawn beside a bifurcation diagram: the window it shows (data coordinates:
+/// the continued parameter, `Amp`) and its title. The diagram marks the window and leaves the
+/// labels inside it to the zoom.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Zoom {
+    /// The continued parameter's range.
+    pub x: (f64, f64),
+    /// The range of `Amp`.
+    pub y: (f64, f64),
+    /// The zoom's title.
+    pub title: String,
+}
+
+impl Zoom {
+    fn holds(&self, (x, y): (f64, f64)) -> bool {
+        (self.x.0..=self.x.1).contains(&x) && (self.y.0..=self.y.1).contains(&y)
+    }
+}
+
+/// Special points' labels: kind, parameter, `Amp`, text.
+type Labels = [(hycont_continuation::SpecialKind, f64, f64, String)];
+
 /// A bifurcation diagram: `Amp` against the continuation parameter for each branch (stable
-/// solid, unstable dashed), labelled special points, and the static boundary.
+/// solid, unstable dashed), labelled special points, and the static boundary; with `zoom`, a
+/// zoomed view of a window beside it.
 ///
 /// # Errors
 /// [`crate::Error::Plot`] if the file cannot be written.
@@ -29,8 +52,9 @@ pub fn branches_svg(
     title: &str,
     branches: &[hycont_continuation::Branch],
     free: crate::continuation::Free,
-    labels: &[(hycont_continuation::SpecialKind, f64, f64, String)],
+    labels: &Labels,
     boundary: f64,
+    zoom: Option<&Zoom>,
 ) -> Result<()> {
     use crate::continuation::AMP;
     let q = free.id().index();
@@ -46,8 +70,20 @@ pub fn branches_svg(
     };
     let (x_lo, x_hi) = range(xs());
     let (_, y_hi) = range(ys().chain([boundary]));
-    super::picture(path, (1000, 700), |root, fine| {
-        let mut chart = ChartBuilder::on(root)
+    let size = if zoom.is_some() {
+        (1480, 700)
+    } else {
+        (1000, 700)
+    };
+    super::picture(path, size, |root, fine| {
+        let (main, side) = match zoom {
+            Some(_) => {
+                let (main, side) = root.split_horizontally(1000);
+                (main, Some(side))
+            }
+            None => (root.clone(), None),
+        };
+        let mut chart = ChartBuilder::on(&main)
             .caption(title, ("sans-serif", 18))
             .margin(15)
             .x_label_area_size(40)
@@ -68,49 +104,22 @@ pub fn branches_svg(
             .map_err(|e| plot_err(path, e))?
             .label("static boundary pi/2 - theta_b")
             .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], BLACK.mix(0.5)));
-        let frame = fine.frame(&chart);
-        for (i, b) in branches.iter().enumerate() {
-            let colour = branch_colour(i);
-            // Runs of equal stability, overlapping by one point so the curve is continuous.
-            let mut start = 0;
-            for k in 1..=b.points.len() {
-                let end_run =
-                    k == b.points.len() || b.points[k].stable() != b.points[start].stable();
-                if !end_run {
-                    continue;
-                }
-                let stop = k.min(b.points.len() - 1);
-                let pts: Vec<(f64, f64)> = b.points[start..=stop]
-                    .iter()
-                    .map(|p| (p.params[q], p[AMP]))
-                    .collect();
-                let pen = Pen::new(colour, 2.0);
-                let pen = if b.points[start].stable() {
-                    pen
-                } else {
-                    pen.dashed(6.0, 4.0)
-                };
-                fine.line(&frame, pts, pen);
-                start = k;
-            }
+        draw_branch_lines(path, &mut chart, fine, branches, q, true)?;
+        fine.here(&main, path)?;
+        let outside = |x: f64, y: f64| zoom.is_none_or(|z| !z.holds((x, y)));
+        draw_labels(path, &mut chart, labels, 0.02 * y_hi, outside)?;
+        if let Some(z) = zoom {
             chart
-                .draw_series(std::iter::empty::<PathElement<(f64, f64)>>())
-                .map_err(|e| plot_err(path, e))?
-                .label(format!("{} (solid: stable, dashed: unstable)", b.name))
-                .legend(move |(x, y)| {
-                    PathElement::new(vec![(x, y), (x + 20, y)], colour.stroke_width(2))
-                });
-        }
-        fine.here(root, path)?;
-        for (_, x, y, text) in labels {
-            chart
-                .draw_series(std::iter::once(Circle::new((*x, *y), 4, BLACK.filled())))
+                .draw_series(std::iter::once(Rectangle::new(
+                    [(z.x.0, z.y.0), (z.x.1, z.y.1)],
+                    BLACK.mix(0.7).stroke_width(1),
+                )))
                 .map_err(|e| plot_err(path, e))?;
             chart
                 .draw_series(std::iter::once(Text::new(
-                    text.clone(),
-                    (*x, *y + 0.02 * y_hi),
-                    ("sans-serif", 14),
+                    "zoom at right",
+                    (z.x.1, z.y.1 + 0.02 * y_hi),
+                    ("sans-serif", 13),
                 )))
                 .map_err(|e| plot_err(path, e))?;
         }
@@ -122,8 +131,100 @@ pub fn branches_svg(
             .position(emptiest_corner(&points, (x_lo, x_hi), (0.0, y_hi)))
             .draw()
             .map_err(|e| plot_err(path, e))?;
+        if let (Some(z), Some(side)) = (zoom, side) {
+            let mut chart = ChartBuilder::on(&side)
+                .caption(&z.title, ("sans-serif", 16))
+                .margin(15)
+                .margin_top(40)
+                .x_label_area_size(40)
+                .y_label_area_size(60)
+                .build_cartesian_2d(z.x.0..z.x.1, z.y.0..z.y.1)
+                .map_err(|e| plot_err(path, e))?;
+            chart
+                .configure_mesh()
+                .x_desc(free.name())
+                .y_desc("Amp")
+                .x_labels(5)
+                .draw()
+                .map_err(|e| plot_err(path, e))?;
+            draw_branch_lines(path, &mut chart, fine, branches, q, false)?;
+            let lift = 0.02 * (z.y.1 - z.y.0);
+            draw_labels(path, &mut chart, labels, lift, |x, y| z.holds((x, y)))?;
+        }
         Ok(())
     })
+}
+
+/// Each branch's curve on `chart` (stable solid, unstable dashed, in the branch's colour),
+/// with a legend entry per branch if `legend`.
+fn draw_branch_lines<DB: DrawingBackend>(
+    path: &Path,
+    chart: &mut super::fine::Chart<'_, DB>,
+    fine: &mut super::fine::Fine,
+    branches: &[hycont_continuation::Branch],
+    q: usize,
+    legend: bool,
+) -> Result<()> {
+    use crate::continuation::AMP;
+    let frame = fine.frame(chart);
+    for (i, b) in branches.iter().enumerate() {
+        let colour = branch_colour(i);
+        // Runs of equal stability, overlapping by one point so the curve is continuous.
+        let mut start = 0;
+        for k in 1..=b.points.len() {
+            let end_run = k == b.points.len() || b.points[k].stable() != b.points[start].stable();
+            if !end_run {
+                continue;
+            }
+            let stop = k.min(b.points.len() - 1);
+            let pts: Vec<(f64, f64)> = b.points[start..=stop]
+                .iter()
+                .map(|p| (p.params[q], p[AMP]))
+                .collect();
+            let pen = Pen::new(colour, 2.0);
+            let pen = if b.points[start].stable() {
+                pen
+            } else {
+                pen.dashed(6.0, 4.0)
+            };
+            fine.line(&frame, pts, pen);
+            start = k;
+        }
+        if legend {
+            chart
+                .draw_series(std::iter::empty::<PathElement<(f64, f64)>>())
+                .map_err(|e| plot_err(path, e))?
+                .label(format!("{} (solid: stable, dashed: unstable)", b.name))
+                .legend(move |(x, y)| {
+                    PathElement::new(vec![(x, y), (x + 20, y)], colour.stroke_width(2))
+                });
+        }
+    }
+    Ok(())
+}
+
+/// The labels for which `keep(parameter, Amp)` holds: a dot at the point, its text `lift`
+/// above.
+fn draw_labels<DB: DrawingBackend>(
+    path: &Path,
+    chart: &mut super::fine::Chart<'_, DB>,
+    labels: &Labels,
+    lift: f64,
+    keep: impl Fn(f64, f64) -> bool,
+) -> Result<()> {
+    for (_, x, y, text) in labels.iter().filter(|l| keep(l.1, l.2)) {
+        chart
+            .draw_series(std::iter::once(Circle::new((*x, *y), 4, BLACK.filled())))
+            .map_err(|e| plot_err(path, e))?;
+        chart
+            .draw_series(std::iter::once(Text::new(
+                text.clone(),
+                (*x, *y + lift),
+                ("sans-serif", 14),
+            )))
+            .map_err(|e| plot_err(path, e))?;
+    }
+    Ok(())
 }
 
 /// Fig. 6: the curves in the (omega, alpha) plane, the regions of stable symmetric (between the

@@ -13,7 +13,7 @@ mod sampling;
 
 pub use atlas::atlas_svg;
 pub use basin::basin_svg;
-pub use branches::{branches_svg, curve_svg, curves_svg, test_points_svg};
+pub use branches::{Zoom, branches_svg, curve_svg, curves_svg, test_points_svg};
 pub use orbits::{orbits_svg, trajectory_svg};
 pub use png::svg_to_png;
 pub use sampling::{

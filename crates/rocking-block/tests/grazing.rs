@@ -1,0 +1,182 @@
+//! The rocking block across grazing: where the lower symmetric orbit's interior dip touches
+//! phi = 0 (GR1 in omega at alpha = 0.66, GR2 in alpha at omega = 1.3), Figs. 3 and 4 switch
+//! to the family with the dip's extra impacts ([`GRAZED`]).
+//!
+//! References: each orbit of the new family, simulated by the event-driven simulator from
+//! inside its first segment for one period (impacts found by the simulator on its own),
+//! returns to itself, with two impacts more per half period than the grazing orbit: the dip
+//! reaches phi = 0, the block rocks briefly on its other corner (the zero-length flight at the
+//! grazing) and impacts back. Where the new impacts' speed is at least 1e-2 the return is
+//! checked to 1e-8 (relative to the state's size, about 1); nearer the grazing a slow
+//! impact's time moves with the rounding of its approach, and the return to 1e-5.
+//! `continue --switch` at the GR of a saved run finds the same branch.
+
+mod common;
+
+use common::{RunOk, bin, fails, scratch};
+use hycont_continuation::SpecialKind;
+use hycont_continuation::observe::Silent;
+use hycont_core::orbit::PeriodicOrbit;
+use hycont_core::{SampleTimes, SimulationSettings, Simulator};
+use rocking_block::RockingBlock;
+use rocking_block::block::Block;
+use rocking_block::continuation::{AMP, Free, GRAZED, study_branches};
+
+/// How far the orbit, simulated for a period from the middle of its first segment, is from
+/// where it started, and the impacts on the way.
+fn returns(orbit: &PeriodicOrbit) -> (f64, usize) {
+    let period: f64 = orbit.durations.iter().sum();
+    let t0 = 0.5 * orbit.durations[0];
+    let settings = SimulationSettings::default()
+        .rtol(1e-12)
+        .atol(1e-13)
+        .samples(SampleTimes::new(t0, period));
+    let mut sim = Simulator::new(settings).unwrap();
+    let mode = orbit.signature.segments()[0].mode;
+    let traj = sim
+        .run(
+            &RockingBlock,
+            mode,
+            0.0,
+            &orbit.starts[0],
+            &orbit.params,
+            t0 + period * 1.000_001,
+        )
+        .unwrap();
+    let states: Vec<&[f64]> = traj.samples.iter().map(|(_, _, x)| x).collect();
+    let gap = states[0]
+        .iter()
+        .zip(states[1])
+        .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
+    let impacts = traj
+        .events
+        .iter()
+        .filter(|e| e.t > t0 && e.t <= t0 + period)
+        .count();
+    (gap, impacts)
+}
+
+/// The zero-length segments of the grazing orbit (the flights on the other corner).
+fn zero_length(orbit: &PeriodicOrbit) -> Vec<usize> {
+    (0..orbit.durations.len())
+        .filter(|&k| orbit.durations[k] == 0.0)
+        .collect()
+}
+
+#[test]
+fn figures_3_and_4_go_on_past_grazing_with_the_dips_impacts() {
+    let block = Block::default();
+    for free in [Free::Omega, Free::Alpha] {
+        let branches = study_branches(free, &block, &mut Silent).unwrap();
+        let grazed = branches.last().unwrap();
+        assert_eq!(grazed.branch.name, GRAZED);
+        let parent = &branches[0];
+        let gr = parent.special(SpecialKind::Grazing).next().unwrap();
+        let q = free.id();
+        let points = &grazed.branch.points;
+        assert!(points.len() > 10, "{free:?}: {:?}", grazed.branch.end);
+        // It starts at the grazing orbit.
+        assert!((points[0][q] - gr.point[q]).abs() < 1e-12);
+        assert!((points[0][AMP] - gr.point[AMP]).abs() < 1e-12);
+        let old = parent.orbit_of(&gr.point).unwrap();
+        let first = grazed.orbit_of(&points[0]).unwrap();
+        let zeros = zero_length(&first);
+        assert_eq!(zeros.len(), 2, "{free:?}: {:?}", first.durations);
+        assert_eq!(first.segment_count(), old.segment_count() + 4);
+        let (_, old_impacts) = returns(&old);
+        let mut checked = 0;
+        for p in &points[1..] {
+            let orbit = grazed.orbit_of(p).unwrap();
+            // The new impacts' speed: after the first, the flight on the other corner starts
+            // with the restituted speed.
+            let speed = zeros
+                .iter()
+                .map(|&k| orbit.starts[k][1].abs())
+                .fold(f64::INFINITY, f64::min);
+            let (gap, impacts) = returns(&orbit);
+            let tol = if speed >= 1e-2 { 1e-8 } else { 1e-5 };
+            assert!(
+                gap < tol,
+                "{free:?} {}: gap {gap:e} (speed {speed:e})",
+                p[q]
+            );
+            assert_eq!(impacts, old_impacts + 4, "{free:?} {}", p[q]);
+            checked += usize::from(speed >= 1e-2);
+        }
+        assert!(checked > 5, "{free:?}: {checked} points checked to 1e-8");
+        // The family turns back from the grazing (a nonsmooth fold: both families on the side
+        // below it), with a branch point, a fold, and a grazing of its own.
+        assert!(points[1..].iter().all(|p| p[q] < gr.point[q]));
+        for kind in [
+            SpecialKind::BranchPoint,
+            SpecialKind::Fold,
+            SpecialKind::Grazing,
+        ] {
+            assert!(
+                grazed.special(kind).next().is_some(),
+                "{free:?}: no {kind:?}"
+            );
+        }
+    }
+}
+
+/// `continue --restart RUN --label GR --switch` switches there to the figure's branch past
+/// grazing (its special points to 1e-9); at a label that is no BP, PD or GR it exits 2.
+#[test]
+fn the_cli_switches_at_a_saved_grazing() {
+    let dir = scratch("grazing");
+    std::fs::create_dir_all(&dir).unwrap();
+    let saved = dir.join("symmetric.json");
+    bin()
+        .args(["continue", "--free", "omega", "--out"])
+        .arg(&saved)
+        .run_ok();
+    let run: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&saved).unwrap()).unwrap();
+    let specials = run["branch"]["special_points"].as_array().unwrap();
+    let label_of = |kind: &str| {
+        specials
+            .iter()
+            .find(|s| s["kind"] == kind)
+            .unwrap_or_else(|| panic!("no {kind} in {specials:?}"))["point"]["label"]
+            .as_u64()
+            .unwrap()
+            .to_string()
+    };
+    let switch = |label: &str| {
+        bin()
+            .args([
+                "continue", "--free", "omega", "--switch", "--json", "--label", label,
+            ])
+            .arg("--restart")
+            .arg(&saved)
+            .output()
+            .unwrap()
+    };
+    let out = switch(&label_of("GR"));
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let fig3 = study_branches(Free::Omega, &Block::default(), &mut Silent).unwrap();
+    let grazed = fig3.last().unwrap();
+    let mut found = 0;
+    for s in &grazed.branch.special_points {
+        let near = v["special_points"].as_array().unwrap().iter().any(|o| {
+            o["kind"] == s.kind.label()
+                && (o["omega"].as_f64().unwrap() - s.point[Free::Omega.id()]).abs() <= 1e-9
+        });
+        assert!(
+            near,
+            "{:?} at {} is not in {}",
+            s.kind,
+            s.point[Free::Omega.id()],
+            v["special_points"]
+        );
+        found += 1;
+    }
+    assert!(found >= 3);
+    fails(&switch(&label_of("SN")), 2, "cannot switch branches");
+}
