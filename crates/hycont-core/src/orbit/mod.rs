@@ -36,7 +36,10 @@ pub use collocation::{
 };
 pub use discretisation::{Discretisation, OrbitEquations, OrbitMethod, orbit_problem};
 pub use floquet::{Floquet, NEUTRAL_BAND, saltation_matrix};
-pub use grazing::{GrazingSplit, split_at_grazing};
+pub use grazing::{
+    GrazingJoin, GrazingSplit, JOIN_IDENTITY_TOL, JOIN_ZERO_DURATION, JoinAt, join_at_grazing,
+    split_at_grazing,
+};
 pub use measure::{
     Extremum, ExtremumKind, GrazingMargin, Measure, SegmentDuration, SegmentPoint, SegmentValue,
     TimeAverage,
