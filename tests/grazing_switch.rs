@@ -12,19 +12,24 @@
 //! finds the impacts on its own), with one impact more per half period than the old
 //! signature's; at the switch point the new impact's
 //! velocity is zero (the grazing) and grows along the branch; the branch's orbits are
-//! physical (the suites re-check every point, `invariants`).
+//! physical (the suites re-check every point, `invariants`). The other way, a tangential
+//! impact removed (`join_at_grazing`): back from the family beyond, and below the branch's
+//! other grazing, where the orbits miss the walls and follow the closed form of the harmonic
+//! response.
 
 #[path = "../examples/symmetric_branch/model.rs"]
 #[allow(dead_code)] // the model is shared with the example, which uses all of it
 mod pair;
 
+use hycont::Error as CoreError;
 use hycont::hycont_continuation::{
-    DiagramSettings, Error, OrbitBranch, OrbitRun, RunDirection, SpecialKind, SwitchOutcome,
+    DiagramSettings, EndReason, OrbitBranch, OrbitRun, RunDirection, SpecialKind, SwitchOutcome,
 };
 use hycont::orbit::{
     Closure, PeriodicOrbit, SegmentEnd, SegmentSpec, Signature, SymmetricSearch,
     find_symmetric_orbit,
 };
+use hycont::orbit::{CollocationSettings, JoinAt, OrbitMethod, join_at_grazing};
 use hycont::{SampleTimes, SimulationSettings, Simulator};
 use pair::{A, FREE, ImpactPair, RIGHT};
 use std::f64::consts::{PI, TAU};
@@ -162,23 +167,147 @@ fn the_family_beyond_an_interior_grazing_impacts_there() {
         assert!(gap < tol, "a = {}: gap {gap:e}", p[A]);
         assert_eq!(impacts, old_impacts + 2, "a = {}", p[A]);
     }
-    // The tangential impact at the other end is not (yet) switched at: a typed error.
+}
+
+/// The amplitude of the harmonic response of `x'' + c x' + k x = a sin(omega t)`, the
+/// oscillator between the walls while it does not reach them: `x = X sin(omega t + phi)` with
+/// `X = a / sqrt((k - omega^2)^2 + (c omega)^2)` (substitute; the transient decays for
+/// `c > 0`), so that `x^2 + (v / omega)^2 = X^2` at every point of the orbit. It grazes the
+/// walls where `X = d`: `a_g = d sqrt((k - omega^2)^2 + (c omega)^2)`.
+fn harmonic_amplitude(p: &[f64]) -> f64 {
+    let (a, omega, k, c) = (p[0], p[1], p[2], p[3]);
+    a / ((k - omega * omega).powi(2) + (c * omega).powi(2)).sqrt()
+}
+
+/// The symmetric branch's other grazing, at small forcing, is a tangential impact: the
+/// impacts' speed falls to zero as the amplitude falls to `d`. Switched there
+/// (`join_at_grazing`: the orbit's only events removed, the orbit closed through a section),
+/// the branch beyond is the harmonic response that misses the walls, down to the bound: its
+/// start at the closed form's `a_g`, every orbit on the closed form's circle
+/// `x^2 + (v / omega)^2 = X^2` (1e-9) and returning to itself by simulation with no impact;
+/// by shooting and by collocation.
+#[test]
+fn below_a_tangential_impact_the_orbits_miss_the_walls() {
+    for method in [
+        OrbitMethod::default(),
+        OrbitMethod::Collocation(CollocationSettings::default()),
+    ] {
+        below_a_tangential_impact_by(method);
+    }
+}
+
+fn below_a_tangential_impact_by(method: OrbitMethod) {
+    let mut run = run();
+    run.method(method);
+    let symmetric = run
+        .run("symmetric", &symmetric_orbit(), RunDirection::Both)
+        .unwrap();
     let vanishing = symmetric
         .special(SpecialKind::Grazing)
         .min_by(|a, b| a.point[A].total_cmp(&b.point[A]))
         .unwrap();
-    let e = run
-        .switch_at("other", &symmetric, vanishing.point.label, RunDirection::Up)
-        .unwrap_err();
-    assert!(
-        matches!(e, Error::Core(_) | Error::SwitchFailed { .. }),
-        "{e}"
-    );
+    let free = run
+        .switch_at("free", &symmetric, vanishing.point.label, RunDirection::Up)
+        .unwrap();
+    let points = &free.branch.points;
+    let a_g = vanishing.point[A] / harmonic_amplitude(&vanishing.point.params);
+    assert!((vanishing.point[A] - a_g).abs() < 1e-9, "{a_g}");
+    assert!((points[0][A] - a_g).abs() < 1e-9);
+    assert!(points.len() > 10, "{:?}", free.branch.end);
+    assert!(points[1..].iter().all(|p| p[A] < a_g));
+    assert!((points.last().unwrap()[A] - 0.05).abs() < 1e-9);
+    for p in &points[1..] {
+        let orbit = free.orbit_of(p).unwrap();
+        let omega = p.params[1];
+        for x in &orbit.starts {
+            let radius = (x[0] * x[0] + (x[1] / omega).powi(2)).sqrt();
+            assert!(
+                (radius - harmonic_amplitude(&p.params)).abs() < 1e-9,
+                "a = {}: {radius}",
+                p[A]
+            );
+        }
+        let (gap, impacts) = returns(&orbit);
+        assert!(gap < 1e-8, "a = {}: gap {gap:e}", p[A]);
+        assert_eq!(impacts, 0, "a = {}", p[A]);
+    }
 }
 
-/// A whole diagram goes on through the grazing (GR is switched at by default): the branch
-/// beyond is in it, switched on at the symmetric branch's dip; the tangential impact's GR is
-/// recorded as a failed switch, and the diagram goes on.
+/// Back along the branch beyond the dip's grazing, the new impact's speed falls to zero at
+/// the grazing parameter (a tangential impact, GR, located where the symmetric branch
+/// grazed, 1e-8); switched there, the impact is removed and the branch is the symmetric
+/// branch again: its first orbit is the symmetric branch's grazing orbit (1e-8) and it ends
+/// at the other grazing, the closed form's `a_g` (1e-9), every orbit returning to itself
+/// with the old signature's impacts (1e-8 where the impacts' speed is at least 0.1).
+#[test]
+fn back_through_the_grazing_the_impact_is_removed() {
+    let mut run = run();
+    let symmetric = run
+        .run("symmetric", &symmetric_orbit(), RunDirection::Both)
+        .unwrap();
+    let dip = symmetric
+        .special(SpecialKind::Grazing)
+        .max_by(|a, b| a.point[A].total_cmp(&b.point[A]))
+        .unwrap();
+    let beyond = run
+        .switch_at("beyond", &symmetric, dip.point.label, RunDirection::Up)
+        .unwrap();
+    let p10 = &beyond.branch.points[10];
+    let toward = if p10[A] > dip.point[A] {
+        RunDirection::Down
+    } else {
+        RunDirection::Up
+    };
+    let back = run
+        .restart("back", &beyond, p10.label, Some(toward))
+        .unwrap();
+    let gr = back.special(SpecialKind::Grazing).last().unwrap();
+    assert!((gr.point[A] - dip.point[A]).abs() < 1e-8);
+    let again = run
+        .switch_at("again", &back, gr.point.label, RunDirection::Up)
+        .unwrap();
+    let first = again.orbit_of(&again.branch.points[0]).unwrap();
+    let old = symmetric.orbit_of(&dip.point).unwrap();
+    assert_eq!(first.signature, old.signature);
+    for (x, y) in first
+        .starts
+        .iter()
+        .flatten()
+        .zip(old.starts.iter().flatten())
+    {
+        assert!((x - y).abs() < 1e-8, "{x} {y}");
+    }
+    for (x, y) in first.durations.iter().zip(&old.durations) {
+        assert!((x - y).abs() < 1e-8, "{x} {y}");
+    }
+    let end = again.branch.points.last().unwrap();
+    let a_g = end[A] / harmonic_amplitude(&end.params);
+    assert_eq!(
+        again.branch.end,
+        EndReason::Inadmissible(SpecialKind::Grazing)
+    );
+    assert!((end[A] - a_g).abs() < 1e-9, "{} {a_g}", end[A]);
+    let (_, old_impacts) = returns(&old);
+    // The last point is the tangential grazing itself, where a simulation may miss the
+    // impacts of zero speed.
+    let inner = &again.branch.points[1..again.branch.points.len() - 1];
+    for p in inner {
+        let orbit = again.orbit_of(p).unwrap();
+        let (gap, impacts) = returns(&orbit);
+        // Ill-conditioned near the tangential impact at the end, as beyond the dip.
+        let tol = if impact_speed(&orbit, 0) >= 0.1 {
+            1e-8
+        } else {
+            1e-4
+        };
+        assert!(gap < tol, "a = {}: gap {gap:e}", p[A]);
+        assert_eq!(impacts, old_impacts, "a = {}", p[A]);
+    }
+}
+
+/// A whole diagram goes on through both grazings (GR is switched at by default): the
+/// symmetric branch's dip (an impact inserted) and its tangential impacts (removed: the
+/// harmonic response); both switches are followed, and the saved diagram passes its check.
 #[test]
 fn a_diagram_crosses_the_grazing() {
     let diagram = run()
@@ -193,14 +322,49 @@ fn a_diagram_crosses_the_grazing() {
     assert!(
         at_grazing
             .iter()
-            .any(|r| matches!(r.outcome, SwitchOutcome::Followed(_))),
-        "{at_grazing:?}"
-    );
-    assert!(
-        at_grazing
-            .iter()
-            .any(|r| matches!(r.outcome, SwitchOutcome::Failed(_))),
+            .all(|r| matches!(r.outcome, SwitchOutcome::Followed(_))),
         "{at_grazing:?}"
     );
     run().check_diagram(&diagram).unwrap();
+}
+
+/// `join_at_grazing` away from a grazing: typed errors naming the segment (an impact at speed
+/// 1.5 is no tangential impact, a segment of positive duration has not collapsed, segments
+/// that do not exist, a join across the orbit's closure).
+#[test]
+fn joins_away_from_a_grazing_are_refused() {
+    let full = symmetric_orbit();
+    let half = full.half_of_symmetric(&ImpactPair, 1e-6).unwrap();
+    let refused =
+        |orbit: &PeriodicOrbit, at: JoinAt, segment: usize, words: &str| match join_at_grazing(
+            &ImpactPair,
+            orbit,
+            at,
+        ) {
+            Err(CoreError::InvalidSignature { segment: s, reason }) => {
+                assert_eq!(s, segment, "{reason}");
+                assert!(reason.contains(words), "{reason}");
+            }
+            other => panic!("{at:?}: {other:?}"),
+        };
+    refused(
+        &half,
+        JoinAt::TangentialImpact { segment: 0 },
+        0,
+        "not a grazing",
+    );
+    refused(
+        &full,
+        JoinAt::TangentialImpact { segment: 0 },
+        0,
+        "not a grazing",
+    );
+    refused(&half, JoinAt::Collapsed { segment: 0 }, 0, "not zero");
+    refused(&half, JoinAt::Collapsed { segment: 3 }, 3, "has 1 segments");
+    refused(
+        &full,
+        JoinAt::TangentialImpact { segment: 1 },
+        1,
+        "across the orbit's closure",
+    );
 }

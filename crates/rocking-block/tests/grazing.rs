@@ -14,13 +14,14 @@
 mod common;
 
 use common::{RunOk, bin, fails, scratch};
+use hycont_continuation::RunDirection;
 use hycont_continuation::SpecialKind;
 use hycont_continuation::observe::Silent;
 use hycont_core::orbit::PeriodicOrbit;
 use hycont_core::{SampleTimes, SimulationSettings, Simulator};
 use rocking_block::RockingBlock;
 use rocking_block::block::Block;
-use rocking_block::continuation::{AMP, Free, GRAZED, study_branches};
+use rocking_block::continuation::{AMP, Free, GRAZED, default_method, study_branches, study_run};
 
 /// How far the orbit, simulated for a period from the middle of its first segment, is from
 /// where it started, and the impacts on the way.
@@ -179,4 +180,65 @@ fn the_cli_switches_at_a_saved_grazing() {
     }
     assert!(found >= 3);
     fails(&switch(&label_of("SN")), 2, "cannot switch branches");
+}
+
+/// Back along the family past GR1 (from its tenth point toward the grazing), the flight on
+/// the other corner shrinks to zero length and its two impacts merge into one of zero speed
+/// at the grazing parameter (located where the symmetric branch grazed, 1e-8); switched there,
+/// the impacts are removed (`join_at_grazing`) and the branch is the lower symmetric branch
+/// again: its first orbit is the symmetric branch's grazing orbit (to the two grazings'
+/// distance times the orbit's sensitivity to omega), and it finds the
+/// symmetric branch's branch point BP1 by continuation from the other side (1e-9).
+#[test]
+fn back_through_gr1_the_dips_impacts_are_removed() {
+    let block = Block::default();
+    let free = Free::Omega;
+    let branches = study_branches(free, &block, &mut Silent).unwrap();
+    let (symmetric, grazed) = (&branches[0], branches.last().unwrap());
+    let gr1 = symmetric.special(SpecialKind::Grazing).next().unwrap();
+    let bp1 = symmetric.special(SpecialKind::BranchPoint).next().unwrap();
+    let q = free.id();
+    let mut run = study_run(free, &block.at(1.3, 0.66), free.range(), default_method()).unwrap();
+    let p10 = &grazed.branch.points[10];
+    let toward = if p10[q] < gr1.point[q] {
+        RunDirection::Up
+    } else {
+        RunDirection::Down
+    };
+    let back = run
+        .restart("back", grazed, p10.label, Some(toward))
+        .unwrap();
+    let gr = back.special(SpecialKind::Grazing).last().unwrap();
+    assert!(
+        (gr.point[q] - gr1.point[q]).abs() < 1e-8,
+        "{} {}",
+        gr.point[q],
+        gr1.point[q]
+    );
+    let again = run
+        .switch_at("again", &back, gr.point.label, RunDirection::Up)
+        .unwrap();
+    let first = again.orbit_of(&again.branch.points[0]).unwrap();
+    let old = symmetric.orbit_of(&gr1.point).unwrap();
+    assert_eq!(first.signature, old.signature);
+    let pairs = first
+        .starts
+        .iter()
+        .flatten()
+        .zip(old.starts.iter().flatten());
+    let gap = pairs
+        .chain(first.durations.iter().zip(&old.durations))
+        .fold(0.0f64, |m, (x, y)| m.max((x - y).abs()));
+    // Two grazings, each located to its own accuracy: the orbits differ by the parameters'
+    // difference times the orbit's sensitivity to omega (states and durations of order one:
+    // a factor below 10).
+    let dq = (gr.point[q] - gr1.point[q]).abs();
+    assert!(gap <= 10.0 * dq + 1e-10, "{gap:e} for {dq:e}");
+    let bp = again.special(SpecialKind::BranchPoint).next().unwrap();
+    assert!(
+        (bp.point[q] - bp1.point[q]).abs() < 1e-9,
+        "{} {}",
+        bp.point[q],
+        bp1.point[q]
+    );
 }

@@ -9,6 +9,11 @@
 //! it, the one along which the flight's duration changes. The branch goes the way in which
 //! its orbits are physical (admissible), which may be past the grazing parameter or back from
 //! it (both families then on one side: a nonsmooth fold).
+//!
+//! The other way, at a tangential impact or a collapsed segment, the impacts there are removed
+//! ([`join_at_grazing`]); the joined orbit is exact only to the grazing's location, so it is
+//! solved again at the grazing's parameters, and its problem is regular there: its tangent
+//! starts the branch.
 
 use super::problem::OrbitContinuation;
 use super::run::{OrbitRun, RunDirection};
@@ -16,10 +21,22 @@ use super::saved::OrbitBranch;
 use crate::ContinuationProblem;
 use crate::branch::{BranchPoint, SpecialPoint};
 use crate::error::{Error, Result};
+use crate::quantity::MeasureId;
 use crate::quantity::Quantity;
 use crate::switch::null_directions;
 use hycont_core::HybridJacobians;
-use hycont_core::orbit::{check_admissible, split_at_grazing};
+use hycont_core::orbit::{
+    GrazingJoin, GrazingSplit, JoinAt, PeriodicOrbit, Touch, check_admissible, join_at_grazing,
+    solve_orbit, split_at_grazing,
+};
+
+/// The orbit on the other side of a grazing.
+enum Beyond {
+    /// With the impact inserted.
+    Split(GrazingSplit),
+    /// With the impact removed.
+    Join(GrazingJoin),
+}
 
 impl<'a, S: HybridJacobians + ?Sized> OrbitRun<'a, S> {
     /// The branch of the signature beyond the grazing `special` of `branch` (see the module
@@ -30,51 +47,97 @@ impl<'a, S: HybridJacobians + ?Sized> OrbitRun<'a, S> {
         branch: &OrbitBranch,
         special: &SpecialPoint,
     ) -> Result<OrbitBranch> {
-        let failed = |reason: String| Error::SwitchFailed { reason };
-        let margin = match (special.on, self.admissibility) {
-            (Some(Quantity::Measure(m)), Some((grazing, _))) if m == grazing => m,
-            _ => {
-                return Err(failed(
-                    "only a grazing of the run's admissibility margin (an interior touch of an event surface) switches signature".into(),
-                ));
-            }
-        };
         let full = branch.orbit_of(&special.point)?;
         let orbit = if self.half_orbits && full.is_symmetric(self.system, self.symmetry_tol) {
             full.half_of_symmetric(self.system, self.symmetry_tol)?
         } else {
             full
         };
+        let (mut cp, u0, direction) = match self.beyond(&orbit, special)? {
+            Beyond::Split(split) => {
+                let (mut cp, u0) = OrbitContinuation::new(
+                    self.system,
+                    &split.orbit,
+                    &self.method,
+                    branch.free,
+                    self.measures.clone(),
+                    self.events.clone(),
+                )?;
+                cp.require_admissible(self.admissibility_on());
+                let direction = self.grazing_direction(&mut cp, &u0, split.zero_length)?;
+                (cp, u0, direction)
+            }
+            Beyond::Join(join) => {
+                // Exact to the grazing's location only: solved again at its parameters.
+                let solved = solve_orbit(
+                    self.system,
+                    &join.orbit,
+                    &self.method,
+                    &self.settings.newton,
+                    self.symmetry_tol,
+                )?;
+                let (mut cp, u0) = self.problem(&solved.solution.orbit)?;
+                let direction = null_directions(&mut cp, &u0)?.swap_remove(0);
+                (cp, u0, direction)
+            }
+        };
+        self.continue_physical(&mut cp, name, &u0, &direction)
+    }
+
+    /// The orbit on the other side of the grazing `special` of a branch through `orbit`: split
+    /// at an interior touch of the admissibility margin, joined at a tangential impact or a
+    /// collapsed segment (the shortest-segment monitor's grazing).
+    fn beyond(&self, orbit: &PeriodicOrbit, special: &SpecialPoint) -> Result<Beyond> {
+        let failed = |reason: String| Error::SwitchFailed { reason };
+        let margin = match (special.on, self.admissibility) {
+            (Some(Quantity::Measure(m)), _) if m == MeasureId::SHORTEST_SEGMENT => {
+                let shortest = (0..orbit.segment_count())
+                    .min_by(|&a, &b| orbit.durations[a].total_cmp(&orbit.durations[b]))
+                    .unwrap_or(0);
+                let at = JoinAt::Collapsed { segment: shortest };
+                return Ok(Beyond::Join(join_at_grazing(self.system, orbit, at)?));
+            }
+            (Some(Quantity::Measure(m)), Some((grazing, _))) if m == grazing => m,
+            _ => {
+                return Err(failed(
+                    "only a grazing of the run's admissibility margin (an interior touch of an event surface or a tangential impact) or a collapsing segment switches signature".into(),
+                ));
+            }
+        };
         // The measure set's index of the margin (the monitors begin with period and shortest
         // segment).
         let touch = self
             .measures
-            .touch(self.system, &orbit, margin.index() - 2)?
+            .touch(self.system, orbit, margin.index() - 2)?
             .ok_or_else(|| failed("the margin is attained by no touch here".into()))?;
-        let split = split_at_grazing(self.system, &orbit, &touch)?;
-        let (mut cp, u0) = OrbitContinuation::new(
-            self.system,
-            &split.orbit,
-            &self.method,
-            branch.free,
-            self.measures.clone(),
-            self.events.clone(),
-        )?;
-        cp.require_admissible(self.admissibility_on());
-        let direction = self.grazing_direction(&mut cp, &u0, split.zero_length)?;
-        let info = cp.analyse(&u0)?;
-        let start = BranchPoint::from_info(&info, u0.clone(), direction.clone(), 0, 0.0);
+        match touch {
+            Touch::Turn { .. } => Ok(Beyond::Split(split_at_grazing(self.system, orbit, &touch)?)),
+            Touch::Approach { segment, .. } => Ok(Beyond::Join(join_at_grazing(
+                self.system,
+                orbit,
+                JoinAt::TangentialImpact { segment },
+            )?)),
+            Touch::End { segment, .. } => Err(failed(format!(
+                "segment {segment} ends on another event's surface: no signature is built there"
+            ))),
+        }
+    }
+
+    /// The branch of `cp` from the grazing orbit `u0` along `direction`, the way in which its
+    /// orbits are physical.
+    fn continue_physical(
+        &mut self,
+        cp: &mut OrbitContinuation<'a, S>,
+        name: &str,
+        u0: &[f64],
+        direction: &[f64],
+    ) -> Result<OrbitBranch> {
+        let info = cp.analyse(u0)?;
+        let start = BranchPoint::from_info(&info, u0.to_vec(), direction.to_vec(), 0, 0.0);
         let settings = self.settings.clone();
         let mut why = Vec::new();
         for way in [RunDirection::Up, RunDirection::Down] {
-            match self.continue_in(
-                &mut cp,
-                name,
-                &u0,
-                Some((&start, &direction)),
-                way,
-                &settings,
-            ) {
+            match self.continue_in(cp, name, u0, Some((&start, direction)), way, &settings) {
                 Ok(b) => {
                     // Physical beyond its start: its first point after the grazing orbit.
                     let beyond = b.points.get(1).map(|p| cp.orbit(&p.u));
@@ -84,7 +147,7 @@ impl<'a, S: HybridJacobians + ?Sized> OrbitRun<'a, S> {
                             .and_then(|o| check_admissible(self.system, &o))
                     });
                     match physical {
-                        Some(Ok(())) => return self.saved(&cp, cp.into_full_branch(b), None),
+                        Some(Ok(())) => return self.saved(cp, cp.into_full_branch(b), None),
                         Some(Err(e)) => why.push(e.to_string()),
                         None => why.push("no point beyond the grazing".into()),
                     }
@@ -92,10 +155,12 @@ impl<'a, S: HybridJacobians + ?Sized> OrbitRun<'a, S> {
                 Err(e) => why.push(e.to_string()),
             }
         }
-        Err(failed(format!(
-            "the new signature is physical neither way from the grazing ({})",
-            why.join("; ")
-        )))
+        Err(Error::SwitchFailed {
+            reason: format!(
+                "the new signature is physical neither way from the grazing ({})",
+                why.join("; ")
+            ),
+        })
     }
 
     /// The direction of the new family at the grazing orbit `u0`: the tangent where the new

@@ -32,12 +32,17 @@ impl<'a, S: HybridJacobians + ?Sized> OrbitRun<'a, S> {
     ///   leads into another mode, a zero-length segment in it
     ///   ([`hycont_core::orbit::split_at_grazing`]). It starts at the grazing orbit and goes
     ///   the way in which its orbits are physical, past the grazing parameter or back from it
-    ///   (`direction` is not used: the physical side decides).
+    ///   (`direction` is not used: the physical side decides). At a tangential impact of the
+    ///   margin ([`hycont_core::orbit::Touch::Approach`]) or where a segment collapses (the
+    ///   shortest-segment monitor's GR), the impacts there are removed
+    ///   ([`hycont_core::orbit::join_at_grazing`]): the joined orbit, solved again at the
+    ///   grazing's parameters, starts the branch along its tangent, the way it is physical.
     ///
     /// # Errors
     /// A branch that does not fit the system, an unknown label, a special point other than BP,
-    /// PD or GR ([`Error::WrongSpecialPoint`]), no second direction there, a grazing that is
-    /// not an interior turning point, a new signature physical on neither side
+    /// PD or GR ([`Error::WrongSpecialPoint`]), no second direction there, a grazing where a
+    /// segment ends on another event's surface or whose impacts cannot be joined, a new
+    /// signature physical on neither side
     /// ([`Error::SwitchFailed`]).
     pub fn switch_at(
         &mut self,
