@@ -30,7 +30,7 @@ use hycont::orbit::{
     find_symmetric_orbit,
 };
 use hycont::orbit::{CollocationSettings, JoinAt, OrbitMethod, join_at_grazing};
-use hycont::{SampleTimes, SimulationSettings, Simulator};
+use hycont::{SimulationSettings, Simulator};
 use pair::{A, FREE, ImpactPair, RIGHT};
 use std::f64::consts::{PI, TAU};
 
@@ -69,37 +69,11 @@ fn run() -> OrbitRun<'static, ImpactPair> {
 }
 
 /// How far the orbit, simulated for a period from the middle of its first segment, is from
-/// where it started, and the impacts on the way.
+/// where it started, and the impacts on the way ([`PeriodicOrbit::simulated_return`]).
 fn returns(orbit: &PeriodicOrbit) -> (f64, usize) {
-    let period: f64 = orbit.durations.iter().sum();
-    let t0 = 0.5 * orbit.durations[0];
-    let settings = SimulationSettings::default()
-        .rtol(1e-12)
-        .atol(1e-13)
-        .samples(SampleTimes::new(t0, period));
-    let mut sim = Simulator::new(settings).unwrap();
-    let x0 = &orbit.starts[0];
-    let traj = sim
-        .run(
-            &ImpactPair,
-            FREE,
-            0.0,
-            x0,
-            &orbit.params,
-            t0 + period * 1.000_001,
-        )
-        .unwrap();
-    let states: Vec<&[f64]> = traj.samples.iter().map(|(_, _, x)| x).collect();
-    let gap = states[0]
-        .iter()
-        .zip(states[1])
-        .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
-    let impacts = traj
-        .events
-        .iter()
-        .filter(|e| e.t > t0 && e.t <= t0 + period)
-        .count();
-    (gap, impacts)
+    let settings = SimulationSettings::default().rtol(1e-12).atol(1e-13);
+    let back = orbit.simulated_return(&ImpactPair, &settings).unwrap();
+    (back.gap, back.events)
 }
 
 /// The wall velocity of the new impact (the end of segment `k` of `orbit`).
@@ -360,6 +334,12 @@ fn joins_away_from_a_grazing_are_refused() {
         "not a grazing",
     );
     refused(&half, JoinAt::Collapsed { segment: 0 }, 0, "not zero");
+    // A half orbit returns only through its symmetry: its simulated return is refused.
+    let settings = SimulationSettings::default();
+    assert!(matches!(
+        half.simulated_return(&ImpactPair, &settings),
+        Err(CoreError::InvalidSignature { .. })
+    ));
     refused(&half, JoinAt::Collapsed { segment: 3 }, 3, "has 1 segments");
     refused(
         &full,

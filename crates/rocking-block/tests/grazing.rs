@@ -17,44 +17,18 @@ use common::{RunOk, bin, fails, scratch};
 use hycont_continuation::RunDirection;
 use hycont_continuation::SpecialKind;
 use hycont_continuation::observe::Silent;
+use hycont_core::SimulationSettings;
 use hycont_core::orbit::PeriodicOrbit;
-use hycont_core::{SampleTimes, SimulationSettings, Simulator};
 use rocking_block::RockingBlock;
 use rocking_block::block::Block;
 use rocking_block::continuation::{AMP, Free, GRAZED, default_method, study_branches, study_run};
 
 /// How far the orbit, simulated for a period from the middle of its first segment, is from
-/// where it started, and the impacts on the way.
+/// where it started, and the impacts on the way ([`PeriodicOrbit::simulated_return`]).
 fn returns(orbit: &PeriodicOrbit) -> (f64, usize) {
-    let period: f64 = orbit.durations.iter().sum();
-    let t0 = 0.5 * orbit.durations[0];
-    let settings = SimulationSettings::default()
-        .rtol(1e-12)
-        .atol(1e-13)
-        .samples(SampleTimes::new(t0, period));
-    let mut sim = Simulator::new(settings).unwrap();
-    let mode = orbit.signature.segments()[0].mode;
-    let traj = sim
-        .run(
-            &RockingBlock,
-            mode,
-            0.0,
-            &orbit.starts[0],
-            &orbit.params,
-            t0 + period * 1.000_001,
-        )
-        .unwrap();
-    let states: Vec<&[f64]> = traj.samples.iter().map(|(_, _, x)| x).collect();
-    let gap = states[0]
-        .iter()
-        .zip(states[1])
-        .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
-    let impacts = traj
-        .events
-        .iter()
-        .filter(|e| e.t > t0 && e.t <= t0 + period)
-        .count();
-    (gap, impacts)
+    let settings = SimulationSettings::default().rtol(1e-12).atol(1e-13);
+    let back = orbit.simulated_return(&RockingBlock, &settings).unwrap();
+    (back.gap, back.events)
 }
 
 /// The zero-length segments of the grazing orbit (the flights on the other corner).

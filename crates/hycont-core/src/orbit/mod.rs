@@ -19,6 +19,7 @@ mod periodic_orbit;
 mod scan;
 mod shooting;
 mod signature;
+mod simulated_return;
 mod symmetry;
 mod touch;
 mod turning;
@@ -49,6 +50,7 @@ pub use periodic_orbit::PeriodicOrbit;
 pub use scan::{BOUNDARY_BAND, CriticalPoint, OrbitScan, ScanNeeds, Turn, Watch, scan};
 pub use shooting::{CachedSegment, LinearizationCache, Shooting, ShootingSettings};
 pub use signature::{Closure, SegmentEnd, SegmentSpec, Signature};
+pub use simulated_return::SimulatedReturn;
 pub use symmetry::{
     SolvedOrbit, SymmetricSearch, SymmetricSolution, find_symmetric_orbit, solve_orbit,
     solve_symmetric_collocation, solve_symmetric_shooting, symmetric_floquet,
