@@ -427,6 +427,7 @@ impl PeriodicOrbit {
     /// As [`Signature::new`]; [`Error::DimensionMismatch`] or [`Error::NonFinite`] naming the
     /// bad value.
     pub fn validate<S: HybridSystem + ?Sized>(&self, system: &S) -> Result<()> {
+        crate::system::require_uniform_dims(system, "a periodic orbit")?;
         let k = self.signature.len();
         if self.starts.len() != k || self.durations.len() != k {
             return Err(Error::DimensionMismatch {

@@ -61,12 +61,15 @@ impl Signature {
     /// of a symmetric orbit and requires the system to have a symmetry.
     ///
     /// # Errors
-    /// [`Error::InvalidSignature`] saying which segment is inconsistent.
+    /// [`Error::InvalidSignature`] saying which segment is inconsistent;
+    /// [`Error::InvalidSystem`] for a system whose modes have states of different dimensions
+    /// ([`HybridSystem::mode_dim`]: the orbit solvers do not support them yet).
     pub fn with_closure<S: HybridSystem + ?Sized>(
         system: &S,
         segments: Vec<SegmentSpec>,
         closure: Closure,
     ) -> Result<Self> {
+        crate::system::require_uniform_dims(system, "a periodic orbit's signature")?;
         let k = segments.len();
         let symmetry = match closure {
             Closure::Periodic => None,

@@ -60,7 +60,7 @@ pub(super) fn conditioning<S: HybridSystem + ?Sized>(
     (rtol, atol, event_tolerance): (f64, f64, f64),
     x: &mut [f64],
 ) -> EventConditioning {
-    let n = system.state_dim();
+    let n = x.len();
     let h0 = system.event(event, &y[..n], p);
     // The event function along the dense output at two more times in the step.
     let span = t_new - t;

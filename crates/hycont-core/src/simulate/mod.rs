@@ -131,9 +131,12 @@ impl Simulator {
         p: &[f64],
         t_end: f64,
     ) -> Result<Trajectory> {
-        let mut ext = Plain {
-            n: system.state_dim(),
+        let n = if mode.0 < system.mode_count() {
+            system.mode_dim(mode)
+        } else {
+            system.state_dim()
         };
+        let mut ext = Plain { n };
         self.run_impl(
             system,
             &mut ext,
@@ -203,8 +206,10 @@ impl Simulator {
     /// saltation matrices included.
     ///
     /// # Errors
-    /// As [`Simulator::run`], and [`Error::InvalidTransition`] when an event is crossed
-    /// tangentially (the saltation matrix is undefined at grazing).
+    /// As [`Simulator::run`], [`Error::InvalidTransition`] when an event is crossed
+    /// tangentially (the saltation matrix is undefined at grazing), and
+    /// [`Error::InvalidSystem`] for a system whose modes have states of different dimensions
+    /// (their sensitivities are not carried across them yet).
     #[allow(clippy::too_many_arguments)]
     pub fn run_with_sensitivities<S: HybridJacobians + ?Sized>(
         &mut self,
@@ -222,6 +227,7 @@ impl Simulator {
             Sensitivities::State
             | Sensitivities::StateAndParameters
             | Sensitivities::StateAndSomeParameters(_) => {
+                crate::system::require_uniform_dims(system, "a run with sensitivities")?;
                 let selected = (0..np)
                     .filter(|&q| which.includes_parameter(q))
                     .map(ParamId);
@@ -260,7 +266,10 @@ impl Simulator {
                         .into(),
             });
         }
-        check_len("initial state", x0, system.state_dim())?;
+        if !crate::system::uniform_dims(system) {
+            crate::system::check_mode_dims(system)?;
+        }
+        check_len("initial state", x0, system.mode_dim(mode))?;
         check_len("parameters", p, system.parameter_count())?;
         check_finite("initial state", x0)?;
         check_finite("parameters", p)?;
@@ -286,7 +295,7 @@ impl Simulator {
         p: &[f64],
         work: &mut [f64],
     ) {
-        let n = system.state_dim();
+        let n = system.mode_dim(mode);
         events.clear();
         for &id in system.events(mode) {
             events.push(EventState::start(
@@ -319,17 +328,19 @@ impl Simulator {
         which: Sensitivities,
     ) -> Result<Trajectory> {
         Self::validate_inputs(system, mode, t0, x0, p, t_end)?;
-        let n = system.state_dim();
+        // The state's dimension in the current mode.
+        let mut n = system.mode_dim(mode);
         let s = self.settings.clone();
         let mut rec = Records::new(n);
         let mut next_sample = s.samples.map(|st| st.first_index_from(t0));
-        let to_error = |e: NonFiniteEvaluation, mode: Mode| non_finite(&e, mode, n);
+        let to_error =
+            |e: NonFiniteEvaluation, mode: Mode| non_finite(&e, mode, system.mode_dim(mode));
         let mut t = t0;
         let mut h = self.begin(system, ext, mode, (t0, t_end), x0, p)?;
         // The step size the integrator proposed last, before truncation at `t_end`.
         let mut proposed = h;
         if s.record_steps {
-            rec.steps.push(t, mode, &self.y0);
+            rec.steps.push_state(t, mode, &self.y0[..n]);
         }
 
         let stop = 'outer: loop {
@@ -339,7 +350,7 @@ impl Simulator {
                 && st.time(*k) <= t
                 && t == t0
             {
-                rec.samples.push(t, mode, self.stepper.state());
+                rec.samples.push_state(t, mode, &self.stepper.state()[..n]);
                 *k += 1;
             }
             if t >= t_end {
@@ -376,7 +387,7 @@ impl Simulator {
 
             // --- Event detection on the pending step.
             let earliest = self
-                .earliest_event(system, p, (t, t_new), s.event_tolerance, &mut rhs)
+                .earliest_event(system, p, (t, t_new, n), s.event_tolerance, &mut rhs)
                 .map_err(|e| to_error(e, mode))?;
             self.events_finite(mode, t_new, &self.stepper.new_state()[..n], true)?;
 
@@ -393,13 +404,14 @@ impl Simulator {
                 while st.time(*k) <= sample_limit {
                     let ts = st.time(*k);
                     if ts >= t_new && earliest.is_none() {
-                        rec.samples.push(ts, mode, self.stepper.new_state());
+                        rec.samples
+                            .push_state(ts, mode, &self.stepper.new_state()[..n]);
                     } else {
                         self.stepper
                             .prepare_dense(&mut rhs)
                             .map_err(|e| to_error(e, mode))?;
                         self.stepper.dense(ts, &mut self.x_probe[..n]);
-                        rec.samples.push(ts, mode, &self.x_probe);
+                        rec.samples.push_state(ts, mode, &self.x_probe[..n]);
                     }
                     *k += 1;
                 }
@@ -408,7 +420,8 @@ impl Simulator {
             let Some((te, idx)) = earliest else {
                 // --- No event: commit the step.
                 if s.record_steps {
-                    rec.steps.push(t_new, mode, self.stepper.new_state());
+                    rec.steps
+                        .push_state(t_new, mode, &self.stepper.new_state()[..n]);
                 }
                 for ev in &mut self.events {
                     ev.commit(&self.stepper.new_state()[..n]);
@@ -427,7 +440,7 @@ impl Simulator {
                 .map_err(|e| to_error(e, mode))?;
             self.stepper.dense(te, &mut self.y_minus);
             if s.record_steps {
-                rec.steps.push(te, mode, &self.y_minus);
+                rec.steps.push_state(te, mode, &self.y_minus[..n]);
             }
             let conditioning = if s.record_events && s.conditioning {
                 conditioning::conditioning(
@@ -476,9 +489,11 @@ impl Simulator {
                         std::ops::ControlFlow::Continue(m) => mode = m,
                         std::ops::ControlFlow::Break(stop) => {
                             mode = to;
+                            n = system.mode_dim(mode);
                             break 'outer stop;
                         }
                     }
+                    n = system.mode_dim(mode);
                     h = h_next.min(h);
                 }
             }

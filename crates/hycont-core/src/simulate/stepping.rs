@@ -76,13 +76,18 @@ impl Simulator {
         rec: &mut Records,
     ) -> Result<std::ops::ControlFlow<StopReason, Mode>> {
         use std::ops::ControlFlow::{Break, Continue};
-        let n = system.state_dim();
+        let n = system.mode_dim(from);
         if to.0 >= system.mode_count() {
             return Err(Error::InvalidTransition {
                 t: te,
                 mode: from,
                 reason: format!("{event} leads to mode {to}, which does not exist"),
             });
+        }
+        // Into a mode of another dimension (plain runs only): the reset writes its state.
+        let n_to = system.mode_dim(to);
+        if n_to != n {
+            self.y_plus.resize(n_to, 0.0);
         }
         ext.jump(
             system,
@@ -94,7 +99,7 @@ impl Simulator {
             &self.y_minus,
             &mut self.y_plus,
         )?;
-        if let Some(index) = self.y_plus[..n].iter().position(|v| !v.is_finite()) {
+        if let Some(index) = self.y_plus[..n_to].iter().position(|v| !v.is_finite()) {
             return Err(Error::NonFiniteReset {
                 event,
                 index,
@@ -111,7 +116,7 @@ impl Simulator {
                 mode_before: from,
                 mode_after: Some(to),
                 state_before: self.y_minus[..n].to_vec(),
-                state_after: self.y_plus[..n].to_vec(),
+                state_after: self.y_plus[..n_to].to_vec(),
                 conditioning,
             });
         }
@@ -120,8 +125,14 @@ impl Simulator {
             Continue(m) => m,
             Break(stop) => return Ok(Break(stop)),
         };
+        let n_from = n;
+        let n = system.mode_dim(mode);
         if self.settings.record_steps {
-            rec.steps.push(te, mode, &self.y_plus);
+            rec.steps.push_state(te, mode, &self.y_plus[..n]);
+        }
+        if n != n_from {
+            ext.set_state_dim(n);
+            self.fit_stepper(ext.dim(), n);
         }
         let mut rhs = |_t: f64, y: &[f64], dy: &mut [f64]| ext.rhs(system, mode, p, y, dy);
         self.stepper
@@ -154,25 +165,12 @@ impl Simulator {
         x0: &[f64],
         p: &[f64],
     ) -> Result<f64> {
-        let (n, na) = (system.state_dim(), ext.dim());
-        let s = &self.settings;
-        if self.stepper.dim() != na {
-            let at = self.spare.iter().position(|st| st.dim() == na);
-            let next = at.map_or_else(|| Dop853::new(na), |i| self.spare.swap_remove(i));
-            self.spare.push(std::mem::replace(&mut self.stepper, next));
-            if self.spare.len() > 3 {
-                self.spare.remove(0);
-            }
-        }
+        let (n, na) = (system.mode_dim(mode), ext.dim());
+        self.fit_stepper(na, n);
         self.stepper.reset_stats();
-        let n_err = if s.sensitivities_in_error { na } else { n };
-        self.stepper.set_tolerances(s.rtol, s.atol, n_err);
-        self.stepper.set_controller_beta(s.controller_beta);
         self.y0.resize(na, 0.0);
-        self.y_minus.resize(na, 0.0);
-        self.y_plus.resize(na, 0.0);
-        self.x_probe.resize(na, 0.0);
-        self.zeno_out.resize(n, 0.0);
+        // A Zeno transition may lead into a mode of any dimension.
+        self.zeno_out.resize(system.state_dim(), 0.0);
         ext.initial(x0, &mut self.y0);
         let mut rhs = |_t: f64, y: &[f64], dy: &mut [f64]| ext.rhs(system, mode, p, y, dy);
         self.stepper
@@ -199,6 +197,30 @@ impl Simulator {
         })
     }
 
+    /// The stepper for an augmented state of `na` values, of which the first `n` are the
+    /// state (a spare one of that dimension where there is one), with the settings'
+    /// tolerances; the work space of that size.
+    fn fit_stepper(&mut self, na: usize, n: usize) {
+        if self.stepper.dim() != na {
+            let at = self.spare.iter().position(|st| st.dim() == na);
+            let next = at.map_or_else(|| Dop853::new(na), |i| self.spare.swap_remove(i));
+            let stats = self.stepper.stats();
+            self.spare.push(std::mem::replace(&mut self.stepper, next));
+            if self.spare.len() > 3 {
+                self.spare.remove(0);
+            }
+            // One run's statistics across the steppers of its modes' dimensions.
+            self.stepper.carry_stats(stats);
+        }
+        let s = &self.settings;
+        let n_err = if s.sensitivities_in_error { na } else { n };
+        self.stepper.set_tolerances(s.rtol, s.atol, n_err);
+        self.stepper.set_controller_beta(s.controller_beta);
+        self.y_minus.resize(na, 0.0);
+        self.y_plus.resize(na, 0.0);
+        self.x_probe.resize(na, 0.0);
+    }
+
     /// An error naming the first event of the current segment whose value is not finite at
     /// the segment's start (`pending == false`) or at the end of the pending step at `t` in
     /// state `x`.
@@ -220,17 +242,16 @@ impl Simulator {
     }
 
     /// The earliest event of the current segment located in the accepted, pending step from
-    /// `t` to `t_new` (its time and index in `self.events`), the events' values and rates at
+    /// `t` to `t_new` (its time and index in `self.events`; `n` states in the current mode), the events' values and rates at
     /// the step's end updated; the dense output is built where an event needs a closer look.
     pub(super) fn earliest_event<S: HybridSystem + ?Sized, F: FnMut(f64, &[f64], &mut [f64])>(
         &mut self,
         system: &S,
         p: &[f64],
-        (t, t_new): (f64, f64),
+        (t, t_new, n): (f64, f64, usize),
         tolerance: f64,
         rhs: &mut F,
     ) -> std::result::Result<Option<(f64, usize)>, NonFiniteEvaluation> {
-        let n = system.state_dim();
         let mut earliest: Option<(f64, usize)> = None;
         for idx in 0..self.events.len() {
             let x_new = &self.stepper.new_state()[..n];
@@ -280,20 +301,24 @@ impl Simulator {
         settings: &ZenoSettings,
     ) -> Result<std::ops::ControlFlow<StopReason, Mode>> {
         use std::ops::ControlFlow::{Break, Continue};
-        let n = system.state_dim();
+        let n = system.mode_dim(mode);
         let Some(t_acc) = zeno.watch.jump_at(te, settings) else {
             return Ok(Continue(mode));
         };
         match system.zeno_transition(mode, event, &self.y_plus[..n], p, &mut self.zeno_out) {
             Some(m2) if m2.0 < system.mode_count() => {
+                let n2 = system.mode_dim(m2);
                 zeno.log.push(ZenoRecord {
                     t: te,
                     t_accumulation: t_acc,
                     event,
                     mode_after: m2,
-                    state_after: self.zeno_out.clone(),
+                    state_after: self.zeno_out[..n2].to_vec(),
                 });
-                self.y_plus[..n].copy_from_slice(&self.zeno_out);
+                if n2 != n {
+                    self.y_plus.resize(n2, 0.0);
+                }
+                self.y_plus[..n2].copy_from_slice(&self.zeno_out[..n2]);
                 zeno.watch = ZenoWatch::default();
                 Ok(Continue(m2))
             }

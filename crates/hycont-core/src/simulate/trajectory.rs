@@ -30,7 +30,9 @@ pub enum StopReason {
 }
 
 /// A time series of states with their modes, stored flat (one allocation per series, not per
-/// point).
+/// point). States have [`TimeSeries::dim`] components, except where a run crossed into modes
+/// of other dimensions ([`crate::HybridSystem::mode_dim`]): each point's state then has its
+/// mode's ([`TimeSeries::state`]).
 #[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
 pub struct TimeSeries {
     dim: usize,
@@ -38,8 +40,12 @@ pub struct TimeSeries {
     pub t: Vec<f64>,
     /// Mode at each time.
     pub mode: Vec<Mode>,
-    /// States, `dim` values per time.
+    /// States, `dim` values per time (where all have `dim`; else each its own, see `ends`).
     pub x: Vec<f64>,
+    /// Where each point's state ends in `x`, once a state of another length than `dim` was
+    /// pushed (empty while all have `dim`).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    ends: Vec<usize>,
 }
 
 impl TimeSeries {
@@ -54,9 +60,20 @@ impl TimeSeries {
 
     /// Appends a point (the first `dim` components of `x`).
     pub fn push(&mut self, t: f64, mode: Mode, x: &[f64]) {
+        self.push_state(t, mode, &x[..self.dim]);
+    }
+
+    /// Appends a point with the whole state `x`, of any length (a mode of another dimension).
+    pub fn push_state(&mut self, t: f64, mode: Mode, x: &[f64]) {
+        if self.ends.is_empty() && x.len() != self.dim {
+            self.ends = (1..=self.t.len()).map(|i| i * self.dim).collect();
+        }
         self.t.push(t);
         self.mode.push(mode);
-        self.x.extend_from_slice(&x[..self.dim]);
+        self.x.extend_from_slice(x);
+        if !self.ends.is_empty() {
+            self.ends.push(self.x.len());
+        }
     }
 
     /// Number of points.
@@ -71,10 +88,17 @@ impl TimeSeries {
         self.t.is_empty()
     }
 
-    /// State dimension.
+    /// State dimension (of every point, unless the run crossed into modes of other
+    /// dimensions: [`TimeSeries::uniform`]).
     #[must_use]
     pub fn dim(&self) -> usize {
         self.dim
+    }
+
+    /// Whether every point's state has [`TimeSeries::dim`] components.
+    #[must_use]
+    pub fn uniform(&self) -> bool {
+        self.ends.is_empty()
     }
 
     /// State of point `i`.
@@ -83,16 +107,17 @@ impl TimeSeries {
     /// If `i >= len()`.
     #[must_use]
     pub fn state(&self, i: usize) -> &[f64] {
-        &self.x[i * self.dim..(i + 1) * self.dim]
+        if self.ends.is_empty() {
+            &self.x[i * self.dim..(i + 1) * self.dim]
+        } else {
+            let start = if i == 0 { 0 } else { self.ends[i - 1] };
+            &self.x[start..self.ends[i]]
+        }
     }
 
     /// Iterates over `(t, mode, state)`.
     pub fn iter(&self) -> impl Iterator<Item = (f64, Mode, &[f64])> + '_ {
-        self.t
-            .iter()
-            .zip(&self.mode)
-            .zip(self.x.chunks_exact(self.dim.max(1)))
-            .map(|((&t, &m), x)| (t, m, x))
+        (0..self.len()).map(|i| (self.t[i], self.mode[i], self.state(i)))
     }
 }
 

@@ -18,6 +18,9 @@ use crate::system::{EventId, HybridJacobians, HybridSystem, Mode, ParamId, Tange
 pub(crate) trait Extension<S: HybridSystem + ?Sized> {
     /// Dimension of the augmented state.
     fn dim(&self) -> usize;
+    /// The state's dimension in the mode the run continues in (after a jump between modes of
+    /// different dimensions; only plain runs cross them).
+    fn set_state_dim(&mut self, n: usize);
     /// Writes the initial augmented state (the state followed by the identity and zeros).
     fn initial(&self, x0: &[f64], y: &mut [f64]);
     /// Right-hand side of the augmented system.
@@ -45,6 +48,9 @@ pub(crate) struct Plain {
 impl<S: HybridSystem + ?Sized> Extension<S> for Plain {
     fn dim(&self) -> usize {
         self.n
+    }
+    fn set_state_dim(&mut self, n: usize) {
+        self.n = n;
     }
     fn initial(&self, x0: &[f64], y: &mut [f64]) {
         y.copy_from_slice(x0);
@@ -129,6 +135,11 @@ impl Variational {
 impl<S: HybridJacobians + ?Sized> Extension<S> for Variational {
     fn dim(&self) -> usize {
         self.n * (1 + self.columns())
+    }
+
+    fn set_state_dim(&mut self, n: usize) {
+        // Sensitivity runs are refused for systems whose modes differ in dimension.
+        debug_assert_eq!(n, self.n, "a sensitivity run across state dimensions");
     }
 
     fn initial(&self, x0: &[f64], y: &mut [f64]) {

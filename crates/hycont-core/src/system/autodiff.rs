@@ -65,8 +65,13 @@ impl<T: DualNum<Primitive = f64> + Copy> Scalar for T {}
 /// assert_eq!(dp, [0.0, 0.5, 0.0, 0.0]);
 /// ```
 pub trait HybridModel {
-    /// Dimension $n$ of the continuous state.
+    /// Dimension $n$ of the continuous state (the largest mode's, where they differ).
     fn state_dim(&self) -> usize;
+    /// Dimension of the state in `mode` ([`HybridSystem::mode_dim`]; default: `state_dim()`).
+    fn mode_dim(&self, mode: Mode) -> usize {
+        let _ = mode;
+        self.state_dim()
+    }
     /// Names of the parameters, in the order of the parameter vector.
     fn parameter_names(&self) -> &[&'static str];
     /// Number of modes.
@@ -525,6 +530,9 @@ fn tangents_n<M: HybridModel + ?Sized, const N: usize>(
 impl<M: HybridModel> HybridSystem for AutoDiff<M> {
     fn state_dim(&self) -> usize {
         self.model.state_dim()
+    }
+    fn mode_dim(&self, mode: Mode) -> usize {
+        self.model.mode_dim(mode)
     }
     fn parameter_names(&self) -> &[&'static str] {
         self.model.parameter_names()

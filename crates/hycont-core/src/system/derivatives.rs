@@ -297,6 +297,7 @@ pub fn check_derivatives<S: HybridJacobians + ?Sized>(
     p: &[f64],
 ) -> crate::Result<DerivativeCheck> {
     check_point(system, mode, x, p)?;
+    super::require_uniform_dims(system, "check_derivatives")?;
     let n = system.state_dim();
     let np = system.parameter_count();
     let mut worst = Vec::new();
@@ -428,6 +429,8 @@ where
     R: HybridJacobians + ?Sized,
 {
     check_point(system, mode, x, p)?;
+    super::require_uniform_dims(system, "check_derivatives_against")?;
+    super::require_uniform_dims(reference, "check_derivatives_against")?;
     let (a, b) = (
         (
             system.state_dim(),

@@ -151,8 +151,21 @@ pub struct EventSpec {
 /// assert_eq!(Ball.parameter_id("e").map(|p| p.index()), Some(1));
 /// ```
 pub trait HybridSystem {
-    /// Dimension $n$ of the continuous state.
+    /// Dimension $n$ of the continuous state: in every mode unless [`HybridSystem::mode_dim`]
+    /// says otherwise, and then the largest of the modes' dimensions.
     fn state_dim(&self) -> usize;
+
+    /// Dimension $n_m$ of the state in `mode` (default: [`HybridSystem::state_dim`] in every
+    /// mode). Systems whose modes have states of different dimensions (COCO's segment-dependent
+    /// dimensions: a stick mode with fewer states than a slip mode) override it; their resets
+    /// map a state of the dimension of the modes that monitor the event to one of the target
+    /// mode's dimension, and every mode that monitors an event has the same dimension
+    /// ([`check_mode_dims`](crate::check_mode_dims)). The simulator follows such systems across their jumps; the
+    /// periodic-orbit solvers refuse them for now (a typed error).
+    fn mode_dim(&self, mode: Mode) -> usize {
+        let _ = mode;
+        self.state_dim()
+    }
 
     /// Names of the parameters, in the order of the parameter vector.
     fn parameter_names(&self) -> &[&'static str];
@@ -230,7 +243,9 @@ pub trait HybridSystem {
     /// The simulator calls this when it detects an accumulation of `event` (see
     /// [`crate::ZenoSettings`]); `x` is the state right after the last jump. Return the mode to
     /// continue in and write its initial state into `out`, or return `None` (the default) to end
-    /// the simulation with [`crate::StopReason::ZenoAccumulation`].
+    /// the simulation with [`crate::StopReason::ZenoAccumulation`]. `out` has
+    /// [`HybridSystem::state_dim`] entries; the state of the returned mode is its first
+    /// [`HybridSystem::mode_dim`] (all of them where every mode has the same dimension).
     fn zeno_transition(
         &self,
         mode: Mode,
@@ -365,6 +380,7 @@ pub trait HybridJacobians: HybridSystem {
 
 mod autodiff;
 mod derivatives;
+mod dims;
 mod symmetry;
 mod tangents;
 pub use autodiff::{AutoDiff, HybridModel, Scalar, Variation};
@@ -372,5 +388,7 @@ pub use derivatives::{
     DerivativeCheck, DerivativeKind, DerivativeMismatch, FiniteDifferences, check_derivatives,
     check_derivatives_against,
 };
+pub(crate) use dims::require_uniform_dims;
+pub use dims::{check_mode_dims, uniform_dims};
 pub use symmetry::{Z2Symmetry, checked_symmetry};
 pub use tangents::Tangents;

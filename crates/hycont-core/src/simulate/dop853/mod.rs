@@ -190,6 +190,12 @@ impl Dop853 {
         self.stats
     }
 
+    /// Continues the work counters of another stepper (of the same run, in a mode of another
+    /// dimension).
+    pub(crate) fn carry_stats(&mut self, stats: StepperStats) {
+        self.stats = stats;
+    }
+
     /// Zeroes the work counters.
     pub fn reset_stats(&mut self) {
         self.stats = StepperStats::default();

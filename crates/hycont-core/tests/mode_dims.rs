@@ -1,0 +1,239 @@
+//! Modes with states of their own dimension ([`HybridSystem::mode_dim`]) in the simulator.
+//!
+//! The shuttle: in mode A (one state, x' = 1) x climbs from 0 to 1, where event UP
+//! (h = 1 - x, falling) jumps into mode B with the state (x) -> (x, -v0); in mode B (two
+//! states, x' = y, y' = a) x falls back, x(t) = 1 - v0 t + a t^2 / 2, to 0, where event DOWN
+//! (h = x, falling) jumps back into A with (x, y) -> (x). Closed form: A lasts 1, B lasts
+//! t_B = (v0 - sqrt(v0^2 - 2 a)) / a (the first root of x(t) = 0) and ends with
+//! y = -sqrt(v0^2 - 2 a); the motion repeats with period 1 + t_B.
+
+use approx::assert_abs_diff_eq;
+use hycont_core::orbit::{SegmentEnd, SegmentSpec, Signature};
+use hycont_core::{
+    Direction, Error, EventAction, EventId, EventSpec, HybridJacobians, HybridSystem, Mode,
+    SampleTimes, Sensitivities, SimulationSettings, Simulator, check_mode_dims, uniform_dims,
+};
+
+const A: Mode = Mode(0);
+const B: Mode = Mode(1);
+const UP: EventId = EventId(0);
+const DOWN: EventId = EventId(1);
+/// v0 and a.
+const P: [f64; 2] = [1.0, 0.2];
+
+/// The shuttle; `clash` also watches UP in mode B (of another dimension): an invalid system.
+struct Shuttle {
+    clash: bool,
+}
+
+impl HybridSystem for Shuttle {
+    fn state_dim(&self) -> usize {
+        2
+    }
+    fn mode_dim(&self, mode: Mode) -> usize {
+        if mode == A { 1 } else { 2 }
+    }
+    fn parameter_names(&self) -> &[&'static str] {
+        &["v0", "a"]
+    }
+    fn mode_count(&self) -> usize {
+        2
+    }
+    fn mode_name(&self, mode: Mode) -> &'static str {
+        if mode == A { "climb" } else { "fall" }
+    }
+    fn events(&self, mode: Mode) -> &[EventId] {
+        match (mode == A, self.clash) {
+            (true, _) => &[UP],
+            (false, false) => &[DOWN],
+            (false, true) => &[DOWN, UP],
+        }
+    }
+    fn event_spec(&self, e: EventId) -> EventSpec {
+        EventSpec {
+            name: if e == UP { "up" } else { "down" },
+            direction: Direction::Falling,
+            action: EventAction::Jump {
+                to: if e == UP { B } else { A },
+            },
+        }
+    }
+    fn vector_field(&self, mode: Mode, x: &[f64], p: &[f64], f: &mut [f64]) {
+        if mode == A {
+            f[0] = 1.0;
+        } else {
+            f[0] = x[1];
+            f[1] = p[1];
+        }
+    }
+    fn event(&self, e: EventId, x: &[f64], _: &[f64]) -> f64 {
+        if e == UP { 1.0 - x[0] } else { x[0] }
+    }
+    fn reset(&self, e: EventId, x: &[f64], p: &[f64], out: &mut [f64]) {
+        if e == UP {
+            out[0] = x[0];
+            out[1] = -p[0];
+        } else {
+            out[0] = x[0];
+        }
+    }
+}
+
+impl HybridJacobians for Shuttle {
+    fn vector_field_jacobian(
+        &self,
+        m: Mode,
+        _: &[f64],
+        _: &[f64],
+        dx: &mut [f64],
+        dp: Option<&mut [f64]>,
+    ) {
+        dx.fill(0.0);
+        if m == B {
+            dx[2] = 1.0;
+        }
+        if let Some(dp) = dp {
+            dp.fill(0.0);
+            if m == B {
+                dp[3] = 1.0;
+            }
+        }
+    }
+    fn event_gradient(
+        &self,
+        e: EventId,
+        _: &[f64],
+        _: &[f64],
+        dx: &mut [f64],
+        dp: Option<&mut [f64]>,
+    ) {
+        dx.fill(0.0);
+        dx[0] = if e == UP { -1.0 } else { 1.0 };
+        if let Some(dp) = dp {
+            dp.fill(0.0);
+        }
+    }
+}
+
+fn fall_time() -> f64 {
+    let [v0, a] = P;
+    (v0 - (v0 * v0 - 2.0 * a).sqrt()) / a
+}
+
+/// Three periods from x = 0 in A: six jumps alternating between the modes at the closed
+/// form's times (1e-9), the states before and after each of their modes' sizes, samples in A
+/// of one component and in B of two on the closed form (1e-9), every recorded step of its
+/// mode's size, and the run ending in A at x = 0.5 of the fourth climb.
+#[test]
+fn the_simulator_follows_a_system_across_its_modes_dimensions() {
+    let system = Shuttle { clash: false };
+    assert!(!uniform_dims(&system));
+    check_mode_dims(&system).unwrap();
+    let t_b = fall_time();
+    let period = 1.0 + t_b;
+    let settings = SimulationSettings::default()
+        .rtol(1e-12)
+        .atol(1e-13)
+        .record_steps(true)
+        .samples(SampleTimes::new(0.5, period / 2.0));
+    let mut sim = Simulator::new(settings).unwrap();
+    let end = 3.0 * period + 0.5;
+    let traj = sim.run(&system, A, 0.0, &[0.0], &P, end).unwrap();
+    assert_eq!(traj.events.len(), 6);
+    for (i, e) in traj.events.iter().enumerate() {
+        let k = (i / 2) as f64;
+        let (t, from, to) = if i % 2 == 0 {
+            (k * period + 1.0, A, B)
+        } else {
+            ((k + 1.0) * period, B, A)
+        };
+        assert_abs_diff_eq!(e.t, t, epsilon = 1e-9);
+        assert_eq!((e.mode_before, e.mode_after), (from, Some(to)));
+        assert_eq!(e.state_before.len(), system.mode_dim(from));
+        assert_eq!(e.state_after.len(), system.mode_dim(to));
+        if to == A {
+            let y = -(P[0] * P[0] - 2.0 * P[1]).sqrt();
+            assert_abs_diff_eq!(e.state_before[1], y, epsilon = 1e-9);
+        }
+    }
+    let [v0, a] = P;
+    for (t, mode, x) in traj.samples.iter() {
+        let s = t % period;
+        assert_eq!(x.len(), system.mode_dim(mode), "t = {t}");
+        if s < 1.0 {
+            assert_eq!(mode, A);
+            assert_abs_diff_eq!(x[0], s, epsilon = 1e-9);
+        } else {
+            let u = s - 1.0;
+            assert_eq!(mode, B);
+            assert_abs_diff_eq!(x[0], 1.0 - v0 * u + 0.5 * a * u * u, epsilon = 1e-9);
+            assert_abs_diff_eq!(x[1], -v0 + a * u, epsilon = 1e-9);
+        }
+    }
+    assert!(traj.samples.len() >= 7);
+    assert!(!traj.steps.uniform());
+    assert!(
+        traj.steps
+            .iter()
+            .all(|(_, m, x)| x.len() == system.mode_dim(m))
+    );
+    assert_eq!(traj.mode_final, A);
+    assert_eq!(traj.state_final.len(), 1);
+    assert_abs_diff_eq!(traj.state_final[0], 0.5, epsilon = 1e-9);
+    assert!(traj.stats.steps > 6);
+}
+
+/// A start in B takes B's two states; the wrong number is a dimension error.
+#[test]
+fn a_start_has_its_modes_dimension() {
+    let system = Shuttle { clash: false };
+    let mut sim = Simulator::new(SimulationSettings::default()).unwrap();
+    let traj = sim.run(&system, B, 0.0, &[1.0, -P[0]], &P, 0.5).unwrap();
+    assert_eq!(traj.state_final.len(), 2);
+    let e = sim.run(&system, B, 0.0, &[1.0], &P, 0.5).unwrap_err();
+    assert!(
+        matches!(
+            e,
+            Error::DimensionMismatch {
+                expected: 2,
+                found: 1,
+                ..
+            }
+        ),
+        "{e}"
+    );
+}
+
+/// What does not support modes of their own dimension yet says so with a typed error naming
+/// the dimensions: sensitivities, periodic orbits; an event watched in modes of two
+/// dimensions is refused naming the event and the modes.
+#[test]
+fn what_does_not_support_them_refuses_them() {
+    let system = Shuttle { clash: false };
+    let mut sim = Simulator::new(SimulationSettings::default()).unwrap();
+    let e = sim
+        .run_with_sensitivities(&system, A, 0.0, &[0.0], &P, 0.5, Sensitivities::State)
+        .unwrap_err();
+    assert!(
+        matches!(&e, Error::InvalidSystem { reason } if reason.contains("mode #0: 1, mode #1: 2")),
+        "{e}"
+    );
+    let segments = vec![
+        SegmentSpec {
+            mode: A,
+            end: SegmentEnd::Event(UP),
+        },
+        SegmentSpec {
+            mode: B,
+            end: SegmentEnd::Event(DOWN),
+        },
+    ];
+    let e = Signature::new(&system, segments).unwrap_err();
+    assert!(matches!(e, Error::InvalidSystem { .. }), "{e}");
+    let clash = Shuttle { clash: true };
+    let e = sim.run(&clash, A, 0.0, &[0.0], &P, 0.5).unwrap_err();
+    assert!(
+        matches!(&e, Error::InvalidSystem { reason } if reason.contains("event #0") && reason.contains("mode #1 (2 states)")),
+        "{e}"
+    );
+}
