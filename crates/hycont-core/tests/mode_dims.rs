@@ -237,3 +237,83 @@ fn what_does_not_support_them_refuses_them() {
         "{e}"
     );
 }
+
+/// A ball on the floor (height, velocity: h'' = -1, impacts v -> -e v) whose impacts
+/// accumulate comes to rest in a mode of one state (the time at rest, s' = 1): a Zeno
+/// transition into a mode of another dimension.
+struct Settling;
+
+const FLY: Mode = Mode(0);
+const REST: Mode = Mode(1);
+const E: f64 = 0.5;
+
+impl HybridSystem for Settling {
+    fn state_dim(&self) -> usize {
+        2
+    }
+    fn mode_dim(&self, mode: Mode) -> usize {
+        if mode == FLY { 2 } else { 1 }
+    }
+    fn parameter_names(&self) -> &[&'static str] {
+        &[]
+    }
+    fn mode_count(&self) -> usize {
+        2
+    }
+    fn mode_name(&self, mode: Mode) -> &'static str {
+        if mode == FLY { "flight" } else { "rest" }
+    }
+    fn events(&self, mode: Mode) -> &[EventId] {
+        if mode == FLY { &[UP] } else { &[] }
+    }
+    fn event_spec(&self, _: EventId) -> EventSpec {
+        EventSpec {
+            name: "floor",
+            direction: Direction::Falling,
+            action: EventAction::Jump { to: FLY },
+        }
+    }
+    fn vector_field(&self, mode: Mode, x: &[f64], _: &[f64], f: &mut [f64]) {
+        if mode == FLY {
+            f[0] = x[1];
+            f[1] = -1.0;
+        } else {
+            f[0] = 1.0;
+        }
+    }
+    fn event(&self, _: EventId, x: &[f64], _: &[f64]) -> f64 {
+        x[0]
+    }
+    fn reset(&self, _: EventId, x: &[f64], _: &[f64], out: &mut [f64]) {
+        out[0] = x[0];
+        out[1] = -E * x[1];
+    }
+    fn zeno_transition(
+        &self,
+        _: Mode,
+        _: EventId,
+        _: &[f64],
+        _: &[f64],
+        out: &mut [f64],
+    ) -> Option<Mode> {
+        out[0] = 0.0;
+        Some(REST)
+    }
+}
+
+/// Dropped from h = 1/2 with g = 1: the first impact at t1 = 1 with speed 1, then flights of
+/// 2 e^k, accumulating at t1 + 2 e / (1 - e) = 3; the run goes on at rest with one state, the
+/// time at rest, which is t_end - 3 at the end (to the accumulation's estimate, 1e-6).
+#[test]
+fn impacts_that_accumulate_come_to_rest_in_a_mode_of_fewer_states() {
+    let settings = SimulationSettings::default().rtol(1e-12).atol(1e-13);
+    let mut sim = Simulator::new(settings).unwrap();
+    let traj = sim.run(&Settling, FLY, 0.0, &[0.5, 0.0], &[], 4.0).unwrap();
+    assert_eq!(traj.zeno.len(), 1);
+    let z = &traj.zeno[0];
+    assert_eq!((z.mode_after, z.state_after.len()), (REST, 1));
+    assert_abs_diff_eq!(z.t_accumulation, 3.0, epsilon = 1e-6);
+    assert_eq!(traj.mode_final, REST);
+    assert_eq!(traj.state_final.len(), 1);
+    assert_abs_diff_eq!(traj.state_final[0], 4.0 - 3.0, epsilon = 1e-6);
+}
