@@ -71,6 +71,7 @@
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
 pub mod atlas;
+mod bifurcation_equation;
 pub mod branch;
 pub mod codim2;
 pub mod error;

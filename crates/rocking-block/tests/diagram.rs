@@ -86,13 +86,25 @@ fn the_cascade_in_alpha_doubles_towards_chaos() {
             .map(|x| x.as_f64().unwrap())
             .collect()
     };
-    // The study's cascade from PD1, and one past grazing (below).
-    assert_eq!(cascades.len(), 2, "{cascades:?}");
-    let (study, past) = if (numbers(&cascades[0], "doublings")[0] - 0.7365).abs() < 1e-3 {
-        (&cascades[0], &cascades[1])
-    } else {
-        (&cascades[1], &cascades[0])
-    };
+    // The study's cascade from PD1, and past grazing (alpha below GR2 = 0.5976, above its
+    // family's fold at 0.5597) the cascades of the families with the dip's impacts: the one
+    // from the BP of the first of them (below), and chains of doublings on the families
+    // switched at their own grazings.
+    let first = |c: &serde_json::Value| numbers(c, "doublings")[0];
+    let study = cascades
+        .iter()
+        .find(|c| (first(c) - 0.7365).abs() < 1e-3)
+        .unwrap_or_else(|| panic!("no study cascade in {cascades:?}"));
+    let past = cascades
+        .iter()
+        .find(|c| (first(c) - 0.5609963).abs() < 1e-6)
+        .unwrap_or_else(|| panic!("no cascade from 0.5609963 in {cascades:?}"));
+    for c in cascades {
+        if !std::ptr::eq(c, study) {
+            let d = numbers(c, "doublings");
+            assert!(d.iter().all(|a| (0.5597..0.5976).contains(a)), "{d:?}");
+        }
+    }
     let doublings = numbers(study, "doublings");
     assert!(doublings.len() >= 6, "{doublings:?}");
     let readme = [
@@ -171,8 +183,9 @@ fn the_diagram_command_prints_extends_and_refuses_bad_input() {
         "{picture:.200}"
     );
     let text = String::from_utf8_lossy(&out.stdout);
-    // The symmetric branch, the branches switched at its GR and BP, and at theirs.
-    assert!(text.starts_with("5 branches"), "{text}");
+    // The symmetric branch, the branches switched at its GR and BP, and at theirs (past GR2:
+    // its BP and its own GR, where the dip's impacts grow another pair).
+    assert!(text.starts_with("6 branches"), "{text}");
     assert!(text.contains("PD label"), "{text}");
     assert!(text.contains("period-doubling cascade"), "{text}");
     // A line per branch on stderr.
@@ -180,10 +193,11 @@ fn the_diagram_command_prints_extends_and_refuses_bad_input() {
         String::from_utf8_lossy(&out.stderr)
             .matches("branch ")
             .count(),
-        5
+        6
     );
-    // Extended one level deeper: the period-4 branch (and past GR2 the doubled branch of the
-    // branch switched at its branch point's), and the study's cascade has three doublings.
+    // Extended one level deeper: the period-4 branch, and past GR2 four more (at the GR and
+    // PD of the branch switched at its BP, and at the BP and GR of the one switched at its
+    // GR); the study's cascade has three doublings.
     let out = bin()
         .args([
             "diagram",
@@ -198,8 +212,8 @@ fn the_diagram_command_prints_extends_and_refuses_bad_input() {
         .run_ok();
     let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     let branches = v["branches"].as_array().unwrap();
-    assert_eq!(branches.len(), 7);
-    assert_eq!(branches.iter().filter(|b| b["depth"] == 3).count(), 2);
+    assert_eq!(branches.len(), 11);
+    assert_eq!(branches.iter().filter(|b| b["depth"] == 3).count(), 5);
     let study = v["cascades"]
         .as_array()
         .unwrap()

@@ -14,9 +14,9 @@
 mod common;
 
 use common::{RunOk, bin, fails, scratch};
-use hycont_continuation::RunDirection;
 use hycont_continuation::SpecialKind;
 use hycont_continuation::observe::Silent;
+use hycont_continuation::{EndReason, RunDirection};
 use hycont_core::SimulationSettings;
 use hycont_core::orbit::PeriodicOrbit;
 use rocking_block::RockingBlock;
@@ -60,7 +60,13 @@ fn figures_3_and_4_go_on_past_grazing_with_the_dips_impacts() {
         assert_eq!(first.segment_count(), old.segment_count() + 4);
         let (_, old_impacts) = returns(&old);
         let mut checked = 0;
-        for p in &points[1..] {
+        // Up to the family's own grazing, where it ends: there another dip touches phi = 0,
+        // which the simulation of the located orbit may or may not meet.
+        let inner = match grazed.branch.end {
+            EndReason::Inadmissible(SpecialKind::Grazing) => &points[1..points.len() - 1],
+            _ => &points[1..],
+        };
+        for p in inner {
             let orbit = grazed.orbit_of(p).unwrap();
             // The new impacts' speed: after the first, the flight on the other corner starts
             // with the restituted speed.
@@ -215,4 +221,54 @@ fn back_through_gr1_the_dips_impacts_are_removed() {
         bp.point[q],
         bp1.point[q]
     );
+}
+
+/// The family past GR1 grazes in turn (GR1:GR, omega ~ 1.2052): another dip, inside its long
+/// flight, touches phi = 0. Switched there, the family with that dip's two impacts as well,
+/// up to its own grazing: its orbits return to themselves by simulation (as above; its new
+/// impacts stay slow, below 1e-2, so to 1e-5) with four impacts more per period than the
+/// family's orbits away from its grazing. There the new family crosses the family whose new flight
+/// stays of zero length at a shallow angle: the switch steps along the new family's tangent
+/// from the bifurcation equation (stepping orthogonally to the other family, the corrector
+/// started outside Newton's basin and the switch failed).
+#[test]
+fn the_family_past_gr1_grazes_and_goes_on_with_two_more_impacts() {
+    let block = Block::default();
+    let free = Free::Omega;
+    let branches = study_branches(free, &block, &mut Silent).unwrap();
+    let grazed = branches.last().unwrap();
+    let gr = grazed.special(SpecialKind::Grazing).next().unwrap();
+    let q = free.id();
+    let mut run = study_run(free, &block.at(1.3, 0.66), free.range(), default_method()).unwrap();
+    let beyond = run
+        .switch_at("beyond", grazed, gr.point.label, RunDirection::Up)
+        .unwrap();
+    let points = &beyond.branch.points;
+    assert!(points.len() > 5, "{:?}", beyond.branch.end);
+    assert!((points[0][q] - gr.point[q]).abs() < 1e-12);
+    let old = grazed.orbit_of(&gr.point).unwrap();
+    let first = beyond.orbit_of(&points[0]).unwrap();
+    assert_eq!(first.segment_count(), old.segment_count() + 4);
+    let zeros = zero_length(&first);
+    assert_eq!(zeros.len(), 2, "{:?}", first.durations);
+    // Counted away from the grazing (at it, the simulator may count the touch as impacts).
+    let (_, old_impacts) = returns(&grazed.orbit_of(&grazed.branch.points[5]).unwrap());
+    // Up to its own grazing, where it ends (as above).
+    assert_eq!(
+        beyond.branch.end,
+        EndReason::Inadmissible(SpecialKind::Grazing)
+    );
+    let inner = &points[1..points.len() - 1];
+    assert!(inner.len() >= 5, "{} points", inner.len());
+    for p in inner {
+        let orbit = beyond.orbit_of(p).unwrap();
+        let speed = zeros
+            .iter()
+            .map(|&k| orbit.starts[k][1].abs())
+            .fold(f64::INFINITY, f64::min);
+        let (gap, impacts) = returns(&orbit);
+        let tol = if speed >= 1e-2 { 1e-8 } else { 1e-5 };
+        assert!(gap < tol, "{}: gap {gap:e} (speed {speed:e})", p[q]);
+        assert_eq!(impacts, old_impacts + 4, "{}", p[q]);
+    }
 }

@@ -28,7 +28,8 @@ pub struct DiagramSettings {
     /// diagram goes on with the signature beyond it, [`OrbitRun::switch_at`]; only these
     /// switch).
     pub kinds: Vec<SpecialKind>,
-    /// Most branches in the diagram (default 64); further switches are recorded as
+    /// Most branches in the diagram (default 256: a safety cap, the depth bounds a diagram;
+    /// families switched at grazings branch again); further switches are recorded as
     /// [`SwitchOutcome::BranchLimit`].
     pub max_branches: usize,
     /// Relative tolerance (default `1e-6`) within which two special points of one kind are the
@@ -47,7 +48,7 @@ impl Default for DiagramSettings {
                 SpecialKind::PeriodDoubling,
                 SpecialKind::Grazing,
             ],
-            max_branches: 64,
+            max_branches: 256,
             same_point_tol: 1e-6,
         }
     }

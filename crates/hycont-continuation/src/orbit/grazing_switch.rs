@@ -19,6 +19,7 @@ use super::problem::OrbitContinuation;
 use super::run::{OrbitRun, RunDirection};
 use super::saved::OrbitBranch;
 use crate::ContinuationProblem;
+use crate::bifurcation_equation::second_branch_tangent;
 use crate::branch::{BranchPoint, SpecialPoint};
 use crate::error::{Error, Result};
 use crate::quantity::MeasureId;
@@ -165,8 +166,9 @@ impl<'a, S: HybridJacobians + ?Sized> OrbitRun<'a, S> {
 
     /// The direction of the new family at the grazing orbit `u0`: the tangent where the new
     /// problem is regular there; at its branch point (a zero-length segment, unknown
-    /// `zero_length`'s duration), the null direction along which that duration changes (the
-    /// other null direction, by inverse iteration, is the zero-length family's).
+    /// `zero_length`'s duration), the zero-length family's tangent is the null direction that
+    /// keeps that duration, and the new family's is the other root of the bifurcation
+    /// equation ([`second_branch_tangent`]: the families need not cross at a right angle).
     fn grazing_direction(
         &self,
         cp: &mut OrbitContinuation<'a, S>,
@@ -194,6 +196,11 @@ impl<'a, S: HybridJacobians + ?Sized> OrbitRun<'a, S> {
             });
         }
         d.iter_mut().for_each(|v| *v /= norm);
-        Ok(d)
+        // The zero-length family's tangent (the other unit vector of the plane), and from the
+        // bifurcation equation the new family's, which need not be orthogonal to it.
+        let mut keep: Vec<f64> = x1.iter().zip(&x2).map(|(a, b)| c2 * a - c1 * b).collect();
+        let norm = keep.iter().map(|v| v * v).sum::<f64>().sqrt();
+        keep.iter_mut().for_each(|v| *v /= norm);
+        second_branch_tangent(cp, u0, &keep, &d)
     }
 }
