@@ -128,7 +128,7 @@ pub enum Error {
     },
     /// A reset returned a non-finite state.
     #[error(
-        "the reset of event {event} returned {value} in component {index} from state {state:?}"
+        "the reset of event {event} returned {value} in component {index} from state {state:?} (NaN: also a component it did not write, e.g. of a target mode with more states)"
     )]
     NonFiniteReset {
         /// The event.

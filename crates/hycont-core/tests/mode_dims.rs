@@ -317,3 +317,46 @@ fn impacts_that_accumulate_come_to_rest_in_a_mode_of_fewer_states() {
     assert_eq!(traj.state_final.len(), 1);
     assert_abs_diff_eq!(traj.state_final[0], 4.0 - 3.0, epsilon = 1e-6);
 }
+
+/// A reset into a mode of more states that writes only some of them: the jump is an error
+/// naming the component left unwritten, not a state with a stale value in it.
+#[test]
+fn a_reset_that_leaves_a_component_unwritten_is_an_error() {
+    struct Forgetful;
+    impl HybridSystem for Forgetful {
+        fn state_dim(&self) -> usize {
+            2
+        }
+        fn mode_dim(&self, mode: Mode) -> usize {
+            Shuttle { clash: false }.mode_dim(mode)
+        }
+        fn parameter_names(&self) -> &[&'static str] {
+            &["v0", "a"]
+        }
+        fn mode_count(&self) -> usize {
+            2
+        }
+        fn mode_name(&self, mode: Mode) -> &'static str {
+            Shuttle { clash: false }.mode_name(mode)
+        }
+        fn events(&self, mode: Mode) -> &[EventId] {
+            if mode == A { &[UP] } else { &[DOWN] }
+        }
+        fn event_spec(&self, e: EventId) -> EventSpec {
+            Shuttle { clash: false }.event_spec(e)
+        }
+        fn vector_field(&self, mode: Mode, x: &[f64], p: &[f64], f: &mut [f64]) {
+            Shuttle { clash: false }.vector_field(mode, x, p, f);
+        }
+        fn event(&self, e: EventId, x: &[f64], p: &[f64]) -> f64 {
+            Shuttle { clash: false }.event(e, x, p)
+        }
+        // The default reset: the identity on the one component both modes have.
+    }
+    let mut sim = Simulator::new(SimulationSettings::default()).unwrap();
+    let e = sim.run(&Forgetful, A, 0.0, &[0.0], &P, 2.0).unwrap_err();
+    assert!(
+        matches!(&e, Error::NonFiniteReset { event, index: 1, value, .. } if *event == UP && value.is_nan()),
+        "{e}"
+    );
+}

@@ -88,6 +88,9 @@ impl Simulator {
         let n_to = system.mode_dim(to);
         if n_to != n {
             self.y_plus.resize(n_to, 0.0);
+            // A component the reset leaves unwritten stays NaN: an error naming it, not a
+            // stale value.
+            self.y_plus.fill(f64::NAN);
         }
         ext.jump(
             system,

@@ -201,10 +201,14 @@ pub trait HybridSystem {
     /// The event function $h_e(x, p)$.
     fn event(&self, event: EventId, x: &[f64], p: &[f64]) -> f64;
 
-    /// Writes the reset $g_e(x, p)$ into `out`. The default is the identity.
+    /// Writes the reset $g_e(x, p)$ into `out` (of the target mode's dimension, which may
+    /// differ from `x`'s: [`HybridSystem::mode_dim`]). The default is the identity (between
+    /// modes of different dimensions: the components both have; the simulator reports the
+    /// rest of a larger target as not written).
     fn reset(&self, event: EventId, x: &[f64], p: &[f64], out: &mut [f64]) {
         let _ = (event, p);
-        out.copy_from_slice(x);
+        let k = x.len().min(out.len());
+        out[..k].copy_from_slice(&x[..k]);
     }
 
     /// The system's $\mathbb{Z}_2$ symmetry, if it has one (default: none).
