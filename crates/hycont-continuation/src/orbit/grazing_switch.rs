@@ -77,7 +77,7 @@ impl<'a, S: HybridJacobians + ?Sized> OrbitRun<'a, S> {
                     &self.settings.newton,
                     self.symmetry_tol,
                 )?;
-                let (mut cp, u0) = self.problem(&solved.solution.orbit)?;
+                let (mut cp, u0) = self.problem_in(&solved.solution.orbit, branch.free)?;
                 let direction = null_directions(&mut cp, &u0)?.swap_remove(0);
                 (cp, u0, direction)
             }

@@ -377,6 +377,16 @@ impl<'a, S: HybridJacobians + ?Sized> OrbitRun<'a, S> {
     /// # Errors
     /// As [`OrbitContinuation::new`].
     pub fn problem(&self, start: &PeriodicOrbit) -> Result<(OrbitContinuation<'a, S>, Vec<f64>)> {
+        self.problem_in(start, self.free)
+    }
+
+    /// [`OrbitRun::problem`] continued in `free` (a saved branch's parameter, where a switch
+    /// continues it).
+    pub(super) fn problem_in(
+        &self,
+        start: &PeriodicOrbit,
+        free: ParamId,
+    ) -> Result<(OrbitContinuation<'a, S>, Vec<f64>)> {
         start.validate(self.system)?;
         let half;
         let start = if self.half_orbits && start.is_symmetric(self.system, self.symmetry_tol) {
@@ -389,7 +399,7 @@ impl<'a, S: HybridJacobians + ?Sized> OrbitRun<'a, S> {
             self.system,
             start,
             &self.method,
-            self.free,
+            free,
             self.measures.clone(),
             self.events.clone(),
         )?;
