@@ -15,7 +15,7 @@
 
 use crate::ContinuationProblem;
 use crate::error::{Error, Result};
-use crate::switch::augmented_pattern;
+use crate::switch::inverse_iteration_on;
 use hycont_core::linalg::max_norm;
 
 /// The tangent of the second branch through the simple branch point `u`, where `known` is
@@ -90,27 +90,8 @@ fn left_null_vector<'a, P: ContinuationProblem<'a> + ?Sized>(
     row: &[f64],
 ) -> Result<Vec<f64>> {
     let problem = p.problem();
-    let (mut pattern, k) = augmented_pattern(problem)?;
-    let (n, m) = (problem.unknowns(), problem.equations());
-    let mut values = Vec::new();
-    let mut res = vec![0.0; m];
-    problem.evaluate(u, &mut res, Some(&mut values))?;
-    values.truncate(k);
-    values.extend_from_slice(row);
-    pattern.factorize(&values)?;
-    let mut y: Vec<f64> = (0..n)
-        .map(|i| ((i as f64 + 1.0) * 0.569_840_290_998).fract() - 0.5)
-        .collect();
-    for _ in 0..4 {
-        pattern.solve_transpose_in_place(&mut y)?;
-        let norm = y.iter().map(|v| v * v).sum::<f64>().sqrt();
-        if !(norm > 0.0 && norm.is_finite()) {
-            return Err(Error::SwitchFailed {
-                reason: "no left null vector: inverse iteration broke down".into(),
-            });
-        }
-        y.iter_mut().for_each(|v| *v /= norm);
-    }
+    let m = problem.equations();
+    let mut y = inverse_iteration_on(problem, u, row, true)?;
     y.truncate(m);
     Ok(y)
 }

@@ -78,6 +78,17 @@ pub fn branch_switch_direction<'a, P: ContinuationProblem<'a> + ?Sized>(
 /// Four steps of inverse iteration on $[J(u); t^\top]$ from a fixed, generic start vector:
 /// the direction of its smallest singular value, normalised.
 fn inverse_iteration(problem: &mut Problem<'_>, u: &[f64], t: &[f64]) -> Result<Vec<f64>> {
+    inverse_iteration_on(problem, u, t, false)
+}
+
+/// [`inverse_iteration`] on $[J(u); t^\top]$ or, with `transposed`, on its transpose (toward
+/// its left null vector).
+pub(crate) fn inverse_iteration_on(
+    problem: &mut Problem<'_>,
+    u: &[f64],
+    t: &[f64],
+    transposed: bool,
+) -> Result<Vec<f64>> {
     let (mut pattern, k) = augmented_pattern(problem)?;
     let (n, m) = (problem.unknowns(), problem.equations());
     let mut values = Vec::new();
@@ -90,7 +101,11 @@ fn inverse_iteration(problem: &mut Problem<'_>, u: &[f64], t: &[f64]) -> Result<
         .map(|i| ((i as f64 + 1.0) * 0.754_877_666).fract() - 0.5)
         .collect();
     for _ in 0..4 {
-        pattern.solve_in_place(&mut x)?;
+        if transposed {
+            pattern.solve_transpose_in_place(&mut x)?;
+        } else {
+            pattern.solve_in_place(&mut x)?;
+        }
         let norm = x.iter().map(|v| v * v).sum::<f64>().sqrt();
         if !(norm > 0.0 && norm.is_finite()) {
             return Err(Error::SwitchFailed {
