@@ -16,7 +16,7 @@ use super::signature::{SegmentEnd, SegmentSpec, Signature};
 use super::touch::Touch;
 use crate::error::{Error, Result};
 use crate::simulate::{SimulationSettings, Simulator};
-use crate::system::{EventAction, HybridJacobians, Mode};
+use crate::system::{EventAction, EventId, HybridJacobians, Mode};
 
 /// An orbit of the signature beyond a grazing ([`split_at_grazing`]).
 #[derive(Debug, Clone, PartialEq)]
@@ -96,22 +96,7 @@ pub fn split_at_grazing<S: HybridJacobians + ?Sized>(
     let resume = if to == spec.mode {
         after
     } else {
-        // The flight in the other mode: zero long at the grazing, ended by the event of that
-        // mode that leads back and on whose surface the reset lands.
-        let scale = 1.0 + after.iter().fold(0.0f64, |m, v| m.max(v.abs()));
-        let back = system.events(to).iter().copied().find(|&e| {
-            matches!(system.event_spec(e).action, EventAction::Jump { to: m } if m == spec.mode)
-                && system.event(e, &after, p).abs() <= ON_SURFACE * scale
-        });
-        let Some(back) = back else {
-            return Err(invalid(
-                k,
-                &format!(
-                    "{event} leads into {to}, where no event that leads back to {} starts on the surface its reset lands on",
-                    spec.mode
-                ),
-            ));
-        };
+        let back = event_back(system, (k, event), (to, spec.mode), &after, p)?;
         zero_length = Some(segments.len());
         segments.push(SegmentSpec {
             mode: to,
@@ -134,6 +119,31 @@ pub fn split_at_grazing<S: HybridJacobians + ?Sized>(
         orbit: PeriodicOrbit::new(system, signature, starts, durations, p.clone())?,
         impact_segment: k,
         zero_length,
+    })
+}
+
+/// The event that ends the zero-length flight in mode `to` after the impact by `event` (which
+/// ends segment `k`): the event of `to` that leads back into `from` and on whose surface the
+/// impact's reset `after` lands (at a grazing the approach is tangential).
+fn event_back<S: HybridJacobians + ?Sized>(
+    system: &S,
+    (k, event): (usize, EventId),
+    (to, from): (Mode, Mode),
+    after: &[f64],
+    p: &[f64],
+) -> Result<EventId> {
+    let scale = 1.0 + after.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    let back = system.events(to).iter().copied().find(|&e| {
+        matches!(system.event_spec(e).action, EventAction::Jump { to: m } if m == from)
+            && system.event(e, after, p).abs() <= ON_SURFACE * scale
+    });
+    back.ok_or_else(|| {
+        invalid(
+            k,
+            &format!(
+                "{event} leads into {to}, where no event that leads back to {from} starts on the surface its reset lands on"
+            ),
+        )
     })
 }
 

@@ -128,7 +128,22 @@ impl Simulator {
             Continue(m) => m,
             Break(stop) => return Ok(Break(stop)),
         };
-        let n_from = n;
+        self.start_after_jump(system, ext, p, (event, mode, te), n, rec)?;
+        Ok(Continue(mode))
+    }
+
+    /// Starts the segment after a jump by `event` into `mode` at `te` (the state in
+    /// `self.y_plus`; `n_from` states before the jump): the stepper of the new mode's
+    /// dimension where it differs, the first derivative, the events of the segment.
+    fn start_after_jump<S: HybridSystem + ?Sized, E: Extension<S>>(
+        &mut self,
+        system: &S,
+        ext: &mut E,
+        p: &[f64],
+        (event, mode, te): (EventId, Mode, f64),
+        n_from: usize,
+        rec: &mut Records,
+    ) -> Result<()> {
         let n = system.mode_dim(mode);
         if self.settings.record_steps {
             rec.steps.push_state(te, mode, &self.y_plus[..n]);
@@ -151,8 +166,7 @@ impl Simulator {
             p,
             &mut self.x_probe[..n],
         );
-        self.events_finite(mode, te, &self.y_plus[..n], false)?;
-        Ok(Continue(mode))
+        self.events_finite(mode, te, &self.y_plus[..n], false)
     }
 
     /// Prepares a run from `x0` at `t0` in `mode`: the stepper for the extension's dimension
