@@ -353,12 +353,13 @@ impl Discretisation {
     /// The number of unknowns holding segment states (they come first).
     #[must_use]
     pub fn segment_values(&self, like: &PeriodicOrbit) -> usize {
-        let n = like.starts[0].len();
         match self {
-            Self::Shooting(_) => like.segment_count() * n,
-            Self::Collocation { meshes, ncol } => {
-                meshes.iter().map(|m| ((m.len() - 1) * ncol + 1) * n).sum()
-            }
+            Self::Shooting(_) => like.starts.iter().map(Vec::len).sum(),
+            Self::Collocation { meshes, ncol } => meshes
+                .iter()
+                .zip(&like.starts)
+                .map(|(m, x)| ((m.len() - 1) * ncol + 1) * x.len())
+                .sum(),
         }
     }
 
@@ -367,7 +368,6 @@ impl Discretisation {
     /// ([`super::Measure`]) depends on these only.
     #[must_use]
     pub fn orbit_columns(&self, like: &PeriodicOrbit) -> Vec<usize> {
-        let n = like.starts[0].len();
         let kk = like.segment_count();
         let nv = self.segment_values(like);
         let mut cols = Vec::new();
@@ -375,7 +375,8 @@ impl Discretisation {
             Self::Shooting(_) => cols.extend(0..nv),
             Self::Collocation { meshes, ncol } => {
                 let mut off = 0;
-                for m in meshes {
+                for (m, x) in meshes.iter().zip(&like.starts) {
+                    let n = x.len();
                     cols.extend(off..off + n);
                     off += ((m.len() - 1) * ncol + 1) * n;
                 }
@@ -397,15 +398,14 @@ impl Discretisation {
         copies: f64,
         total: usize,
     ) -> Option<Vec<f64>> {
-        let n = like.starts[0].len();
         let mut w = Vec::with_capacity(total);
         match self {
             Self::Shooting(_) if copies == 1.0 => return None,
             Self::Shooting(_) => w.resize(self.segment_values(like), copies),
             Self::Collocation { meshes, ncol } => {
-                for m in meshes {
+                for (m, x) in meshes.iter().zip(&like.starts) {
                     let nodes = (m.len() - 1) * ncol + 1;
-                    w.extend(std::iter::repeat_n(copies / nodes as f64, nodes * n));
+                    w.extend(std::iter::repeat_n(copies / nodes as f64, nodes * x.len()));
                 }
             }
         }

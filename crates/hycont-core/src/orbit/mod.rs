@@ -106,16 +106,25 @@ impl PeriodicOrbit {
     }
 }
 
-/// Unpacks shooting unknowns into an orbit with the signature of `like`.
+/// Unpacks shooting unknowns into an orbit with the signature of `like` (each segment start
+/// as long as `like`'s).
 #[must_use]
 pub fn unpack(like: &PeriodicOrbit, u: &[f64]) -> PeriodicOrbit {
     let k = like.segment_count();
-    let n = like.starts[0].len();
+    let mut off = 0;
+    let starts = like
+        .starts
+        .iter()
+        .map(|x| {
+            off += x.len();
+            u[off - x.len()..off].to_vec()
+        })
+        .collect();
     PeriodicOrbit {
         signature: like.signature.clone(),
-        starts: (0..k).map(|i| u[i * n..(i + 1) * n].to_vec()).collect(),
-        durations: u[k * n..k * n + k].to_vec(),
-        params: u[k * (n + 1)..k * (n + 1) + like.params.len()].to_vec(),
+        starts,
+        durations: u[off..off + k].to_vec(),
+        params: u[off + k..off + k + like.params.len()].to_vec(),
     }
 }
 
