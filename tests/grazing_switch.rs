@@ -348,3 +348,60 @@ fn joins_away_from_a_grazing_are_refused() {
         "across the orbit's closure",
     );
 }
+
+/// Written with interior points at the extrema of x (`with_interior_points`: segments end
+/// where v = 0), the symmetric branch's dip is a segment's end that touches the other wall
+/// (`Touch::End`), and the switch replaces that end by the impact (`split_at_grazing` at a
+/// segment's end). The family beyond is the one the plain signature's switch finds: the same
+/// grazing parameter (1e-8) and the same end of the branch and special points along it (1e-7
+/// in a, each located to the run's accuracy), every orbit returning to itself by simulation
+/// (to 1e-4: near the grazing the return is ill-conditioned, see the module docs).
+#[test]
+fn a_grazing_at_a_segments_end_is_split_there() {
+    let mut run = run();
+    let beyond_of = |run: &mut OrbitRun<'static, ImpactPair>, start: &PeriodicOrbit| {
+        let symmetric = run.run("symmetric", start, RunDirection::Both).unwrap();
+        let dip = symmetric
+            .special(SpecialKind::Grazing)
+            .max_by(|a, b| a.point[A].total_cmp(&b.point[A]))
+            .unwrap()
+            .clone();
+        let beyond = run
+            .switch_at("beyond", &symmetric, dip.point.label, RunDirection::Up)
+            .unwrap();
+        (dip.point[A], beyond)
+    };
+    let plain = symmetric_orbit();
+    let settings = SimulationSettings::default().rtol(1e-12).atol(1e-13);
+    let interior = plain
+        .with_interior_points(&ImpactPair, 1, 0.0, &settings)
+        .unwrap();
+    assert!(interior.segment_count() > plain.segment_count());
+    let (a_plain, by_plain) = beyond_of(&mut run, &plain);
+    let (a_interior, by_interior) = beyond_of(&mut run, &interior);
+    assert!(
+        (a_plain - a_interior).abs() < 1e-8,
+        "{a_plain} {a_interior}"
+    );
+    let last = |b: &OrbitBranch| b.branch.points.last().unwrap()[A];
+    assert_eq!(by_plain.branch.end, by_interior.branch.end);
+    assert!((last(&by_plain) - last(&by_interior)).abs() < 1e-7);
+    let specials = |b: &OrbitBranch| -> Vec<(String, f64)> {
+        b.branch
+            .special_points
+            .iter()
+            .map(|s| (s.kind.label().to_string(), s.point[A]))
+            .collect()
+    };
+    let (sp, si) = (specials(&by_plain), specials(&by_interior));
+    assert!(!sp.is_empty());
+    assert_eq!(sp.len(), si.len(), "{sp:?} {si:?}");
+    for ((kp, ap), (ki, ai)) in sp.iter().zip(&si) {
+        assert_eq!(kp, ki);
+        assert!((ap - ai).abs() < 1e-7, "{kp}: {ap} {ai}");
+    }
+    for p in &by_interior.branch.points[1..by_interior.branch.points.len() - 1] {
+        let (gap, _) = returns(&by_interior.orbit_of(p).unwrap());
+        assert!(gap < 1e-4, "a = {}: gap {gap:e}", p[A]);
+    }
+}

@@ -102,7 +102,7 @@ fn figures_3_and_4_go_on_past_grazing_with_the_dips_impacts() {
 }
 
 /// `continue --restart RUN --label GR --switch` switches there to the figure's branch past
-/// grazing (its special points to 1e-9); at a label that is no BP, PD or GR it exits 2.
+/// grazing (its special points to 1e-9); at a label that is no BP, PD, GR or DB it exits 2.
 #[test]
 fn the_cli_switches_at_a_saved_grazing() {
     let dir = scratch("grazing");

@@ -98,10 +98,14 @@ impl<'a, S: HybridJacobians + ?Sized> OrbitRun<'a, S> {
                 let at = JoinAt::Collapsed { segment: shortest };
                 return Ok(Beyond::Join(join_at_grazing(self.system, orbit, at)?));
             }
-            (Some(Quantity::Measure(m)), Some((grazing, _))) if m == grazing => m,
+            (Some(Quantity::Measure(m)), Some((grazing, domain)))
+                if m == grazing || m == domain =>
+            {
+                m
+            }
             _ => {
                 return Err(failed(
-                    "only a grazing of the run's admissibility margin (an interior touch of an event surface or a tangential impact) or a collapsing segment switches signature".into(),
+                    "only a zero of the run's admissibility margins (an event surface touched inside a segment or at its end, a tangential impact) or a collapsing segment switches signature".into(),
                 ));
             }
         };
@@ -112,15 +116,14 @@ impl<'a, S: HybridJacobians + ?Sized> OrbitRun<'a, S> {
             .touch(self.system, orbit, margin.index() - 2)?
             .ok_or_else(|| failed("the margin is attained by no touch here".into()))?;
         match touch {
-            Touch::Turn { .. } => Ok(Beyond::Split(split_at_grazing(self.system, orbit, &touch)?)),
+            Touch::Turn { .. } | Touch::End { .. } => {
+                Ok(Beyond::Split(split_at_grazing(self.system, orbit, &touch)?))
+            }
             Touch::Approach { segment, .. } => Ok(Beyond::Join(join_at_grazing(
                 self.system,
                 orbit,
                 JoinAt::TangentialImpact { segment },
             )?)),
-            Touch::End { segment, .. } => Err(failed(format!(
-                "segment {segment} ends on another event's surface: no signature is built there"
-            ))),
         }
     }
 

@@ -37,12 +37,15 @@ impl<'a, S: HybridJacobians + ?Sized> OrbitRun<'a, S> {
     ///   shortest-segment monitor's GR), the impacts there are removed
     ///   ([`hycont_core::orbit::join_at_grazing`]): the joined orbit, solved again at the
     ///   grazing's parameters, starts the branch along its tangent, the way it is physical.
+    ///   At a segment's end on an event's surface (a GR of the grazing margin, or a DB of the
+    ///   domain margin) whose end keeps the state and mode (e.g. an extremum of a signature
+    ///   with interior points), the end is replaced by the impact.
     ///
     /// # Errors
     /// A branch that does not fit the system, an unknown label, a special point other than BP,
-    /// PD or GR ([`Error::WrongSpecialPoint`]), no second direction there, a grazing where a
-    /// segment ends on another event's surface or whose impacts cannot be joined, a new
-    /// signature physical on neither side
+    /// PD, GR or DB ([`Error::WrongSpecialPoint`]), no second direction there, a segment end
+    /// that changes the state there, impacts that cannot be joined, a new signature physical
+    /// on neither side
     /// ([`Error::SwitchFailed`]).
     pub fn switch_at(
         &mut self,
@@ -112,7 +115,11 @@ impl<'a, S: HybridJacobians + ?Sized> OrbitRun<'a, S> {
                 let special = special.clone();
                 self.switch_at_grazing(name, branch, &special)
             }
-            _ => Err(wrong("branches are switched at BP, PD and GR points")),
+            SpecialKind::Custom(ref l) if l.as_str() == "DB" => {
+                let special = special.clone();
+                self.switch_at_grazing(name, branch, &special)
+            }
+            _ => Err(wrong("branches are switched at BP, PD, GR and DB points")),
         }
     }
 }

@@ -35,27 +35,33 @@ pub struct GrazingSplit {
 /// after the impact is on both surfaces).
 const ON_SURFACE: f64 = 1e-8;
 
-/// Splits `orbit` at the interior grazing `touch` (a [`Touch::Turn`] strictly inside its
-/// segment) into the orbit of the signature with an impact there (see the module docs).
+/// Splits `orbit` at the grazing `touch` into the orbit of the signature with an impact there
+/// (see the module docs): at a [`Touch::Turn`] strictly inside its segment, the segment is
+/// split at the turning point; at a [`Touch::End`] (a segment's end on the event's surface,
+/// e.g. an extremum where a signature with interior points ends a segment), that end is
+/// replaced by the impact, provided it keeps the state and the mode (an interior point, or an
+/// event whose reset leaves the state unchanged there).
 ///
 /// # Errors
-/// [`Error::InvalidSignature`] for a touch that is not an interior turning point of its
-/// segment, an event that does not jump, or, where the impact leads into another mode, no
-/// event of that mode on whose surface the reset lands and that leads back; integration
-/// failures.
+/// [`Error::InvalidSignature`] for a tangential impact ([`Touch::Approach`]: see
+/// [`join_at_grazing`]), a turning point not inside its segment, an end that changes the
+/// state or mode or lies at the orbit's closure, an event that does not jump, or, where the
+/// impact leads into another mode, no event of that mode on whose surface the reset lands and
+/// that leads back; integration failures.
 pub fn split_at_grazing<S: HybridJacobians + ?Sized>(
     system: &S,
     orbit: &PeriodicOrbit,
     touch: &Touch,
 ) -> Result<GrazingSplit> {
-    let Touch::Turn {
-        segment: k, event, ..
-    } = *touch
-    else {
-        return Err(invalid(
-            touch.segment(),
-            "the grazing is not an interior turning point",
-        ));
+    let (k, event) = match *touch {
+        Touch::Turn { segment, event, .. } => (segment, event),
+        Touch::End { segment, event } => return split_at_end(system, orbit, segment, event),
+        Touch::Approach { segment, .. } => {
+            return Err(invalid(
+                segment,
+                "the grazing is a tangential impact: remove it (join_at_grazing), not split",
+            ));
+        }
     };
     let value = touch.evaluate(system, orbit)?;
     let duration = orbit.durations[k];
@@ -113,6 +119,89 @@ pub fn split_at_grazing<S: HybridJacobians + ?Sized>(
     durations.push(duration - t_star);
     segments.extend_from_slice(&orbit.signature.segments()[k + 1..]);
     starts.extend_from_slice(&orbit.starts[k + 1..]);
+    durations.extend_from_slice(&orbit.durations[k + 1..]);
+    let signature = Signature::with_closure(system, segments, orbit.signature.closure())?;
+    Ok(GrazingSplit {
+        orbit: PeriodicOrbit::new(system, signature, starts, durations, p.clone())?,
+        impact_segment: k,
+        zero_length,
+    })
+}
+
+/// [`split_at_grazing`] at the end of segment `k`, which lies on `event`'s surface: the end
+/// is replaced by `event` (and its zero-length flight where its reset leads into another
+/// mode), after which segment `k + 1` goes on from the state the impact leaves. Segment `k`'s
+/// own end must keep the state and the mode (an interior point, e.g. an extremum at which a
+/// signature splits its segments, or an event whose reset leaves the state unchanged there,
+/// to [`JOIN_IDENTITY_TOL`]): it is dropped.
+fn split_at_end<S: HybridJacobians + ?Sized>(
+    system: &S,
+    orbit: &PeriodicOrbit,
+    k: usize,
+    event: EventId,
+) -> Result<GrazingSplit> {
+    let specs = orbit.signature.segments();
+    let count = specs.len();
+    if k + 1 >= count {
+        return Err(invalid(
+            k,
+            "the grazing is at the orbit's closure: rotate the orbit so that the grazing lies inside one period",
+        ));
+    }
+    let spec = specs[k];
+    if specs[k + 1].mode != spec.mode {
+        return Err(invalid(
+            k,
+            &format!(
+                "its end leads into {}: only an end that keeps the mode is replaced by {event}",
+                specs[k + 1].mode
+            ),
+        ));
+    }
+    let EventAction::Jump { to } = system.event_spec(event).action else {
+        return Err(invalid(
+            k,
+            &format!("{event} does not jump: no impact to insert"),
+        ));
+    };
+    let p = &orbit.params;
+    let settings = SimulationSettings::default().rtol(1e-12).atol(1e-13);
+    let mut sim = Simulator::new(settings)?;
+    let flow = super::flow::SegmentFlow::plain(system, spec.mode);
+    let y = sim
+        .run(&flow, Mode(0), 0.0, &orbit.starts[k], p, orbit.durations[k])?
+        .state_final;
+    // The dropped end keeps the state: segment k + 1 starts where segment k arrives.
+    check_unmoved(k, k + 1, &y, &orbit.starts[k + 1])?;
+    let n = system.state_dim();
+    let mut after = vec![0.0; n];
+    system.reset(event, &y, p, &mut after);
+    let mut segments = specs[..k].to_vec();
+    segments.push(SegmentSpec {
+        mode: spec.mode,
+        end: SegmentEnd::Event(event),
+    });
+    let mut starts = orbit.starts[..=k].to_vec();
+    let mut durations = orbit.durations[..=k].to_vec();
+    let mut zero_length = None;
+    let resume = if to == spec.mode {
+        after
+    } else {
+        let back = event_back(system, (k, event), (to, spec.mode), &after, p)?;
+        zero_length = Some(segments.len());
+        segments.push(SegmentSpec {
+            mode: to,
+            end: SegmentEnd::Event(back),
+        });
+        starts.push(after.clone());
+        durations.push(0.0);
+        let mut resumed = vec![0.0; n];
+        system.reset(back, &after, p, &mut resumed);
+        resumed
+    };
+    segments.extend_from_slice(&specs[k + 1..]);
+    starts.push(resume);
+    starts.extend_from_slice(&orbit.starts[k + 2..]);
     durations.extend_from_slice(&orbit.durations[k + 1..]);
     let signature = Signature::with_closure(system, segments, orbit.signature.closure())?;
     Ok(GrazingSplit {

@@ -160,7 +160,7 @@ pub trait HybridSystem {
     /// dimensions: a stick mode with fewer states than a slip mode) override it; their resets
     /// map a state of the dimension of the modes that monitor the event to one of the target
     /// mode's dimension, and every mode that monitors an event has the same dimension
-    /// ([`check_mode_dims`](crate::check_mode_dims)). The simulator follows such systems across their jumps; the
+    /// ([`check_mode_dims`]). The simulator follows such systems across their jumps; the
     /// periodic-orbit solvers refuse them for now (a typed error).
     fn mode_dim(&self, mode: Mode) -> usize {
         let _ = mode;

@@ -126,7 +126,7 @@ pub struct ContinueArgs {
     /// Label of the point of the saved run to restart from.
     #[arg(long, requires = "restart", allow_hyphen_values = true)]
     pub label: Option<usize>,
-    /// Switch branches at the labelled point (a BP, PD or GR of the saved run) instead of
+    /// Switch branches at the labelled point (a BP, PD, GR or DB of the saved run) instead of
     /// continuing through it: at a GR, the family with the grazing's extra impacts, the way
     /// it is physical.
     #[arg(long, requires = "label")]
