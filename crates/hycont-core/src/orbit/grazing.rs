@@ -98,22 +98,14 @@ pub fn split_at_grazing<S: HybridJacobians + ?Sized>(
     });
     starts.push(orbit.starts[k].clone());
     durations.push(t_star);
-    let mut zero_length = None;
-    let resume = if to == spec.mode {
-        after
-    } else {
-        let back = event_back(system, (k, event), (to, spec.mode), &after, p)?;
-        zero_length = Some(segments.len());
-        segments.push(SegmentSpec {
-            mode: to,
-            end: SegmentEnd::Event(back),
-        });
-        starts.push(after.clone());
-        durations.push(0.0);
-        let mut resumed = vec![0.0; n];
-        system.reset(back, &after, p, &mut resumed);
-        resumed
-    };
+    let (resume, zero_length) = resume_after_impact(
+        system,
+        (k, event),
+        (spec.mode, to),
+        after,
+        p,
+        (&mut segments, &mut starts, &mut durations),
+    )?;
     segments.push(spec);
     starts.push(resume);
     durations.push(duration - t_star);
@@ -183,22 +175,14 @@ fn split_at_end<S: HybridJacobians + ?Sized>(
     });
     let mut starts = orbit.starts[..=k].to_vec();
     let mut durations = orbit.durations[..=k].to_vec();
-    let mut zero_length = None;
-    let resume = if to == spec.mode {
-        after
-    } else {
-        let back = event_back(system, (k, event), (to, spec.mode), &after, p)?;
-        zero_length = Some(segments.len());
-        segments.push(SegmentSpec {
-            mode: to,
-            end: SegmentEnd::Event(back),
-        });
-        starts.push(after.clone());
-        durations.push(0.0);
-        let mut resumed = vec![0.0; n];
-        system.reset(back, &after, p, &mut resumed);
-        resumed
-    };
+    let (resume, zero_length) = resume_after_impact(
+        system,
+        (k, event),
+        (spec.mode, to),
+        after,
+        p,
+        (&mut segments, &mut starts, &mut durations),
+    )?;
     segments.extend_from_slice(&specs[k + 1..]);
     starts.push(resume);
     starts.extend_from_slice(&orbit.starts[k + 2..]);
@@ -209,6 +193,34 @@ fn split_at_end<S: HybridJacobians + ?Sized>(
         impact_segment: k,
         zero_length,
     })
+}
+
+/// After the impact by `event` that ends segment `k` in `mode` and leaves the state `after`:
+/// where it leads into another mode `to`, the zero-length flight there (ended by the event
+/// that leads back, [`event_back`]) is appended to the pieces of the new orbit. Returns the
+/// state in `mode` the orbit resumes with and the flight's index.
+fn resume_after_impact<S: HybridJacobians + ?Sized>(
+    system: &S,
+    (k, event): (usize, EventId),
+    (mode, to): (Mode, Mode),
+    after: Vec<f64>,
+    p: &[f64],
+    (segments, starts, durations): (&mut Vec<SegmentSpec>, &mut Vec<Vec<f64>>, &mut Vec<f64>),
+) -> Result<(Vec<f64>, Option<usize>)> {
+    if to == mode {
+        return Ok((after, None));
+    }
+    let back = event_back(system, (k, event), (to, mode), &after, p)?;
+    let zero_length = segments.len();
+    segments.push(SegmentSpec {
+        mode: to,
+        end: SegmentEnd::Event(back),
+    });
+    let mut resumed = vec![0.0; system.state_dim()];
+    system.reset(back, &after, p, &mut resumed);
+    starts.push(after);
+    durations.push(0.0);
+    Ok((resumed, Some(zero_length)))
 }
 
 /// The event that ends the zero-length flight in mode `to` after the impact by `event` (which
