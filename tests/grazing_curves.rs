@@ -37,11 +37,11 @@ use hycont::hycont_continuation::{
     SpecialKind,
 };
 use hycont::orbit::{
-    Closure, CollocationSettings, OrbitMethod, PeriodicOrbit, SegmentEnd, SegmentSpec,
-    ShootingSettings, Signature, SymmetricSearch, Touch, find_symmetric_orbit,
+    CollocationSettings, OrbitMethod, PeriodicOrbit, SegmentEnd, SegmentSpec, ShootingSettings,
+    Signature, Touch,
 };
 use hycont::{FiniteDifferences, HybridJacobians};
-use std::f64::consts::{PI, TAU};
+use std::f64::consts::TAU;
 
 /// Points a curve over the whole window may take: a few hundred do (the crawl took 4000 for a
 /// few per cent of it).
@@ -191,28 +191,8 @@ fn the_piecewise_linear_grazing_curve_traces_in_one_go() {
 
 /// The symmetric orbit of the two-sided impact oscillator with one impact on each wall, at
 /// `(a, omega) = (1, 0.6)`.
-fn impact_pair(sys: &pair::ImpactPair) -> PeriodicOrbit {
-    let half = Signature::with_closure(
-        sys,
-        vec![SegmentSpec {
-            mode: pair::FREE,
-            end: SegmentEnd::Event(pair::RIGHT),
-        }],
-        Closure::Symmetric,
-    )
-    .unwrap();
-    let seeds = (0..12)
-        .flat_map(|i| {
-            (0..24).map(move |j| {
-                let beta = TAU * f64::from(j) / 24.0;
-                vec![-1.0, 0.1 + 0.25 * f64::from(i), beta.sin(), beta.cos()]
-            })
-        })
-        .collect();
-    let omega = 0.6;
-    let search = SymmetricSearch::new(seeds).half_period(PI / omega);
-    let p = [1.0, omega, 1.0, 0.1, 1.0, 0.8];
-    find_symmetric_orbit(sys, &half, &p, &search)
+fn impact_pair() -> PeriodicOrbit {
+    pair::find_symmetric(&[1.0, 0.6, 1.0, 0.1, 1.0, 0.8])
         .unwrap()
         .full
         .orbit
@@ -226,7 +206,7 @@ fn impact_pair(sys: &pair::ImpactPair) -> PeriodicOrbit {
 fn the_impact_pairs_grazing_curves_trace_in_one_go() {
     use pair::{A, OMEGA};
     let sys = pair::ImpactPair;
-    let start = impact_pair(&sys);
+    let start = impact_pair();
     let mut physical_end = Vec::new();
     for method in methods() {
         let mut run = OrbitRun::new(&sys, A).unwrap();
@@ -281,7 +261,7 @@ fn the_impact_pairs_grazing_curves_trace_in_one_go() {
 #[test]
 fn touch_gradients_are_the_derivatives_of_their_values() {
     let sys = pair::ImpactPair;
-    let mut orbit = impact_pair(&sys);
+    let mut orbit = impact_pair();
     orbit.params[0] = 1.2;
     let touches = [
         Touch::Approach {
@@ -339,7 +319,7 @@ fn a_start_beyond_the_physical_end_is_refused() {
     use hycont::orbit::Violation;
     use pair::A;
     let sys = pair::ImpactPair;
-    let start = impact_pair(&sys);
+    let start = impact_pair();
     for method in methods() {
         let mut off = OrbitRun::new(&sys, A).unwrap();
         off.method(method)

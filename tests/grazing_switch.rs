@@ -25,38 +25,14 @@ use hycont::Error as CoreError;
 use hycont::hycont_continuation::{
     DiagramSettings, EndReason, OrbitBranch, OrbitRun, RunDirection, SpecialKind, SwitchOutcome,
 };
-use hycont::orbit::{
-    Closure, PeriodicOrbit, SegmentEnd, SegmentSpec, Signature, SymmetricSearch,
-    find_symmetric_orbit,
-};
+use hycont::orbit::PeriodicOrbit;
 use hycont::orbit::{CollocationSettings, JoinAt, OrbitMethod, join_at_grazing};
 use hycont::{SimulationSettings, Simulator};
-use pair::{A, FREE, ImpactPair, RIGHT};
-use std::f64::consts::{PI, TAU};
+use pair::{A, FREE, ImpactPair};
 
 /// The symmetric orbit at a = 1 (omega 0.6, k 1, c 0.1, d 1, e 0.8), one impact per wall.
 fn symmetric_orbit() -> PeriodicOrbit {
-    let d = 1.0;
-    let p = [1.0, 0.6, 1.0, 0.1, d, 0.8];
-    let half = Signature::with_closure(
-        &ImpactPair,
-        vec![SegmentSpec {
-            mode: FREE,
-            end: SegmentEnd::Event(RIGHT),
-        }],
-        Closure::Symmetric,
-    )
-    .unwrap();
-    let seeds = (0..12)
-        .flat_map(|i| {
-            (0..24).map(move |j| {
-                let beta = TAU * f64::from(j) / 24.0;
-                vec![-d, 0.1 + 0.25 * f64::from(i), beta.sin(), beta.cos()]
-            })
-        })
-        .collect();
-    let search = SymmetricSearch::new(seeds).half_period(PI / 0.6);
-    find_symmetric_orbit(&ImpactPair, &half, &p, &search)
+    pair::find_symmetric(&[1.0, 0.6, 1.0, 0.1, 1.0, 0.8])
         .unwrap()
         .full
         .orbit

@@ -18,35 +18,13 @@ mod pair;
 
 use approx::assert_abs_diff_eq;
 use hycont::hycont_continuation::{DiagramSettings, OrbitRun, SpecialKind};
-use hycont::orbit::{Closure, SegmentEnd, SegmentSpec, Signature, SymmetricSearch};
-use pair::{A, FREE, ImpactPair, RIGHT};
-use std::f64::consts::{PI, TAU};
+use pair::{A, ImpactPair};
 
 const FEIGENBAUM_DELTA: f64 = 4.669_201_609_102_99;
 
 #[test]
 fn the_impact_pairs_cascade_goes_on_past_a_doubling_inside_a_first_step() {
-    let (omega, d) = (0.6_f64, 1.0_f64);
-    let p = [1.0, omega, 1.0, 0.1, d, 0.8];
-    let half = Signature::with_closure(
-        &ImpactPair,
-        vec![SegmentSpec {
-            mode: FREE,
-            end: SegmentEnd::Event(RIGHT),
-        }],
-        Closure::Symmetric,
-    )
-    .unwrap();
-    let seeds = (0..12)
-        .flat_map(|i| {
-            (0..24).map(move |j| {
-                let beta = TAU * f64::from(j) / 24.0;
-                vec![-d, 0.1 + 0.25 * f64::from(i), beta.sin(), beta.cos()]
-            })
-        })
-        .collect();
-    let search = SymmetricSearch::new(seeds).half_period(PI / omega);
-    let found = hycont::orbit::find_symmetric_orbit(&ImpactPair, &half, &p, &search).unwrap();
+    let found = pair::find_symmetric(&[1.0, 0.6, 1.0, 0.1, 1.0, 0.8]).unwrap();
     let mut run = OrbitRun::new(&ImpactPair, A).unwrap();
     run.bounds(0.05, 3.0);
     let settings = DiagramSettings {

@@ -18,11 +18,7 @@
 mod model;
 
 use hycont::hycont_continuation::{OrbitRun, RunDirection, SpecialKind};
-use hycont::orbit::{
-    Closure, SegmentEnd, SegmentSpec, Signature, SymmetricSearch, find_symmetric_orbit,
-};
-use model::{A, FREE, ImpactPair, OMEGA, RIGHT};
-use std::f64::consts::{PI, TAU};
+use model::{A, ImpactPair, OMEGA, find_symmetric};
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let (omega, k, c, d, e) = (0.6_f64, 1.0_f64, 0.1_f64, 1.0_f64, 0.8);
@@ -30,25 +26,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let p = [1.0, omega, k, c, d, e];
 
     // The half orbit: one free flight from just after a left impact to a right impact; the
-    // symmetry maps its end (after the right impact's reset) onto its start.
-    let half = Signature::with_closure(
-        &ImpactPair,
-        vec![SegmentSpec {
-            mode: FREE,
-            end: SegmentEnd::Event(RIGHT),
-        }],
-        Closure::Symmetric,
-    )?;
-    let seeds = (0..12)
-        .flat_map(|i| {
-            (0..24).map(move |j| {
-                let beta = TAU * f64::from(j) / 24.0;
-                vec![-d, 0.1 + 0.25 * f64::from(i), beta.sin(), beta.cos()]
-            })
-        })
-        .collect();
-    let search = SymmetricSearch::new(seeds).half_period(PI / omega);
-    let found = find_symmetric_orbit(&ImpactPair, &half, &p, &search)?;
+    // symmetry maps its end (after the right impact's reset) onto its start (`find_symmetric`
+    // in model.rs: the signature, seeds on the left wall, the search).
+    let found = find_symmetric(&p)?;
     println!(
         "symmetric orbit at a = 1, omega = {}: impact velocity {:.6}, half-map multipliers {:?}",
         found.half.params[OMEGA.index()],

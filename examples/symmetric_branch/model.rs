@@ -13,10 +13,15 @@
 // `(-r, -s)`, a half period later: a forced system written with its phase as a wrapped angle
 // `theta` would need `theta -> theta + pi`, which is not linear.
 
+use hycont::orbit::{
+    Closure, SegmentEnd, SegmentSpec, Signature, SymmetricSearch, SymmetricSolution,
+    find_symmetric_orbit,
+};
 use hycont::{
     Direction, EventAction, EventId, EventSpec, HybridJacobians, HybridSystem, Mode, ParamId,
     Z2Symmetry,
 };
+use std::f64::consts::{PI, TAU};
 
 pub const A: ParamId = ParamId(0);
 pub const OMEGA: ParamId = ParamId(1);
@@ -148,4 +153,31 @@ impl HybridJacobians for ImpactPair {
             dp[1 + 4 * 5] = -x[1];
         }
     }
+}
+
+/// The symmetric orbit with one impact on each wall at parameters `p` (`(a, omega, k, c, d, e)`):
+/// its half orbit is one free flight from just after a left impact to a right impact, closed
+/// through the symmetry (which maps its end, after the right impact's reset, onto its start),
+/// searched from seeds on the left wall (12 speeds, 24 forcing phases) with half period
+/// `pi / omega`.
+pub fn find_symmetric(p: &[f64; 6]) -> hycont::Result<SymmetricSolution> {
+    let (omega, d) = (p[1], p[4]);
+    let half = Signature::with_closure(
+        &ImpactPair,
+        vec![SegmentSpec {
+            mode: FREE,
+            end: SegmentEnd::Event(RIGHT),
+        }],
+        Closure::Symmetric,
+    )?;
+    let seeds = (0..12)
+        .flat_map(|i| {
+            (0..24).map(move |j| {
+                let beta = TAU * f64::from(j) / 24.0;
+                vec![-d, 0.1 + 0.25 * f64::from(i), beta.sin(), beta.cos()]
+            })
+        })
+        .collect();
+    let search = SymmetricSearch::new(seeds).half_period(PI / omega);
+    find_symmetric_orbit(&ImpactPair, &half, p, &search)
 }
