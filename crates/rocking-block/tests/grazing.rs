@@ -16,7 +16,7 @@ mod common;
 use common::{RunOk, bin, fails, scratch};
 use hycont_continuation::SpecialKind;
 use hycont_continuation::observe::Silent;
-use hycont_continuation::{EndReason, RunDirection};
+use hycont_continuation::{BranchPoint, EndReason, OrbitBranch, RunDirection};
 use hycont_core::SimulationSettings;
 use hycont_core::orbit::PeriodicOrbit;
 use rocking_block::RockingBlock;
@@ -36,6 +36,34 @@ fn zero_length(orbit: &PeriodicOrbit) -> Vec<usize> {
     (0..orbit.durations.len())
         .filter(|&k| orbit.durations[k] == 0.0)
         .collect()
+}
+
+/// Checks that every orbit of `branch` at `points` returns to itself by simulation with
+/// `impacts` impacts per period: to 1e-8 where the new impacts (the starts of the zero-length
+/// segments `zeros` of its first orbit: after the first, the flight on the other corner starts
+/// with the restituted speed) are at least 1e-2 fast, else to 1e-5 (see the module docs).
+/// Returns how many were checked to 1e-8.
+fn check_returns(
+    branch: &OrbitBranch,
+    points: &[BranchPoint],
+    zeros: &[usize],
+    impacts: usize,
+) -> usize {
+    let q = branch.free;
+    let mut checked = 0;
+    for p in points {
+        let orbit = branch.orbit_of(p).unwrap();
+        let speed = zeros
+            .iter()
+            .map(|&k| orbit.starts[k][1].abs())
+            .fold(f64::INFINITY, f64::min);
+        let (gap, found) = returns(&orbit);
+        let tol = if speed >= 1e-2 { 1e-8 } else { 1e-5 };
+        assert!(gap < tol, "{}: gap {gap:e} (speed {speed:e})", p[q]);
+        assert_eq!(found, impacts, "{}", p[q]);
+        checked += usize::from(speed >= 1e-2);
+    }
+    checked
 }
 
 #[test]
@@ -59,31 +87,13 @@ fn figures_3_and_4_go_on_past_grazing_with_the_dips_impacts() {
         assert_eq!(zeros.len(), 2, "{free:?}: {:?}", first.durations);
         assert_eq!(first.segment_count(), old.segment_count() + 4);
         let (_, old_impacts) = returns(&old);
-        let mut checked = 0;
         // Up to the family's own grazing, where it ends: there another dip touches phi = 0,
         // which the simulation of the located orbit may or may not meet.
         let inner = match grazed.branch.end {
             EndReason::Inadmissible(SpecialKind::Grazing) => &points[1..points.len() - 1],
             _ => &points[1..],
         };
-        for p in inner {
-            let orbit = grazed.orbit_of(p).unwrap();
-            // The new impacts' speed: after the first, the flight on the other corner starts
-            // with the restituted speed.
-            let speed = zeros
-                .iter()
-                .map(|&k| orbit.starts[k][1].abs())
-                .fold(f64::INFINITY, f64::min);
-            let (gap, impacts) = returns(&orbit);
-            let tol = if speed >= 1e-2 { 1e-8 } else { 1e-5 };
-            assert!(
-                gap < tol,
-                "{free:?} {}: gap {gap:e} (speed {speed:e})",
-                p[q]
-            );
-            assert_eq!(impacts, old_impacts + 4, "{free:?} {}", p[q]);
-            checked += usize::from(speed >= 1e-2);
-        }
+        let checked = check_returns(grazed, inner, &zeros, old_impacts + 4);
         assert!(checked > 5, "{free:?}: {checked} points checked to 1e-8");
         // The family turns back from the grazing (a nonsmooth fold: both families on the side
         // below it), with a branch point, a fold, and a grazing of its own.
@@ -260,15 +270,5 @@ fn the_family_past_gr1_grazes_and_goes_on_with_two_more_impacts() {
     );
     let inner = &points[1..points.len() - 1];
     assert!(inner.len() >= 5, "{} points", inner.len());
-    for p in inner {
-        let orbit = beyond.orbit_of(p).unwrap();
-        let speed = zeros
-            .iter()
-            .map(|&k| orbit.starts[k][1].abs())
-            .fold(f64::INFINITY, f64::min);
-        let (gap, impacts) = returns(&orbit);
-        let tol = if speed >= 1e-2 { 1e-8 } else { 1e-5 };
-        assert!(gap < tol, "{}: gap {gap:e} (speed {speed:e})", p[q]);
-        assert_eq!(impacts, old_impacts + 4, "{}", p[q]);
-    }
+    check_returns(&beyond, inner, &zeros, old_impacts + 4);
 }
