@@ -59,5 +59,5 @@ pub use system::{
     AutoDiff, DerivativeCheck, DerivativeKind, DerivativeMismatch, Direction, EventAction, EventId,
     EventSpec, FiniteDifferences, HybridJacobians, HybridModel, HybridSystem, Mode, ParamId,
     Scalar, Tangents, Variation, Z2Symmetry, check_derivatives, check_derivatives_against,
-    check_mode_dims, checked_symmetry, uniform_dims,
+    check_mode_dims, checked_symmetry, reset_dim, uniform_dims,
 };

@@ -7,113 +7,16 @@
 //! t_B = (v0 - sqrt(v0^2 - 2 a)) / a (the first root of x(t) = 0) and ends with
 //! y = -sqrt(v0^2 - 2 a); the motion repeats with period 1 + t_B.
 
+mod common;
+
 use approx::assert_abs_diff_eq;
 use hycont_core::orbit::{SegmentEnd, SegmentSpec, Signature};
 use hycont_core::{
-    Direction, Error, EventAction, EventId, EventSpec, HybridJacobians, HybridSystem, Mode,
-    SampleTimes, Sensitivities, SimulationSettings, Simulator, check_mode_dims, uniform_dims,
+    Direction, Error, EventAction, EventId, EventSpec, HybridSystem, Mode, SampleTimes,
+    Sensitivities, SimulationSettings, Simulator, check_mode_dims, uniform_dims,
 };
 
-const A: Mode = Mode(0);
-const B: Mode = Mode(1);
-const UP: EventId = EventId(0);
-const DOWN: EventId = EventId(1);
-/// v0 and a.
-const P: [f64; 2] = [1.0, 0.2];
-
-/// The shuttle; `clash` also watches UP in mode B (of another dimension): an invalid system.
-struct Shuttle {
-    clash: bool,
-}
-
-impl HybridSystem for Shuttle {
-    fn state_dim(&self) -> usize {
-        2
-    }
-    fn mode_dim(&self, mode: Mode) -> usize {
-        if mode == A { 1 } else { 2 }
-    }
-    fn parameter_names(&self) -> &[&'static str] {
-        &["v0", "a"]
-    }
-    fn mode_count(&self) -> usize {
-        2
-    }
-    fn mode_name(&self, mode: Mode) -> &'static str {
-        if mode == A { "climb" } else { "fall" }
-    }
-    fn events(&self, mode: Mode) -> &[EventId] {
-        match (mode == A, self.clash) {
-            (true, _) => &[UP],
-            (false, false) => &[DOWN],
-            (false, true) => &[DOWN, UP],
-        }
-    }
-    fn event_spec(&self, e: EventId) -> EventSpec {
-        EventSpec {
-            name: if e == UP { "up" } else { "down" },
-            direction: Direction::Falling,
-            action: EventAction::Jump {
-                to: if e == UP { B } else { A },
-            },
-        }
-    }
-    fn vector_field(&self, mode: Mode, x: &[f64], p: &[f64], f: &mut [f64]) {
-        if mode == A {
-            f[0] = 1.0;
-        } else {
-            f[0] = x[1];
-            f[1] = p[1];
-        }
-    }
-    fn event(&self, e: EventId, x: &[f64], _: &[f64]) -> f64 {
-        if e == UP { 1.0 - x[0] } else { x[0] }
-    }
-    fn reset(&self, e: EventId, x: &[f64], p: &[f64], out: &mut [f64]) {
-        if e == UP {
-            out[0] = x[0];
-            out[1] = -p[0];
-        } else {
-            out[0] = x[0];
-        }
-    }
-}
-
-impl HybridJacobians for Shuttle {
-    fn vector_field_jacobian(
-        &self,
-        m: Mode,
-        _: &[f64],
-        _: &[f64],
-        dx: &mut [f64],
-        dp: Option<&mut [f64]>,
-    ) {
-        dx.fill(0.0);
-        if m == B {
-            dx[2] = 1.0;
-        }
-        if let Some(dp) = dp {
-            dp.fill(0.0);
-            if m == B {
-                dp[3] = 1.0;
-            }
-        }
-    }
-    fn event_gradient(
-        &self,
-        e: EventId,
-        _: &[f64],
-        _: &[f64],
-        dx: &mut [f64],
-        dp: Option<&mut [f64]>,
-    ) {
-        dx.fill(0.0);
-        dx[0] = if e == UP { -1.0 } else { 1.0 };
-        if let Some(dp) = dp {
-            dp.fill(0.0);
-        }
-    }
-}
+use common::shuttle::{A, B, DOWN, P, Shuttle, UP};
 
 fn fall_time() -> f64 {
     let [v0, a] = P;
@@ -205,8 +108,9 @@ fn a_start_has_its_modes_dimension() {
 }
 
 /// What does not support modes of their own dimension yet says so with a typed error naming
-/// the dimensions: sensitivities, periodic orbits; an event watched in modes of two
-/// dimensions is refused naming the event and the modes.
+/// the dimensions: sensitivities across a jump between dimensions; an event watched in modes
+/// of two dimensions is refused naming the event and the modes. Periodic orbits take them
+/// (tests/mode_dim_orbits.rs).
 #[test]
 fn what_does_not_support_them_refuses_them() {
     let system = Shuttle { clash: false };
@@ -228,14 +132,15 @@ fn what_does_not_support_them_refuses_them() {
             end: SegmentEnd::Event(DOWN),
         },
     ];
-    let e = Signature::new(&system, segments).unwrap_err();
-    assert!(matches!(e, Error::InvalidSystem { .. }), "{e}");
+    Signature::new(&system, segments.clone()).unwrap();
     let clash = Shuttle { clash: true };
     let e = sim.run(&clash, A, 0.0, &[0.0], &P, 0.5).unwrap_err();
     assert!(
         matches!(&e, Error::InvalidSystem { reason } if reason.contains("event #0") && reason.contains("mode #1 (2 states)")),
         "{e}"
     );
+    let e = Signature::new(&clash, segments).unwrap_err();
+    assert!(matches!(e, Error::InvalidSystem { .. }), "{e}");
 }
 
 /// A ball on the floor (height, velocity: h'' = -1, impacts v -> -e v) whose impacts

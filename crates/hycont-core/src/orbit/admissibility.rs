@@ -130,7 +130,7 @@ pub(super) fn rate<S: HybridJacobians + ?Sized>(
     x: &[f64],
     p: &[f64],
 ) -> f64 {
-    let n = system.state_dim();
+    let n = x.len();
     let (mut grad, mut f) = (vec![0.0; n], vec![0.0; n]);
     system.event_gradient(e, x, p, &mut grad, None);
     system.vector_field(mode, x, p, &mut f);

@@ -1,19 +1,23 @@
 //! The conditions closing each segment at its end, shared by shooting and collocation.
 //!
-//! Segment $k$ ends at $y_k$ and must reach the next segment's start $x_{k+1}$ (after the last
-//! segment: $x_0$, or $S x_0$ for a symmetric closure). At an event $e$ the conditions are
-//! $g_e(y_k) - x_{k+1} = 0$ and $h_e(y_k) = 0$; at an interior point $x_c = v$ they are
-//! $y_k - x_{k+1} = 0$ and $y_{k,c} - v = 0$: $n + 1$ rows per segment.
+//! Segment $k$ ends at $y_k$ (of its mode's dimension $n_k$) and must reach the next segment's
+//! start $x_{k+1}$ (of dimension $n_{k+1}$; after the last segment: $x_0$, or $S x_0$ for a
+//! symmetric closure). At an event $e$ the conditions are $g_e(y_k) - x_{k+1} = 0$ and
+//! $h_e(y_k) = 0$; at an interior point $x_c = v$ they are $y_k - x_{k+1} = 0$ and
+//! $y_{k,c} - v = 0$: $n_{k+1} + 1$ rows per segment.
 
 use super::signature::{Closure, SegmentEnd, Signature};
 use crate::error::{Error, Result, finite_derivative};
 use crate::system::{HybridJacobians, Mode};
 
-/// Evaluation and linearisation of the end conditions, with their work space.
+/// Evaluation and linearisation of the end conditions, with their work space (sized for the
+/// largest mode; each segment uses its own $n_{k+1} \times n_k$ part).
 pub(crate) struct EndConditions {
     n: usize,
     /// $S$ for a symmetric closure (column-major), else `None`.
     closure: Option<Vec<f64>>,
+    /// The dimensions $(n_k, n_{k+1})$ of the last linearisation.
+    dims: (usize, usize),
     gx: Vec<f64>,
     gp: Vec<f64>,
     hx: Vec<f64>,
@@ -31,6 +35,7 @@ impl EndConditions {
         Self {
             n,
             closure,
+            dims: (n, n),
             gx: vec![0.0; n * n],
             gp: vec![0.0; n * np],
             hx: vec![0.0; n],
@@ -46,7 +51,7 @@ impl EndConditions {
 
     /// The state segment `k` must reach, from the next segment's start (`x_0` when `wrap`).
     pub(crate) fn target(&self, wrap: bool, next_start: &[f64]) -> Vec<f64> {
-        let n = self.n;
+        let n = next_start.len();
         match (&self.closure, wrap) {
             (Some(sm), true) => (0..n)
                 .map(|i| (0..n).map(|j| sm[i + j * n] * next_start[j]).sum())
@@ -55,8 +60,8 @@ impl EndConditions {
         }
     }
 
-    /// The $n + 1$ residual rows of a segment in `mode` ending in `y` with `end`, reaching
-    /// `target`.
+    /// The $n_{k+1} + 1$ residual rows of a segment in `mode` ending in `y` with `end`,
+    /// reaching `target` (of the next segment's dimension $n_{k+1}$).
     ///
     /// # Errors
     /// [`Error::NonFiniteReset`] or [`Error::NonFiniteEvent`] (at the segment's end, `t` 0)
@@ -70,20 +75,23 @@ impl EndConditions {
         target: &[f64],
         out: &mut [f64],
     ) -> Result<()> {
-        let n = self.n;
+        let n = target.len();
         match end {
             SegmentEnd::Event(e) => {
-                system.reset(e, y, p, &mut self.gy);
-                if let Some(index) = self.gy.iter().position(|v| !v.is_finite()) {
+                // NaN marks a component the reset leaves unwritten.
+                let gy = &mut self.gy[..n];
+                gy.fill(f64::NAN);
+                system.reset(e, y, p, gy);
+                if let Some(index) = gy.iter().position(|v| !v.is_finite()) {
                     return Err(Error::NonFiniteReset {
                         event: e,
                         index,
-                        value: self.gy[index],
+                        value: gy[index],
                         state: y.to_vec(),
                     });
                 }
                 for i in 0..n {
-                    out[i] = self.gy[i] - target[i];
+                    out[i] = gy[i] - target[i];
                 }
                 out[n] = system.event(e, y, p);
                 if !out[n].is_finite() {
@@ -106,7 +114,8 @@ impl EndConditions {
         Ok(())
     }
 
-    /// Linearises the conditions at `y` (then read with [`Self::state_derivative`] and
+    /// Linearises the conditions at `y` (of the segment's dimension $n_k$) towards a next
+    /// start of dimension `n_to` (then read with [`Self::state_derivative`] and
     /// [`Self::parameter_derivative`]).
     ///
     /// # Errors
@@ -116,39 +125,45 @@ impl EndConditions {
         &mut self,
         system: &S,
         end: SegmentEnd,
-        y: &[f64],
+        (y, n_to): (&[f64], usize),
         p: &[f64],
     ) -> Result<()> {
+        let (n, np) = (y.len(), p.len());
+        self.dims = (n, n_to);
+        let (gx, gp) = (&mut self.gx[..n_to * n], &mut self.gp[..n_to * np]);
+        let hx = &mut self.hx[..n];
         match end {
             SegmentEnd::Event(e) => {
-                let n = self.n;
-                system.reset_jacobian(e, y, p, &mut self.gx, Some(&mut self.gp));
-                system.event_gradient(e, y, p, &mut self.hx, Some(&mut self.hp));
+                system.reset_jacobian(e, y, p, gx, Some(gp));
+                system.event_gradient(e, y, p, hx, Some(&mut self.hp));
                 let reset = || format!("reset of event {e}");
-                finite_derivative(&self.gx, n, ("state", 0), reset, y)?;
-                finite_derivative(&self.gp, n, ("parameter", 0), reset, y)?;
+                finite_derivative(gx, n_to, ("state", 0), reset, y)?;
+                finite_derivative(gp, n_to, ("parameter", 0), reset, y)?;
                 let event = || format!("event function {e}");
-                finite_derivative(&self.hx, 1, ("state", 0), event, y)?;
+                finite_derivative(hx, 1, ("state", 0), event, y)?;
                 finite_derivative(&self.hp, 1, ("parameter", 0), event, y)?;
             }
             SegmentEnd::Interior { component, .. } => {
-                self.gx.fill(0.0);
-                for i in 0..self.n {
-                    self.gx[i + i * self.n] = 1.0;
+                // The signature keeps the mode at interior points: n_to = n.
+                gx.fill(0.0);
+                for i in 0..n {
+                    gx[i + i * n_to] = 1.0;
                 }
-                self.gp.fill(0.0);
-                self.hx.fill(0.0);
-                self.hx[component] = 1.0;
+                gp.fill(0.0);
+                hx.fill(0.0);
+                hx[component] = 1.0;
                 self.hp.fill(0.0);
             }
         }
         Ok(())
     }
 
-    /// $\partial\,\mathrm{row}_i / \partial y_j$ ($g_x$ for $i < n$, $h_x$ for $i = n$).
+    /// $\partial\,\mathrm{row}_i / \partial y_j$ ($g_x$ for $i < n_{k+1}$, $h_x$ for
+    /// $i = n_{k+1}$), of the last linearisation.
     pub(crate) fn state_derivative(&self, i: usize, j: usize) -> f64 {
-        if i < self.n {
-            self.gx[i + j * self.n]
+        let n_to = self.dims.1;
+        if i < n_to {
+            self.gx[i + j * n_to]
         } else {
             self.hx[j]
         }
@@ -156,8 +171,9 @@ impl EndConditions {
 
     /// $\partial\,\mathrm{row}_i / \partial p_q$ at fixed $y$.
     pub(crate) fn parameter_derivative(&self, i: usize, q: usize) -> f64 {
-        if i < self.n {
-            self.gp[i + q * self.n]
+        let n_to = self.dims.1;
+        if i < n_to {
+            self.gp[i + q * n_to]
         } else {
             self.hp[q]
         }

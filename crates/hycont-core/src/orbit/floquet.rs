@@ -36,7 +36,8 @@ pub struct Floquet {
     /// Number of non-trivial multipliers outside the unit circle by more than
     /// [`NEUTRAL_BAND`] (relative).
     pub unstable: usize,
-    /// The monodromy matrix (column-major), at the start of segment 0.
+    /// The monodromy matrix (column-major), at the start of segment 0 (of that segment's
+    /// mode's dimension).
     pub monodromy: Vec<f64>,
 }
 
@@ -84,7 +85,16 @@ impl Floquet {
         period: f64,
         monodromy: Vec<f64>,
     ) -> Result<Self> {
-        let n = system.state_dim();
+        // The monodromy lives in the first segment's space, whose dimension may be less than
+        // the system's largest (`HybridSystem::mode_dim`).
+        let n = monodromy.len().isqrt();
+        if n * n != monodromy.len() {
+            return Err(crate::Error::DimensionMismatch {
+                what: "monodromy matrix (n x n entries)",
+                expected: n * n,
+                found: monodromy.len(),
+            });
+        }
         let multipliers = eigenvalues(n, &monodromy)?;
         let mut trivial = vec![false; n];
         for (tr, ti) in system.trivial_multipliers(params, period) {
@@ -116,6 +126,17 @@ impl Floquet {
     }
 }
 
+/// $C = A B$ for a column-major $m \times l$ matrix $A$ and $l \times n$ matrix $B$ ($C$:
+/// $m \times n$).
+pub(crate) fn matmul_rect(m: usize, l: usize, a: &[f64], b: &[f64]) -> Vec<f64> {
+    let n = b.len() / l.max(1);
+    let mut c = vec![0.0; m * n];
+    let a = nalgebra::DMatrixView::from_slice(&a[..m * l], m, l);
+    let b = nalgebra::DMatrixView::from_slice(b, l, n);
+    nalgebra::DMatrixViewMut::from_slice(&mut c, m, n).gemm(1.0, &a, &b, 0.0);
+    c
+}
+
 /// $C = A B$ for column-major $n \times n$ matrices, by nalgebra (three times faster than a
 /// plain loop at $n = 4$: `cargo bench -p hycont-core --bench dense`).
 pub(crate) fn matmul(n: usize, a: &[f64], b: &[f64]) -> Vec<f64> {
@@ -135,7 +156,9 @@ pub(crate) fn matmul_into(n: usize, a: &[f64], b: &[f64], c: &mut [f64]) {
 /// The saltation matrix $S_k$ at the end of segment `k` of `orbit`, whose state before the jump
 /// is `end_state`: $S = g_x + (f^+ - g_x f^-) h_x / (h_x f^-)$ with $h$ the event function, $g$
 /// its reset and $f^\mp$ the vector fields before and after (the identity at interior points).
-/// The monodromy is $M = S_{K-1}\Phi_{K-1} \cdots S_0 \Phi_0$.
+/// It is $n_{k+1} \times n_k$ where the event leads into a mode of another dimension
+/// ([`crate::HybridSystem::mode_dim`]). The monodromy is
+/// $M = S_{K-1}\Phi_{K-1} \cdots S_0 \Phi_0$, in the first segment's space.
 #[must_use]
 pub fn saltation_matrix<S: HybridJacobians + ?Sized>(
     system: &S,
@@ -143,34 +166,44 @@ pub fn saltation_matrix<S: HybridJacobians + ?Sized>(
     k: usize,
     end_state: &[f64],
 ) -> nalgebra::DMatrix<f64> {
-    let n = system.state_dim();
-    nalgebra::DMatrix::from_vec(n, n, saltation(system, orbit, k, end_state))
+    let (n, n_to) = (end_state.len(), next_dim(system, orbit, k));
+    nalgebra::DMatrix::from_vec(n_to, n, saltation(system, orbit, k, end_state))
 }
 
-/// The saltation matrix $S_k$ at the end of segment `k` (identity for interior points).
+/// The dimension of the state segment `k` of `orbit` ends in (the next segment's mode's).
+pub(crate) fn next_dim<S: HybridSystem + ?Sized>(
+    system: &S,
+    orbit: &PeriodicOrbit,
+    k: usize,
+) -> usize {
+    system.mode_dim(orbit.signature.next_mode(system, k))
+}
+
+/// The saltation matrix $S_k$ at the end of segment `k` ($n_{k+1} \times n_k$, column-major;
+/// the identity at interior points).
 pub(crate) fn saltation<S: HybridJacobians + ?Sized>(
     system: &S,
     orbit: &PeriodicOrbit,
     k: usize,
     end_state: &[f64],
 ) -> Vec<f64> {
-    let n = system.state_dim();
+    let (n, m) = (end_state.len(), next_dim(system, orbit, k));
     let p = &orbit.params;
     let segs = orbit.signature.segments();
-    let mut s = vec![0.0; n * n];
+    let mut s = vec![0.0; m * n];
     match segs[k].end {
         SegmentEnd::Interior { .. } => {
-            for i in 0..n {
-                s[i + i * n] = 1.0;
+            for i in 0..n.min(m) {
+                s[i + i * m] = 1.0;
             }
         }
         SegmentEnd::Event(e) => {
             let next_mode = orbit.signature.next_mode(system, k);
             let mut fm = vec![0.0; n];
-            let mut fp = vec![0.0; n];
+            let mut fp = vec![0.0; m];
             let mut hx = vec![0.0; n];
-            let mut gx = vec![0.0; n * n];
-            let mut xp = vec![0.0; n];
+            let mut gx = vec![0.0; m * n];
+            let mut xp = vec![0.0; m];
             system.vector_field(segs[k].mode, end_state, p, &mut fm);
             system.event_gradient(e, end_state, p, &mut hx, None);
             system.reset(e, end_state, p, &mut xp);
@@ -178,9 +211,9 @@ pub(crate) fn saltation<S: HybridJacobians + ?Sized>(
             system.vector_field(next_mode, &xp, p, &mut fp);
             let denom: f64 = hx.iter().zip(&fm).map(|(a, b)| a * b).sum();
             for j in 0..n {
-                for i in 0..n {
-                    let gxf: f64 = (0..n).map(|l| gx[i + l * n] * fm[l]).sum();
-                    s[i + j * n] = gx[i + j * n] + (fp[i] - gxf) * hx[j] / denom;
+                for i in 0..m {
+                    let gxf: f64 = (0..n).map(|l| gx[i + l * m] * fm[l]).sum();
+                    s[i + j * m] = gx[i + j * m] + (fp[i] - gxf) * hx[j] / denom;
                 }
             }
         }

@@ -47,7 +47,7 @@ impl<'a, S: HybridSystem + ?Sized> SegmentFlow<'a, S> {
 
 impl<S: HybridSystem + ?Sized> HybridSystem for SegmentFlow<'_, S> {
     fn state_dim(&self) -> usize {
-        self.system.state_dim()
+        self.system.mode_dim(self.mode)
     }
     fn parameter_names(&self) -> &[&'static str] {
         self.system.parameter_names()
@@ -247,7 +247,7 @@ impl<'a, S: HybridSystem + ?Sized> GuardedFlow<'a, S> {
 
 impl<S: HybridSystem + ?Sized> HybridSystem for GuardedFlow<'_, S> {
     fn state_dim(&self) -> usize {
-        self.system.state_dim()
+        self.system.mode_dim(self.mode)
     }
     fn parameter_names(&self) -> &[&'static str] {
         self.system.parameter_names()

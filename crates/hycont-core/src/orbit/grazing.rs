@@ -86,8 +86,7 @@ pub fn split_at_grazing<S: HybridJacobians + ?Sized>(
     let x_star = sim
         .run(&flow, Mode(0), 0.0, &orbit.starts[k], p, t_star)?
         .state_final;
-    let n = system.state_dim();
-    let mut after = vec![0.0; n];
+    let mut after = vec![0.0; crate::system::reset_dim(system, event, x_star.len())];
     system.reset(event, &x_star, p, &mut after);
     let mut segments: Vec<SegmentSpec> = orbit.signature.segments()[..k].to_vec();
     let mut starts: Vec<Vec<f64>> = orbit.starts[..k].to_vec();
@@ -165,8 +164,7 @@ fn split_at_end<S: HybridJacobians + ?Sized>(
         .state_final;
     // The dropped end keeps the state: segment k + 1 starts where segment k arrives.
     check_unmoved(k, k + 1, &y, &orbit.starts[k + 1])?;
-    let n = system.state_dim();
-    let mut after = vec![0.0; n];
+    let mut after = vec![0.0; crate::system::reset_dim(system, event, y.len())];
     system.reset(event, &y, p, &mut after);
     let mut segments = specs[..k].to_vec();
     segments.push(SegmentSpec {
@@ -216,7 +214,7 @@ fn resume_after_impact<S: HybridJacobians + ?Sized>(
         mode: to,
         end: SegmentEnd::Event(back),
     });
-    let mut resumed = vec![0.0; system.state_dim()];
+    let mut resumed = vec![0.0; crate::system::reset_dim(system, back, after.len())];
     system.reset(back, &after, p, &mut resumed);
     starts.push(after);
     durations.push(0.0);

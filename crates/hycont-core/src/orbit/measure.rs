@@ -294,7 +294,8 @@ impl<S: HybridSystem + ?Sized> Measure<S> for Extremum {
             ExtremumKind::MaxAbs => orbit.starts[k][c].signum(),
             _ => 1.0,
         };
-        Some(unit(orbit, k * system.state_dim() + c, sign))
+        let _ = system;
+        Some(unit(orbit, orbit.start_offset(k) + c, sign))
     }
 }
 
@@ -440,15 +441,29 @@ impl<S: HybridSystem + ?Sized> Measure<S> for SegmentValue {
     fn value(&self, system: &S, orbit: &PeriodicOrbit, scan: &OrbitScan) -> Result<f64> {
         check_component(system, self.component)?;
         check_segment(orbit, self.segment)?;
+        let n = orbit.starts[self.segment].len();
+        if self.component >= n {
+            return Err(Error::InvalidMeasure {
+                reason: format!(
+                    "state component {} does not exist in segment {}'s mode ({n} components)",
+                    self.component, self.segment
+                ),
+            });
+        }
         Ok(match self.at {
             SegmentPoint::Start => orbit.starts[self.segment][self.component],
             SegmentPoint::End => scan.ends[self.segment][self.component],
         })
     }
     fn gradient(&self, system: &S, orbit: &PeriodicOrbit, _: &OrbitScan) -> Option<Vec<f64>> {
-        let i = self.segment * system.state_dim() + self.component;
-        (self.at == SegmentPoint::Start && self.segment < orbit.segment_count())
-            .then(|| unit(orbit, i, 1.0))
+        let _ = system;
+        (self.at == SegmentPoint::Start && self.segment < orbit.segment_count()).then(|| {
+            unit(
+                orbit,
+                orbit.start_offset(self.segment) + self.component,
+                1.0,
+            )
+        })
     }
 }
 

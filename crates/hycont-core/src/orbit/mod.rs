@@ -87,6 +87,27 @@ pub fn pack(orbit: &PeriodicOrbit) -> Vec<f64> {
 }
 
 impl PeriodicOrbit {
+    /// The index of segment `k`'s start state in the unknowns of [`pack`] (the sum of the
+    /// earlier segments' state dimensions).
+    ///
+    /// ```
+    /// # use hycont_core::{PeriodicOrbit, Signature, SegmentSpec, SegmentEnd, Mode};
+    /// # let spec = SegmentSpec { mode: Mode(0), end: SegmentEnd::Interior { component: 0, value: 0.0 } };
+    /// # let signature: Signature = serde_json::from_value(serde_json::json!({
+    /// #     "segments": [spec, spec], "closure": "Periodic" })).unwrap();
+    /// let orbit = PeriodicOrbit {
+    ///     signature,
+    ///     starts: vec![vec![0.0; 3], vec![0.0; 4]],
+    ///     durations: vec![1.0, 2.0],
+    ///     params: vec![],
+    /// };
+    /// assert_eq!(orbit.start_offset(1), 3);
+    /// ```
+    #[must_use]
+    pub fn start_offset(&self, k: usize) -> usize {
+        self.starts[..k].iter().map(Vec::len).sum()
+    }
+
     /// The orbit traversed twice: the signature, starts and durations repeated (the guess for a
     /// period-doubled orbit, which the period-doubling direction then perturbs).
     #[must_use]
@@ -203,15 +224,18 @@ fn compose_monodromy<S: HybridJacobians + ?Sized>(
     orbit: &PeriodicOrbit,
     segments: impl Iterator<Item = Result<(Vec<f64>, Vec<f64>)>>,
 ) -> Result<Floquet> {
-    let n = system.state_dim();
-    let mut m = vec![0.0; n * n];
-    for i in 0..n {
-        m[i + i * n] = 1.0;
+    // M maps the first segment's start (n_0 states) to segment k's; S_k Phi_k is
+    // n_{k+1} x n_k (modes of different dimensions: rectangular).
+    let n0 = system.mode_dim(orbit.signature.segments()[0].mode);
+    let mut m = vec![0.0; n0 * n0];
+    for i in 0..n0 {
+        m[i + i * n0] = 1.0;
     }
     for (k, seg) in segments.enumerate() {
         let (end, phi) = seg?;
+        let (n, n_to) = (end.len(), floquet::next_dim(system, orbit, k));
         let s = floquet::saltation(system, orbit, k, &end);
-        m = floquet::matmul(n, &floquet::matmul(n, &s, &phi), &m);
+        m = floquet::matmul_rect(n_to, n, &floquet::matmul_rect(n_to, n, &s, &phi), &m);
     }
     Floquet::from_monodromy(system, &orbit.params, orbit.period(), m)
 }

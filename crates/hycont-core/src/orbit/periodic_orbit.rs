@@ -21,6 +21,35 @@ pub struct PeriodicOrbit {
     pub params: Vec<f64>,
 }
 
+/// Checks one finite start state per segment, of the dimension of the segment's mode.
+fn check_starts<S: HybridSystem + ?Sized>(
+    system: &S,
+    signature: &Signature,
+    starts: &[Vec<f64>],
+) -> Result<()> {
+    for (k, (x, seg)) in starts.iter().zip(signature.segments()).enumerate() {
+        if seg.mode.0 >= system.mode_count() {
+            return Err(Error::InvalidSignature {
+                segment: k,
+                reason: format!("mode {} does not exist", seg.mode),
+            });
+        }
+        let n = system.mode_dim(seg.mode);
+        if x.len() != n {
+            return Err(Error::InvalidSignature {
+                segment: k,
+                reason: format!(
+                    "the start state has {} components; mode {} has {n}",
+                    x.len(),
+                    seg.mode
+                ),
+            });
+        }
+        check_finite("segment start", x)?;
+    }
+    Ok(())
+}
+
 fn simulator(settings: &SimulationSettings) -> Result<Simulator> {
     Simulator::new(settings.clone())
 }
@@ -46,10 +75,7 @@ impl PeriodicOrbit {
                 found: starts.len().min(durations.len()),
             });
         }
-        for x in &starts {
-            check_len("segment start", x, system.state_dim())?;
-            check_finite("segment start", x)?;
-        }
+        check_starts(system, &signature, &starts)?;
         check_len("parameters", &params, system.parameter_count())?;
         check_finite("parameters", &params)?;
         if let Some((i, &d)) = durations
@@ -398,7 +424,7 @@ impl PeriodicOrbit {
             let d = self.durations[k];
             if d == 0.0 {
                 // A zero-length segment: its one point.
-                let mut ts = TimeSeries::new(system.state_dim());
+                let mut ts = TimeSeries::new(system.mode_dim(seg.mode));
                 ts.push(t0, seg.mode, &self.starts[k]);
                 out.push(ts);
                 continue;
@@ -409,7 +435,7 @@ impl PeriodicOrbit {
             let mut sim = simulator(&s)?;
             let flow = SegmentFlow::plain(system, seg.mode);
             let traj = sim.run(&flow, Mode(0), 0.0, &self.starts[k], &self.params, d)?;
-            let mut ts = TimeSeries::new(system.state_dim());
+            let mut ts = TimeSeries::new(system.mode_dim(seg.mode));
             for (t, _, x) in traj.samples.iter() {
                 ts.push(t0 + t, seg.mode, x);
             }
@@ -427,7 +453,6 @@ impl PeriodicOrbit {
     /// As [`Signature::new`]; [`Error::DimensionMismatch`] or [`Error::NonFinite`] naming the
     /// bad value.
     pub fn validate<S: HybridSystem + ?Sized>(&self, system: &S) -> Result<()> {
-        crate::system::require_uniform_dims(system, "a periodic orbit")?;
         let k = self.signature.len();
         if self.starts.len() != k || self.durations.len() != k {
             return Err(Error::DimensionMismatch {
@@ -436,10 +461,7 @@ impl PeriodicOrbit {
                 found: self.starts.len().min(self.durations.len()),
             });
         }
-        for x in &self.starts {
-            check_len("segment start", x, system.state_dim())?;
-            check_finite("segment start", x)?;
-        }
+        check_starts(system, &self.signature, &self.starts)?;
         check_finite("durations", &self.durations)?;
         check_len("parameters", &self.params, system.parameter_count())?;
         check_finite("parameters", &self.params)?;
@@ -475,7 +497,8 @@ pub(crate) fn follow<S: HybridSystem + ?Sized>(
     params: &[f64],
     max_duration: f64,
 ) -> Result<(PeriodicOrbit, Vec<f64>)> {
-    check_len("initial state", x0, system.state_dim())?;
+    let first = signature.segments()[0].mode;
+    check_len("initial state", x0, system.mode_dim(first))?;
     let mut x = x0.to_vec();
     let mut starts = Vec::new();
     let mut durations = Vec::new();
@@ -506,7 +529,7 @@ pub(crate) fn follow<S: HybridSystem + ?Sized>(
         }
         x.clone_from(&traj.state_final);
         if let SegmentEnd::Event(e) = seg.end {
-            let mut y = vec![0.0; x.len()];
+            let mut y = vec![f64::NAN; crate::system::reset_dim(system, e, x.len())];
             system.reset(e, &x, params, &mut y);
             x = y;
         }

@@ -143,7 +143,8 @@ pub(crate) fn watched<S: HybridJacobians + ?Sized>(
 /// Whether `watch` applies in `mode` (events only where the mode monitors them).
 fn applies<S: HybridSystem + ?Sized>(system: &S, watch: Watch, mode: Mode) -> bool {
     match watch {
-        Watch::Component(_) => true,
+        // A component of a state some modes do not have is watched where it exists.
+        Watch::Component(c) => c < system.mode_dim(mode),
         Watch::Event(e) => system.events(mode).contains(&e),
     }
 }
@@ -172,9 +173,16 @@ pub fn check_needs<S: HybridSystem + ?Sized>(system: &S, needs: &ScanNeeds) -> R
             _ => {}
         }
     }
-    if let Some(c) = needs.integrals.iter().find(|&&c| c >= n) {
+    // An integrated component must exist in every mode the orbit may visit.
+    let common = (0..system.mode_count())
+        .map(|m| system.mode_dim(Mode(m)))
+        .min()
+        .unwrap_or(n);
+    if let Some(c) = needs.integrals.iter().find(|&&c| c >= common) {
         return Err(Error::InvalidMeasure {
-            reason: format!("state component {c} does not exist (dimension {n})"),
+            reason: format!(
+                "state component {c} is not in every mode's state (the smallest has {common} components): its integral over an orbit is undefined"
+            ),
         });
     }
     Ok(())
@@ -298,7 +306,6 @@ pub fn scan<S: HybridJacobians + ?Sized>(
     settings: &SimulationSettings,
 ) -> Result<OrbitScan> {
     check_needs(system, needs)?;
-    let n = system.state_dim();
     let mut sim = Simulator::new(
         settings
             .clone()
@@ -319,7 +326,7 @@ pub fn scan<S: HybridJacobians + ?Sized>(
     boundary_points(system, orbit, &needs.watches, &mut boundary);
     let boundary = boundary.critical;
     for (k, seg) in segs.iter().enumerate() {
-        let duration = orbit.durations[k];
+        let (duration, n) = (orbit.durations[k], system.mode_dim(seg.mode));
         // Critical points only forward (a negative duration contributes its end and integrals).
         let watches: Vec<Watch> = if duration >= 0.0 {
             needs
@@ -379,7 +386,7 @@ fn segment_flow<'a, S: HybridJacobians + ?Sized>(
     integrals: &'a [usize],
     duration: f64,
 ) -> ScanFlow<'a, S> {
-    let n = system.state_dim();
+    let n = system.mode_dim(mode);
     let hinted = |w: &Watch| {
         let c = match *w {
             Watch::Component(c) => Some(c),
@@ -434,7 +441,7 @@ impl SegmentScan<'_> {
         events: &[crate::simulate::EventRecord],
         critical: &mut Vec<CriticalPoint>,
     ) {
-        let (orbit, k, n) = (self.orbit, self.k, system.state_dim());
+        let (orbit, k, n) = (self.orbit, self.k, flow.n);
         let duration = orbit.durations[k];
         let mode = flow.mode;
         let segments = orbit.signature.segments().len();
@@ -483,15 +490,15 @@ fn boundary_points<S: HybridJacobians + ?Sized>(
 ) {
     let segs = orbit.signature.segments();
     let kk = segs.len();
-    let n = system.state_dim();
     let p = &orbit.params;
-    let (mut f, mut grad) = (vec![0.0; n], vec![0.0; n]);
     for k in 0..kk {
         let before = (k + kk - 1) % kk;
         if !matches!(segs[before].end, SegmentEnd::Interior { .. }) || orbit.durations[k] < 0.0 {
             continue;
         }
         let mode = segs[k].mode;
+        let n = system.mode_dim(mode);
+        let (mut f, mut grad) = (vec![0.0; n], vec![0.0; n]);
         let x = &orbit.starts[k];
         for &w in watches.iter().filter(|&&w| applies(system, w, mode)) {
             let (value, rate) = watched(system, w, mode, x, p, &mut f, &mut grad);

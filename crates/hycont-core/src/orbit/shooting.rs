@@ -1,6 +1,7 @@
 //! Multiple shooting for hybrid periodic orbits, on the simulator's variational equations.
 //!
-//! Unknowns (local order): the segment start states $x_0, \dots, x_{K-1}$ ($n$ each), the
+//! Unknowns (local order): the segment start states $x_0, \dots, x_{K-1}$ ($n_k$ each, the
+//! dimension of segment $k$'s mode), the
 //! durations $T_0, \dots, T_{K-1}$, and the parameters $p$. With $y_k = \phi_{m_k}(x_k, T_k; p)$
 //! the flow of segment $k$'s mode, the equations of segment $k$ are
 //! - for an event end $e$: $g_e(y_k, p) - x_{k+1} = 0$ and $h_e(y_k, p) = 0$;
@@ -8,7 +9,9 @@
 //!
 //! with $x_K \equiv x_0$ (or $x_K \equiv S x_0$ for half of a symmetric orbit, see
 //! [`Closure`](super::Closure)). The Jacobian uses $\Phi_k = \partial y_k/\partial x_k$,
-//! $\partial y_k / \partial p$ and $\partial y_k/\partial T_k = f_{m_k}(y_k)$.
+//! $\partial y_k / \partial p$ and $\partial y_k/\partial T_k = f_{m_k}(y_k)$. Segment $k$ has
+//! $n_{k+1} + 1$ equations (the next start's dimension), so a reset between modes of different
+//! dimensions enters through its rectangular Jacobian.
 
 use super::end_condition::EndConditions;
 use super::signature::{SegmentEnd, Signature};
@@ -67,7 +70,10 @@ const DIRECTION_RTOL: f64 = 1e-6;
 pub struct Shooting<'a, S: ?Sized> {
     system: &'a S,
     signature: Signature,
-    n: usize,
+    /// Per segment: its state's dimension $n_k$.
+    dims: Vec<usize>,
+    /// Per segment: the index of its start state (the prefix sums of `dims`, then their total).
+    offsets: Vec<usize>,
     np: usize,
     sim: Simulator,
     /// The simulator for Jacobians that only give Newton directions (looser tolerances).
@@ -98,18 +104,28 @@ impl<'a, S: HybridJacobians + ?Sized> Shooting<'a, S> {
                 .atol(settings.atol * loose / settings.rtol)
                 .record_events(false),
         )?;
-        let (n, np) = (system.state_dim(), system.parameter_count());
+        let np = system.parameter_count();
         let ends = EndConditions::new(system, &signature);
+        let dims: Vec<usize> = (signature.segments().iter())
+            .map(|seg| system.mode_dim(seg.mode))
+            .collect();
+        let offsets = std::iter::once(0)
+            .chain(dims.iter().scan(0, |acc, d| {
+                *acc += d;
+                Some(*acc)
+            }))
+            .collect();
         Ok(Self {
             system,
             signature,
-            n,
+            dims,
+            offsets,
             np,
             sim,
             direction_sim,
             cache: None,
             ends,
-            fy: vec![0.0; n],
+            fy: vec![0.0; system.state_dim()],
             loose_residual: Vec::new(),
         })
     }
@@ -124,19 +140,36 @@ impl<'a, S: HybridJacobians + ?Sized> Shooting<'a, S> {
     /// Index of segment `k`'s start state in the local unknowns.
     #[must_use]
     pub fn start_index(&self, k: usize) -> usize {
-        k * self.n
+        self.offsets[k]
     }
 
     /// Index of segment `k`'s duration in the local unknowns.
     #[must_use]
     pub fn duration_index(&self, k: usize) -> usize {
-        self.signature.len() * self.n + k
+        self.states() + k
     }
 
     /// Index of parameter `q` in the local unknowns.
     #[must_use]
     pub fn param_index(&self, q: usize) -> usize {
-        self.signature.len() * (self.n + 1) + q
+        self.states() + self.signature.len() + q
+    }
+
+    /// The number of start-state unknowns, $\sum_k n_k$.
+    fn states(&self) -> usize {
+        self.offsets[self.signature.len()]
+    }
+
+    /// The first equation of segment `k` (each has $n_{k+1} + 1$).
+    fn first_row(&self, k: usize) -> usize {
+        // Segments 0..k end in the starts of segments 1..=k (k < K: no wrap).
+        self.offsets[k + 1] - self.offsets[1] + k
+    }
+
+    /// The dimension of the state segment `k` ends in: the next segment's (the first's after
+    /// the last).
+    fn next_dim(&self, k: usize) -> usize {
+        self.dims[(k + 1) % self.dims.len()]
     }
 
     fn segment_mode(&self, k: usize) -> Mode {
@@ -146,20 +179,20 @@ impl<'a, S: HybridJacobians + ?Sized> Shooting<'a, S> {
 
 impl<S: HybridJacobians + ?Sized> ZeroFunction for Shooting<'_, S> {
     fn unknowns(&self) -> usize {
-        self.signature.len() * (self.n + 1) + self.np
+        self.states() + self.signature.len() + self.np
     }
 
     fn equations(&self) -> usize {
-        self.signature.len() * (self.n + 1)
+        self.states() + self.signature.len()
     }
 
     fn jacobian_pattern(&self) -> Vec<(usize, usize)> {
-        let (n, np, kk) = (self.n, self.np, self.signature.len());
+        let (np, kk) = (self.np, self.signature.len());
         let mut out = Vec::new();
         for k in 0..kk {
-            let r0 = k * (n + 1);
+            let (r0, n, n_to) = (self.first_row(k), self.dims[k], self.next_dim(k));
             let next = (k + 1) % kk;
-            for i in 0..=n {
+            for i in 0..=n_to {
                 for j in 0..n {
                     out.push((r0 + i, self.start_index(k) + j));
                 }
@@ -167,9 +200,9 @@ impl<S: HybridJacobians + ?Sized> ZeroFunction for Shooting<'_, S> {
                 for q in 0..np {
                     out.push((r0 + i, self.param_index(q)));
                 }
-                if i < n {
+                if i < n_to {
                     if k + 1 == kk && self.ends.symmetric() {
-                        for j in 0..n {
+                        for j in 0..n_to {
                             out.push((r0 + i, self.start_index(0) + j));
                         }
                     } else {
@@ -234,8 +267,8 @@ impl<S: HybridJacobians + ?Sized> ZeroFunction for Shooting<'_, S> {
 
 impl<S: HybridJacobians + ?Sized> super::OrbitEquations for Shooting<'_, S> {
     fn closure_entries(&self) -> Vec<usize> {
-        let (n, kk) = (self.n, self.signature.len());
-        let r0 = (kk - 1) * (n + 1);
+        let (n, kk) = (self.dims[0], self.signature.len());
+        let r0 = self.first_row(kk - 1);
         let per_row = if self.ends.symmetric() { n } else { 1 };
         super::end_condition::closure_positions(&self.jacobian_pattern(), r0..r0 + n, per_row)
     }
@@ -264,22 +297,22 @@ impl<S: HybridJacobians + ?Sized> Shooting<'_, S> {
         };
     }
 
-    /// The Jacobian entries of a segment's `n + 1` end conditions from `pos` on: their
+    /// The Jacobian entries of a segment's `n_to + 1` end conditions from `pos` on: their
     /// derivative in the end state `y` applied to the segment's derivatives ($\Phi$, the
     /// vector field at `y` for the duration, $\Phi_p$), plus their direct parameter terms and
     /// the next segment's start.
     fn end_rows(
         &mut self,
-        end: SegmentEnd,
+        (end, n_to): (SegmentEnd, usize),
         (y, p): (&[f64], &[f64]),
         (phi, phi_p): (&[f64], &[f64]),
         wrap: bool,
         jac: &mut [f64],
         pos: &mut usize,
     ) -> Result<()> {
-        let (n, np) = (self.n, self.np);
-        self.ends.linearise(self.system, end, y, p)?;
-        for i in 0..=n {
+        let (n, np) = (y.len(), self.np);
+        self.ends.linearise(self.system, end, (y, n_to), p)?;
+        for i in 0..=n_to {
             let row = |j: usize| self.ends.state_derivative(i, j);
             for j in 0..n {
                 jac[*pos] = (0..n).map(|l| row(l) * phi[l + j * n]).sum();
@@ -292,7 +325,7 @@ impl<S: HybridJacobians + ?Sized> Shooting<'_, S> {
                 jac[*pos] = direct + (0..n).map(|l| row(l) * phi_p[l + q * n]).sum::<f64>();
                 *pos += 1;
             }
-            if i < n {
+            if i < n_to {
                 self.ends.write_target_entries(i, wrap, jac, pos);
             }
         }
@@ -310,13 +343,14 @@ impl<S: HybridJacobians + ?Sized> Shooting<'_, S> {
         which: Sensitivities,
         loose: bool,
     ) -> Result<()> {
-        let (n, np, kk) = (self.n, self.np, self.signature.len());
+        let (np, kk) = (self.np, self.signature.len());
         let p = u[self.param_index(0)..self.param_index(0) + np].to_vec();
         let want = jacobian.is_some();
         let mut jac = jacobian;
         let mut pos = 0usize;
         for k in 0..kk {
             let mode = self.segment_mode(k);
+            let (n, n_to) = (self.dims[k], self.next_dim(k));
             let x = &u[self.start_index(k)..self.start_index(k) + n];
             let t = u[self.duration_index(k)];
             if !t.is_finite() {
@@ -343,15 +377,15 @@ impl<S: HybridJacobians + ?Sized> Shooting<'_, S> {
             let y = &traj.state_final;
             let wrap = k + 1 == kk;
             let next_start = self.start_index((k + 1) % kk);
-            let target = self.ends.target(wrap, &u[next_start..next_start + n]);
-            let r0 = k * (n + 1);
+            let target = self.ends.target(wrap, &u[next_start..next_start + n_to]);
+            let r0 = self.first_row(k);
             let end = self.signature.segments()[k].end;
-            let rows = &mut residual[r0..=r0 + n];
+            let rows = &mut residual[r0..=r0 + n_to];
             (self.ends).residual(self.system, (mode, end), y, &p, &target, rows)?;
             let Some(jac) = jac.as_deref_mut() else {
                 continue;
             };
-            self.system.vector_field(mode, y, &p, &mut self.fy);
+            self.system.vector_field(mode, y, &p, &mut self.fy[..n]);
             let sens = traj
                 .sensitivities
                 .as_ref()
@@ -364,7 +398,7 @@ impl<S: HybridJacobians + ?Sized> Shooting<'_, S> {
             if !loose {
                 self.cache_segment(k, (x, t), &p, y, phi);
             }
-            self.end_rows(end, (y, &p), (phi, phi_p), wrap, jac, &mut pos)?;
+            self.end_rows((end, n_to), (y, &p), (phi, phi_p), wrap, jac, &mut pos)?;
         }
         Ok(())
     }

@@ -61,18 +61,30 @@ impl Signature {
     /// of a symmetric orbit and requires the system to have a symmetry.
     ///
     /// # Errors
-    /// [`Error::InvalidSignature`] saying which segment is inconsistent;
-    /// [`Error::InvalidSystem`] for a system whose modes have states of different dimensions
-    /// ([`HybridSystem::mode_dim`]: the orbit solvers do not support them yet).
+    /// [`Error::InvalidSignature`] saying which segment is inconsistent (a symmetric closure
+    /// of a system whose modes have states of different dimensions among them);
+    /// [`Error::InvalidSystem`] for modes whose dimensions do not fit their events
+    /// ([`crate::check_mode_dims`]).
     pub fn with_closure<S: HybridSystem + ?Sized>(
         system: &S,
         segments: Vec<SegmentSpec>,
         closure: Closure,
     ) -> Result<Self> {
-        crate::system::require_uniform_dims(system, "a periodic orbit's signature")?;
+        let uniform = crate::system::uniform_dims(system);
+        if !uniform {
+            crate::system::check_mode_dims(system)?;
+        }
         let k = segments.len();
         let symmetry = match closure {
             Closure::Periodic => None,
+            Closure::Symmetric if !uniform => {
+                return Err(Error::InvalidSignature {
+                    segment: k.saturating_sub(1),
+                    reason: "a symmetric closure needs one state dimension in every mode (the \
+                             symmetry is one matrix)"
+                        .into(),
+                });
+            }
             // A symmetric closure needs a valid symmetry (else Error::InvalidSymmetry).
             Closure::Symmetric => Some(crate::system::checked_symmetry(system)?),
         };
@@ -130,7 +142,7 @@ impl Signature {
                     }
                 }
                 SegmentEnd::Interior { component, value } => {
-                    if component >= system.state_dim() || !value.is_finite() {
+                    if component >= system.mode_dim(seg.mode) || !value.is_finite() {
                         return Err(Error::InvalidSignature {
                             segment: i,
                             reason: format!("interior point x[{component}] = {value} is invalid"),

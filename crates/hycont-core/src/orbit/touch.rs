@@ -420,7 +420,7 @@ fn interior_end<S: HybridSystem + ?Sized>(
     if !matches!(segs[k].end, SegmentEnd::Interior { .. }) {
         return None;
     }
-    let n = system.state_dim();
+    let n = system.mode_dim(segs[0].mode);
     let next = (k + 1) % segs.len();
     let wrap_symmetric = k + 1 == segs.len() && orbit.signature.closure() == Closure::Symmetric;
     if wrap_symmetric {
@@ -434,7 +434,7 @@ fn interior_end<S: HybridSystem + ?Sized>(
         });
     }
     Some(InteriorEnd {
-        at: next * n,
+        at: orbit.start_offset(next),
         through: None,
         x: orbit.starts[next].clone(),
     })

@@ -26,7 +26,10 @@ pub(super) fn turning_time<S: HybridJacobians + ?Sized>(
         mode,
         event: e,
         sigma,
-        scratch: RefCell::new((vec![0.0; system.state_dim()], vec![0.0; system.state_dim()])),
+        scratch: RefCell::new((
+            vec![0.0; system.mode_dim(mode)],
+            vec![0.0; system.mode_dim(mode)],
+        )),
     };
     let t_end = duration.max(t_ref) + 0.25 * duration.max(1e-3);
     let mut sim = Simulator::new(SimulationSettings::default().rtol(1e-12).atol(1e-13))?;
@@ -57,7 +60,7 @@ const TURN: [EventId; 1] = [EventId(0)];
 
 impl<S: HybridJacobians + ?Sized> HybridSystem for RateFlow<'_, S> {
     fn state_dim(&self) -> usize {
-        self.system.state_dim()
+        self.system.mode_dim(self.mode)
     }
     fn parameter_names(&self) -> &[&'static str] {
         self.system.parameter_names()

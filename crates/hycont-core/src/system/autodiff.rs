@@ -86,10 +86,12 @@ pub trait HybridModel {
     fn vector_field<T: Scalar>(&self, mode: Mode, x: &[T], p: &[T], out: &mut [T]);
     /// The event function $h_e(x, p)$.
     fn event<T: Scalar>(&self, event: EventId, x: &[T], p: &[T]) -> T;
-    /// Writes the reset $g_e(x, p)$ into `out` (default: the identity).
+    /// Writes the reset $g_e(x, p)$ into `out` (of the dimension of the mode the event leads
+    /// to, [`HybridSystem::reset`]; default: the identity on the components both states have).
     fn reset<T: Scalar>(&self, event: EventId, x: &[T], p: &[T], out: &mut [T]) {
         let _ = (event, p);
-        out.copy_from_slice(x);
+        let k = x.len().min(out.len());
+        out[..k].copy_from_slice(&x[..k]);
     }
     /// As [`HybridSystem::symmetry`].
     fn symmetry(&self) -> Option<Z2Symmetry> {
@@ -652,7 +654,9 @@ impl<M: HybridModel> HybridJacobians for AutoDiff<M> {
         dx: &mut [f64],
         dp: Option<&mut [f64]>,
     ) {
-        let out = Outputs::new(x.len(), None, dx, dp);
+        // n_+ x n_- (the state after the jump may have another dimension).
+        let rows = super::reset_dim(self, event, x.len());
+        let out = Outputs::new(rows, None, dx, dp);
         jacobian(&self.model, Function::Reset(event), x, p, out);
     }
 }

@@ -86,6 +86,9 @@ impl<S: HybridSystem> HybridSystem for FiniteDifferences<S> {
     fn state_dim(&self) -> usize {
         self.inner.state_dim()
     }
+    fn mode_dim(&self, mode: Mode) -> usize {
+        self.inner.mode_dim(mode)
+    }
     fn parameter_names(&self) -> &[&'static str] {
         self.inner.parameter_names()
     }
@@ -182,10 +185,10 @@ impl<S: HybridSystem> HybridJacobians for FiniteDifferences<S> {
         dx: &mut [f64],
         dp: Option<&mut [f64]>,
     ) {
-        let n = x.len();
-        central_difference(x, n, dx, |w, out| self.inner.reset(event, w, p, out));
+        let m = super::reset_dim(self, event, x.len());
+        central_difference(x, m, dx, |w, out| self.inner.reset(event, w, p, out));
         if let Some(dp) = dp {
-            central_difference(p, n, dp, |w, out| self.inner.reset(event, x, w, out));
+            central_difference(p, m, dp, |w, out| self.inner.reset(event, x, w, out));
         }
     }
 }
@@ -297,8 +300,7 @@ pub fn check_derivatives<S: HybridJacobians + ?Sized>(
     p: &[f64],
 ) -> crate::Result<DerivativeCheck> {
     check_point(system, mode, x, p)?;
-    super::require_uniform_dims(system, "check_derivatives")?;
-    let n = system.state_dim();
+    let n = system.mode_dim(mode);
     let np = system.parameter_count();
     let mut worst = Vec::new();
     let mut ax = vec![0.0; n * n];
@@ -376,11 +378,15 @@ pub fn check_derivatives<S: HybridJacobians + ?Sized>(
         worst.push(compare(DerivativeKind::EventParams(e), 1, &gp, &ngp));
 
         if let EventAction::Jump { .. } = system.event_spec(e).action {
+            // n_+ x n (the reset may change the state's dimension).
+            let m = super::reset_dim(system, e, n);
+            let (mut ax, mut ap) = (vec![0.0; m * n], vec![0.0; m * np]);
+            let (mut nx, mut npm) = (vec![0.0; m * n], vec![0.0; m * np]);
             system.reset_jacobian(e, x, p, &mut ax, Some(&mut ap));
-            central_difference(x, n, &mut nx, |w, out| system.reset(e, w, p, out));
-            central_difference(p, n, &mut npm, |w, out| system.reset(e, x, w, out));
-            worst.push(compare(DerivativeKind::ResetState(e), n, &ax, &nx));
-            worst.push(compare(DerivativeKind::ResetParams(e), n, &ap, &npm));
+            central_difference(x, m, &mut nx, |w, out| system.reset(e, w, p, out));
+            central_difference(p, m, &mut npm, |w, out| system.reset(e, x, w, out));
+            worst.push(compare(DerivativeKind::ResetState(e), m, &ax, &nx));
+            worst.push(compare(DerivativeKind::ResetParams(e), m, &ap, &npm));
         }
     }
     Ok(DerivativeCheck { worst })
@@ -429,16 +435,14 @@ where
     R: HybridJacobians + ?Sized,
 {
     check_point(system, mode, x, p)?;
-    super::require_uniform_dims(system, "check_derivatives_against")?;
-    super::require_uniform_dims(reference, "check_derivatives_against")?;
     let (a, b) = (
         (
-            system.state_dim(),
+            system.mode_dim(mode),
             system.parameter_count(),
             system.mode_count(),
         ),
         (
-            reference.state_dim(),
+            reference.mode_dim(mode),
             reference.parameter_count(),
             reference.mode_count(),
         ),
@@ -458,7 +462,7 @@ where
             ),
         });
     }
-    let (n, np) = (system.state_dim(), system.parameter_count());
+    let (n, np) = (system.mode_dim(mode), system.parameter_count());
     let mut worst = Vec::new();
     let (mut ax, mut ap) = (vec![0.0; n * n], vec![0.0; n * np]);
     let (mut rx, mut rp) = (vec![0.0; n * n], vec![0.0; n * np]);
@@ -474,10 +478,21 @@ where
         worst.push(compare(DerivativeKind::EventState(e), 1, &gx, &hx));
         worst.push(compare(DerivativeKind::EventParams(e), 1, &gp, &hp));
         if let EventAction::Jump { .. } = system.event_spec(e).action {
+            let m = super::reset_dim(system, e, n);
+            if m != super::reset_dim(reference, e, n) {
+                return Err(crate::Error::InvalidSystem {
+                    reason: format!(
+                        "the reference's {e} leads to a state of {} components, the system's to {m}",
+                        super::reset_dim(reference, e, n)
+                    ),
+                });
+            }
+            let (mut ax, mut ap) = (vec![0.0; m * n], vec![0.0; m * np]);
+            let (mut rx, mut rp) = (vec![0.0; m * n], vec![0.0; m * np]);
             system.reset_jacobian(e, x, p, &mut ax, Some(&mut ap));
             reference.reset_jacobian(e, x, p, &mut rx, Some(&mut rp));
-            worst.push(compare(DerivativeKind::ResetState(e), n, &ax, &rx));
-            worst.push(compare(DerivativeKind::ResetParams(e), n, &ap, &rp));
+            worst.push(compare(DerivativeKind::ResetState(e), m, &ax, &rx));
+            worst.push(compare(DerivativeKind::ResetParams(e), m, &ap, &rp));
         }
     }
     Ok(DerivativeCheck { worst })
@@ -497,6 +512,9 @@ fn check_point<S: HybridSystem + ?Sized>(
             count: system.mode_count(),
         });
     }
-    crate::error::check_len("state", x, system.state_dim())?;
+    if !super::uniform_dims(system) {
+        super::check_mode_dims(system)?;
+    }
+    crate::error::check_len("state", x, system.mode_dim(mode))?;
     crate::error::check_len("parameters", p, system.parameter_count())
 }

@@ -1,7 +1,7 @@
 //! The state dimensions of a system's modes ([`HybridSystem::mode_dim`]): checked once, and
 //! asked by the parts of the library that need one dimension for every mode.
 
-use super::{EventId, HybridSystem, Mode};
+use super::{EventAction, EventId, HybridSystem, Mode};
 use crate::error::{Error, Result};
 
 /// Checks the modes' state dimensions: each at least one and at most
@@ -62,6 +62,37 @@ pub fn check_mode_dims<S: HybridSystem + ?Sized>(system: &S) -> Result<()> {
     Ok(())
 }
 
+/// The dimension of the state `event`'s reset writes: that of the mode the event leads to
+/// ([`EventAction::Jump`]), or `n_from` (the state's before it) for a terminal event.
+///
+/// ```
+/// # use hycont_core::{Direction, EventAction, EventId, EventSpec, HybridSystem, Mode, reset_dim};
+/// /// Mode 0 (2 states) jumps into mode 1 (3 states) through event 0.
+/// struct Grow;
+/// impl HybridSystem for Grow {
+///     fn state_dim(&self) -> usize { 3 }
+///     fn mode_dim(&self, m: Mode) -> usize { 2 + m.0 }
+///     fn parameter_names(&self) -> &[&'static str] { &[] }
+///     fn mode_count(&self) -> usize { 2 }
+///     fn mode_name(&self, _: Mode) -> &'static str { "m" }
+///     fn events(&self, m: Mode) -> &[EventId] { if m.0 == 0 { &[EventId(0)] } else { &[] } }
+///     fn event_spec(&self, _: EventId) -> EventSpec {
+///         EventSpec { name: "grow", direction: Direction::Either,
+///                     action: EventAction::Jump { to: Mode(1) } }
+///     }
+///     fn vector_field(&self, _: Mode, _: &[f64], _: &[f64], f: &mut [f64]) { f.fill(0.0) }
+///     fn event(&self, _: EventId, x: &[f64], _: &[f64]) -> f64 { x[0] }
+/// }
+/// assert_eq!(reset_dim(&Grow, EventId(0), 2), 3);
+/// ```
+#[must_use]
+pub fn reset_dim<S: HybridSystem + ?Sized>(system: &S, event: EventId, n_from: usize) -> usize {
+    match system.event_spec(event).action {
+        EventAction::Jump { to } if to.0 < system.mode_count() => system.mode_dim(to),
+        _ => n_from,
+    }
+}
+
 /// Whether every mode of `system` has [`HybridSystem::state_dim`] states.
 #[must_use]
 pub fn uniform_dims<S: HybridSystem + ?Sized>(system: &S) -> bool {
@@ -80,7 +111,7 @@ pub(crate) fn require_uniform_dims<S: HybridSystem + ?Sized>(system: &S, what: &
         .collect();
     Err(Error::InvalidSystem {
         reason: format!(
-            "its modes have states of different dimensions ({}): {what} supports one dimension for every mode (so far only the simulator follows a system across them)",
+            "its modes have states of different dimensions ({}): {what} supports one dimension for every mode",
             dims.join(", ")
         ),
     })

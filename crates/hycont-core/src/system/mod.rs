@@ -160,8 +160,10 @@ pub trait HybridSystem {
     /// dimensions: a stick mode with fewer states than a slip mode) override it; their resets
     /// map a state of the dimension of the modes that monitor the event to one of the target
     /// mode's dimension, and every mode that monitors an event has the same dimension
-    /// ([`check_mode_dims`]). The simulator follows such systems across their jumps; the
-    /// periodic-orbit solvers refuse them for now (a typed error).
+    /// ([`check_mode_dims`]). The simulator follows such systems across their jumps, and
+    /// periodic orbits by shooting carry one start state of its mode's dimension per segment
+    /// (their monodromy in the first segment's space); collocation and sensitivities across a
+    /// jump between dimensions refuse them with a typed error.
     fn mode_dim(&self, mode: Mode) -> usize {
         let _ = mode;
         self.state_dim()
@@ -360,8 +362,12 @@ pub trait HybridJacobians: HybridSystem {
         dp: Option<&mut [f64]>,
     );
 
-    /// $\partial g_e / \partial x$ into `dx` ($n \times n$) and $\partial g_e / \partial p$ into
-    /// `dp` ($n \times n_p$). The default is the identity's: $I$ and $0$.
+    /// $\partial g_e / \partial x$ into `dx` ($n_+ \times n_-$) and $\partial g_e / \partial p$
+    /// into `dp` ($n_+ \times n_p$), column-major with leading dimension $n_+$: $n_-$ is the
+    /// dimension of `x` (of the modes that monitor the event), $n_+$ that of the mode the event
+    /// leads to ([`reset_dim`]; $n_+ = n_- = n$ where every mode has the same dimension).
+    /// The default is the identity's: the unit entries of the components both states have, and
+    /// $0$.
     fn reset_jacobian(
         &self,
         event: EventId,
@@ -370,11 +376,11 @@ pub trait HybridJacobians: HybridSystem {
         dx: &mut [f64],
         dp: Option<&mut [f64]>,
     ) {
-        let _ = (event, p);
-        let n = x.len();
-        dx.fill(0.0);
-        for i in 0..n {
-            dx[i + i * n] = 1.0;
+        let _ = p;
+        let (n_from, n_to) = (x.len(), reset_dim(self, event, x.len()));
+        dx[..n_to * n_from].fill(0.0);
+        for i in 0..n_from.min(n_to) {
+            dx[i + i * n_to] = 1.0;
         }
         if let Some(dp) = dp {
             dp.fill(0.0);
@@ -393,6 +399,6 @@ pub use derivatives::{
     check_derivatives_against,
 };
 pub(crate) use dims::require_uniform_dims;
-pub use dims::{check_mode_dims, uniform_dims};
+pub use dims::{check_mode_dims, reset_dim, uniform_dims};
 pub use symmetry::{Z2Symmetry, checked_symmetry};
 pub use tangents::Tangents;

@@ -1,6 +1,8 @@
 //! Test models, each paired with its closed-form reference solution.
 #![allow(dead_code)]
 
+pub mod shuttle;
+
 use hycont_core::{
     Direction, EventAction, EventId, EventSpec, HybridJacobians, HybridSystem, Mode,
 };

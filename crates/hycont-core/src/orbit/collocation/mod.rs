@@ -131,6 +131,7 @@ impl<'a, S: HybridJacobians + ?Sized> Collocation<'a, S> {
                 reason: "one increasing mesh from 0 to 1 per segment is required",
             });
         }
+        crate::system::require_uniform_dims(system, "collocation")?;
         let (n, np) = (system.state_dim(), system.parameter_count());
         let ends = EndConditions::new(system, &signature);
         Ok(Self {
@@ -525,7 +526,7 @@ impl<S: HybridJacobians + ?Sized> Collocation<'_, S> {
         let Some(jac) = jac else {
             return Ok(());
         };
-        self.ends.linearise(self.system, end, y, p)?;
+        self.ends.linearise(self.system, end, (y, n), p)?;
         for i in 0..=n {
             for comp in 0..n {
                 jac[*pos] = self.ends.state_derivative(i, comp);

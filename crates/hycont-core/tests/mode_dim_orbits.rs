@@ -1,0 +1,175 @@
+//! Periodic orbits of a system whose modes have states of different dimensions (the shuttle of
+//! `common/shuttle.rs`: a 1-D climb, a 2-D fall), against its closed form.
+//!
+//! Floquet multiplier: the monodromy lives in the climb's one-dimensional space,
+//! $M = S_{\rm down} \Phi_B S_{\rm up} \Phi_A$ with $\Phi_A = 1$,
+//! $S_{\rm up} = g_x + (f^+ - g_x f^-) h_x / (h_x f^-) = (1, 0)^T + ((-v_0, a) - (1, 0)) = (-v_0, a)^T$
+//! (2 x 1; $h_x = -1$, $f^- = 1$), $\Phi_B = [[1, t_B], [0, 1]]$ and
+//! $S_{\rm down} = (1, 0) + (1 + w)(1, 0)/(-w) = (-1/w, 0)$ (1 x 2; $f^- = (-w, a)$,
+//! $w = \sqrt{v_0^2 - 2a}$, $f^+ = 1$): $M = (v_0 - a t_B)/w = 1$, since $a t_B = v_0 - w$.
+//! The one multiplier is the flow direction's (trivial): the shuttle's orbit is isolated only
+//! through its phase condition.
+
+mod common;
+
+use approx::assert_abs_diff_eq;
+use common::shuttle::{A, B, DOWN, P, Shuttle, UP};
+use hycont_core::orbit::{
+    PeriodicOrbit, SegmentEnd, SegmentSpec, ShootingSettings, Signature, saltation_matrix,
+    solve_shooting,
+};
+use hycont_core::problem::NewtonSettings;
+use hycont_core::{
+    AutoDiff, Direction, EventAction, EventId, EventSpec, HybridModel, Mode, Scalar,
+    SimulationSettings, check_derivatives, check_derivatives_against,
+};
+
+/// `(t_B, w)` of the closed form.
+fn closed_form() -> (f64, f64) {
+    let [v0, a] = P;
+    let w = (v0 * v0 - 2.0 * a).sqrt();
+    ((v0 - w) / a, w)
+}
+
+fn signature() -> Signature {
+    let segments = vec![
+        SegmentSpec {
+            mode: A,
+            end: SegmentEnd::Event(UP),
+        },
+        SegmentSpec {
+            mode: B,
+            end: SegmentEnd::Event(DOWN),
+        },
+    ];
+    Signature::new(&Shuttle { clash: false }, segments).unwrap()
+}
+
+/// The shuttle as a [`HybridModel`]: its resets' rectangular Jacobians by dual numbers.
+struct ShuttleModel;
+
+impl HybridModel for ShuttleModel {
+    fn state_dim(&self) -> usize {
+        2
+    }
+    fn mode_dim(&self, mode: Mode) -> usize {
+        if mode == A { 1 } else { 2 }
+    }
+    fn parameter_names(&self) -> &[&'static str] {
+        &["v0", "a"]
+    }
+    fn mode_count(&self) -> usize {
+        2
+    }
+    fn mode_name(&self, _: Mode) -> &'static str {
+        "m"
+    }
+    fn events(&self, mode: Mode) -> &[EventId] {
+        if mode == A { &[UP] } else { &[DOWN] }
+    }
+    fn event_spec(&self, e: EventId) -> EventSpec {
+        EventSpec {
+            name: "e",
+            direction: Direction::Falling,
+            action: EventAction::Jump {
+                to: if e == UP { B } else { A },
+            },
+        }
+    }
+    fn vector_field<T: Scalar>(&self, mode: Mode, x: &[T], p: &[T], f: &mut [T]) {
+        if mode == A {
+            f[0] = T::from(1.0);
+        } else {
+            f[0] = x[1];
+            f[1] = p[1];
+        }
+    }
+    fn event<T: Scalar>(&self, e: EventId, x: &[T], _: &[T]) -> T {
+        if e == UP { -x[0] + 1.0 } else { x[0] }
+    }
+    fn reset<T: Scalar>(&self, e: EventId, x: &[T], p: &[T], out: &mut [T]) {
+        out[0] = x[0];
+        if e == UP {
+            out[1] = -p[0];
+        }
+    }
+}
+
+/// Rectangular reset Jacobians (2 x 1 and 1 x 2) agree with central differences (1e-7,
+/// scaled) and with the dual-number twin's to rounding (1e-14).
+#[test]
+fn rectangular_reset_jacobians_are_checked() {
+    let system = Shuttle { clash: false };
+    for (mode, x) in [(A, vec![0.7]), (B, vec![0.4, -0.3])] {
+        let fd = check_derivatives(&system, mode, &x, &P).unwrap();
+        assert!(fd.max_error() < 1e-7, "{mode}: {fd:?}");
+        let ad =
+            check_derivatives_against(&system, &AutoDiff::new(ShuttleModel), mode, &x, &P).unwrap();
+        assert!(ad.max_error() < 1e-14, "{mode}: {ad:?}");
+    }
+    // A state of the system's largest dimension in the 1-D mode is refused.
+    assert!(check_derivatives(&system, A, &[0.1, 0.2], &P).is_err());
+}
+
+/// Shooting from a guess 10 % off finds the closed form's durations and start states (1e-10)
+/// and the 1 x 1 monodromy M = 1 (1e-9); the saltation matrices are 2 x 1 and 1 x 2 with the
+/// closed form's entries.
+#[test]
+fn shooting_finds_the_shuttles_orbit() {
+    let system = Shuttle { clash: false };
+    let (t_b, w) = closed_form();
+    let guess = PeriodicOrbit::new(
+        &system,
+        signature(),
+        vec![vec![0.05], vec![1.1, -0.9 * P[0]]],
+        vec![0.9, 1.1 * t_b],
+        P.to_vec(),
+    )
+    .unwrap();
+    let sol = solve_shooting(
+        &system,
+        &guess,
+        ShootingSettings::default(),
+        &NewtonSettings::default(),
+    )
+    .unwrap();
+    let o = &sol.orbit;
+    assert_abs_diff_eq!(o.durations[0], 1.0, epsilon = 1e-10);
+    assert_abs_diff_eq!(o.durations[1], t_b, epsilon = 1e-10);
+    assert_abs_diff_eq!(o.starts[0][0], 0.0, epsilon = 1e-10);
+    assert_abs_diff_eq!(o.starts[1][0], 1.0, epsilon = 1e-10);
+    assert_abs_diff_eq!(o.starts[1][1], -P[0], epsilon = 1e-10);
+    assert_eq!(sol.floquet.monodromy.len(), 1);
+    assert_abs_diff_eq!(sol.floquet.monodromy[0], 1.0, epsilon = 1e-9);
+    assert_eq!(sol.floquet.trivial, vec![true]);
+    let s = o
+        .saltation_matrices(&system, &SimulationSettings::default())
+        .unwrap();
+    assert_eq!((s[0].nrows(), s[0].ncols()), (2, 1));
+    assert_eq!((s[1].nrows(), s[1].ncols()), (1, 2));
+    assert_abs_diff_eq!(s[0][(0, 0)], -P[0], epsilon = 1e-9);
+    assert_abs_diff_eq!(s[0][(1, 0)], P[1], epsilon = 1e-9);
+    assert_abs_diff_eq!(s[1][(0, 0)], -1.0 / w, epsilon = 1e-9);
+    assert_abs_diff_eq!(s[1][(0, 1)], 0.0, epsilon = 1e-12);
+    let end = [0.0, -w];
+    let direct = saltation_matrix(&system, o, 1, &end);
+    assert_abs_diff_eq!(direct[(0, 0)], -1.0 / w, epsilon = 1e-12);
+}
+
+/// Bad input: a start of the wrong mode's dimension names the segment and both sizes.
+#[test]
+fn a_start_of_the_wrong_dimension_is_refused() {
+    let system = Shuttle { clash: false };
+    let e = PeriodicOrbit::new(
+        &system,
+        signature(),
+        vec![vec![0.0, 0.0], vec![1.0, -1.0]],
+        vec![1.0, 1.0],
+        P.to_vec(),
+    )
+    .unwrap_err();
+    assert!(
+        e.to_string().contains("segment 0") || e.to_string().contains("2 components"),
+        "{e}"
+    );
+}
