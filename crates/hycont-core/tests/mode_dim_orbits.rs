@@ -173,3 +173,37 @@ fn a_start_of_the_wrong_dimension_is_refused() {
         "{e}"
     );
 }
+
+/// Collocation carries each segment's own dimension (a 1-D and a 2-D mesh of nodes): the
+/// shuttle's flows are polynomials of degree at most 2, which collocation of degree 4
+/// reproduces exactly, so the durations and starts match the closed form to 1e-11 and the 1 x 1
+/// condensed monodromy is 1 (1e-9).
+#[test]
+fn collocation_finds_the_shuttles_orbit() {
+    use hycont_core::orbit::{CollocationSettings, solve_collocation};
+    let system = Shuttle { clash: false };
+    let (t_b, _) = closed_form();
+    let guess = PeriodicOrbit::new(
+        &system,
+        signature(),
+        vec![vec![0.0], vec![1.0, -P[0]]],
+        vec![1.0, 1.05 * t_b],
+        P.to_vec(),
+    )
+    .unwrap();
+    let settings = CollocationSettings {
+        ntst: 5,
+        ..CollocationSettings::default()
+    };
+    let sol = solve_collocation(&system, &guess, settings, &NewtonSettings::default()).unwrap();
+    let o = &sol.solution.orbit;
+    assert_eq!(sol.nodes[0].len(), 21);
+    assert_eq!(sol.nodes[1].len(), 42);
+    assert_abs_diff_eq!(o.durations[0], 1.0, epsilon = 1e-11);
+    assert_abs_diff_eq!(o.durations[1], t_b, epsilon = 1e-11);
+    assert_abs_diff_eq!(o.starts[1][1], -P[0], epsilon = 1e-11);
+    assert_eq!(sol.solution.floquet.monodromy.len(), 1);
+    assert_abs_diff_eq!(sol.solution.floquet.monodromy[0], 1.0, epsilon = 1e-9);
+    let again = sol.floquet(&system).unwrap();
+    assert_abs_diff_eq!(again.monodromy[0], 1.0, epsilon = 1e-9);
+}

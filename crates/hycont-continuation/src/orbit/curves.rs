@@ -418,9 +418,9 @@ fn collapses_tangentially<S: HybridJacobians + ?Sized>(
     let hycont_core::orbit::SegmentEnd::Event(e) = seg.end else {
         return false;
     };
-    let n = system.state_dim();
-    let (mut f, mut g) = (vec![0.0; n], vec![0.0; n]);
     let x = &orbit.starts[k];
+    let n = x.len();
+    let (mut f, mut g) = (vec![0.0; n], vec![0.0; n]);
     system.vector_field(seg.mode, x, &orbit.params, &mut f);
     system.event_gradient(e, x, &orbit.params, &mut g, None);
     let rate: f64 = f.iter().zip(&g).map(|(a, b)| a * b).sum();

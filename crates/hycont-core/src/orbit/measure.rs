@@ -130,8 +130,8 @@ impl<S: ?Sized, M: Measure<S>> Measure<S> for Borrowed<'_, M> {
 
 /// The unit vector of coordinate `i` of `orbit` (see [`Measure::gradient`]), times `sign`.
 fn unit(orbit: &PeriodicOrbit, i: usize, sign: f64) -> Vec<f64> {
-    let n = orbit.starts.first().map_or(0, Vec::len);
-    let len = orbit.segment_count() * (n + 1) + orbit.params.len();
+    let kk = orbit.segment_count();
+    let len = orbit.start_offset(kk) + kk + orbit.params.len();
     let mut g = vec![0.0; len];
     g[i] = sign;
     g
@@ -524,8 +524,7 @@ impl<S: ?Sized> Measure<S> for SegmentDuration {
         Ok(orbit.durations[self.segment])
     }
     fn gradient(&self, _: &S, orbit: &PeriodicOrbit, _: &OrbitScan) -> Option<Vec<f64>> {
-        let n = orbit.starts.first().map_or(0, Vec::len);
-        (self.segment < orbit.segment_count())
-            .then(|| unit(orbit, orbit.segment_count() * n + self.segment, 1.0))
+        let kk = orbit.segment_count();
+        (self.segment < kk).then(|| unit(orbit, orbit.start_offset(kk) + self.segment, 1.0))
     }
 }

@@ -91,7 +91,8 @@ impl PeriodicOrbit {
     /// earlier segments' state dimensions).
     ///
     /// ```
-    /// # use hycont_core::{PeriodicOrbit, Signature, SegmentSpec, SegmentEnd, Mode};
+    /// # use hycont_core::Mode;
+    /// # use hycont_core::orbit::{PeriodicOrbit, Signature, SegmentSpec, SegmentEnd};
     /// # let spec = SegmentSpec { mode: Mode(0), end: SegmentEnd::Interior { component: 0, value: 0.0 } };
     /// # let signature: Signature = serde_json::from_value(serde_json::json!({
     /// #     "segments": [spec, spec], "closure": "Periodic" })).unwrap();

@@ -285,9 +285,8 @@ impl Touch {
 
 /// The number of coordinates of `orbit` and the index of its first parameter.
 fn layout(orbit: &PeriodicOrbit) -> (usize, usize) {
-    let n = orbit.starts.first().map_or(0, Vec::len);
-    let kk = orbit.segment_count();
-    (kk * (n + 1) + orbit.params.len(), kk * (n + 1))
+    let p0 = orbit.start_offset(orbit.segment_count()) + orbit.segment_count();
+    (p0 + orbit.params.len(), p0)
 }
 
 /// The state reached by segment `k`'s flow at time `t` from its start, with its sensitivities
@@ -349,7 +348,7 @@ impl Flowed {
         let (len, p0) = layout(orbit);
         let mut g = vec![0.0; len];
         for j in 0..n {
-            g[self.k * n + j] = (0..n).map(|i| gx[i] * self.phi[i + j * n]).sum();
+            g[orbit.start_offset(self.k) + j] = (0..n).map(|i| gx[i] * self.phi[i + j * n]).sum();
         }
         for (q, d) in gp.iter().enumerate() {
             let through = if self.phi_p.is_empty() {
@@ -362,7 +361,7 @@ impl Flowed {
         if with_duration {
             let mut f = vec![0.0; n];
             system.vector_field(self.mode, &self.x, &orbit.params, &mut f);
-            g[orbit.segment_count() * n + self.k] = dot(gx, &f);
+            g[orbit.start_offset(orbit.segment_count()) + self.k] = dot(gx, &f);
         }
         g
     }

@@ -161,9 +161,10 @@ pub trait HybridSystem {
     /// map a state of the dimension of the modes that monitor the event to one of the target
     /// mode's dimension, and every mode that monitors an event has the same dimension
     /// ([`check_mode_dims`]). The simulator follows such systems across their jumps, and
-    /// periodic orbits by shooting carry one start state of its mode's dimension per segment
-    /// (their monodromy in the first segment's space); collocation and sensitivities across a
-    /// jump between dimensions refuse them with a typed error.
+    /// periodic orbits carry one start state of its mode's dimension per segment (shooting and
+    /// collocation alike; the monodromy in the first segment's space, through rectangular
+    /// saltation matrices). Sensitivities of one run across a jump between dimensions, and a
+    /// symmetric closure, refuse them with a typed error.
     fn mode_dim(&self, mode: Mode) -> usize {
         let _ = mode;
         self.state_dim()

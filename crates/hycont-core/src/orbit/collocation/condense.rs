@@ -15,7 +15,7 @@ use crate::error::{Error, Result};
 use crate::linalg::SparsePattern;
 use crate::linalg::dense::{eliminate, reciprocals, solve_upper};
 use crate::orbit::PeriodicOrbit;
-use crate::orbit::floquet::{Floquet, matmul, matmul_into, saltation};
+use crate::orbit::floquet::{Floquet, matmul_into, matmul_rect, saltation};
 use crate::system::HybridJacobians;
 
 /// Multipliers by eliminating each interval's interior nodes afresh.
@@ -26,21 +26,23 @@ pub(super) fn condensed_floquet<S: HybridJacobians + ?Sized>(
     nodes: &[Vec<f64>],
     ncol: usize,
 ) -> Result<Floquet> {
-    let n = system.state_dim();
     let basis = Basis::new(ncol);
-    // One interval's linearised collocation equations, column-major `rows x (interior, first
-    // node, last node)`.
-    let rows = ncol * n;
-    let inner = (ncol - 1) * n;
-    let width = inner + 2 * n;
-    let mut block = vec![0.0; rows * width];
-    let mut perm = vec![0; rows];
-    let mut pivots = vec![0.0; rows];
-    let mut xi = vec![0.0; n];
-    let mut a = vec![0.0; n * n];
-    let mut small = Transfer::new(n);
+    let (mut block, mut perm, mut pivots) = (Vec::new(), Vec::new(), Vec::new());
+    let (mut xi, mut a) = (Vec::new(), Vec::new());
+    let mut small = Transfer::new(0);
     let transfer = |k: usize, j: usize, y: &mut [f64]| {
         let mode = orbit.signature.segments()[k].mode;
+        // One interval's linearised collocation equations, column-major `rows x (interior,
+        // first node, last node)`, in the segment's mode's dimension (every entry written).
+        let n = orbit.starts[k].len();
+        let (rows, inner) = (ncol * n, (ncol - 1) * n);
+        let width = inner + 2 * n;
+        block.resize(rows * width, 0.0);
+        perm.resize(rows, 0);
+        pivots.resize(rows, 0.0);
+        xi.resize(n, 0.0);
+        a.resize(n * n, 0.0);
+        small.resize(n);
         let (t_k, h) = (orbit.durations[k], meshes[k][j + 1] - meshes[k][j]);
         let base = j * ncol * n;
         for c in 0..ncol {
@@ -89,21 +91,22 @@ pub(super) fn factorised_floquet<S: HybridJacobians + ?Sized>(
     ncol: usize,
     jacobian: &SparsePattern,
 ) -> Result<Option<Floquet>> {
-    let n = system.state_dim();
-    let mut small = Transfer::new(n);
+    let mut small = Transfer::new(0);
     let mut offsets = Vec::with_capacity(meshes.len());
-    let mut block = 0;
-    let mut offset = 0;
+    let (mut block, mut offset, mut columns) = (0, 0, 0);
     for (k, mesh) in meshes.iter().enumerate() {
-        offsets.push((block, offset));
+        // (first block, first unknown, first found column) of the segment.
+        offsets.push((block, offset, columns));
         block += mesh.len() - 1;
         offset += nodes[k].len();
+        columns += 2 * orbit.starts[k].len() * (mesh.len() - 1);
     }
-    // Every interval's columns of (first node, last node) over its n rows, `2 n` per interval
-    // in one list, or give up.
-    let mut found: Vec<&[f64]> = Vec::with_capacity(2 * n * block);
+    // Every interval's columns of (first node, last node) over its n_k rows, `2 n_k` per
+    // interval in one list, or give up.
+    let mut found: Vec<&[f64]> = Vec::with_capacity(columns);
     for (k, mesh) in meshes.iter().enumerate() {
-        let (b0, off) = offsets[k];
+        let (b0, off, _) = offsets[k];
+        let n = orbit.starts[k].len();
         for j in 0..mesh.len() - 1 {
             let Some(rows) = jacobian.reduced_rows(b0 + j) else {
                 return Ok(None);
@@ -127,8 +130,10 @@ pub(super) fn factorised_floquet<S: HybridJacobians + ?Sized>(
         }
     }
     let transfer = |k: usize, j: usize, y: &mut [f64]| {
-        // In range: every column was found, with `n` rows.
-        let at = 2 * n * (offsets[k].0 + j);
+        // In range: every column was found, with `n_k` rows.
+        let n = orbit.starts[k].len();
+        small.resize(n);
+        let at = offsets[k].2 + 2 * n * j;
         let cols = &found[at..at + 2 * n];
         small.solve(|i, col| cols[col][i], k, j, y)
     };
@@ -159,6 +164,13 @@ impl Transfer {
             perm: vec![0; n],
             pivots: vec![0.0; n],
             inv: vec![0.0; n],
+        }
+    }
+
+    /// The work space for $n \times n$ transfers (segments of modes of their own dimension).
+    fn resize(&mut self, n: usize) {
+        if n != self.n {
+            *self = Self::new(n);
         }
     }
 
@@ -207,11 +219,12 @@ fn floquet_from_transfers<S: HybridJacobians + ?Sized>(
     nodes: &[Vec<f64>],
     mut transfer: impl FnMut(usize, usize, &mut [f64]) -> Result<()>,
 ) -> Result<Floquet> {
-    let n = system.state_dim();
-    let mut m = identity(n);
-    let mut y = vec![0.0; n * n];
-    let mut product = vec![0.0; n * n];
+    // M maps the first segment's start to segment k's (n_k x n_0); S_k is n_{k+1} x n_k.
+    let mut m = identity(orbit.starts[0].len());
     for (k, mesh) in meshes.iter().enumerate() {
+        let n = orbit.starts[k].len();
+        let mut y = vec![0.0; n * n];
+        let mut product = vec![0.0; n * n];
         let mut phi = identity(n);
         for j in 0..mesh.len() - 1 {
             transfer(k, j, &mut y)?;
@@ -225,7 +238,8 @@ fn floquet_from_transfers<S: HybridJacobians + ?Sized>(
         }
         let end_state = &nodes[k][nodes[k].len() - n..];
         let s = saltation(system, orbit, k, end_state);
-        m = matmul(n, &matmul(n, &s, &phi), &m);
+        let n_to = s.len() / n;
+        m = matmul_rect(n_to, n, &matmul_rect(n_to, n, &s, &phi), &m);
     }
     Floquet::from_monodromy(system, &orbit.params, orbit.period(), m)
 }

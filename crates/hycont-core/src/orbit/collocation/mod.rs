@@ -90,7 +90,8 @@ pub struct Collocation<'a, S: ?Sized> {
     signature: Signature,
     basis: Basis,
     meshes: Vec<Mesh>,
-    n: usize,
+    /// Per segment: its mode's state dimension $n_k$.
+    dims: Vec<usize>,
     np: usize,
     ends: EndConditions,
     // Work space.
@@ -131,15 +132,17 @@ impl<'a, S: HybridJacobians + ?Sized> Collocation<'a, S> {
                 reason: "one increasing mesh from 0 to 1 per segment is required",
             });
         }
-        crate::system::require_uniform_dims(system, "collocation")?;
         let (n, np) = (system.state_dim(), system.parameter_count());
         let ends = EndConditions::new(system, &signature);
+        let dims = (signature.segments().iter())
+            .map(|seg| system.mode_dim(seg.mode))
+            .collect();
         Ok(Self {
             system,
             signature,
             basis: Basis::new(ncol),
             meshes,
-            n,
+            dims,
             np,
             ends,
             xi: vec![0.0; n],
@@ -156,7 +159,7 @@ impl<'a, S: HybridJacobians + ?Sized> Collocation<'a, S> {
     /// Index of the first node value of segment `k` in the local unknowns.
     #[must_use]
     pub fn segment_offset(&self, k: usize) -> usize {
-        (0..k).map(|l| self.nodes_in(l) * self.n).sum()
+        (0..k).map(|l| self.nodes_in(l) * self.dims[l]).sum()
     }
 
     /// Index of segment `k`'s duration.
@@ -171,10 +174,17 @@ impl<'a, S: HybridJacobians + ?Sized> Collocation<'a, S> {
         self.segment_offset(self.signature.len()) + self.signature.len() + q
     }
 
+    /// The first equation of segment `k`: each segment has its collocation equations and
+    /// the $n_{k+1} + 1$ conditions at its end.
     fn row_offset(&self, k: usize) -> usize {
         (0..k)
-            .map(|l| (self.nodes_in(l) - 1) * self.n + self.n + 1)
+            .map(|l| (self.nodes_in(l) - 1) * self.dims[l] + self.next_dim(l) + 1)
             .sum()
+    }
+
+    /// The dimension of the state segment `k` ends in (the next segment's).
+    fn next_dim(&self, k: usize) -> usize {
+        self.dims[(k + 1) % self.dims.len()]
     }
 
     /// The meshes.
@@ -202,13 +212,13 @@ impl<S: HybridJacobians + ?Sized> ZeroFunction for Collocation<'_, S> {
     /// The interior nodes of each mesh interval, read only by that interval's `ncol * n`
     /// collocation equations (none for `ncol == 1`).
     fn local_blocks(&self) -> Vec<LocalBlock> {
-        let (n, ncol) = (self.n, self.basis.ncol);
+        let ncol = self.basis.ncol;
         let mut out = Vec::new();
         if ncol < 2 {
             return out;
         }
         for k in 0..self.signature.len() {
-            let (off, r0) = (self.segment_offset(k), self.row_offset(k));
+            let (off, r0, n) = (self.segment_offset(k), self.row_offset(k), self.dims[k]);
             for j in 0..self.meshes[k].len() - 1 {
                 out.push(LocalBlock {
                     equations: r0 + j * ncol * n..r0 + (j + 1) * ncol * n,
@@ -224,14 +234,11 @@ impl<S: HybridJacobians + ?Sized> ZeroFunction for Collocation<'_, S> {
     /// parameters), so that a condensing factorisation copies them as runs; then each segment's
     /// boundary rows.
     fn jacobian_pattern(&self) -> Vec<(usize, usize)> {
-        let (n, np, ncol) = (self.n, self.np, self.basis.ncol);
+        let (np, ncol) = (self.np, self.basis.ncol);
         let kk = self.signature.len();
-        // Per collocation row: the interval's nodes, the duration, the parameters; per
-        // boundary row at most the end state, the parameters and the next segment's start.
-        let per_row = (ncol + 1) * n + 1 + np;
-        let rows: usize = (0..kk).map(|k| (self.meshes[k].len() - 1) * ncol * n).sum();
-        let mut out = Vec::with_capacity(rows * per_row + kk * (n + 1) * (2 * n + np));
+        let mut out = Vec::new();
         for k in 0..kk {
+            let (n, n_to) = (self.dims[k], self.next_dim(k));
             let off = self.segment_offset(k);
             let r0 = self.row_offset(k);
             let ntst = self.meshes[k].len() - 1;
@@ -247,20 +254,20 @@ impl<S: HybridJacobians + ?Sized> ZeroFunction for Collocation<'_, S> {
                     out.extend(rows.clone().map(|row| (row, col)));
                 }
             }
-            // Boundary rows: n continuity + 1 end condition.
+            // Boundary rows: n_{k+1} continuity + 1 end condition.
             let rb = r0 + ntst * ncol * n;
             let last = off + (self.nodes_in(k) - 1) * n;
             let next_off = self.segment_offset((k + 1) % kk);
-            for i in 0..=n {
+            for i in 0..=n_to {
                 for comp in 0..n {
                     out.push((rb + i, last + comp));
                 }
                 for q in 0..np {
                     out.push((rb + i, self.param_index(q)));
                 }
-                if i < n {
+                if i < n_to {
                     if k + 1 == kk && self.ends.symmetric() {
-                        for comp in 0..n {
+                        for comp in 0..n_to {
                             out.push((rb + i, next_off + comp));
                         }
                     } else {
@@ -278,13 +285,14 @@ impl<S: HybridJacobians + ?Sized> ZeroFunction for Collocation<'_, S> {
         residual: &mut [f64],
         jacobian: Option<&mut [f64]>,
     ) -> Result<()> {
-        let (n, np, ncol) = (self.n, self.np, self.basis.ncol);
+        let (np, ncol) = (self.np, self.basis.ncol);
         let p = u[self.param_index(0)..self.param_index(0) + np].to_vec();
         let mut jac = jacobian;
         let mut pos = 0usize;
-        // An interval's block: `ncol * n` rows by the nodes, the duration, the parameters.
-        let block = ncol * n * ((ncol + 1) * n + 1 + np);
         for k in 0..self.signature.len() {
+            let (n, n_to) = (self.dims[k], self.next_dim(k));
+            // An interval's block: `ncol * n` rows by the nodes, the duration, the parameters.
+            let block = ncol * n * ((ncol + 1) * n + 1 + np);
             let mode = self.signature.segments()[k].mode;
             let (off, r0) = (self.segment_offset(k), self.row_offset(k));
             let t_k = u[self.duration_index(k)];
@@ -296,7 +304,13 @@ impl<S: HybridJacobians + ?Sized> ZeroFunction for Collocation<'_, S> {
                 let mut out = jac.as_deref_mut().map(|jv| &mut jv[pos..pos + block]);
                 for c in 0..ncol {
                     let row = r0 + (j * ncol + c) * n;
-                    let point = Point { mode, c, h, t: t_k };
+                    let point = Point {
+                        mode,
+                        n,
+                        c,
+                        h,
+                        t: t_k,
+                    };
                     let res = &mut residual[row..row + n];
                     self.collocation_point(point, nodes, &p, res, out.as_deref_mut())?;
                 }
@@ -309,7 +323,7 @@ impl<S: HybridJacobians + ?Sized> ZeroFunction for Collocation<'_, S> {
                 k,
                 u,
                 &p,
-                &mut residual[rb..=rb + n],
+                &mut residual[rb..=rb + n_to],
                 jac.as_deref_mut(),
                 &mut pos,
             )?;
@@ -394,11 +408,13 @@ fn group_of_node(node: usize, ncol: usize) -> usize {
     }
 }
 
-/// A collocation point: its segment's mode, its index in the interval, the interval's length
-/// and the segment's duration.
+/// A collocation point: its segment's mode and state dimension, its index in the interval, the
+/// interval's length and the segment's duration.
 #[derive(Clone, Copy)]
 struct Point {
     mode: crate::system::Mode,
+    /// The mode's state dimension.
+    n: usize,
     c: usize,
     h: f64,
     t: f64,
@@ -420,41 +436,36 @@ impl<S: HybridJacobians + ?Sized> Collocation<'_, S> {
         res: &mut [f64],
         jac: Option<&mut [f64]>,
     ) -> Result<()> {
-        let n = self.n;
+        let (n, np) = (at.n, self.np);
         let (lc, dlc) = (&self.basis.l[at.c], &self.basis.dl[at.c]);
+        let (xi, f) = (&mut self.xi[..n], &mut self.f[..n]);
+        let (a, fp) = (&mut self.a[..n * n], &mut self.fp[..n * np]);
         // xi = p(z_c)
-        self.xi.fill(0.0);
+        xi.fill(0.0);
         for (x, &lv) in nodes.chunks_exact(n).zip(lc) {
-            for (xi, xv) in self.xi.iter_mut().zip(x) {
+            for (xi, xv) in xi.iter_mut().zip(x) {
                 *xi += lv * xv;
             }
         }
         if jac.is_some() {
-            self.system.vector_field_with_jacobian(
-                at.mode,
-                &self.xi,
-                p,
-                &mut self.f,
-                &mut self.a,
-                Some(&mut self.fp),
-            );
+            (self.system).vector_field_with_jacobian(at.mode, xi, p, f, a, Some(fp));
             let of = || format!("vector field of mode {}", at.mode);
-            crate::error::finite_derivative(&self.a, n, ("state", 0), of, &self.xi)?;
-            crate::error::finite_derivative(&self.fp, n, ("parameter", 0), of, &self.xi)?;
+            crate::error::finite_derivative(a, n, ("state", 0), of, xi)?;
+            crate::error::finite_derivative(fp, n, ("parameter", 0), of, xi)?;
         } else {
-            self.system.vector_field(at.mode, &self.xi, p, &mut self.f);
+            self.system.vector_field(at.mode, xi, p, f);
         }
-        if let Some(index) = self.f.iter().position(|v| !v.is_finite()) {
+        if let Some(index) = f.iter().position(|v| !v.is_finite()) {
             return Err(crate::Error::NonFiniteVectorField {
                 t: at.t,
                 mode: at.mode,
                 index,
-                value: self.f[index],
-                state: self.xi.clone(),
+                value: f[index],
+                state: xi.to_vec(),
             });
         }
         let ht = -at.h * at.t;
-        for (r, f) in res.iter_mut().zip(&self.f) {
+        for (r, f) in res.iter_mut().zip(f.iter()) {
             *r = ht * f;
         }
         for (x, &dv) in nodes.chunks_exact(n).zip(dlc) {
@@ -475,7 +486,7 @@ impl<S: HybridJacobians + ?Sized> Collocation<'_, S> {
             block: &mut *block,
             rows,
             at,
-            a: &self.a,
+            a,
             l: lc,
             dl: dlc,
             ht,
@@ -491,11 +502,11 @@ impl<S: HybridJacobians + ?Sized> Collocation<'_, S> {
         }
         let mut rest = block[(ncol + 1) * n * rows..].chunks_exact_mut(rows);
         if let Some(col) = rest.next() {
-            for (o, f) in col[at..at + n].iter_mut().zip(&self.f) {
+            for (o, f) in col[at..at + n].iter_mut().zip(f.iter()) {
                 *o = -h * f;
             }
         }
-        for (col, fp) in rest.zip(self.fp.chunks_exact(n)) {
+        for (col, fp) in rest.zip(fp.chunks_exact(n)) {
             for (o, d) in col[at..at + n].iter_mut().zip(fp) {
                 *o = ht * d;
             }
@@ -503,7 +514,7 @@ impl<S: HybridJacobians + ?Sized> Collocation<'_, S> {
         Ok(())
     }
 
-    /// The `n + 1` conditions at the end of segment `k` (continuity into the next segment and
+    /// The `n_{k+1} + 1` conditions at the end of segment `k` (continuity into the next segment and
     /// the end condition) and, with `jac`, their Jacobian entries from `pos` on.
     fn segment_end(
         &mut self,
@@ -514,20 +525,21 @@ impl<S: HybridJacobians + ?Sized> Collocation<'_, S> {
         jac: Option<&mut [f64]>,
         pos: &mut usize,
     ) -> Result<()> {
-        let (n, np, kk) = (self.n, self.np, self.signature.len());
+        let (np, kk) = (self.np, self.signature.len());
+        let (n, n_to) = (self.dims[k], self.next_dim(k));
         let last = self.segment_offset(k) + (self.nodes_in(k) - 1) * n;
         let y = &u[last..last + n];
         let next_off = self.segment_offset((k + 1) % kk);
         let wrap = k + 1 == kk;
-        let target = self.ends.target(wrap, &u[next_off..next_off + n]);
+        let target = self.ends.target(wrap, &u[next_off..next_off + n_to]);
         let segment = self.signature.segments()[k];
         let end = segment.end;
         (self.ends).residual(self.system, (segment.mode, end), y, p, &target, res)?;
         let Some(jac) = jac else {
             return Ok(());
         };
-        self.ends.linearise(self.system, end, (y, n), p)?;
-        for i in 0..=n {
+        self.ends.linearise(self.system, end, (y, n_to), p)?;
+        for i in 0..=n_to {
             for comp in 0..n {
                 jac[*pos] = self.ends.state_derivative(i, comp);
                 *pos += 1;
@@ -536,7 +548,7 @@ impl<S: HybridJacobians + ?Sized> Collocation<'_, S> {
                 jac[*pos] = self.ends.parameter_derivative(i, q);
                 *pos += 1;
             }
-            if i < n {
+            if i < n_to {
                 self.ends.write_target_entries(i, wrap, jac, pos);
             }
         }
@@ -546,9 +558,10 @@ impl<S: HybridJacobians + ?Sized> Collocation<'_, S> {
 
 impl<S: HybridJacobians + ?Sized> super::OrbitEquations for Collocation<'_, S> {
     fn closure_entries(&self) -> Vec<usize> {
-        let (n, kk) = (self.n, self.signature.len());
+        let kk = self.signature.len();
+        let (n_last, n) = (self.dims[kk - 1], self.dims[0]);
         let ntst = self.meshes[kk - 1].len() - 1;
-        let rb = self.row_offset(kk - 1) + ntst * self.basis.ncol * n;
+        let rb = self.row_offset(kk - 1) + ntst * self.basis.ncol * n_last;
         let per_row = if self.ends.symmetric() { n } else { 1 };
         super::end_condition::closure_positions(&self.jacobian_pattern(), rb..rb + n, per_row)
     }

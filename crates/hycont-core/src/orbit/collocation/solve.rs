@@ -60,10 +60,10 @@ pub(crate) fn initial_nodes<S: HybridJacobians + ?Sized>(
     meshes: &[Mesh],
     ncol: usize,
 ) -> Result<Vec<Vec<f64>>> {
-    let n = system.state_dim();
     let basis_nodes: Vec<f64> = (0..=ncol).map(|i| i as f64 / ncol as f64).collect();
     let mut out = Vec::new();
     for (k, seg) in orbit.signature.segments().iter().enumerate() {
+        let n = system.mode_dim(seg.mode);
         let taus: Vec<f64> = meshes[k]
             .windows(2)
             .flat_map(|w| {
@@ -165,7 +165,7 @@ pub fn collocation_unpack(
     u: &[f64],
 ) -> (Vec<Vec<f64>>, PeriodicOrbit) {
     let sizes: Vec<usize> = meshes.iter().map(|m| (m.len() - 1) * ncol + 1).collect();
-    unpack_nodes(u, like, &sizes, like.starts[0].len())
+    unpack_nodes(u, like, &sizes)
 }
 
 /// `f(nodes, mesh, basis, n)` of each segment of the collocation solution at unknowns `u`.
@@ -176,13 +176,14 @@ fn per_segment<T>(
     u: &[f64],
     f: fn(&[f64], &[f64], &Basis, usize) -> T,
 ) -> Vec<T> {
-    let n = like.starts[0].len();
     let basis = Basis::new(ncol);
     // Each segment's nodes, read in place (as `unpack_nodes` lays them out).
     let mut pos = 0;
     meshes
         .iter()
-        .map(|m| {
+        .zip(&like.starts)
+        .map(|(m, start)| {
+            let n = start.len();
             let len = ((m.len() - 1) * ncol + 1) * n;
             pos += len;
             f(&u[pos - len..pos], m, &basis, n)
@@ -239,13 +240,14 @@ pub fn collocation_refined_meshes(
         return collocation_adapted_meshes(like, meshes, ncol, u);
     }
     let factor = (2.0 * estimate / tolerance).powf(1.0 / (ncol + 1) as f64);
-    let n = like.starts[0].len();
     let basis = Basis::new(ncol);
     let (nodes, _) = collocation_unpack(like, meshes, ncol, u);
     nodes
         .iter()
         .zip(meshes)
-        .map(|(nd, m)| {
+        .zip(&like.starts)
+        .map(|((nd, m), start)| {
+            let n = start.len();
             let size = ((((m.len() - 1) as f64) * factor).ceil() as usize).min(super::MAX_NTST);
             adapted_mesh_of_size(nd, m, &basis, n, size)
         })
@@ -264,10 +266,10 @@ pub fn collocation_transfer(
     ncol: usize,
     u: &[f64],
 ) -> Vec<f64> {
-    let n = like.starts[0].len();
     let mut out = Vec::with_capacity(u.len());
     let mut pos = 0;
-    for (m, new) in meshes.iter().zip(new_meshes) {
+    for ((m, new), start) in meshes.iter().zip(new_meshes).zip(&like.starts) {
+        let n = start.len();
         let len = ((m.len() - 1) * ncol + 1) * n;
         out.extend(transfer_nodes(&u[pos..pos + len], m, new, ncol, n));
         pos += len;
@@ -318,22 +320,25 @@ pub fn collocation_floquet_factorised<S: HybridJacobians + ?Sized>(
     factorised_floquet(system, orbit, meshes, nodes, ncol, jacobian)
 }
 
+/// Each segment's `sizes[k]` nodes of `like`'s segment start's dimension, then the orbit.
 fn unpack_nodes(
     u: &[f64],
     like: &PeriodicOrbit,
     sizes: &[usize],
-    n: usize,
 ) -> (Vec<Vec<f64>>, PeriodicOrbit) {
     let mut nodes = Vec::new();
     let mut pos = 0;
-    for &m in sizes {
+    for (&m, start) in sizes.iter().zip(&like.starts) {
+        let n = start.len();
         nodes.push(u[pos..pos + m * n].to_vec());
         pos += m * n;
     }
     let kk = sizes.len();
     let durations = u[pos..pos + kk].to_vec();
     let params = u[pos + kk..pos + kk + like.params.len()].to_vec();
-    let starts = nodes.iter().map(|v| v[..n].to_vec()).collect();
+    let starts = (nodes.iter().zip(&like.starts))
+        .map(|(v, start)| v[..start.len()].to_vec())
+        .collect();
     (
         nodes,
         PeriodicOrbit {
@@ -383,8 +388,8 @@ pub(crate) fn solve_collocation_unchecked<S: HybridJacobians + ?Sized>(
 ) -> Result<CollocationSolution> {
     settings.validate()?;
     guess.validate(system)?;
-    let n = system.state_dim();
     let kk = guess.segment_count();
+    let n = |k: usize| guess.starts[k].len();
     let mut meshes: Vec<Mesh> = (0..kk).map(|_| uniform_mesh(settings.ntst)).collect();
     let mut nodes = initial_nodes(system, guess, &meshes, settings.ncol)?;
     let mut orbit = guess.clone();
@@ -398,10 +403,13 @@ pub(crate) fn solve_collocation_unchecked<S: HybridJacobians + ?Sized>(
         if pass > 0 {
             // Move to the adapted meshes, interpolating the current solution.
             let new_meshes: Vec<Mesh> = (0..kk)
-                .map(|k| adapted_mesh(&nodes[k], &meshes[k], &basis, n))
+                .map(|k| adapted_mesh(&nodes[k], &meshes[k], &basis, n(k)))
                 .collect();
             let new_nodes: Vec<Vec<f64>> = (0..kk)
-                .map(|k| transfer_nodes(&nodes[k], &meshes[k], &new_meshes[k], settings.ncol, n))
+                .map(|k| {
+                    let (ncol, n) = (settings.ncol, n(k));
+                    transfer_nodes(&nodes[k], &meshes[k], &new_meshes[k], ncol, n)
+                })
                 .collect();
             meshes = new_meshes;
             nodes = new_nodes;
@@ -413,7 +421,7 @@ pub(crate) fn solve_collocation_unchecked<S: HybridJacobians + ?Sized>(
         }
         let sol = newton(&mut problem, &pack_nodes(&nodes, &orbit), newton_settings)?;
         previous = Some(problem);
-        let (nd, ob) = unpack_nodes(&sol.u, &orbit, &sizes, n);
+        let (nd, ob) = unpack_nodes(&sol.u, &orbit, &sizes);
         nodes = nd;
         orbit = ob;
         residual = sol.residual;
