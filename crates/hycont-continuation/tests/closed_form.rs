@@ -676,3 +676,29 @@ fn a_run_stops_when_its_observer_asks() {
         assert_abs_diff_eq!(p.u[0] * p.u[0], p.u[1], epsilon = 1e-9);
     }
 }
+
+/// A run that starts exactly on a bound and steps out of the window ends there with an end
+/// point at the bound (its test function starts at zero and has no sign change to find); one
+/// that steps into the window runs on to the other bound. On x^2 = l from (1, 1) with bounds
+/// [1, 2]: down (out of the window) ends at l = 1 at once, up ends at l = 2.
+#[test]
+fn a_run_that_starts_on_its_bound_and_steps_out_ends_there() {
+    let s = settings().parameter_bounds(1.0, 2.0);
+    let mut t = Test::new(1, parabola, no_multipliers);
+    let out = parabola_down(&mut t, &s);
+    assert_eq!(out.end, EndReason::Bound);
+    assert!(
+        out.points.iter().all(|p| p.params[0] >= 1.0 - 1e-12),
+        "{:?}",
+        out.points.len()
+    );
+    assert!(out.points.len() <= 2, "{}", out.points.len());
+    let ep = out.special(SpecialKind::EndPoint).next().unwrap();
+    assert!((ep.point.params[0] - 1.0).abs() < 1e-12);
+    let mut t = Test::new(1, parabola, no_multipliers);
+    let u0 = t.start(&[1.0], 1.0);
+    let up = continue_branch(&mut t, "parabola", &u0, 1.0, &s, &mut Silent).unwrap();
+    assert_eq!(up.end, EndReason::Bound);
+    let ep = up.special(SpecialKind::EndPoint).next().unwrap();
+    assert!((ep.point.params[0] - 2.0).abs() < 1e-9);
+}

@@ -31,6 +31,10 @@ use hycont_core::orbit::{
     solve_orbit, split_at_grazing,
 };
 
+/// The least component along a zero-length segment's duration of a unit tangent that moves it
+/// (far below any family's that leaves duration zero at a finite rate, far above rounding).
+const MOVES_DURATION: f64 = 1e-8;
+
 /// The orbit on the other side of a grazing.
 enum Beyond {
     /// With the impact inserted.
@@ -168,7 +172,8 @@ impl<'a, S: HybridJacobians + ?Sized> OrbitRun<'a, S> {
     }
 
     /// The direction of the new family at the grazing orbit `u0`: the tangent where the new
-    /// problem is regular there; at its branch point (a zero-length segment, unknown
+    /// problem is regular there (also with a zero-length segment, where no family keeps it at
+    /// zero length); at its branch point (a zero-length segment, unknown
     /// `zero_length`'s duration), the zero-length family's tangent is the null direction that
     /// keeps that duration, and the new family's is the other root of the bifurcation
     /// equation ([`second_branch_tangent`]: the families need not cross at a right angle).
@@ -186,7 +191,16 @@ impl<'a, S: HybridJacobians + ?Sized> OrbitRun<'a, S> {
         let x1 = dirs[0].clone();
         let x2 = match dirs.get(1) {
             Some(x2) => x2.clone(),
-            None => crate::switch::branch_switch_direction(cp, u0, &x1)?,
+            None => match crate::switch::branch_switch_direction(cp, u0, &x1) {
+                Ok(x2) => x2,
+                // Regular at the grazing orbit (where the jumps around the zero-length segment
+                // do not compose to the identity, no family keeps it at zero length): the one
+                // family through the orbit is the new one if it moves that duration.
+                Err(Error::SwitchFailed { .. }) if x1[z].abs() > MOVES_DURATION => {
+                    return Ok(x1);
+                }
+                Err(e) => return Err(e),
+            },
         };
         // In the plane of the two: orthogonal to the direction that keeps the duration.
         let (c1, c2) = (x1[z], x2[z]);

@@ -297,6 +297,30 @@ impl<'p, 'a, P: ContinuationProblem<'a> + ?Sized> Palc<'p, 'a, P> {
     /// (arclength along the step, slot, chart, located, accuracy), in the order of the step.
     /// Branch points first: a fold test change next to a located one is the branch point's.
     ///
+    /// Whether a step whose end has the value `gb` of bound `slot` leaves the window (below its
+    /// minimum or above its maximum): a run that starts exactly on a bound and steps out of the
+    /// window ends there, where a test function that starts at zero does not change sign.
+    fn leaves_bound(&self, slot: usize, gb: f64) -> bool {
+        let Slot::Bound { level, on, .. } = self.slots[slot] else {
+            return false;
+        };
+        // A bound's two slots are adjacent: its minimum, then its maximum.
+        let partner =
+            [slot.wrapping_sub(1), slot + 1]
+                .into_iter()
+                .find_map(|k| match self.slots.get(k) {
+                    Some(&Slot::Bound {
+                        on: o, level: l, ..
+                    }) if o == on => Some(l),
+                    _ => None,
+                });
+        match partner {
+            Some(other) if level <= other => gb < 0.0,
+            Some(_) => gb > 0.0,
+            None => false,
+        }
+    }
+
     /// From a singular start (`from_singular`: the first step of a run along a given
     /// direction, which starts at a branch point, period doubling or grazing) the fold and
     /// branch-point tests are not watched, they vanish at the start itself, and neither are
@@ -322,7 +346,7 @@ impl<'p, 'a, P: ContinuationProblem<'a> + ?Sized> Palc<'p, 'a, P> {
         };
         let changed = |slot: usize| {
             let (ga, gb) = (ta.values[slot], tb.values[slot]);
-            ga != 0.0
+            (ga != 0.0 || self.leaves_bound(slot, gb))
                 && ga * gb <= 0.0
                 && !(from_singular && (singular(self.slots[slot]) || on_it(slot)))
         };

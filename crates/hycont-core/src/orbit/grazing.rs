@@ -12,7 +12,7 @@
 //! between impacts collapses, it removes the impacts and joins the segments around them.
 
 use super::PeriodicOrbit;
-use super::signature::{SegmentEnd, SegmentSpec, Signature};
+use super::signature::{Closure, SegmentEnd, SegmentSpec, Signature};
 use super::touch::Touch;
 use crate::error::{Error, Result};
 use crate::simulate::{SimulationSettings, Simulator};
@@ -133,10 +133,14 @@ fn split_at_end<S: HybridJacobians + ?Sized>(
 ) -> Result<GrazingSplit> {
     let specs = orbit.signature.segments();
     let count = specs.len();
+    if k + 1 == count && count > 1 && orbit.signature.closure() == Closure::Periodic {
+        // At the closure: the same orbit with its last segment first.
+        return split_at_end(system, &orbit.rotated(system, k)?, 0, event);
+    }
     if k + 1 >= count {
         return Err(invalid(
             k,
-            "the grazing is at the orbit's closure: rotate the orbit so that the grazing lies inside one period",
+            "the grazing is at the closure of a half orbit or of a one-segment orbit: split the orbit at an interior point first",
         ));
     }
     let spec = specs[k];

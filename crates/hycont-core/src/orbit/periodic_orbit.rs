@@ -265,13 +265,28 @@ impl PeriodicOrbit {
                 segment: 0,
                 reason: format!("no segment ends at {event}"),
             })?;
-        if self.signature.closure() != super::Closure::Periodic {
+        self.rotated(system, (k + 1) % segs.len())
+    }
+
+    /// The same orbit with segment `first` first (a full orbit's segments in cyclic order).
+    ///
+    /// # Errors
+    /// [`Error::InvalidSignature`] for a half orbit (its closure ties its first segment to its
+    /// last) or a segment that does not exist.
+    pub(crate) fn rotated<S: HybridSystem + ?Sized>(
+        &self,
+        system: &S,
+        first: usize,
+    ) -> Result<Self> {
+        let segs = self.signature.segments();
+        if self.signature.closure() != super::Closure::Periodic || first >= segs.len() {
             return Err(Error::InvalidSignature {
-                segment: k,
-                reason: "a half orbit cannot be rotated".into(),
+                segment: first,
+                reason: "only a full orbit's segments can be rotated, to one of its segments"
+                    .into(),
             });
         }
-        let order: Vec<usize> = (k + 1..segs.len()).chain(0..=k).collect();
+        let order: Vec<usize> = (first..segs.len()).chain(0..first).collect();
         let signature = Signature::new(system, order.iter().map(|&i| segs[i]).collect())?;
         Self::new(
             system,
