@@ -81,8 +81,7 @@ fn jacobians_across_dimensions_match_differences() {
 #[test]
 fn the_stick_slip_family_goes_on_from_the_grazing_by_shooting() {
     let system = StickSlip::default();
-    let (two, three, fold, grazing) =
-        families(OrbitMethod::Shooting(ShootingSettings::default()));
+    let (two, three, fold, grazing) = families(OrbitMethod::Shooting(ShootingSettings::default()));
     assert!(fold > grazing && fold - grazing < 1e-4, "{fold} {grazing}");
     let settings = SimulationSettings::default().rtol(1e-12).atol(1e-13);
     for q in &two.branch.points {
@@ -92,7 +91,11 @@ fn the_stick_slip_family_goes_on_from_the_grazing_by_shooting() {
     }
     // The grazing orbit: its maximum (the start after MINSEP) at the stop.
     let last = two.orbit_of(two.branch.points.last().unwrap()).unwrap();
-    assert!((last.starts[0][0] - 0.5).abs() < 1e-10, "{:?}", last.starts[0]);
+    assert!(
+        (last.starts[0][0] - 0.5).abs() < 1e-10,
+        "{:?}",
+        last.starts[0]
+    );
     let points = &three.branch.points;
     assert!((points[0].params[0] - grazing).abs() < 1e-10);
     assert!(points.len() > 5, "{:?}", three.branch.end);

@@ -23,11 +23,11 @@
 
 mod model;
 
+use hycont::SimulationSettings;
 use hycont::hycont_continuation::{
     Label, OrbitBranch, OrbitMethod, OrbitRun, RunDirection, SpecialKind,
 };
 use hycont::orbit::{CollocationSettings, ShootingSettings};
-use hycont::SimulationSettings;
 use model::{StickSlip, V};
 
 /// The located numbers of one discretisation.
