@@ -132,7 +132,7 @@ fn family<S: hycont::HybridJacobians + HybridSystem>(
     method: &OrbitMethod,
 ) -> usize {
     let mut run = OrbitRun::new(system, V).expect("a parameter");
-    run.method(method.clone()).bounds(0.59, 0.7);
+    run.method(*method).bounds(0.59, 0.7);
     run.steps(0.005, 0.005, 0.005);
     run.run("stick-slip", orbit, RunDirection::Up)
         .expect("the family")
