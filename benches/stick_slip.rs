@@ -12,7 +12,7 @@
 mod model;
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
-use hycont::hycont_continuation::{Label, OrbitMethod, OrbitRun, RunDirection, SpecialKind};
+use hycont::hycont_continuation::{OrbitMethod, OrbitRun, RunDirection, SpecialKind};
 use hycont::orbit::{CollocationSettings, PeriodicOrbit, ShootingSettings};
 use hycont::{AutoDiff, EventId, EventSpec, HybridModel, HybridSystem, Mode, Scalar};
 use model::{COLLISION, Model, REST, STICK, StickSlip, V};
@@ -74,7 +74,7 @@ fn stick_slip_orbit() -> PeriodicOrbit {
         .run("sustained", &orbit, RunDirection::Up)
         .expect("the family");
     let db = two
-        .first(SpecialKind::Custom(Label::new("DB").expect("a label")))
+        .first(SpecialKind::DOMAIN_BOUNDARY)
         .expect("the grazing");
     let three = run
         .switch_at("stick-slip", &two, db.point.label, RunDirection::Up)

@@ -16,9 +16,7 @@
 #[path = "../examples/stick_slip/model.rs"]
 mod model;
 
-use hycont::hycont_continuation::{
-    Label, OrbitBranch, OrbitMethod, OrbitRun, RunDirection, SpecialKind,
-};
+use hycont::hycont_continuation::{OrbitBranch, OrbitMethod, OrbitRun, RunDirection, SpecialKind};
 use hycont::orbit::{CollocationSettings, PeriodicOrbit, ShootingSettings};
 use hycont::{Error, EventId, HybridModel, Mode, Scalar, SimulationSettings, check_derivatives};
 use model::{SLIP, STICK, StickSlip, V};
@@ -42,10 +40,7 @@ fn families(method: OrbitMethod) -> (OrbitBranch, OrbitBranch, f64, f64) {
     run.method(method).bounds(0.5, 0.7);
     let two = run.run("sustained", &orbit, RunDirection::Up).unwrap();
     let fold = two.first(SpecialKind::Fold).unwrap().point.params[0];
-    let db = two
-        .first(SpecialKind::Custom(Label::new("DB").unwrap()))
-        .unwrap()
-        .clone();
+    let db = two.first(SpecialKind::DOMAIN_BOUNDARY).unwrap().clone();
     let three = run
         .switch_at("stick-slip", &two, db.point.label, RunDirection::Up)
         .unwrap();
@@ -215,4 +210,62 @@ fn slip_duration_index(o: &PeriodicOrbit) -> usize {
     (o.signature.segments().iter())
         .position(|s| s.mode == SLIP)
         .unwrap()
+}
+
+/// A saved stick-slip branch (segments of 3 and 4 states) reads back equal, validates, and
+/// restarts from a middle point by either discretisation to the same end orbit (1e-8).
+#[test]
+fn a_saved_branch_of_mixed_dimensions_restarts() {
+    for method in [
+        OrbitMethod::Shooting(ShootingSettings::default()),
+        collocation(),
+    ] {
+        let (_, three, ..) = families(method);
+        let text = three.to_json().unwrap();
+        let back = OrbitBranch::from_json(&text).unwrap();
+        assert_eq!(back.to_json().unwrap(), text);
+        let system = StickSlip::default();
+        back.validate(&system).unwrap();
+        let middle = &back.branch.points[back.branch.points.len() / 2];
+        let mut run = OrbitRun::new(&system, V).unwrap();
+        run.method(method).bounds(0.5, 0.7);
+        let again = run
+            .restart("again", &back, middle.label, Some(RunDirection::Up))
+            .unwrap();
+        let end = |b: &OrbitBranch| b.orbit_of(b.branch.points.last().unwrap()).unwrap();
+        let (a, b) = (end(&three), end(&again));
+        for (x, y) in a.starts.iter().flatten().zip(b.starts.iter().flatten()) {
+            assert!((x - y).abs() < 1e-8, "{:?} {:?}", a.starts, b.starts);
+        }
+    }
+}
+
+/// A diagram crosses the grazing on its own: from the sustained-stick orbit over V in
+/// [0.5, 0.7] (depth 1, the default kinds), the sustained-stick family and, switched at its DB
+/// point, the stick-slip family with its SLIP segment, ending at the bound; the saved diagram
+/// reads back and re-checks.
+#[test]
+fn a_diagram_switches_at_the_grazing() {
+    use hycont::hycont_continuation::{Diagram, DiagramSettings, SwitchOutcome};
+    let system = StickSlip::default();
+    let orbit = model::sustained_stick_orbit().unwrap();
+    let mut run = OrbitRun::new(&system, V).unwrap();
+    run.bounds(0.5, 0.7);
+    let settings = DiagramSettings {
+        depth: 1,
+        ..DiagramSettings::default()
+    };
+    let diagram = run.diagram("sustained", &orbit, &settings).unwrap();
+    assert_eq!(diagram.branches.len(), 2, "{:?}", diagram.switches);
+    let db: Vec<_> = (diagram.switches.iter())
+        .filter(|s| s.kind == SpecialKind::DOMAIN_BOUNDARY)
+        .collect();
+    assert_eq!(db.len(), 1);
+    assert!(matches!(db[0].outcome, SwitchOutcome::Followed(_)));
+    let new = &diagram.branches[1].branch;
+    let end = new.orbit_of(new.branch.points.last().unwrap()).unwrap();
+    assert!(slip_duration(&end).unwrap() > 0.0);
+    assert!((new.branch.points.last().unwrap().params[0] - 0.7).abs() < 1e-10);
+    let text = diagram.to_json().unwrap();
+    Diagram::from_json(&text).unwrap();
 }

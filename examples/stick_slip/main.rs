@@ -24,9 +24,7 @@
 mod model;
 
 use hycont::SimulationSettings;
-use hycont::hycont_continuation::{
-    Label, OrbitBranch, OrbitMethod, OrbitRun, RunDirection, SpecialKind,
-};
+use hycont::hycont_continuation::{OrbitBranch, OrbitMethod, OrbitRun, RunDirection, SpecialKind};
 use hycont::orbit::{CollocationSettings, ShootingSettings};
 use model::{StickSlip, V};
 
@@ -53,7 +51,7 @@ fn trace(method: OrbitMethod) -> Result<Found, Box<dyn std::error::Error>> {
     run.add_user_points(V, USER)?;
     let two = run.run("sustained stick", &orbit, RunDirection::Up)?;
     let fold = two.first(SpecialKind::Fold)?.point.params[V.index()];
-    let db = two.first(SpecialKind::Custom(Label::new("DB")?))?;
+    let db = two.first(SpecialKind::DOMAIN_BOUNDARY)?;
     let three: OrbitBranch = run.switch_at("stick-slip", &two, db.point.label, RunDirection::Up)?;
     let settings = SimulationSettings::default().rtol(1e-12).atol(1e-13);
     let (mut stick_slip, mut gap, mut events) = (Vec::new(), 0.0f64, Vec::new());

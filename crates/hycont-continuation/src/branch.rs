@@ -46,6 +46,12 @@ pub enum SpecialKind {
 }
 
 impl SpecialKind {
+    /// The points where an orbit reaches a domain boundary of its signature (`DB`: a segment
+    /// collapses, or ends on another event's surface), which the run's admissibility events
+    /// locate ([`crate::OrbitRun::admissibility`]); [`crate::OrbitRun::switch_at`] and
+    /// diagrams switch signature there as at [`SpecialKind::Grazing`].
+    pub const DOMAIN_BOUNDARY: SpecialKind = SpecialKind::Custom(crate::Label::DB);
+
     /// The label (`SN`, `BP`, ..., or the user's).
     #[must_use]
     pub fn label(&self) -> &str {

@@ -186,6 +186,14 @@ pub struct Label {
 }
 
 impl Label {
+    /// `DB`: the label of the points where an orbit reaches a domain boundary of its signature
+    /// (a segment collapsing or ending on another event's surface; see
+    /// [`crate::OrbitRun::admissibility`] and [`crate::SpecialKind::DOMAIN_BOUNDARY`]).
+    pub const DB: Label = Label {
+        bytes: *b"DB\0\0\0\0\0\0",
+        len: 2,
+    };
+
     /// A label from its text.
     ///
     /// # Errors

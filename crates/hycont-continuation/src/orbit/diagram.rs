@@ -24,9 +24,9 @@ pub struct DiagramSettings {
     /// at a point of a depth-`d` branch at depth `d + 1`; points on branches at `depth` are not
     /// switched at (their records say [`SwitchOutcome::DepthLimit`]).
     pub depth: usize,
-    /// The kinds of special points switched at (default BP, PD and GR: at a grazing the
-    /// diagram goes on with the signature beyond it, [`OrbitRun::switch_at`]; only these
-    /// switch).
+    /// The kinds of special points switched at (default BP, PD, GR and DB: at a grazing or a
+    /// domain boundary the diagram goes on with the signature beyond it,
+    /// [`OrbitRun::switch_at`]; only these switch).
     pub kinds: Vec<SpecialKind>,
     /// Most branches in the diagram (default 256: a safety cap, the depth bounds a diagram;
     /// families switched at grazings branch again); further switches are recorded as
@@ -47,6 +47,7 @@ impl Default for DiagramSettings {
                 SpecialKind::BranchPoint,
                 SpecialKind::PeriodDoubling,
                 SpecialKind::Grazing,
+                SpecialKind::DOMAIN_BOUNDARY,
             ],
             max_branches: 256,
             same_point_tol: 1e-6,
@@ -60,16 +61,11 @@ impl DiagramSettings {
     /// # Errors
     /// [`Error::InvalidSetting`] naming the bad setting.
     pub fn validate(&self) -> Result<()> {
-        if let Some(k) = self.kinds.iter().find(|k| {
-            !matches!(
-                k,
-                SpecialKind::BranchPoint | SpecialKind::PeriodDoubling | SpecialKind::Grazing
-            )
-        }) {
+        if let Some(k) = self.kinds.iter().find(|k| !switchable(k)) {
             return Err(Error::InvalidSetting {
                 name: "kinds",
                 value: self.kinds.iter().position(|x| x == k).unwrap_or(0) as f64,
-                reason: "branches are switched at BP, PD and GR points only",
+                reason: "branches are switched at BP, PD, GR and DB points only",
             });
         }
         if self.max_branches == 0 {
@@ -88,6 +84,15 @@ impl DiagramSettings {
         }
         Ok(())
     }
+}
+
+/// Whether a diagram switches at special points of `kind`: BP, PD, GR and DB
+/// ([`SpecialKind::DOMAIN_BOUNDARY`]).
+pub(super) fn switchable(kind: &SpecialKind) -> bool {
+    matches!(
+        kind,
+        SpecialKind::BranchPoint | SpecialKind::PeriodDoubling | SpecialKind::Grazing
+    ) || *kind == SpecialKind::DOMAIN_BOUNDARY
 }
 
 /// What became of a special point switched at (or not).

@@ -55,12 +55,9 @@ impl Diagram {
             let s = self
                 .switch_point(parent, label, None)
                 .map_err(|r| invalid(format!("branch {i} has its origin at {r}")))?;
-            if !matches!(
-                s.kind,
-                SpecialKind::BranchPoint | SpecialKind::PeriodDoubling | SpecialKind::Grazing
-            ) {
+            if !super::diagram::switchable(&s.kind) {
                 return Err(invalid(format!(
-                    "branch {i} has its origin at a {} point (branches switch at BP, PD and GR)",
+                    "branch {i} has its origin at a {} point (branches switch at BP, PD, GR and DB)",
                     s.kind
                 )));
             }

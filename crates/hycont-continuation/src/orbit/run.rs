@@ -10,7 +10,7 @@ use super::saved::OrbitBranch;
 use crate::branch::{Branch, SpecialKind};
 use crate::error::{Error, Result};
 use crate::observe::{Observer, Silent};
-use crate::quantity::{Label, MeasureId, Quantity};
+use crate::quantity::{MeasureId, Quantity};
 use crate::settings::{BoundOn, ContinuationSettings};
 use crate::{ContinuationProblem, MonitorEvent};
 use hycont_core::orbit::{
@@ -142,7 +142,7 @@ impl<'a, S: HybridJacobians + ?Sized> OrbitRun<'a, S> {
     /// # Errors
     /// As [`OrbitRun::add_measure`] when the measures are first added.
     pub fn admissibility(&mut self, on: bool) -> Result<&mut Self> {
-        let kinds = [SpecialKind::Grazing, SpecialKind::Custom(Label::new("DB")?)];
+        let kinds = [SpecialKind::Grazing, SpecialKind::DOMAIN_BOUNDARY];
         if on {
             let ids = match self.admissibility {
                 Some(ids) => ids,
