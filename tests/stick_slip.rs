@@ -269,3 +269,55 @@ fn a_diagram_switches_at_the_grazing() {
     let text = diagram.to_json().unwrap();
     Diagram::from_json(&text).unwrap();
 }
+
+/// Back the other way: the stick-slip family, continued down from V = 0.7, ends where its
+/// impact becomes tangential and its SLIP segment collapses (the grazing); switching there
+/// removes the impact and the zero-length SLIP segment (their jumps compose to the identity
+/// at zero impact speed), ends the STICK segment at MINSEP where the impact was (the flow
+/// crosses that identity event there), and finds the sustained-stick family again: its orbit
+/// at the grazing's V agrees with the sustained-stick branch's grazing orbit (1e-8) and the
+/// family runs to V = 0.5.
+#[test]
+fn switching_back_at_the_grazing_finds_sustained_stick() {
+    let system = StickSlip::default();
+    let (two, three, _, grazing) = families(OrbitMethod::Shooting(ShootingSettings::default()));
+    let mut run = OrbitRun::new(&system, V).unwrap();
+    run.bounds(0.5, 0.7);
+    let top = three.branch.points.last().unwrap().label;
+    let down = run
+        .restart("down", &three, top, Some(RunDirection::Down))
+        .unwrap();
+    let end = down
+        .branch
+        .special_points
+        .iter()
+        .find(|s| s.kind == SpecialKind::Grazing || s.kind == SpecialKind::DOMAIN_BOUNDARY)
+        .unwrap_or_else(|| panic!("{:?}", down.branch.end));
+    assert!(
+        (end.point.params[0] - grazing).abs() < 1e-8,
+        "{}",
+        end.point.params[0]
+    );
+    let back = run
+        .switch_at("back", &down, end.point.label, RunDirection::Down)
+        .unwrap();
+    let first = back.orbit_of(&back.branch.points[0]).unwrap();
+    assert!(first.starts.iter().all(|x| x.len() == 3), "{first:?}");
+    let g = two.orbit_of(two.branch.points.last().unwrap()).unwrap();
+    let max = |o: &PeriodicOrbit| {
+        (o.starts.iter())
+            .map(|x| x[0])
+            .fold(f64::NEG_INFINITY, f64::max)
+    };
+    assert!(
+        (max(&first) - max(&g)).abs() < 1e-8,
+        "{} {}",
+        max(&first),
+        max(&g)
+    );
+    assert!(
+        (back.branch.points.last().unwrap().params[0] - 0.5).abs() < 1e-9,
+        "{:?}",
+        back.branch.end
+    );
+}

@@ -297,12 +297,11 @@ impl<'p, 'a, P: ContinuationProblem<'a> + ?Sized> Palc<'p, 'a, P> {
     /// (arclength along the step, slot, chart, located, accuracy), in the order of the step.
     /// Branch points first: a fold test change next to a located one is the branch point's.
     ///
-    /// Whether a step whose end has the value `gb` of bound `slot` leaves the window (below its
-    /// minimum or above its maximum): a run that starts exactly on a bound and steps out of the
-    /// window ends there, where a test function that starts at zero does not change sign.
-    fn leaves_bound(&self, slot: usize, gb: f64) -> bool {
+    /// For a bound's slot, the sign its test function (value minus level) has inside the
+    /// window: `+1` at its minimum, `-1` at its maximum; `None` for other slots.
+    fn inside_sign(&self, slot: usize) -> Option<f64> {
         let Slot::Bound { level, on, .. } = self.slots[slot] else {
-            return false;
+            return None;
         };
         // A bound's two slots are adjacent: its minimum, then its maximum.
         let partner =
@@ -313,12 +312,8 @@ impl<'p, 'a, P: ContinuationProblem<'a> + ?Sized> Palc<'p, 'a, P> {
                         on: o, level: l, ..
                     }) if o == on => Some(l),
                     _ => None,
-                });
-        match partner {
-            Some(other) if level <= other => gb < 0.0,
-            Some(_) => gb > 0.0,
-            None => false,
-        }
+                })?;
+        Some(if level <= partner { 1.0 } else { -1.0 })
     }
 
     /// From a singular start (`from_singular`: the first step of a run along a given
@@ -346,9 +341,13 @@ impl<'p, 'a, P: ContinuationProblem<'a> + ?Sized> Palc<'p, 'a, P> {
         };
         let changed = |slot: usize| {
             let (ga, gb) = (ta.values[slot], tb.values[slot]);
-            (ga != 0.0 || self.leaves_bound(slot, gb))
-                && ga * gb <= 0.0
-                && !(from_singular && (singular(self.slots[slot]) || on_it(slot)))
+            let crossed = match self.inside_sign(slot) {
+                // A bound ends a run that leaves the window: from inside (or on it) to outside,
+                // not back in from a start a rounding outside (e.g. a located end point).
+                Some(side) => side * ga >= 0.0 && side * gb < 0.0,
+                None => ga != 0.0 && ga * gb <= 0.0,
+            };
+            crossed && !(from_singular && (singular(self.slots[slot]) || on_it(slot)))
         };
         let mut order: Vec<usize> = (0..self.slots.len()).filter(|&k| changed(k)).collect();
         order.sort_by_key(|&k| self.slots[k] != Slot::BranchPoint);

@@ -185,7 +185,10 @@ impl<'a, P: ContinuationProblem<'a> + ?Sized> Palc<'_, 'a, P> {
         }
         let (min, max) = self.settings.continuation_bounds();
         let value = u0[self.p.parameter_index()];
-        if !(min <= value && value <= max) {
+        // A located end point lies on its bound to the locator's accuracy: the same 1e-9
+        // (relative) as the first chart's check.
+        let tol = 1e-9 * (1.0 + value.abs());
+        if !(min - tol <= value && value <= max + tol) {
             return Err(Error::StartOutsideBounds {
                 parameter: self.p.parameter_name(),
                 value,

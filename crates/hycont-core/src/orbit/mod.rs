@@ -13,6 +13,7 @@ mod end_condition;
 mod floquet;
 mod flow;
 mod grazing;
+mod grazing_join;
 mod measure;
 mod measure_set;
 mod periodic_orbit;
@@ -37,9 +38,9 @@ pub use collocation::{
 };
 pub use discretisation::{Discretisation, OrbitEquations, OrbitMethod, orbit_problem};
 pub use floquet::{Floquet, NEUTRAL_BAND, saltation_matrix};
-pub use grazing::{
-    GrazingJoin, GrazingSplit, JOIN_IDENTITY_TOL, JOIN_ZERO_DURATION, JoinAt, join_at_grazing,
-    split_at_grazing,
+pub use grazing::{GrazingSplit, split_at_grazing};
+pub use grazing_join::{
+    GrazingJoin, JOIN_IDENTITY_TOL, JOIN_ZERO_DURATION, JoinAt, join_at_grazing,
 };
 pub use measure::{
     Extremum, ExtremumKind, GrazingMargin, Measure, SegmentDuration, SegmentPoint, SegmentValue,
