@@ -42,7 +42,7 @@ fn signature() -> Signature {
             end: SegmentEnd::Event(DOWN),
         },
     ];
-    Signature::new(&Shuttle { clash: false }, segments).unwrap()
+    Signature::new(&Shuttle::default(), segments).unwrap()
 }
 
 /// The shuttle as a [`HybridModel`]: its resets' rectangular Jacobians by dual numbers.
@@ -99,7 +99,7 @@ impl HybridModel for ShuttleModel {
 /// scaled) and with the dual-number twin's to rounding (1e-14).
 #[test]
 fn rectangular_reset_jacobians_are_checked() {
-    let system = Shuttle { clash: false };
+    let system = Shuttle::default();
     for (mode, x) in [(A, vec![0.7]), (B, vec![0.4, -0.3])] {
         let fd = check_derivatives(&system, mode, &x, &P).unwrap();
         assert!(fd.max_error() < 1e-7, "{mode}: {fd:?}");
@@ -116,7 +116,7 @@ fn rectangular_reset_jacobians_are_checked() {
 /// closed form's entries.
 #[test]
 fn shooting_finds_the_shuttles_orbit() {
-    let system = Shuttle { clash: false };
+    let system = Shuttle::default();
     let (t_b, w) = closed_form();
     let guess = PeriodicOrbit::new(
         &system,
@@ -159,7 +159,7 @@ fn shooting_finds_the_shuttles_orbit() {
 /// Bad input: a start of the wrong mode's dimension names the segment and both sizes.
 #[test]
 fn a_start_of_the_wrong_dimension_is_refused() {
-    let system = Shuttle { clash: false };
+    let system = Shuttle::default();
     let e = PeriodicOrbit::new(
         &system,
         signature(),
@@ -181,7 +181,7 @@ fn a_start_of_the_wrong_dimension_is_refused() {
 #[test]
 fn collocation_finds_the_shuttles_orbit() {
     use hycont_core::orbit::{CollocationSettings, solve_collocation};
-    let system = Shuttle { clash: false };
+    let system = Shuttle::default();
     let (t_b, _) = closed_form();
     let guess = PeriodicOrbit::new(
         &system,
@@ -206,4 +206,37 @@ fn collocation_finds_the_shuttles_orbit() {
     assert_abs_diff_eq!(sol.solution.floquet.monodromy[0], 1.0, epsilon = 1e-9);
     let again = sol.floquet(&system).unwrap();
     assert_abs_diff_eq!(again.monodromy[0], 1.0, epsilon = 1e-9);
+}
+
+/// Bad input: an event gradient that leaves an entry of its mode's state unwritten (written
+/// as if the 2-state mode had one state) is a typed error naming the event function and the
+/// entry, by both discretisations, not a stale value.
+#[test]
+fn a_gradient_of_the_wrong_length_is_an_error() {
+    use hycont_core::Error;
+    use hycont_core::orbit::{CollocationSettings, solve_collocation};
+    let system = Shuttle {
+        short_gradient: true,
+        ..Shuttle::default()
+    };
+    let (t_b, _) = closed_form();
+    let guess = PeriodicOrbit::new(
+        &system,
+        signature(),
+        vec![vec![0.0], vec![1.0, -P[0]]],
+        vec![1.0, 1.05 * t_b],
+        P.to_vec(),
+    )
+    .unwrap();
+    let newton = NewtonSettings::default();
+    let by_shooting = solve_shooting(&system, &guess, ShootingSettings::default(), &newton);
+    let by_collocation =
+        solve_collocation(&system, &guess, CollocationSettings::default(), &newton);
+    for e in [by_shooting.unwrap_err(), by_collocation.unwrap_err()] {
+        assert!(
+            matches!(&e, Error::NonFiniteDerivative { .. })
+                && e.to_string().contains("event function event #1"),
+            "{e}"
+        );
+    }
 }

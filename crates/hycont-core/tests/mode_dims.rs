@@ -29,7 +29,7 @@ fn fall_time() -> f64 {
 /// mode's size, and the run ending in A at x = 0.5 of the fourth climb.
 #[test]
 fn the_simulator_follows_a_system_across_its_modes_dimensions() {
-    let system = Shuttle { clash: false };
+    let system = Shuttle::default();
     assert!(!uniform_dims(&system));
     check_mode_dims(&system).unwrap();
     let t_b = fall_time();
@@ -89,7 +89,7 @@ fn the_simulator_follows_a_system_across_its_modes_dimensions() {
 /// A start in B takes B's two states; the wrong number is a dimension error.
 #[test]
 fn a_start_has_its_modes_dimension() {
-    let system = Shuttle { clash: false };
+    let system = Shuttle::default();
     let mut sim = Simulator::new(SimulationSettings::default()).unwrap();
     let traj = sim.run(&system, B, 0.0, &[1.0, -P[0]], &P, 0.5).unwrap();
     assert_eq!(traj.state_final.len(), 2);
@@ -113,7 +113,7 @@ fn a_start_has_its_modes_dimension() {
 /// (tests/mode_dim_orbits.rs).
 #[test]
 fn what_does_not_support_them_refuses_them() {
-    let system = Shuttle { clash: false };
+    let system = Shuttle::default();
     let mut sim = Simulator::new(SimulationSettings::default()).unwrap();
     let e = sim
         .run_with_sensitivities(&system, A, 0.0, &[0.0], &P, 0.5, Sensitivities::State)
@@ -133,7 +133,10 @@ fn what_does_not_support_them_refuses_them() {
         },
     ];
     Signature::new(&system, segments.clone()).unwrap();
-    let clash = Shuttle { clash: true };
+    let clash = Shuttle {
+        clash: true,
+        ..Shuttle::default()
+    };
     let e = sim.run(&clash, A, 0.0, &[0.0], &P, 0.5).unwrap_err();
     assert!(
         matches!(&e, Error::InvalidSystem { reason } if reason.contains("event #0") && reason.contains("mode #1 (2 states)")),
@@ -233,7 +236,7 @@ fn a_reset_that_leaves_a_component_unwritten_is_an_error() {
             2
         }
         fn mode_dim(&self, mode: Mode) -> usize {
-            Shuttle { clash: false }.mode_dim(mode)
+            Shuttle::default().mode_dim(mode)
         }
         fn parameter_names(&self) -> &[&'static str] {
             &["v0", "a"]
@@ -242,19 +245,19 @@ fn a_reset_that_leaves_a_component_unwritten_is_an_error() {
             2
         }
         fn mode_name(&self, mode: Mode) -> &'static str {
-            Shuttle { clash: false }.mode_name(mode)
+            Shuttle::default().mode_name(mode)
         }
         fn events(&self, mode: Mode) -> &[EventId] {
             if mode == A { &[UP] } else { &[DOWN] }
         }
         fn event_spec(&self, e: EventId) -> EventSpec {
-            Shuttle { clash: false }.event_spec(e)
+            Shuttle::default().event_spec(e)
         }
         fn vector_field(&self, mode: Mode, x: &[f64], p: &[f64], f: &mut [f64]) {
-            Shuttle { clash: false }.vector_field(mode, x, p, f);
+            Shuttle::default().vector_field(mode, x, p, f);
         }
         fn event(&self, e: EventId, x: &[f64], p: &[f64]) -> f64 {
-            Shuttle { clash: false }.event(e, x, p)
+            Shuttle::default().event(e, x, p)
         }
         // The default reset: the identity on the one component both modes have.
     }

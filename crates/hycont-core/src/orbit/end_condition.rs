@@ -134,6 +134,11 @@ impl EndConditions {
         let hx = &mut self.hx[..n];
         match end {
             SegmentEnd::Event(e) => {
+                // NaN marks an entry the system leaves unwritten (a Jacobian or gradient of
+                // the wrong size): an error naming it below, not a stale value.
+                for buffer in [&mut *gx, &mut *gp, &mut *hx, &mut self.hp[..]] {
+                    buffer.fill(f64::NAN);
+                }
                 system.reset_jacobian(e, y, p, gx, Some(gp));
                 system.event_gradient(e, y, p, hx, Some(&mut self.hp));
                 let reset = || format!("reset of event {e}");

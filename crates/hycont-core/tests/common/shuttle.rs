@@ -19,9 +19,13 @@ pub const DOWN: EventId = EventId(1);
 /// v0 and a.
 pub const P: [f64; 2] = [1.0, 0.2];
 
-/// The shuttle; `clash` also watches UP in mode B (of another dimension): an invalid system.
+/// The shuttle; `clash` also watches UP in mode B (of another dimension): an invalid system;
+/// `short_gradient` writes DOWN's gradient as if mode B had one state (a gradient of the
+/// wrong length).
+#[derive(Default)]
 pub struct Shuttle {
     pub clash: bool,
+    pub short_gradient: bool,
 }
 
 impl HybridSystem for Shuttle {
@@ -105,8 +109,12 @@ impl HybridJacobians for Shuttle {
         dx: &mut [f64],
         dp: Option<&mut [f64]>,
     ) {
-        dx.fill(0.0);
-        dx[0] = if e == UP { -1.0 } else { 1.0 };
+        if self.short_gradient {
+            dx[0] = if e == UP { -1.0 } else { 1.0 };
+        } else {
+            dx.fill(0.0);
+            dx[0] = if e == UP { -1.0 } else { 1.0 };
+        }
         if let Some(dp) = dp {
             dp.fill(0.0);
         }
