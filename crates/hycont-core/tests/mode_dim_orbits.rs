@@ -240,3 +240,159 @@ fn a_gradient_of_the_wrong_length_is_an_error() {
         );
     }
 }
+
+/// The shuttle made symmetric under x -> -x: A (x' = 1) climbs to 1, UP jumps into B
+/// ((x) -> (x, -v0); x' = y, y' = a) which falls to 0, DOWN jumps into A' (x' = -1) which
+/// descends to -1, UP' into B' ((x) -> (x, v0); y' = -a) back to 0, DOWN' into A. S = -I
+/// maps A <-> A', B <-> B' (1 and 2 states) and the events likewise.
+///
+/// Closed form: the half orbit A, B (closed by S into A') lasts 1 + t_B. Half map multiplier:
+/// as for the shuttle, but DOWN now leads into A' (f+ = -1), so
+/// S_down = (1, 0) + (-1 + w)(1, 0)/(-w) = (1/w, 0) and the half flow's monodromy is
+/// (1/w)(-v0 + a t_B) = -1; the half map S_1 M = (-1)(-1) = 1 (S's 1 x 1 block on A's state),
+/// the flow direction's trivial multiplier.
+struct SymmetricShuttle;
+
+const A2: Mode = Mode(2);
+const B2: Mode = Mode(3);
+const UP2: EventId = EventId(2);
+const DOWN2: EventId = EventId(3);
+
+impl HybridModel for SymmetricShuttle {
+    fn state_dim(&self) -> usize {
+        2
+    }
+    fn mode_dim(&self, mode: Mode) -> usize {
+        if mode == A || mode == A2 { 1 } else { 2 }
+    }
+    fn parameter_names(&self) -> &[&'static str] {
+        &["v0", "a"]
+    }
+    fn mode_count(&self) -> usize {
+        4
+    }
+    fn mode_name(&self, _: Mode) -> &'static str {
+        "m"
+    }
+    fn events(&self, mode: Mode) -> &[EventId] {
+        match mode.0 {
+            0 => &[UP],
+            1 => &[DOWN],
+            2 => &[UP2],
+            _ => &[DOWN2],
+        }
+    }
+    fn event_spec(&self, e: EventId) -> EventSpec {
+        let to = [B, A2, B2, A][e.0];
+        EventSpec {
+            name: "e",
+            direction: Direction::Falling,
+            action: EventAction::Jump { to },
+        }
+    }
+    fn vector_field<T: Scalar>(&self, mode: Mode, x: &[T], p: &[T], f: &mut [T]) {
+        match mode.0 {
+            0 => f[0] = T::from(1.0),
+            2 => f[0] = T::from(-1.0),
+            1 => {
+                f[0] = x[1];
+                f[1] = p[1];
+            }
+            _ => {
+                f[0] = x[1];
+                f[1] = -p[1];
+            }
+        }
+    }
+    fn event<T: Scalar>(&self, e: EventId, x: &[T], _: &[T]) -> T {
+        match e.0 {
+            0 => -x[0] + 1.0,
+            1 => x[0],
+            2 => x[0] + 1.0,
+            _ => -x[0],
+        }
+    }
+    fn reset<T: Scalar>(&self, e: EventId, x: &[T], p: &[T], out: &mut [T]) {
+        out[0] = x[0];
+        match e.0 {
+            0 => out[1] = -p[0],
+            2 => out[1] = p[0],
+            _ => {}
+        }
+    }
+    fn symmetry(&self) -> Option<hycont_core::Z2Symmetry> {
+        Some(hycont_core::Z2Symmetry {
+            matrix: vec![-1.0, 0.0, 0.0, -1.0],
+            modes: vec![A2, B2, A, B],
+            events: vec![UP2, DOWN2, UP, DOWN],
+        })
+    }
+}
+
+/// A half orbit across modes of 1 and 2 states (closed by S's 1 x 1 block into A'), by
+/// shooting and by collocation: the half period 1 + t_B (1e-10), the half map's multiplier 1
+/// (1e-9), the unfolded orbit's four segments of 1, 2, 1 and 2 states.
+#[test]
+fn symmetric_half_orbits_across_dimensions() {
+    use hycont_core::orbit::{
+        Closure, CollocationSettings, solve_symmetric_collocation, solve_symmetric_shooting,
+    };
+    let system = AutoDiff::new(SymmetricShuttle);
+    let (t_b, _) = closed_form();
+    let segments = vec![
+        SegmentSpec {
+            mode: A,
+            end: SegmentEnd::Event(UP),
+        },
+        SegmentSpec {
+            mode: B,
+            end: SegmentEnd::Event(DOWN),
+        },
+    ];
+    let half = Signature::with_closure(&system, segments, Closure::Symmetric).unwrap();
+    let guess = PeriodicOrbit::new(
+        &system,
+        half,
+        vec![vec![0.02], vec![1.05, -0.95 * P[0]]],
+        vec![0.95, 1.05 * t_b],
+        P.to_vec(),
+    )
+    .unwrap();
+    let newton = NewtonSettings::default();
+    let by_shooting =
+        solve_symmetric_shooting(&system, &guess, ShootingSettings::default(), &newton).unwrap();
+    let by_collocation =
+        solve_symmetric_collocation(&system, &guess, CollocationSettings::default(), &newton)
+            .unwrap();
+    for (half, half_floquet, full) in [
+        (
+            &by_shooting.half,
+            &by_shooting.half_floquet,
+            &by_shooting.full.orbit,
+        ),
+        (
+            &by_collocation.half,
+            &by_collocation.half_floquet,
+            &by_collocation.full.orbit,
+        ),
+    ] {
+        assert_abs_diff_eq!(half.period(), 1.0 + t_b, epsilon = 1e-10);
+        assert_abs_diff_eq!(half_floquet.monodromy[0], 1.0, epsilon = 1e-9);
+        let dims: Vec<usize> = full.starts.iter().map(Vec::len).collect();
+        assert_eq!(dims, vec![1, 2, 1, 2]);
+        assert_abs_diff_eq!(full.starts[3][1], P[0], epsilon = 1e-10);
+    }
+}
+
+/// A symmetry whose matrix mixes a 1-state mode's component with the second (a swap of the
+/// two components) cannot map that mode's states among themselves: refused naming the mode.
+#[test]
+fn a_symmetry_that_mixes_a_modes_states_with_others_is_refused() {
+    let swap = hycont_core::Z2Symmetry {
+        matrix: vec![0.0, 1.0, 1.0, 0.0],
+        modes: vec![A2, B2, A, B],
+        events: vec![UP2, DOWN2, UP, DOWN],
+    };
+    let e = swap.validate(&AutoDiff::new(SymmetricShuttle)).unwrap_err();
+    assert!(e.to_string().contains("mode #0's 1 states"), "{e}");
+}

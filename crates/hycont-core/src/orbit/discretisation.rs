@@ -353,13 +353,18 @@ impl Discretisation {
     /// The number of unknowns holding segment states (they come first).
     #[must_use]
     pub fn segment_values(&self, like: &PeriodicOrbit) -> usize {
+        (0..like.segment_count())
+            .map(|k| self.values_of_segment(like, k))
+            .sum()
+    }
+
+    /// The unknowns of segment `k`'s states: its start (shooting) or its nodes (collocation),
+    /// each of its mode's dimension.
+    fn values_of_segment(&self, like: &PeriodicOrbit, k: usize) -> usize {
+        let n = like.starts[k].len();
         match self {
-            Self::Shooting(_) => like.starts.iter().map(Vec::len).sum(),
-            Self::Collocation { meshes, ncol } => meshes
-                .iter()
-                .zip(&like.starts)
-                .map(|(m, x)| ((m.len() - 1) * ncol + 1) * x.len())
-                .sum(),
+            Self::Shooting(_) => n,
+            Self::Collocation { meshes, ncol } => ((meshes[k].len() - 1) * ncol + 1) * n,
         }
     }
 
@@ -438,16 +443,21 @@ impl Discretisation {
         v: &[f64],
         image: Option<&Z2Symmetry>,
     ) -> Vec<f64> {
-        let n = like.starts[0].len();
         let (nv, kk) = (self.segment_values(like), like.segment_count());
         let mut out = Vec::with_capacity(v.len() + nv + kk);
         out.extend_from_slice(&v[..nv]);
         match image {
             Some(sym) => {
-                let mut y = vec![0.0; n];
-                for x in v[..nv].chunks_exact(n) {
-                    sym.apply(x, &mut y);
-                    out.extend_from_slice(&y);
+                // Segment by segment: its values are states of its mode's dimension.
+                let mut at = 0;
+                for (k, x0) in like.starts.iter().enumerate() {
+                    let (n, len) = (x0.len(), self.values_of_segment(like, k));
+                    let mut y = vec![0.0; n];
+                    for x in v[at..at + len].chunks_exact(n) {
+                        sym.apply(x, &mut y);
+                        out.extend_from_slice(&y);
+                    }
+                    at += len;
                 }
             }
             None => out.extend_from_slice(&v[..nv]),

@@ -51,10 +51,11 @@ impl EndConditions {
 
     /// The state segment `k` must reach, from the next segment's start (`x_0` when `wrap`).
     pub(crate) fn target(&self, wrap: bool, next_start: &[f64]) -> Vec<f64> {
-        let n = next_start.len();
+        // S's leading block on a first segment of fewer states than the system's largest.
+        let (n, stride) = (next_start.len(), self.n);
         match (&self.closure, wrap) {
             (Some(sm), true) => (0..n)
-                .map(|i| (0..n).map(|j| sm[i + j * n] * next_start[j]).sum())
+                .map(|i| (0..n).map(|j| sm[i + j * stride] * next_start[j]).sum())
                 .collect(),
             _ => next_start.to_vec(),
         }
@@ -195,7 +196,8 @@ impl EndConditions {
     ) {
         match (&self.closure, wrap) {
             (Some(sm), true) => {
-                for j in 0..self.n {
+                // Over the first segment's start (of the last linearisation's target size).
+                for j in 0..self.dims.1 {
                     jac[*pos] = -sm[i + j * self.n];
                     *pos += 1;
                 }

@@ -61,8 +61,7 @@ impl Signature {
     /// of a symmetric orbit and requires the system to have a symmetry.
     ///
     /// # Errors
-    /// [`Error::InvalidSignature`] saying which segment is inconsistent (a symmetric closure
-    /// of a system whose modes have states of different dimensions among them);
+    /// [`Error::InvalidSignature`] saying which segment is inconsistent;
     /// [`Error::InvalidSystem`] for modes whose dimensions do not fit their events
     /// ([`crate::check_mode_dims`]).
     pub fn with_closure<S: HybridSystem + ?Sized>(
@@ -77,14 +76,6 @@ impl Signature {
         let k = segments.len();
         let symmetry = match closure {
             Closure::Periodic => None,
-            Closure::Symmetric if !uniform => {
-                return Err(Error::InvalidSignature {
-                    segment: k.saturating_sub(1),
-                    reason: "a symmetric closure needs one state dimension in every mode (the \
-                             symmetry is one matrix)"
-                        .into(),
-                });
-            }
             // A symmetric closure needs a valid symmetry (else Error::InvalidSymmetry).
             Closure::Symmetric => Some(crate::system::checked_symmetry(system)?),
         };

@@ -65,7 +65,7 @@ impl PeriodicOrbit {
             .starts
             .iter()
             .map(|x| {
-                let mut y = vec![0.0; n];
+                let mut y = vec![0.0; x.len()];
                 sym.apply(x, &mut y);
                 y
             })
@@ -93,10 +93,10 @@ impl PeriodicOrbit {
         }
         let h = kk / 2;
         let n = system.state_dim();
-        let mut y = vec![0.0; n];
         (0..h).all(|k| {
             let a = &self.signature.segments()[k];
             let b = &self.signature.segments()[k + h];
+            let mut y = vec![0.0; self.starts[k].len()];
             sym.apply(&self.starts[k], &mut y);
             let scale = 1.0 + y.iter().fold(0.0f64, |m, v| m.max(v.abs()));
             image_segment(&sym, n, a) == *b
@@ -176,7 +176,8 @@ pub fn symmetric_floquet<S: HybridSystem + ?Sized>(
     half: &PeriodicOrbit,
     half_monodromy: &[f64],
 ) -> Result<(Floquet, Floquet)> {
-    let n = system.state_dim();
+    // The monodromy lives in the first segment's space.
+    let n = half.starts.first().map_or(0, Vec::len);
     if half.signature.closure() != Closure::Symmetric {
         return Err(Error::InvalidSignature {
             segment: 0,
@@ -191,7 +192,7 @@ pub fn symmetric_floquet<S: HybridSystem + ?Sized>(
         });
     }
     let sym = symmetry_of(system)?;
-    let half_map = floquet::matmul(n, &sym.matrix, half_monodromy);
+    let half_map = floquet::matmul(n, &sym.block(n), half_monodromy);
     let full_map = floquet::matmul(n, &half_map, &half_map);
     let half_period = half.period();
     let half_floquet = Floquet::from_monodromy(system, &half.params, half_period, half_map)?;
@@ -363,8 +364,8 @@ pub fn find_symmetric_orbit<S: HybridJacobians + ?Sized>(
     let sym = symmetry_of(system)?;
     check_len("parameters", params, system.parameter_count())?;
     check_finite("parameters", params)?;
-    let n = system.state_dim();
     let first = half.segments()[0].mode;
+    let n = system.mode_dim(first);
     for x0 in &search.seeds {
         check_len("seed", x0, n)?;
         check_finite("seed", x0)?;

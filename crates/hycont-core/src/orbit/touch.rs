@@ -428,7 +428,7 @@ fn interior_end<S: HybridSystem + ?Sized>(
         sym.apply(&orbit.starts[0], &mut x);
         return Some(InteriorEnd {
             at: 0,
-            through: Some(sym.matrix),
+            through: Some(sym.block(n)),
             x,
         });
     }

@@ -163,8 +163,9 @@ pub trait HybridSystem {
     /// ([`check_mode_dims`]). The simulator follows such systems across their jumps, and
     /// periodic orbits carry one start state of its mode's dimension per segment (shooting and
     /// collocation alike; the monodromy in the first segment's space, through rectangular
-    /// saltation matrices). Sensitivities of one run across a jump between dimensions, and a
-    /// symmetric closure, refuse them with a typed error.
+    /// saltation matrices; half orbits of a symmetry through its leading blocks,
+    /// [`Z2Symmetry::apply`]). Sensitivities of one run across a jump between dimensions
+    /// refuse them with a typed error.
     fn mode_dim(&self, mode: Mode) -> usize {
         let _ = mode;
         self.state_dim()

@@ -66,17 +66,31 @@ fn max_abs(v: &[f64]) -> f64 {
 }
 
 impl Z2Symmetry {
-    /// Writes $S x$ into `out`.
+    /// Writes $S x$ into `out`; a state of a mode with fewer states than the system's largest
+    /// (`x.len()` < $n$) is mapped by $S$'s leading `x.len()` x `x.len()` block (which
+    /// [`Z2Symmetry::validate`] checks maps such states among themselves).
     pub fn apply(&self, x: &[f64], out: &mut [f64]) {
+        let stride = self.matrix.len().isqrt().max(1);
         let n = x.len();
         // Column by column: each out[i] adds its terms in the order j = 0, 1, .. (as a row
         // sum from -0.0 would).
         out.fill(-0.0);
-        for (col, &xj) in self.matrix.chunks_exact(n.max(1)).zip(x) {
-            for (o, s) in out.iter_mut().zip(col) {
+        for (col, &xj) in self.matrix.chunks_exact(stride).zip(x) {
+            for (o, s) in out.iter_mut().zip(&col[..n.min(stride)]) {
                 *o += s * xj;
             }
         }
+    }
+
+    /// $S$'s leading `n` x `n` block (column-major): the symmetry on the states of a mode of
+    /// `n` states.
+    #[must_use]
+    pub fn block(&self, n: usize) -> Vec<f64> {
+        let stride = self.matrix.len().isqrt();
+        (0..n)
+            .flat_map(|j| (0..n).map(move |i| (i, j)))
+            .map(|(i, j)| self.matrix.get(i + j * stride).copied().unwrap_or(0.0))
+            .collect()
     }
 
     /// Checks the symmetry's structure against `system`: $S$ is a finite $n \times n$ matrix
@@ -124,7 +138,31 @@ impl Z2Symmetry {
             }
         }
         for m in 0..modes {
+            self.validate_mode_dims(system, Mode(m))?;
             self.validate_mode_events(system, Mode(m))?;
+        }
+        Ok(())
+    }
+
+    /// A mode and its image have states of one dimension $n_m$, which $S$ maps among
+    /// themselves: no entry of $S$ couples the first $n_m$ components with the others.
+    fn validate_mode_dims<S: HybridSystem + ?Sized>(&self, system: &S, m: Mode) -> Result<()> {
+        let (n, nm) = (system.state_dim(), system.mode_dim(m));
+        let image = self.modes[m.0];
+        if system.mode_dim(image) != nm {
+            return Err(invalid(format!(
+                "mode {m} has {nm} states, its image {image} {}: a mode and its image share their dimension",
+                system.mode_dim(image)
+            )));
+        }
+        let couples = |i: usize, j: usize| (i < nm) != (j < nm) && self.matrix[i + j * n] != 0.0;
+        if let Some((i, j)) = (0..n)
+            .flat_map(|j| (0..n).map(move |i| (i, j)))
+            .find(|&(i, j)| couples(i, j))
+        {
+            return Err(invalid(format!(
+                "S couples component {j} with component {i} across mode {m}'s {nm} states: the states of a mode must map among themselves"
+            )));
         }
         Ok(())
     }
@@ -207,25 +245,26 @@ impl Z2Symmetry {
         params: &[f64],
     ) -> Result<()> {
         self.validate(system)?;
-        let n = system.state_dim();
         if mode.0 >= system.mode_count() {
             return Err(Error::InvalidMode {
                 mode,
                 count: system.mode_count(),
             });
         }
+        let n = system.mode_dim(mode);
         let image_mode = self.modes[mode.0];
+        let big = system.state_dim();
         let (mut sx, mut a, mut b, mut c) =
-            (vec![0.0; n], vec![0.0; n], vec![0.0; n], vec![0.0; n]);
+            (vec![0.0; n], vec![0.0; big], vec![0.0; big], vec![0.0; big]);
         for x in states {
             crate::error::check_len("state", x, n)?;
             self.apply(x, &mut sx);
             let scale = 1.0 + max_abs(x);
             // S f_m(x) = f_sigma(m)(S x).
-            system.vector_field(mode, x, params, &mut a);
-            self.apply(&a, &mut b);
-            system.vector_field(image_mode, &sx, params, &mut c);
-            let fscale = scale + max_abs(&b);
+            system.vector_field(mode, x, params, &mut a[..n]);
+            self.apply(&a[..n], &mut b[..n]);
+            system.vector_field(image_mode, &sx, params, &mut c[..n]);
+            let fscale = scale + max_abs(&b[..n]);
             if let Some(i) = (0..n).find(|&i| (b[i] - c[i]).abs() > TOL * fscale) {
                 return Err(invalid(format!(
                     "the vector field does not commute with S at {x:?} in mode {mode}: component {i} of S f is {}, of f(S x) {}",
@@ -235,11 +274,14 @@ impl Z2Symmetry {
             for &e in system.events(mode) {
                 self.check_event_at(system, e, x, &sx, params)?;
                 if let EventAction::Jump { .. } = system.event_spec(e).action {
-                    system.reset(e, x, params, &mut a);
-                    self.apply(&a, &mut b);
-                    system.reset(self.events[e.0], &sx, params, &mut c);
-                    let gscale = scale + max_abs(&b);
-                    if let Some(i) = (0..n).find(|&i| (b[i] - c[i]).abs() > TOL * gscale) {
+                    // Into the target's dimension.
+                    let m = super::reset_dim(system, e, n);
+                    let (a, b, c) = (&mut a[..m], &mut b[..m], &mut c[..m]);
+                    system.reset(e, x, params, a);
+                    self.apply(a, b);
+                    system.reset(self.events[e.0], &sx, params, c);
+                    let gscale = scale + max_abs(b);
+                    if let Some(i) = (0..m).find(|&i| (b[i] - c[i]).abs() > TOL * gscale) {
                         return Err(invalid(format!(
                             "the reset of {e} does not commute with S at {x:?}: component {i} of S g is {}, of g(S x) {}",
                             b[i], c[i]
