@@ -8,7 +8,7 @@
 //! back). The result is the same orbit (to rounding) as an orbit of the new signature: the
 //! start of a branch of the family beyond the grazing.
 //!
-//! [`join_at_grazing`] (`grazing_join.rs`) goes the other way.
+//! [`super::join_at_grazing`] (`grazing_join.rs`) goes the other way.
 
 use super::PeriodicOrbit;
 use super::grazing_join::JOIN_IDENTITY_TOL;
@@ -44,7 +44,7 @@ const ON_SURFACE: f64 = 1e-8;
 ///
 /// # Errors
 /// [`Error::InvalidSignature`] for a tangential impact ([`Touch::Approach`]: see
-/// [`join_at_grazing`]), a turning point not inside its segment, an end that changes the
+/// [`super::join_at_grazing`]), a turning point not inside its segment, an end that changes the
 /// state or mode or lies at the orbit's closure, an event that does not jump, or, where the
 /// impact leads into another mode, no event of that mode on whose surface the reset lands and
 /// that leads back; integration failures.

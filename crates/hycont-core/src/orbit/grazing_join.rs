@@ -13,7 +13,7 @@ use crate::system::{Direction, EventAction, EventId, HybridJacobians, Mode};
 /// ([`join_at_grazing`]).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum JoinAt {
-    /// Segment `segment` ends at a tangential impact ([`Touch::Approach`]): its end event is
+    /// Segment `segment` ends at a tangential impact ([`super::Touch::Approach`]): its end event is
     /// reached with zero approach rate.
     TangentialImpact {
         /// The segment.
@@ -49,7 +49,7 @@ pub const JOIN_ZERO_DURATION: f64 = 1e-6;
 /// must compose to the identity.
 pub const JOIN_IDENTITY_TOL: f64 = 1e-6;
 
-/// The inverse of [`split_at_grazing`]: at a grazing reached from the side where the orbit
+/// The inverse of [`super::split_at_grazing`]: at a grazing reached from the side where the orbit
 /// impacts there, the family on the other side flows past without the impact. The segment
 /// before the impact (and any zero-length segments after it) is joined with the first
 /// segment after them, which must be in the same mode and start where the joined segment's
@@ -113,7 +113,7 @@ pub const JOIN_IDENTITY_TOL: f64 = 1e-6;
 /// ```
 ///
 /// # Errors
-/// [`Error::InvalidSignature`] naming the segment where the segments to join do not exist
+/// [`crate::Error::InvalidSignature`] naming the segment where the segments to join do not exist
 /// within one period (a join across the orbit's closure), are in different modes, where a
 /// collapsed segment is not of zero duration, or where the jumps between them do not
 /// compose to the identity (to [`JOIN_IDENTITY_TOL`]: not a grazing); integration failures.
