@@ -26,6 +26,39 @@ pub enum Error {
         /// Where the piece started.
         t: f64,
     },
+    /// A file cannot be written (or its directory created).
+    #[error("cannot write {path}: {reason}")]
+    Io {
+        /// The file.
+        path: std::path::PathBuf,
+        /// What the system said.
+        reason: String,
+    },
+    /// A file cannot be read (missing, unreadable).
+    #[error("cannot read {path}: {reason}")]
+    Read {
+        /// The file.
+        path: std::path::PathBuf,
+        /// What the system said.
+        reason: String,
+    },
+    /// A file is not what it should be (not a count file of the kind, inconsistent counts,
+    /// another study's shard).
+    #[error("invalid file {path}: {reason}")]
+    InvalidFile {
+        /// The file.
+        path: std::path::PathBuf,
+        /// What is wrong with it.
+        reason: String,
+    },
+    /// A rank of an MPI job failed its share of a run (reported by rank 0).
+    #[error("MPI rank {rank}: {reason}")]
+    Rank {
+        /// The rank.
+        rank: u64,
+        /// What failed.
+        reason: String,
+    },
     /// Count tables cannot be merged.
     #[error("cannot merge counts: {reason}")]
     IncompatibleCounts {

@@ -40,6 +40,7 @@ pub mod error;
 pub mod rng;
 mod split;
 mod strobe_newton;
+pub mod study;
 pub mod sweep;
 
 pub use error::{Error, Result};

@@ -104,6 +104,28 @@ impl From<hycont_continuation::Error> for Error {
     }
 }
 
+impl From<hycont_sample::Error> for Error {
+    /// The sampling runner's file and rank errors as the command line's own; a core error
+    /// stays one; other sampling errors are an invalid study.
+    fn from(e: hycont_sample::Error) -> Self {
+        use hycont_sample::Error as S;
+        match e {
+            S::Core(c) => Error::Core(c),
+            S::Io { path, reason } => Error::Io {
+                path,
+                source: std::io::Error::other(reason),
+            },
+            S::Read { path, reason } => Error::Read {
+                path,
+                source: std::io::Error::other(reason),
+            },
+            S::InvalidFile { path, reason } => Error::InvalidFile { path, reason },
+            S::Rank { rank, reason } => Error::Rank { rank, reason },
+            other => crate::figures::sampling::sample_err(other),
+        }
+    }
+}
+
 impl Error {
     /// Whether the error is the user's input (exit code 2: bad arguments, input files that
     /// cannot be read or are invalid) rather than a failure (exit code 1).

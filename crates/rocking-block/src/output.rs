@@ -12,55 +12,23 @@ fn io_error(path: &Path) -> impl FnOnce(std::io::Error) -> Error + '_ {
     }
 }
 
-/// The temporary name of `path` while it is written: a hidden file in the same directory (so
-/// that the rename is atomic), unique to this process.
-fn temp_path(path: &Path) -> PathBuf {
-    let name = path
-        .file_name()
-        .map_or_else(|| "output".into(), |n| n.to_string_lossy().into_owned());
-    path.with_file_name(format!(".{name}.tmp-{}", std::process::id()))
-}
-
 /// Creates the directory of `path` if needed.
 ///
 /// # Errors
 /// [`Error::Io`] if it cannot be created.
 pub fn ensure_parent(path: &Path) -> Result<()> {
-    match path.parent() {
-        Some(dir) if !dir.as_os_str().is_empty() => {
-            std::fs::create_dir_all(dir).map_err(io_error(dir))
-        }
-        _ => Ok(()),
-    }
+    Ok(hycont_sample::study::ensure_parent(path)?)
 }
 
 /// Writes the file `path` through `write`, which receives a temporary path in the same
 /// directory; the temporary file replaces `path` only if `write` succeeds (and is removed
-/// otherwise).
+/// otherwise): [`hycont_sample::study::write_with`].
 ///
 /// # Errors
 /// The error of `write`, or [`Error::Io`] if the directory cannot be created or the rename
 /// fails.
 pub fn write_with(path: &Path, write: impl FnOnce(&Path) -> Result<()>) -> Result<()> {
-    if is_special(path) {
-        // A device or a pipe (e.g. /dev/null, /dev/stdout): written through, never replaced.
-        return write(path);
-    }
-    ensure_parent(path)?;
-    let tmp = temp_path(path);
-    match write(&tmp) {
-        Ok(()) => std::fs::rename(&tmp, path).map_err(|source| {
-            let _ = std::fs::remove_file(&tmp);
-            Error::Io {
-                path: path.to_path_buf(),
-                source,
-            }
-        }),
-        Err(e) => {
-            let _ = std::fs::remove_file(&tmp);
-            Err(e)
-        }
-    }
+    hycont_sample::study::write_with(path, write)
 }
 
 /// Writes `bytes` to `path` atomically (see [`write_with`]).
@@ -125,7 +93,7 @@ pub fn write_picture(
         return Ok(Vec::new());
     };
     // The SVG is drawn next to the first target, under a temporary name.
-    let drawn = temp_path(&first.with_extension("svg"));
+    let drawn = hycont_sample::study::temp_path(&first.with_extension("svg"));
     ensure_parent(first)?;
     let result = draw(&drawn).and_then(|()| {
         if let Some(png) = png {
@@ -225,7 +193,7 @@ pub fn check_file(path: &Path) -> Result<()> {
 /// socket): outputs are written through such files, not replaced.
 #[must_use]
 pub fn is_special(path: &Path) -> bool {
-    std::fs::metadata(path).is_ok_and(|m| !m.is_file() && !m.is_dir())
+    hycont_sample::study::is_special(path)
 }
 
 /// The file `path` names: its canonical path where it exists, else its directory's canonical

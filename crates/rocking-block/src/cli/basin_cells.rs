@@ -103,6 +103,7 @@ impl BasinCellFile {
 }
 
 impl CountFile for BasinCellFile {
+    type Error = crate::error::Error;
     fn what(&self) -> String {
         "basin".into()
     }
@@ -148,29 +149,6 @@ impl CountFile for BasinCellFile {
     fn cleared(&self) -> Self {
         self.clone()
     }
-    fn render(&self, out: &OutDir) -> Result<Vec<PathBuf>> {
-        let provenance = self.provenance.clone().unwrap_or_default();
-        let widths: Vec<f64> = (0..self.table.counts.len())
-            .map(|c| self.table.halfwidth(c))
-            .collect();
-        let sampling = serde_json::json!({
-            "adaptive": true,
-            "halfwidth": self.rule.halfwidth,
-            "batch": self.rule.batch,
-            "max_trials_per_cell": self.rule.max_trials,
-            "largest_halfwidth": widths.iter().copied().fold(0.0, f64::max),
-            "trials_per_cell": self.table.trials,
-            "largest_halfwidth_per_cell": widths,
-        });
-        let counts = self.as_counts();
-        write_basin(out, &self.study, &self.block, &counts, provenance, |v| {
-            if let Some(obj) = v.as_object_mut() {
-                // Cells run their own trial streams: no trial ranges.
-                obj.remove("trial_ranges");
-                obj.insert("sampling".into(), sampling);
-            }
-        })
-    }
     fn write(&self, path: &Path) -> Result<()> {
         write_count_file(self, path)
     }
@@ -198,5 +176,31 @@ impl CountFile for BasinCellFile {
                 .iter()
                 .zip(&other.table.trials)
                 .all(|(x, y)| x >= y)
+    }
+}
+
+impl super::sampling::Render for BasinCellFile {
+    fn render(&self, out: &OutDir) -> Result<Vec<PathBuf>> {
+        let provenance = self.provenance.clone().unwrap_or_default();
+        let widths: Vec<f64> = (0..self.table.counts.len())
+            .map(|c| self.table.halfwidth(c))
+            .collect();
+        let sampling = serde_json::json!({
+            "adaptive": true,
+            "halfwidth": self.rule.halfwidth,
+            "batch": self.rule.batch,
+            "max_trials_per_cell": self.rule.max_trials,
+            "largest_halfwidth": widths.iter().copied().fold(0.0, f64::max),
+            "trials_per_cell": self.table.trials,
+            "largest_halfwidth_per_cell": widths,
+        });
+        let counts = self.as_counts();
+        write_basin(out, &self.study, &self.block, &counts, provenance, |v| {
+            if let Some(obj) = v.as_object_mut() {
+                // Cells run their own trial streams: no trial ranges.
+                obj.remove("trial_ranges");
+                obj.insert("sampling".into(), sampling);
+            }
+        })
     }
 }

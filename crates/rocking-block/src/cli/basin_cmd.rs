@@ -263,6 +263,7 @@ impl BasinFile {
 }
 
 impl CountFile for BasinFile {
+    type Error = crate::error::Error;
     fn what(&self) -> String {
         "basin".into()
     }
@@ -310,21 +311,6 @@ impl CountFile for BasinFile {
             counts: Counts::new(self.counts.classes.clone(), self.counts.counts.len()),
             provenance: self.provenance.clone(),
         }
-    }
-    fn render(&self, out: &OutDir) -> Result<Vec<PathBuf>> {
-        let provenance = self
-            .provenance
-            .clone()
-            .unwrap_or_default()
-            .with_trials(self.trials);
-        write_basin(
-            out,
-            &self.study,
-            &self.block,
-            &self.counts,
-            provenance,
-            |_| {},
-        )
     }
     fn read(path: &Path) -> Result<Self> {
         BasinFile::read(path)
@@ -482,4 +468,22 @@ pub(super) fn run_basin(
         use_up(from, &files);
     }
     print_written(out, &files, args.json)
+}
+
+impl super::sampling::Render for BasinFile {
+    fn render(&self, out: &OutDir) -> Result<Vec<PathBuf>> {
+        let provenance = self
+            .provenance
+            .clone()
+            .unwrap_or_default()
+            .with_trials(self.trials);
+        write_basin(
+            out,
+            &self.study,
+            &self.block,
+            &self.counts,
+            provenance,
+            |_| {},
+        )
+    }
 }

@@ -116,6 +116,7 @@ pub(super) fn runs(cells: &[usize]) -> Vec<std::ops::Range<u64>> {
 }
 
 impl CountFile for CellFile {
+    type Error = crate::error::Error;
     fn what(&self) -> String {
         "figure 9".into()
     }
@@ -167,14 +168,6 @@ impl CountFile for CellFile {
     /// The same file: a cell's longer record wins a merge, so other processes continue from it.
     fn cleared(&self) -> Self {
         self.clone()
-    }
-    fn render(&self, out: &OutDir) -> Result<Vec<PathBuf>> {
-        let invocation = self
-            .provenance
-            .clone()
-            .unwrap_or_default()
-            .with_block(self.block);
-        Ok(render9_cells(out, &self.options(), &self.rule, &invocation, &self.tables)?.files)
     }
     fn write(&self, path: &Path) -> Result<()> {
         write_count_file(self, path)
@@ -241,4 +234,15 @@ pub(super) fn fig9_rule(args: &FigureArgs) -> Result<Adaptive> {
         },
     })?;
     Ok(rule)
+}
+
+impl super::sampling::Render for CellFile {
+    fn render(&self, out: &OutDir) -> Result<Vec<PathBuf>> {
+        let invocation = self
+            .provenance
+            .clone()
+            .unwrap_or_default()
+            .with_block(self.block);
+        Ok(render9_cells(out, &self.options(), &self.rule, &invocation, &self.tables)?.files)
+    }
 }

@@ -6,7 +6,6 @@ mod basin_cells;
 mod basin_cmd;
 mod block_args;
 mod cell_file;
-mod checkpoint;
 mod commands;
 mod continue_cmd;
 mod curve_cmd;

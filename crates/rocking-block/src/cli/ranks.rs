@@ -1,43 +1,13 @@
-//! Sampling runs split across the processes of an MPI job (cargo feature `mpi`): under
-//! `mpirun -n N rocking-block figure 7|9|10 ...` (or `basin`) every rank counts its share of
-//! the trials the run lacks ([`hycont_sample::basin::share`]), sends its counts to rank 0, and
-//! rank 0 merges them and writes exactly what one process writes. An interrupt stops the rank
-//! it reaches (each keeps its counts so far); rank 0 then writes the partial file of every
-//! trial counted, as one process would. Outside an MPI launcher, or without the feature, the
-//! run is one rank of one.
+//! Sampling runs split across the processes of an MPI job (cargo feature `mpi`, which turns on
+//! `hycont-sample`'s): under `mpirun -n N rocking-block figure 7|9|10 ...` (or `basin`) every
+//! rank counts its share of the trials the run lacks and rank 0 writes exactly what one
+//! process writes ([`hycont_sample::study`]). Outside an MPI launcher, or without the
+//! feature, the run is one rank of one.
 
-use super::sampling::CountFile;
 use crate::error::{Error, Result};
-
-/// This process's place in the job: rank `rank` of `size`.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub(crate) struct Ranks {
-    rank: u64,
-    size: u64,
-}
-
-/// Whether an MPI launcher started this process (the variables Open MPI, MPICH's Hydra,
-/// PMI-2 and PMIx set), so that MPI is initialised only then.
+pub(crate) use hycont_sample::study::Ranks;
 #[cfg(feature = "mpi")]
-fn launched_by_mpi() -> bool {
-    [
-        "OMPI_COMM_WORLD_SIZE",
-        "PMI_SIZE",
-        "PMIX_RANK",
-        "MPI_LOCALNRANKS",
-    ]
-    .iter()
-    .any(|v| std::env::var_os(v).is_some())
-}
-
-/// The size of the job an MPI launcher says this process belongs to (Open MPI's and PMI's
-/// variables), if any.
-#[cfg(not(feature = "mpi"))]
-fn launcher_size() -> Option<u64> {
-    ["OMPI_COMM_WORLD_SIZE", "PMI_SIZE"]
-        .iter()
-        .find_map(|v| std::env::var(v).ok()?.trim().parse().ok())
-}
+pub use hycont_sample::study::start_mpi;
 
 /// Refuses to run as one rank of several without MPI support: every rank would run the whole
 /// job and write the same files.
@@ -45,8 +15,7 @@ fn launcher_size() -> Option<u64> {
 /// # Errors
 /// [`Error::InvalidArgument`] naming the job's size.
 pub(crate) fn check_launcher() -> Result<()> {
-    #[cfg(not(feature = "mpi"))]
-    if let Some(n) = launcher_size().filter(|n| *n > 1) {
+    if let Some(n) = Ranks::unjoinable_job() {
         return Err(Error::InvalidArgument {
             name: "mpirun",
             value: format!("{n} ranks"),
@@ -56,114 +25,16 @@ pub(crate) fn check_launcher() -> Result<()> {
     Ok(())
 }
 
-/// Initialises MPI when an MPI launcher started this process; keep the value until the
-/// process ends (dropping it finalises MPI).
-#[cfg(feature = "mpi")]
-#[must_use]
-pub fn start_mpi() -> Option<mpi::environment::Universe> {
-    if launched_by_mpi() {
-        mpi::initialize()
-    } else {
-        None
-    }
-}
-
-impl Ranks {
-    /// This process's rank and the job's size (0 of 1 without MPI).
-    pub(crate) fn current() -> Self {
-        #[cfg(feature = "mpi")]
-        if mpi::environment::is_initialized() && !mpi::environment::is_finalized() {
-            use mpi::topology::Communicator;
-            let world = mpi::topology::SimpleCommunicator::world();
-            return Ranks {
-                rank: u64::try_from(world.rank()).unwrap_or(0),
-                size: u64::try_from(world.size()).unwrap_or(1),
-            };
-        }
-        Ranks { rank: 0, size: 1 }
-    }
-
-    /// `(rank, size)`: the share of the trials this process counts.
-    pub(crate) fn part(self) -> (u64, u64) {
-        (self.rank, self.size)
-    }
-
-    /// Whether this process writes the results (rank 0).
-    pub(crate) fn is_root(self) -> bool {
-        self.rank == 0
-    }
-
-    /// Collects every rank's counts at rank 0: there, `Some` of all of them merged (or the
-    /// first rank's error); elsewhere `None` once sent (or this rank's own error). Every rank
-    /// sends, even after an error, so that rank 0 never waits for a rank that gave up.
-    ///
-    /// # Errors
-    /// A rank's error, counts that do not merge, a message that is not a count file.
-    pub(crate) fn gather<F: CountFile>(self, mine: Result<F>) -> Result<Option<F>> {
-        if self.size == 1 {
-            return mine.map(Some);
-        }
-        self.exchange(mine)
-    }
-
-    #[cfg(not(feature = "mpi"))]
-    fn exchange<F: CountFile>(self, mine: Result<F>) -> Result<Option<F>> {
-        mine.map(Some)
-    }
-
-    #[cfg(feature = "mpi")]
-    fn exchange<F: CountFile>(self, mine: Result<F>) -> Result<Option<F>> {
-        use mpi::point_to_point::{Destination, Source};
-        use mpi::topology::Communicator;
-        let world = mpi::topology::SimpleCommunicator::world();
-        if !self.is_root() {
-            // One byte of status (0: counts, 1: an error's message), then the payload.
-            // (Always sent: rank 0 waits for every rank.)
-            let message = match mine.as_ref().map(serde_json::to_vec) {
-                Ok(Ok(json)) => [&[0u8][..], &json].concat(),
-                Ok(Err(e)) => [&[1u8][..], e.to_string().as_bytes()].concat(),
-                Err(e) => [&[1u8][..], e.to_string().as_bytes()].concat(),
-            };
-            world.process_at_rank(0).send(&message[..]);
-            return mine.map(|_| None);
-        }
-        let mut merged = mine;
-        for r in 1..world.size() {
-            let (message, _) = world.process_at_rank(r).receive_vec::<u8>();
-            let rank = u64::try_from(r).unwrap_or(0);
-            let other: Result<F> = match message.split_first() {
-                Some((0, json)) => serde_json::from_slice(json).map_err(|e| rank_err(rank, &e)),
-                Some((_, text)) => Err(rank_err(rank, &String::from_utf8_lossy(text))),
-                None => Err(rank_err(rank, &"an empty message")),
-            };
-            merged = match (merged, other) {
-                (Ok(mut m), Ok(o)) => m.merge(&o).map(|()| m).map_err(|e| rank_err(rank, &e)),
-                (Err(e), _) | (Ok(_), Err(e)) => Err(e),
-            };
-        }
-        merged.map(Some)
-    }
-}
-
-/// A failure of rank `rank`'s share.
-#[cfg(feature = "mpi")]
-fn rank_err(rank: u64, reason: &dyn std::fmt::Display) -> Error {
-    Error::Rank {
-        rank,
-        reason: reason.to_string(),
-    }
-}
-
 /// Refuses commands other than the sampling ones in a job of several ranks (they would all
 /// write the same files).
 ///
 /// # Errors
 /// [`Error::InvalidArgument`] naming the job's size.
 pub(crate) fn only_sampling(ranks: Ranks, command: &str) -> Result<()> {
-    if ranks.size > 1 {
+    if ranks.part().1 > 1 {
         return Err(Error::InvalidArgument {
             name: "mpirun",
-            value: format!("{command} on {} ranks", ranks.size),
+            value: format!("{command} on {} ranks", ranks.part().1),
             reason: "only `figure` and `basin` split across MPI ranks; run the other commands as one process",
         });
     }

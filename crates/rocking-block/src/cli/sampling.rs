@@ -15,6 +15,7 @@ use crate::figures::sampling::{SampleOptions, empty_tables};
 use crate::output::OutDir;
 use crate::provenance::Provenance;
 use hycont_sample::basin::Progress;
+use hycont_sample::study::Outcome;
 use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
@@ -247,146 +248,55 @@ fn checked_options(
     Ok(shard)
 }
 
-/// Trial ranges to run: one list per table, or one for tables that bin the same trials.
-pub(super) type Todo = Vec<Vec<std::ops::Range<u64>>>;
+pub(super) use hycont_sample::study::{CountFile, Todo};
 
-/// A file of count tables over one shard of a sampling run's trials (a sampling figure's, or a
-/// basin's), complete or not: what `sample` and `merge` need of it.
-pub(super) trait CountFile: Sized + serde::Serialize + serde::de::DeserializeOwned {
-    /// What is sampled, for messages (`figure 7`, `basin`).
-    fn what(&self) -> String;
-    /// Trials counted and trials of the shard (for runs sampled cell by cell: cells settled and
-    /// cells of the shard).
-    fn progress(&self) -> (u64, u64);
-    /// `(i, n)`: shard `i` of `n`.
-    fn shard(&self) -> (u64, u64);
-    /// Where the complete shard (or, for a whole run, the result) goes, and the partial file.
-    fn paths(&self, dir: &Path) -> (PathBuf, PathBuf);
-    /// The trials of the shard not counted yet, share `part = (i, k)` of them (`(0, 1)`: all):
-    /// what [`CountFile::fill`] runs.
-    fn todo(&self, part: (u64, u64)) -> Result<Todo>;
-    /// How many trials `todo` runs, where that is known before they run (for the progress
-    /// bar; default: the trials its ranges hold).
-    fn planned_trials(&self, todo: &Todo) -> Option<u64> {
-        Some(todo.iter().flatten().map(|r| r.end - r.start).sum())
-    }
-    /// Trials counted so far (default: as [`CountFile::progress`] counts).
-    fn counted_trials(&self) -> u64 {
-        self.progress().0
-    }
-    /// Counts the trials `todo` lists (from [`CountFile::todo`]).
-    fn fill(&mut self, todo: &[Vec<std::ops::Range<u64>>], progress: &Progress) -> Result<()>;
-    /// What another process (an MPI rank) fills its share of the trials into, to be merged
-    /// into this file: the same run and shard with nothing counted, or the file itself where
-    /// a merge keeps the longer record (cells sampled to a half-width).
-    fn cleared(&self) -> Self;
+/// What a count file of the command line draws once complete (or, with `--force`, partial):
+/// its figure or basin.
+pub(super) trait Render {
     /// Writes the result of the counted trials into `out`.
     fn render(&self, out: &OutDir) -> Result<Vec<PathBuf>>;
-    /// Writes the file itself.
-    fn write(&self, path: &Path) -> Result<()>;
-    /// Merges another shard's counts of the same run in (the same study, trials and seed).
-    fn merge(&mut self, other: &Self) -> std::result::Result<(), String>;
-    /// The file as a whole run (shard 0 of 1), for a merge.
-    fn whole(self) -> Self;
-    /// Reads and checks a file of this kind.
-    fn read(path: &Path) -> Result<Self>;
-    /// Whether this file is of the same run and shard as `other` and has counted every trial
-    /// `other` has (writing it over `other` loses nothing).
-    fn subsumes(&self, other: &Self) -> bool;
-    /// Whether every table has counted every trial of the shard.
-    fn is_complete(&self) -> bool {
-        let (done, total) = self.progress();
-        done == total
-    }
 }
 
 /// Counts the trials `file` lacks (with a progress bar on stderr) and writes the result: the
 /// figure or the shard when complete; otherwise the partial file (and, with `force`, the result
 /// of the trials counted so far) and [`Error::Interrupted`]. In an MPI job every rank counts
-/// its share and rank 0 alone writes (the other ranks return no files).
-pub(super) fn sample<F: CountFile>(
+/// its share and rank 0 alone writes (the other ranks return no files): the library's runner
+/// ([`hycont_sample::study::sample`]) with a progress bar.
+pub(super) fn sample<F: CountFile<Error = Error> + Render>(
     file: F,
     out: &OutDir,
     force: bool,
     progress: &Progress,
 ) -> Result<Vec<PathBuf>> {
-    // The processes of an MPI job each count their share of the trials left; rank 0 merges
-    // them and goes on as a single process would (one process: the whole share).
     let ranks = Ranks::current();
-    let todo = file.todo(ranks.part())?;
-    let done = file.counted_trials();
-    progress.done.store(done, Ordering::Relaxed);
-    let planned = file.planned_trials(&todo);
-    let (bar, template) = match planned {
-        _ if !ranks.is_root() => (indicatif::ProgressBar::hidden(), ""),
-        Some(mine) => (
-            indicatif::ProgressBar::new(done + mine),
-            "{msg} [{bar:40}] {pos}/{len} trials ({per_sec}, eta {eta})",
-        ),
-        // Adaptive runs do not know their trials in advance.
-        None => (
-            indicatif::ProgressBar::no_length(),
-            "{msg} {spinner} {pos} trials ({per_sec})",
-        ),
-    };
-    bar.set_style(
-        indicatif::ProgressStyle::with_template(template)
-            .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
-    );
-    bar.set_message(file.what());
+    let bar = progress_bar(&file, ranks)?;
     let finished = AtomicBool::new(false);
-    let checkpoint = (ranks.part().1 > 1)
-        .then(|| super::checkpoint::checkpoint_path(&file.paths(&out.dir).0, ranks.part()));
-    let result = std::thread::scope(|scope| {
+    let outcome = std::thread::scope(|scope| {
         scope.spawn(|| {
             while !finished.load(Ordering::Relaxed) {
                 bar.set_position(progress.done.load(Ordering::Relaxed));
                 std::thread::sleep(std::time::Duration::from_millis(100));
             }
         });
-        let mut counted = if ranks.is_root() {
-            file
-        } else {
-            file.cleared()
-        };
-        // Several ranks: each checkpoints its counts after every round of its share.
-        let r = match &checkpoint {
-            Some(path) => super::checkpoint::fill_in_rounds(&mut counted, &todo, progress, path),
-            None => counted.fill(&todo, progress),
-        }
-        .map(|()| counted);
+        let r = hycont_sample::study::sample(file, &out.dir, progress, ranks);
         finished.store(true, Ordering::Relaxed);
         r
     });
     bar.finish_and_clear();
-    let Some(file) = ranks.gather(result)? else {
-        return Ok(Vec::new());
+    let (file, partial) = match outcome? {
+        Outcome::Elsewhere => return Ok(Vec::new()),
+        Outcome::Complete {
+            written: Some(path),
+            ..
+        } => return Ok(vec![path]),
+        Outcome::Complete {
+            file,
+            written: None,
+        } => return file.render(out),
+        Outcome::Partial { file, path } => (file, path),
+        _ => return Ok(Vec::new()),
     };
-    // Once rank 0 has written what every rank counted, their checkpoints are not needed (it
-    // removes them from the output directory, shared by the ranks on a cluster).
-    let drop_checkpoint = || {
-        if let Some(path) = &checkpoint {
-            super::checkpoint::remove_all(path, ranks.part().1);
-        }
-    };
-    let (complete, partial) = file.paths(&out.dir);
-    let whole = file.shard().1 == 1;
-    if file.is_complete() {
-        let written = if whole {
-            file.render(out)?
-        } else {
-            file.write(&complete)?;
-            vec![complete]
-        };
-        drop_checkpoint();
-        return Ok(written);
-    }
-    let (partial, write) = partial_path(&file, partial);
-    if write {
-        file.write(&partial)?;
-    }
-    drop_checkpoint();
-    if force && whole {
+    if force && file.shard().1 == 1 {
         file.render(out)?;
     }
     let (done, total) = file.progress();
@@ -404,51 +314,49 @@ pub(super) fn sample<F: CountFile>(
     })
 }
 
-/// Where an interrupted run keeps its counts, and whether it must write them: at `partial`,
-/// replacing what is there only if this run has counted every trial of it; where a partial
-/// file of the same run there has counted every trial this one has, that file keeps them
-/// (nothing to write); otherwise (another study's file, or counts neither holds all of) beside
-/// it, with this process's id in the name, so that no counted trial is lost.
-fn partial_path<F: CountFile>(file: &F, partial: PathBuf) -> (PathBuf, bool) {
-    match F::read(&partial) {
-        Err(_) if !partial.exists() => return (partial, true),
-        Ok(existing) if file.subsumes(&existing) => return (partial, true),
-        Ok(existing) if existing.subsumes(file) => return (partial, false),
-        // Another study's counts, a file that is not a count file of this kind, or counts
-        // that overlap this run's only in part: not replaced.
-        _ => {}
-    }
-    let name = partial
-        .file_name()
-        .map_or_else(String::new, |n| n.to_string_lossy().into_owned());
-    let stem = name.strip_suffix(".partial.json").unwrap_or(&name);
-    let beside = partial.with_file_name(format!("{stem}.{}.partial.json", std::process::id()));
-    (beside, true)
+/// The progress bar of a run of `file`'s missing trials on stderr (hidden on ranks other than
+/// 0).
+fn progress_bar<F: CountFile<Error = Error>>(
+    file: &F,
+    ranks: Ranks,
+) -> Result<indicatif::ProgressBar> {
+    let done = file.counted_trials();
+    let planned = file.planned_trials(&file.todo(ranks.part())?);
+    let (bar, template) = match planned {
+        _ if !ranks.is_root() => (indicatif::ProgressBar::hidden(), ""),
+        Some(mine) => (
+            indicatif::ProgressBar::new(done + mine),
+            "{msg} [{bar:40}] {pos}/{len} trials ({per_sec}, eta {eta})",
+        ),
+        // Adaptive runs do not know their trials in advance.
+        None => (
+            indicatif::ProgressBar::no_length(),
+            "{msg} {spinner} {pos} trials ({per_sec})",
+        ),
+    };
+    bar.set_style(
+        indicatif::ProgressStyle::with_template(template)
+            .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+    );
+    bar.set_message(file.what());
+    Ok(bar)
 }
 
 /// Merges count files of one run: the result when complete, a partial file otherwise.
-pub(super) fn merge_files<F: CountFile>(
+pub(super) fn merge_files<F: CountFile<Error = Error> + Render>(
     files: Vec<(PathBuf, F)>,
     out: &OutDir,
     invocation: &Provenance,
     set_invocation: impl FnOnce(&mut F, Provenance),
 ) -> Result<Vec<PathBuf>> {
-    let mut merged: Option<F> = None;
-    for (path, file) in files {
-        let Some(m) = merged.as_mut() else {
-            merged = Some(file.whole());
-            continue;
-        };
-        m.merge(&file)
-            .map_err(|reason| Error::InvalidFile { path, reason })?;
-    }
-    let Some(mut m) = merged else {
+    if files.is_empty() {
         return Err(Error::InvalidArgument {
             name: "shards",
             value: String::new(),
             reason: "name at least one shard file",
         });
-    };
+    }
+    let mut m = hycont_sample::study::merge(files)?;
     set_invocation(&mut m, invocation.clone());
     if m.is_complete() {
         return m.render(out);

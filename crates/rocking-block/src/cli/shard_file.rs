@@ -42,21 +42,7 @@ pub struct ShardFile {
     pub provenance: Option<Provenance>,
 }
 
-/// Whether table `a` has counted every trial of `range` that table `b` has (every trial `a`
-/// lacks, `b` lacks too).
-pub(super) fn covers(a: &Counts, b: &Counts, range: &std::ops::Range<u64>) -> bool {
-    let b_missing = b.missing(range.clone());
-    a.missing(range.clone()).iter().all(|m| {
-        // [m.start, m.end) lies in the union of b's missing intervals (sorted, disjoint).
-        let mut at = m.start;
-        for g in &b_missing {
-            if g.start <= at && at < g.end {
-                at = g.end;
-            }
-        }
-        at >= m.end
-    })
-}
+pub(super) use hycont_sample::study::covers;
 
 /// The trials a table has counted (the lengths of its ranges).
 fn covered(c: &Counts) -> u64 {
@@ -86,14 +72,7 @@ pub(super) fn read_count_file<F: serde::de::DeserializeOwned>(
     what: &str,
     check: impl FnOnce(&F) -> std::result::Result<(), String>,
 ) -> Result<F> {
-    let text = std::fs::read_to_string(path).map_err(|source| Error::Read {
-        path: path.to_path_buf(),
-        source,
-    })?;
-    let file: F = serde_json::from_str(&text)
-        .map_err(|e| bad(path, format!("not a file written by `{what}` ({e})")))?;
-    check(&file).map_err(|reason| bad(path, reason))?;
-    Ok(file)
+    Ok(hycont_sample::study::read_checked(path, what, check)?)
 }
 
 /// Writes a count file (atomically).
@@ -261,6 +240,7 @@ impl ShardFile {
 }
 
 impl CountFile for ShardFile {
+    type Error = crate::error::Error;
     fn what(&self) -> String {
         format!("figure {}", self.figure)
     }
@@ -290,10 +270,6 @@ impl CountFile for ShardFile {
             provenance: self.provenance.clone(),
             ..*self
         }
-    }
-    fn render(&self, out: &OutDir) -> Result<Vec<PathBuf>> {
-        let invocation = self.provenance.clone().unwrap_or_default();
-        Ok(render(self.figure, out, self.options(), &invocation, &self.counts)?.files)
     }
     fn write(&self, path: &Path) -> Result<()> {
         ShardFile::write(self, path)
@@ -340,5 +316,12 @@ impl CountFile for ShardFile {
                 .iter()
                 .zip(&other.counts)
                 .all(|(a, b)| covers(a, b, &range))
+    }
+}
+
+impl super::sampling::Render for ShardFile {
+    fn render(&self, out: &OutDir) -> Result<Vec<PathBuf>> {
+        let invocation = self.provenance.clone().unwrap_or_default();
+        Ok(render(self.figure, out, self.options(), &invocation, &self.counts)?.files)
     }
 }

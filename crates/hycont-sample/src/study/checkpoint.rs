@@ -1,25 +1,32 @@
-//! Checkpoints of the ranks of an MPI sampling run: each rank counts its share of the trials
-//! in rounds (a twentieth of its share each) and writes what it has counted after every round
-//! to its own checkpoint file, so that a rank killed outright (SIGKILL, a node lost: `mpirun`
-//! then ends every rank, and the gather at rank 0 never happens) loses at most one round.
-//! `rocking-block merge OUT/*.checkpoint.json --out OUT` gathers the ranks' checkpoints into
-//! the run's partial file, which `--resume` completes; a run that ends normally (complete or
-//! interrupted, its counts gathered and written by rank 0) has rank 0 remove them (from the
-//! output directory, which the ranks share on a cluster: a rank's checkpoint is written where
-//! the run's results go).
+//! Checkpoints of the ranks of an MPI run: each rank counts its share of the trials in
+//! [`ROUNDS`] rounds and writes what it has counted after every round to its own checkpoint
+//! file, so that a rank killed outright (SIGKILL, a node lost: `mpirun` then ends every rank,
+//! and the gather at rank 0 never happens) loses at most one round. Merging the ranks'
+//! checkpoints ([`super::merge`]) gives the run's partial file, which a resumed run completes;
+//! a run that ends normally (complete or interrupted, its counts gathered and written by rank
+//! 0) has rank 0 remove them ([`remove_checkpoints`]; they are written where the run's results
+//! go, which the ranks share on a cluster).
 
-use super::sampling::{CountFile, Todo};
-use crate::error::Result;
-use hycont_sample::basin::Progress;
+use super::count_file::{CountFile, Todo};
+use crate::basin::Progress;
 use std::ops::Range;
 use std::path::{Path, PathBuf};
 
 /// Rounds a rank's share is counted in: at most this fraction of it is lost to a kill.
-pub(super) const ROUNDS: u64 = 20;
+pub const ROUNDS: u64 = 20;
 
 /// Rank `rank` of `size`'s checkpoint file beside the run's result `complete` (e.g.
 /// `fig10.json` gives `fig10.rank-1-of-4.checkpoint.json`).
-pub(super) fn checkpoint_path(complete: &Path, (rank, size): (u64, u64)) -> PathBuf {
+///
+/// ```
+/// use std::path::Path;
+/// assert_eq!(
+///     hycont_sample::study::checkpoint_path(Path::new("out/fig10.shard-0-of-2.json"), (1, 4)),
+///     Path::new("out/fig10.shard-0-of-2.rank-1-of-4.checkpoint.json")
+/// );
+/// ```
+#[must_use]
+pub fn checkpoint_path(complete: &Path, (rank, size): (u64, u64)) -> PathBuf {
     let name = complete
         .file_name()
         .map_or_else(String::new, |n| n.to_string_lossy().into_owned());
@@ -28,7 +35,7 @@ pub(super) fn checkpoint_path(complete: &Path, (rank, size): (u64, u64)) -> Path
 }
 
 /// Removes the checkpoints of every rank of a job of `size` ranks (`own` is one of them).
-pub(super) fn remove_all(own: &Path, size: u64) {
+pub fn remove_checkpoints(own: &Path, size: u64) {
     let name = own
         .file_name()
         .map_or_else(String::new, |n| n.to_string_lossy().into_owned());
@@ -46,13 +53,13 @@ pub(super) fn remove_all(own: &Path, size: u64) {
 ///
 /// # Errors
 /// As [`CountFile::fill`] and [`CountFile::write`].
-pub(super) fn fill_in_rounds<F: CountFile>(
+pub fn fill_in_rounds<F: CountFile>(
     file: &mut F,
     todo: &Todo,
     progress: &Progress,
     checkpoint: &Path,
-) -> Result<()> {
-    for round in split(todo, ROUNDS) {
+) -> Result<(), F::Error> {
+    for round in rounds(todo, ROUNDS) {
         file.fill(&round, progress)?;
         file.write(checkpoint)?;
         if progress.stopping() {
@@ -64,7 +71,14 @@ pub(super) fn fill_in_rounds<F: CountFile>(
 
 /// `todo` cut into `rounds` rounds: round `k` of each list holds its trials (or cells) from
 /// the `k`-th `rounds`-th of its total on, in order (empty rounds are left out).
-pub(super) fn split(todo: &Todo, rounds: u64) -> Vec<Todo> {
+///
+/// ```
+/// let todo = vec![vec![0..10, 20..23]];
+/// let parts = hycont_sample::study::rounds(&todo, 2);
+/// assert_eq!(parts, vec![vec![vec![0..6]], vec![vec![6..10, 20..23]]]);
+/// ```
+#[must_use]
+pub fn rounds(todo: &Todo, rounds: u64) -> Vec<Todo> {
     let rounds = rounds.max(1);
     let totals: Vec<u64> = todo
         .iter()
@@ -108,21 +122,17 @@ mod tests {
     #[test]
     fn rounds_cover_the_trials_once_in_order() {
         let todo: Todo = vec![vec![0..10, 20..23, 40..41], vec![], vec![5..6]];
-        for rounds in [1, 2, 3, 7, 20, 100] {
-            let parts = split(&todo, rounds);
+        for n in [1, 2, 3, 7, 20, 100] {
+            let parts = rounds(&todo, n);
             for (t, list) in todo.iter().enumerate() {
                 let trials: Vec<u64> = list.iter().flat_map(Clone::clone).collect();
                 let got: Vec<u64> = parts
                     .iter()
                     .flat_map(|p| p[t].iter().flat_map(Clone::clone))
                     .collect();
-                assert_eq!(got, trials, "{rounds} rounds, list {t}");
+                assert_eq!(got, trials, "{n} rounds, list {t}");
             }
-            assert!(parts.len() as u64 <= rounds);
+            assert!(parts.len() as u64 <= n);
         }
-        assert_eq!(
-            checkpoint_path(Path::new("out/fig10.shard-0-of-2.json"), (1, 4)),
-            Path::new("out/fig10.shard-0-of-2.rank-1-of-4.checkpoint.json")
-        );
     }
 }
