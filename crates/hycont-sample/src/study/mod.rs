@@ -2,7 +2,8 @@
 //! kept and resumed, shards merged with full validation, and the trials split across the
 //! ranks of an MPI job (cargo feature `mpi`), for any study a [`CountFile`] describes.
 //!
-//! A [`CountFile`] is what a study has counted so far over its shard of the trials (its
+//! [`StudyFile`] is the [`CountFile`] of a study of any [`crate::basin::Classifier`] (over
+//! trials, or cell by cell to a stopping rule). A [`CountFile`] is what a study has counted so far over its shard of the trials (its
 //! tables, which trials they hold, the seed they were drawn from): what [`sample`] fills and
 //! writes, what [`merge`] joins. Results depend only on the study's seed, never on threads,
 //! shards or ranks: a trial's inputs are a function of its index ([`crate::basin::Study`]),
@@ -32,6 +33,7 @@ mod count_file;
 mod files;
 mod ranks;
 mod run;
+mod study_file;
 
 pub use checkpoint::{ROUNDS, checkpoint_path, fill_in_rounds, remove_checkpoints, rounds};
 pub use count_file::{CountFile, Todo, covers};
@@ -40,3 +42,4 @@ pub use ranks::Ranks;
 #[cfg(feature = "mpi")]
 pub use ranks::start_mpi;
 pub use run::{Outcome, merge, partial_path, sample};
+pub use study_file::{FORMAT, MAX_TRIALS, Plan, StudyFile, VERSION};

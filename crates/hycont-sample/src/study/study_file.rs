@@ -1,0 +1,381 @@
+//! [`StudyFile`]: a basin-stability study of any [`Classifier`] on disk, counted over trials or
+//! cell by cell to a stopping rule, whole or one shard: the [`CountFile`] a user's study
+//! hands the runner without writing one of its own.
+
+use super::count_file::{CountFile, Todo, covers};
+use super::files::{read_checked, write_atomic};
+use crate::adaptive::{Adaptive, CellCounts, run_cells};
+use crate::basin::{Classifier, Counts, Progress, Study, run, shard_range, share};
+use crate::{Error, Result};
+use serde::{Deserialize, Serialize};
+use std::ops::Range;
+use std::path::{Path, PathBuf};
+
+/// The `format` every [`StudyFile`] carries, and its `version`.
+pub const FORMAT: &str = "hycont-sample study";
+/// The version of [`FORMAT`] this crate writes and reads.
+pub const VERSION: u32 = 1;
+
+/// The most trials a study may ask for (10^12; shard larger studies).
+pub const MAX_TRIALS: u64 = 1_000_000_000_000;
+
+/// How a study is counted: a number of trials (binned as the study's axes say), or cell by
+/// cell until a stopping rule is met.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Plan {
+    /// Trials `0..trials` (a shard: its part, [`shard_range`]), counted in `counts`.
+    Trials {
+        /// Trials of the whole study.
+        trials: u64,
+        /// The counts so far.
+        counts: Counts,
+    },
+    /// Each cell (a shard: its part of the cells) sampled in batches until `rule` is met.
+    Cells {
+        /// The stopping rule.
+        rule: Adaptive,
+        /// The counts so far.
+        counts: CellCounts,
+    },
+}
+
+/// A study of any classifier `C` (which the file records: `C`'s serde form says what the
+/// trials are classified by, e.g. a system's fixed parameters), over one shard, complete or
+/// not. JSON: `{"format": "hycont-sample study", "version": 1, "name": ..., "study":
+/// <Study>, "classifier": <C>, "shard": [i, n], "plan": {"trials": {"trials": N, "counts":
+/// <Counts>}} | {"cells": {"rule": <Adaptive>, "counts": <CellCounts>}}}`. Files are named
+/// `NAME.json` (a whole run), `NAME.shard-I-of-N.json` (a shard) and `*.partial.json` (an
+/// interrupted run).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct StudyFile<C> {
+    /// [`FORMAT`].
+    pub format: String,
+    /// [`VERSION`].
+    pub version: u32,
+    /// The study's name: the stem of its files.
+    pub name: String,
+    /// The study (variables, axes, seed).
+    pub study: Study,
+    /// What classifies its trials.
+    pub classifier: C,
+    /// `(i, n)`: shard `i` of `n` (a whole run is `(0, 1)`).
+    pub shard: (u64, u64),
+    /// How it is counted, and the counts.
+    pub plan: Plan,
+}
+
+impl<C: Classifier> StudyFile<C> {
+    /// A study of `trials` trials with nothing counted, shard `shard`.
+    ///
+    /// # Errors
+    /// [`Error::InvalidStudy`] for an invalid study, name, shard or trial count.
+    pub fn trials(
+        name: &str,
+        study: Study,
+        classifier: C,
+        trials: u64,
+        shard: (u64, u64),
+    ) -> Result<Self> {
+        let counts = Counts::new(classifier.classes(), study.cells());
+        let plan = Plan::Trials { trials, counts };
+        Self::checked(name, study, classifier, shard, plan)
+    }
+
+    /// A study sampled cell by cell to `rule` with nothing counted, shard `shard` of its
+    /// cells.
+    ///
+    /// # Errors
+    /// As [`StudyFile::trials`]; an invalid rule.
+    pub fn cells(
+        name: &str,
+        study: Study,
+        classifier: C,
+        rule: Adaptive,
+        shard: (u64, u64),
+    ) -> Result<Self> {
+        let counts = CellCounts::new(classifier.classes(), study.cells());
+        let plan = Plan::Cells { rule, counts };
+        Self::checked(name, study, classifier, shard, plan)
+    }
+
+    fn checked(
+        name: &str,
+        study: Study,
+        classifier: C,
+        shard: (u64, u64),
+        plan: Plan,
+    ) -> Result<Self> {
+        let file = Self {
+            format: FORMAT.into(),
+            version: VERSION,
+            name: name.into(),
+            study,
+            classifier,
+            shard,
+            plan,
+        };
+        file.check()
+            .map_err(|reason| Error::InvalidStudy { reason })?;
+        Ok(file)
+    }
+
+    /// The file's consistency: format and version, a name usable as a file stem, a valid
+    /// study and shard, and counts of the classifier's classes over the study's cells that
+    /// agree with their trials, all inside the shard.
+    fn check(&self) -> std::result::Result<(), String> {
+        if (self.format.as_str(), self.version) != (FORMAT, VERSION) {
+            return Err(format!(
+                "format {:?} version {}: this reads {FORMAT:?} version {VERSION}",
+                self.format, self.version
+            ));
+        }
+        let stem_ok = |c: char| c.is_ascii_alphanumeric() || "-_.".contains(c);
+        if self.name.is_empty() || !self.name.chars().all(stem_ok) {
+            return Err(format!(
+                "name {:?}: letters, digits, '-', '_' and '.' only",
+                self.name
+            ));
+        }
+        self.study.validate().map_err(|e| e.to_string())?;
+        let (i, n) = self.shard;
+        if n == 0 || i >= n {
+            return Err(format!("shard {i}/{n} is not I/N with 0 <= I < N"));
+        }
+        let classes = self.classifier.classes();
+        match &self.plan {
+            Plan::Trials { trials, counts } => {
+                if !(1..=MAX_TRIALS).contains(trials) {
+                    return Err(format!("trials = {trials} is not in 1..={MAX_TRIALS}"));
+                }
+                if counts.classes != classes || counts.counts.len() != self.study.cells() {
+                    return Err(format!(
+                        "counts of {} cells of {:?}; the study has {} cells of {classes:?}",
+                        counts.counts.len(),
+                        counts.classes,
+                        self.study.cells()
+                    ));
+                }
+                counts.validate().map_err(|e| e.to_string())?;
+                let range = self.range();
+                if let Some(&(a, b)) =
+                    (counts.ranges.iter()).find(|&&(a, b)| a < range.start || b > range.end)
+                {
+                    return Err(format!(
+                        "trials {a}..{b} counted, outside the shard's trials {}..{}",
+                        range.start, range.end
+                    ));
+                }
+            }
+            Plan::Cells { rule, counts } => {
+                if counts.classes != classes {
+                    return Err(format!(
+                        "classes {:?}; the classifier's are {classes:?}",
+                        counts.classes
+                    ));
+                }
+                (counts.check_rule(rule, &self.study, self.cell_range()))
+                    .map_err(|e| e.to_string())?;
+            }
+        }
+        Ok(())
+    }
+
+    /// The trials of the shard (a study sampled by cells: none).
+    #[must_use]
+    pub fn range(&self) -> Range<u64> {
+        match &self.plan {
+            Plan::Trials { trials, .. } => {
+                shard_range(*trials, self.shard.0, self.shard.1).unwrap_or(0..0)
+            }
+            Plan::Cells { .. } => 0..0,
+        }
+    }
+
+    /// The cells of the shard (a study of trials: every cell).
+    #[must_use]
+    pub fn cell_range(&self) -> Range<usize> {
+        let cells = self.study.cells();
+        match &self.plan {
+            Plan::Trials { .. } => 0..cells,
+            Plan::Cells { .. } => {
+                let r = shard_range(cells as u64, self.shard.0, self.shard.1).unwrap_or(0..0);
+                r.start as usize..r.end as usize
+            }
+        }
+    }
+
+    /// The same study and shard, counts aside.
+    fn same_run(&self, other: &Self) -> bool
+    where
+        C: PartialEq,
+    {
+        let rule = |p: &Plan| match p {
+            Plan::Trials { trials, .. } => (Some(*trials), None),
+            Plan::Cells { rule, .. } => (None, Some(*rule)),
+        };
+        (&self.name, &self.study, &self.classifier, rule(&self.plan))
+            == (
+                &other.name,
+                &other.study,
+                &other.classifier,
+                rule(&other.plan),
+            )
+    }
+}
+
+/// Ranges of consecutive cells.
+fn runs(cells: &[usize]) -> Vec<Range<u64>> {
+    let mut out: Vec<Range<u64>> = Vec::new();
+    for &c in cells {
+        let c = c as u64;
+        match out.last_mut() {
+            Some(r) if r.end == c => r.end = c + 1,
+            _ => out.push(c..c + 1),
+        }
+    }
+    out
+}
+
+impl<C> CountFile for StudyFile<C>
+where
+    C: Classifier + Clone + PartialEq + Serialize + serde::de::DeserializeOwned,
+{
+    type Error = Error;
+    fn what(&self) -> String {
+        self.name.clone()
+    }
+    /// Trials counted and trials of the shard; by cells: cells settled and cells of the shard.
+    fn progress(&self) -> (u64, u64) {
+        match &self.plan {
+            Plan::Trials { counts, .. } => {
+                let range = self.range();
+                let missing: u64 = counts
+                    .missing(range.clone())
+                    .iter()
+                    .map(|r| r.end - r.start)
+                    .sum();
+                (range.end - range.start - missing, range.end - range.start)
+            }
+            Plan::Cells { counts, .. } => {
+                let cells = self.cell_range();
+                let settled = cells.len() - counts.unsettled(cells.clone()).len();
+                (settled as u64, cells.len() as u64)
+            }
+        }
+    }
+    fn shard(&self) -> (u64, u64) {
+        self.shard
+    }
+    fn paths(&self, dir: &Path) -> (PathBuf, PathBuf) {
+        let (i, n) = self.shard;
+        let name = if n == 1 {
+            self.name.clone()
+        } else {
+            format!("{}.shard-{i}-of-{n}", self.name)
+        };
+        (
+            dir.join(format!("{name}.json")),
+            dir.join(format!("{name}.partial.json")),
+        )
+    }
+    fn todo(&self, part: (u64, u64)) -> Result<Todo> {
+        let ranges = match &self.plan {
+            Plan::Trials { counts, .. } => counts.missing(self.range()),
+            Plan::Cells { counts, .. } => runs(&counts.unsettled(self.cell_range())),
+        };
+        Ok(vec![share(&ranges, part.0, part.1)?])
+    }
+    fn planned_trials(&self, todo: &Todo) -> Option<u64> {
+        match self.plan {
+            Plan::Trials { .. } => Some(todo.iter().flatten().map(|r| r.end - r.start).sum()),
+            Plan::Cells { .. } => None,
+        }
+    }
+    fn counted_trials(&self) -> u64 {
+        match &self.plan {
+            Plan::Trials { .. } => self.progress().0,
+            Plan::Cells { counts, .. } => counts.trials[self.cell_range()].iter().sum(),
+        }
+    }
+    fn fill(&mut self, todo: &[Vec<Range<u64>>], progress: &Progress) -> Result<()> {
+        let ranges = todo.iter().flatten();
+        match &mut self.plan {
+            Plan::Trials { counts, .. } => {
+                for r in ranges {
+                    if progress.stopping() {
+                        break;
+                    }
+                    counts.merge(&run(&self.study, &self.classifier, r.clone(), progress)?)?;
+                }
+                Ok(())
+            }
+            Plan::Cells { rule, counts } => {
+                let cells: Vec<usize> = ranges
+                    .flat_map(|r| r.start as usize..r.end as usize)
+                    .collect();
+                run_cells(
+                    &self.study,
+                    &self.classifier,
+                    rule,
+                    counts,
+                    &cells,
+                    progress,
+                )
+            }
+        }
+    }
+    /// Trials: nothing counted. Cells: the file itself (a cell's longer record wins a merge,
+    /// so other processes continue from it).
+    fn cleared(&self) -> Self {
+        let mut out = self.clone();
+        if let Plan::Trials { counts, .. } = &mut out.plan {
+            *counts = Counts::new(counts.classes.clone(), counts.counts.len());
+        }
+        out
+    }
+    fn write(&self, path: &Path) -> Result<()> {
+        let text = serde_json::to_string(self).map_err(|e| Error::Io {
+            path: path.to_path_buf(),
+            reason: e.to_string(),
+        })?;
+        write_atomic(path, text)
+    }
+    fn merge(&mut self, other: &Self) -> std::result::Result<(), String> {
+        if !self.same_run(other) {
+            return Err(format!(
+                "study {:?} differs from the files before (another study, classifier, trial count or rule)",
+                other.name
+            ));
+        }
+        match (&mut self.plan, &other.plan) {
+            (Plan::Trials { counts: a, .. }, Plan::Trials { counts: b, .. }) => a.merge(b),
+            (Plan::Cells { counts: a, .. }, Plan::Cells { counts: b, .. }) => a.merge(b),
+            _ => unreachable!("same_run compares the plans' kinds"),
+        }
+        .map_err(|e| e.to_string())
+    }
+    fn whole(self) -> Self {
+        Self {
+            shard: (0, 1),
+            ..self
+        }
+    }
+    fn read(path: &Path) -> Result<Self> {
+        read_checked(path, "a hycont-sample study", Self::check)
+    }
+    fn subsumes(&self, other: &Self) -> bool {
+        if !(self.same_run(other) && self.shard == other.shard) {
+            return false;
+        }
+        match (&self.plan, &other.plan) {
+            (Plan::Trials { counts: a, .. }, Plan::Trials { counts: b, .. }) => {
+                covers(a, b, &self.range())
+            }
+            (Plan::Cells { counts: a, .. }, Plan::Cells { counts: b, .. }) => {
+                a.trials.iter().zip(&b.trials).all(|(x, y)| x >= y)
+            }
+            _ => false,
+        }
+    }
+}
