@@ -212,12 +212,12 @@ fn edited_files_are_refused() {
     };
     let text = std::fs::read_to_string(&path).unwrap();
     let value: serde_json::Value = serde_json::from_str(&text).unwrap();
-    let edits: Vec<Box<dyn Fn(&mut serde_json::Value)>> = vec![
-        Box::new(|v| v["plan"]["trials"]["counts"]["counts"][0][0] = 999_999.into()),
-        Box::new(|v| v["version"] = 2.into()),
-        Box::new(|v| v["shard"] = serde_json::json!([3, 3])),
-        Box::new(|v| v["plan"]["trials"]["counts"]["ranges"][0][1] = 20_000.into()),
-        Box::new(|v| v["name"] = "a/b".into()),
+    let edits: [fn(&mut serde_json::Value); 5] = [
+        |v| v["plan"]["trials"]["counts"]["counts"][0][0] = 999_999.into(),
+        |v| v["version"] = 2.into(),
+        |v| v["shard"] = serde_json::json!([3, 3]),
+        |v| v["plan"]["trials"]["counts"]["ranges"][0][1] = 20_000.into(),
+        |v| v["name"] = "a/b".into(),
     ];
     for (k, edit) in edits.iter().enumerate() {
         let mut v = value.clone();

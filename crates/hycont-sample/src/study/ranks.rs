@@ -99,7 +99,7 @@ impl Ranks {
     ///
     /// # Errors
     /// A rank's error, counts that do not merge, a message that is not a count file
-    /// ([`Error::Rank`] naming the rank).
+    /// ([`crate::Error::Rank`] naming the rank).
     pub fn gather<F: CountFile>(self, mine: Result<F, F::Error>) -> Result<Option<F>, F::Error>
     where
         F::Error: std::fmt::Display,
