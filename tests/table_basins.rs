@@ -111,3 +111,48 @@ fn basins_follow_the_closed_forms() {
         }
     }
 }
+
+/// The example's study through hycont-sample's runner: stopped after a budget of trials, its
+/// partial file holds the exact cells counted; resumed from it, the counts equal an
+/// uninterrupted run's (every cell's record); three shards of its cells merge to the same.
+#[test]
+fn the_study_resumes_and_merges_to_an_uninterrupted_run() {
+    use hycont::hycont_sample::study::{self, CountFile, Outcome, Ranks, StudyFile};
+    let dir = std::env::temp_dir().join(format!("hycont-tb-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    let rule = Adaptive {
+        halfwidth: 0.1,
+        ..Adaptive::default()
+    };
+    let make = |shard| {
+        StudyFile::cells("tb", model::amplitude_study(1), classifier(), rule, shard).unwrap()
+    };
+    let run = |file, progress: &Progress| study::sample(file, &dir, progress, Ranks::current());
+    let Outcome::Complete { file: whole, .. } = run(make((0, 1)), &Progress::default()).unwrap()
+    else {
+        panic!("not complete")
+    };
+    let Outcome::Partial { path, file } = run(make((0, 1)), &Progress::with_budget(200)).unwrap()
+    else {
+        panic!("not stopped")
+    };
+    assert!(file.progress().0 < file.progress().1);
+    let resumed = StudyFile::<TableClassifier>::read(&path).unwrap();
+    let Outcome::Complete { file: done, .. } = run(resumed, &Progress::default()).unwrap() else {
+        panic!("not complete")
+    };
+    assert_eq!(done.plan, whole.plan);
+    let shards: Vec<_> = (0..3)
+        .map(|i| {
+            let Outcome::Complete {
+                written: Some(p), ..
+            } = run(make((i, 3)), &Progress::default()).unwrap()
+            else {
+                panic!("shard {i}")
+            };
+            (p.clone(), StudyFile::<TableClassifier>::read(&p).unwrap())
+        })
+        .collect();
+    assert_eq!(study::merge(shards).unwrap().plan, whole.plan);
+    std::fs::remove_dir_all(&dir).unwrap();
+}

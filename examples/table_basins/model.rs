@@ -120,7 +120,8 @@ impl PeriodicallyForced for StickyTable {
 }
 
 /// The table's attractors, classified by hycont's stroboscopic classifier. A trial's variables
-/// are `[a, z0, w0, theta0]`; `omega`, `e`, `g` are fixed.
+/// are `[a, z0, w0, theta0]`; `omega`, `e`, `g` are fixed (and recorded in a study's files).
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct TableClassifier {
     pub omega: f64,
     pub e: f64,
