@@ -1,9 +1,18 @@
 # Shared by the Slurm scripts (sourced): which commands shard, and the files a run writes.
 #
 # result_name COMMAND [ARGS...]: prints the stem of the files a sampling run writes (`figK`
-# for `figure K`, K in 7, 9, 10; `basin` for `basin`), or says why the command cannot be
-# sharded and returns 2.
+# for `figure K`, K in 7, 9, 10; `basin` for `basin`; $STUDY_NAME for another program), or
+# says why the command cannot be sharded and returns 2.
 result_name() {
+  # Another program built on hycont-sample's runner names its study's files itself.
+  if [[ -n "${STUDY_NAME:-}" ]]; then
+    if ! [[ $STUDY_NAME =~ ^[A-Za-z0-9._-]+$ ]]; then
+      echo "STUDY_NAME must be letters, digits, '.', '_' and '-', not '$STUDY_NAME'" >&2
+      return 2
+    fi
+    echo "$STUDY_NAME"
+    return 0
+  fi
   case "${1:-}" in
     figure)
       case "${2:-}" in

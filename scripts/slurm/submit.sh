@@ -10,6 +10,16 @@
 # (figK.json) itself; the merge job then checks it is there. Options for sbatch (partition,
 # account, time, CPUs) go in $SBATCH_OPTIONS; both jobs run `rocking-block` from
 # $ROCKING_BLOCK or PATH. Prints the two job ids.
+#
+# Any other program built on hycont-sample's study runner runs the same way: set $STUDY_BIN
+# to it and $STUDY_NAME to the stem of its study's files. The contract it keeps:
+#   $STUDY_BIN COMMAND [ARGS...] --shard I/N --out OUT [--threads T]
+#       counts shard I of N, writing OUT/NAME.shard-I-of-N.json when complete (N = 1:
+#       OUT/NAME.json) or OUT/NAME[.shard-I-of-N].partial.json when stopped;
+#   $STUDY_BIN COMMAND --resume PARTIAL --out OUT [--threads T]
+#       completes a partial file (a task that is run again resumes its own);
+#   $STUDY_BIN merge SHARD... --out OUT
+#       checks and merges the shards (hycont_sample::study::merge) and writes the result.
 set -euo pipefail
 if [[ $# -lt 3 ]]; then
   echo "usage: submit.sh N OUT COMMAND [ARGS...]" >&2

@@ -246,3 +246,49 @@ fn the_scripts_refuse_what_they_cannot_run() {
     assert!(!out.status.success());
     assert!(String::from_utf8_lossy(&out.stderr).contains("job array"));
 }
+
+/// The scripts drive any program that keeps the runner's contract (`$STUDY_BIN`, files named
+/// after `$STUDY_NAME`): a task runs `COMMAND ARGS --shard I/N --out OUT`, a task run again
+/// resumes its partial file with `COMMAND --resume PARTIAL --out OUT`, and the merge job runs
+/// `merge SHARDS --out OUT`; a name that is not a file stem is refused.
+#[test]
+fn the_scripts_drive_any_program_of_the_contract() {
+    let dir = scratch("slurm-contract");
+    std::fs::create_dir_all(&dir).unwrap();
+    // A stand-in program that records its arguments.
+    let program = dir.join("study");
+    std::fs::write(
+        &program,
+        format!(
+            "#!/usr/bin/env bash\necho \"$@\" >> {}\n",
+            dir.join("calls").display()
+        ),
+    )
+    .unwrap();
+    Command::new("chmod").arg("+x").arg(&program).run_ok();
+    let out = dir.join("out");
+    let run = |script: &str, task: Option<&str>, name: &str| {
+        let mut cmd = Command::new("bash");
+        cmd.arg(scripts().join(script))
+            .args(["3", out.to_str().unwrap(), "basins", "--seed", "5"])
+            .env("STUDY_BIN", &program)
+            .env("STUDY_NAME", name);
+        if let Some(t) = task {
+            cmd.env("SLURM_ARRAY_TASK_ID", t);
+        }
+        cmd.output().unwrap()
+    };
+    assert!(run("shard.sbatch", Some("1"), "table").status.success());
+    std::fs::create_dir_all(&out).unwrap();
+    std::fs::write(out.join("table.shard-2-of-3.partial.json"), "{}").unwrap();
+    assert!(run("shard.sbatch", Some("2"), "table").status.success());
+    assert!(run("merge.sbatch", None, "table").status.success());
+    let calls = std::fs::read_to_string(dir.join("calls")).unwrap();
+    let o = out.display();
+    let expected = format!(
+        "basins --seed 5 --shard 1/3 --out {o}\nbasins --resume {o}/table.shard-2-of-3.partial.json --out {o}\nmerge {o}/table.shard-0-of-3.json {o}/table.shard-1-of-3.json {o}/table.shard-2-of-3.json --out {o}\n"
+    );
+    assert_eq!(calls, expected);
+    assert_eq!(run("shard.sbatch", Some("0"), "a/b").status.code(), Some(2));
+    std::fs::remove_dir_all(&dir).ok();
+}

@@ -27,6 +27,11 @@
 //!   fails reports to rank 0, which fails the job naming it ([`crate::Error::Rank`]).
 //! - **Files** are JSON written by serde (their fields are the [`CountFile`]'s own); written
 //!   atomically (a temporary file renamed over the target).
+//! - **Slurm.** The workspace's `scripts/slurm/submit.sh N OUT COMMAND ARGS...` runs a study
+//!   as a job array of `N` shards and a merge job, for any program (`$STUDY_BIN`, its files
+//!   named `$STUDY_NAME`) that accepts `COMMAND ARGS --shard I/N --out OUT` (writing
+//!   `OUT/NAME.shard-I-of-N.json`, or its `.partial.json` when stopped), `COMMAND --resume
+//!   PARTIAL --out OUT` and `merge SHARDS --out OUT` (the rocking-block command line does).
 
 mod checkpoint;
 mod count_file;
