@@ -3,10 +3,10 @@
 //! `--max-per-cell` trials; `BasinCellFile` is its count file (shards split cells; partial
 //! files, `--resume`, `merge` and MPI as the other sampling runs).
 
-use super::basin_cmd::write_basin;
-use super::cell_file::{CELL_BATCH, runs};
-use super::sampling::{CountFile, Todo};
-use super::shard_file::{count_paths, read_count_file, write_count_file};
+use super::basin_file::write_basin;
+use super::driver::{CELL_BATCH, runs};
+use super::driver::{CountFile, Todo};
+use super::driver::{count_paths, read_count_file, write_count_file};
 use crate::basin::classifier;
 use crate::block::Block;
 use crate::error::{Error, Result};
@@ -179,7 +179,7 @@ impl CountFile for BasinCellFile {
     }
 }
 
-impl super::sampling::Render for BasinCellFile {
+impl super::driver::Render for BasinCellFile {
     fn render(&self, out: &OutDir) -> Result<Vec<PathBuf>> {
         let provenance = self.provenance.clone().unwrap_or_default();
         let widths: Vec<f64> = (0..self.table.counts.len())

@@ -5,8 +5,8 @@
 //! contains one with fewer, so merging keeps the longer.
 
 use super::FigureArgs;
-use super::sampling::{CountFile, Todo};
-use super::shard_file::{count_paths, read_count_file, write_count_file};
+use super::driver::{CELL_BATCH, count_paths, read_count_file, runs, write_count_file};
+use super::driver::{CountFile, Todo};
 use crate::block::Block;
 use crate::error::{Error, Result};
 use crate::figures::fig9_cells::{DEFAULT_HALFWIDTH, empty_cell_tables, fill_cells, render9_cells};
@@ -100,19 +100,6 @@ impl CellFile {
         }
         Ok(())
     }
-}
-
-/// Ranges of consecutive cells.
-pub(super) fn runs(cells: &[usize]) -> Vec<std::ops::Range<u64>> {
-    let mut out: Vec<std::ops::Range<u64>> = Vec::new();
-    for &c in cells {
-        let c = c as u64;
-        match out.last_mut() {
-            Some(r) if r.end == c => r.end = c + 1,
-            _ => out.push(c..c + 1),
-        }
-    }
-    out
 }
 
 impl CountFile for CellFile {
@@ -212,10 +199,6 @@ impl CountFile for CellFile {
     }
 }
 
-/// Trials per cell and round of the runs sampled cell by cell (Fig. 9, `basin --halfwidth`): a cell of one class meets the
-/// default half-width 0.1 after one batch (the Wilson half-width of 0 of 16 is 0.097).
-pub(super) const CELL_BATCH: u64 = 16;
-
 /// The stopping rule of Fig. 9 sampled adaptively (`--halfwidth`, `--max-per-cell`), in
 /// batches of [`CELL_BATCH`].
 pub(super) fn fig9_rule(args: &FigureArgs) -> Result<Adaptive> {
@@ -236,7 +219,7 @@ pub(super) fn fig9_rule(args: &FigureArgs) -> Result<Adaptive> {
     Ok(rule)
 }
 
-impl super::sampling::Render for CellFile {
+impl super::driver::Render for CellFile {
     fn render(&self, out: &OutDir) -> Result<Vec<PathBuf>> {
         let invocation = self
             .provenance

@@ -4,12 +4,14 @@
 mod args;
 mod basin_cells;
 mod basin_cmd;
+mod basin_file;
 mod block_args;
 mod cell_file;
 mod commands;
 mod continue_cmd;
 mod curve_cmd;
 mod diagram_cmd;
+mod driver;
 mod ranks;
 mod sampling;
 mod shard_file;
@@ -20,7 +22,8 @@ pub use shard_file::{MAX_TRIALS, SAMPLING, ShardFile};
 
 pub use args::*;
 pub use basin_cells::BasinCellFile;
-pub use basin_cmd::{BasinArgs, BasinFile};
+pub use basin_cmd::BasinArgs;
+pub use basin_file::BasinFile;
 pub use block_args::{describe, parameters};
 pub use cell_file::CellFile;
 pub use diagram_cmd::DiagramArgs;

@@ -7,6 +7,9 @@
 //! complete, a partial file otherwise.
 
 use super::cell_file::{CellFile, fig9_rule};
+use super::driver::{
+    CountFile, merge_files, parse_shard, sample, set_threads, stop_on_signals, use_up,
+};
 use super::ranks::Ranks;
 use super::shard_file::{MAX_TRIALS, SAMPLING, ShardFile};
 use super::{FigureArgs, MergeArgs, print_written};
@@ -15,62 +18,10 @@ use crate::figures::sampling::{SampleOptions, empty_tables};
 use crate::output::OutDir;
 use crate::provenance::Provenance;
 use hycont_sample::basin::Progress;
-use hycont_sample::study::Outcome;
 use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
-use std::sync::atomic::{AtomicBool, Ordering};
-
-pub(super) fn parse_shard(text: &str) -> Result<(u64, u64)> {
-    let bad = || Error::InvalidArgument {
-        name: "shard",
-        value: text.to_string(),
-        reason: "expected I/N with 0 <= I < N",
-    };
-    let (i, n) = text.split_once('/').ok_or_else(bad)?;
-    let (i, n): (u64, u64) = (
-        i.trim().parse().map_err(|_| bad())?,
-        n.trim().parse().map_err(|_| bad())?,
-    );
-    if n == 0 || i >= n {
-        return Err(bad());
-    }
-    Ok((i, n))
-}
-
-/// Sizes rayon's pool (only the first call of a process does; results do not depend on it).
-///
-/// # Errors
-/// [`Error::InvalidArgument`] for zero threads.
-pub(super) fn set_threads(threads: Option<usize>) -> Result<()> {
-    if let Some(n) = threads {
-        if n == 0 {
-            return Err(Error::InvalidArgument {
-                name: "threads",
-                value: "0".into(),
-                reason: "must be at least 1",
-            });
-        }
-        let _ = rayon::ThreadPoolBuilder::new()
-            .num_threads(n)
-            .build_global();
-    }
-    Ok(())
-}
-
-/// Removes the partial file a resumed run completed (unless it was rewritten).
-pub(super) fn use_up(from: &Path, written: &[PathBuf]) {
-    if from.to_string_lossy().ends_with(".partial.json") && !written.iter().any(|w| w == from) {
-        let _ = std::fs::remove_file(from);
-    }
-}
-
-/// Stops sampling runs on SIGINT, SIGTERM and SIGHUP (their counts so far are kept).
-pub(super) fn stop_on_signals(progress: &Arc<Progress>) {
-    let p = Arc::clone(progress);
-    // Only the first handler of the process is installed (tests call `run` repeatedly).
-    let _ = ctrlc::set_handler(move || p.stop.store(true, Ordering::Relaxed));
-}
+use std::sync::atomic::Ordering;
 
 /// The figures `figure` draws: those named (a number or `all`), or the figure of the file
 /// resumed (which a name must then agree with).
@@ -248,136 +199,6 @@ fn checked_options(
     Ok(shard)
 }
 
-pub(super) use hycont_sample::study::{CountFile, Todo};
-
-/// What a count file of the command line draws once complete (or, with `--force`, partial):
-/// its figure or basin.
-pub(super) trait Render {
-    /// Writes the result of the counted trials into `out`.
-    fn render(&self, out: &OutDir) -> Result<Vec<PathBuf>>;
-}
-
-/// Counts the trials `file` lacks (with a progress bar on stderr) and writes the result: the
-/// figure or the shard when complete; otherwise the partial file (and, with `force`, the result
-/// of the trials counted so far) and [`Error::Interrupted`]. In an MPI job every rank counts
-/// its share and rank 0 alone writes (the other ranks return no files): the library's runner
-/// ([`hycont_sample::study::sample`]) with a progress bar.
-pub(super) fn sample<F: CountFile<Error = Error> + Render>(
-    file: F,
-    out: &OutDir,
-    force: bool,
-    progress: &Progress,
-) -> Result<Vec<PathBuf>> {
-    let ranks = Ranks::current();
-    let bar = progress_bar(&file, ranks)?;
-    let finished = AtomicBool::new(false);
-    let outcome = std::thread::scope(|scope| {
-        scope.spawn(|| {
-            while !finished.load(Ordering::Relaxed) {
-                bar.set_position(progress.done.load(Ordering::Relaxed));
-                std::thread::sleep(std::time::Duration::from_millis(100));
-            }
-        });
-        let r = hycont_sample::study::sample(file, &out.dir, progress, ranks);
-        finished.store(true, Ordering::Relaxed);
-        r
-    });
-    bar.finish_and_clear();
-    let (file, partial) = match outcome? {
-        Outcome::Elsewhere => return Ok(Vec::new()),
-        Outcome::Complete {
-            written: Some(path),
-            ..
-        } => return Ok(vec![path]),
-        Outcome::Complete {
-            file,
-            written: None,
-        } => return file.render(out),
-        Outcome::Partial { file, path } => (file, path),
-        _ => return Ok(Vec::new()),
-    };
-    if force && file.shard().1 == 1 {
-        file.render(out)?;
-    }
-    let (done, total) = file.progress();
-    Err(Error::Interrupted {
-        detail: format!(
-            "{done} of {total} trials counted, kept in {}; complete them with `rocking-block {} --resume {}`",
-            partial.display(),
-            if file.what() == "basin" {
-                "basin"
-            } else {
-                "figure"
-            },
-            partial.display()
-        ),
-    })
-}
-
-/// The progress bar of a run of `file`'s missing trials on stderr (hidden on ranks other than
-/// 0).
-fn progress_bar<F: CountFile<Error = Error>>(
-    file: &F,
-    ranks: Ranks,
-) -> Result<indicatif::ProgressBar> {
-    let done = file.counted_trials();
-    let planned = file.planned_trials(&file.todo(ranks.part())?);
-    let (bar, template) = match planned {
-        _ if !ranks.is_root() => (indicatif::ProgressBar::hidden(), ""),
-        Some(mine) => (
-            indicatif::ProgressBar::new(done + mine),
-            "{msg} [{bar:40}] {pos}/{len} trials ({per_sec}, eta {eta})",
-        ),
-        // Adaptive runs do not know their trials in advance.
-        None => (
-            indicatif::ProgressBar::no_length(),
-            "{msg} {spinner} {pos} trials ({per_sec})",
-        ),
-    };
-    bar.set_style(
-        indicatif::ProgressStyle::with_template(template)
-            .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
-    );
-    bar.set_message(file.what());
-    Ok(bar)
-}
-
-/// Merges count files of one run: the result when complete, a partial file otherwise.
-pub(super) fn merge_files<F: CountFile<Error = Error> + Render>(
-    files: Vec<(PathBuf, F)>,
-    out: &OutDir,
-    invocation: &Provenance,
-    set_invocation: impl FnOnce(&mut F, Provenance),
-) -> Result<Vec<PathBuf>> {
-    if files.is_empty() {
-        return Err(Error::InvalidArgument {
-            name: "shards",
-            value: String::new(),
-            reason: "name at least one shard file",
-        });
-    }
-    let mut m = hycont_sample::study::merge(files)?;
-    set_invocation(&mut m, invocation.clone());
-    if m.is_complete() {
-        return m.render(out);
-    }
-    let (_, partial) = m.paths(&out.dir);
-    m.write(&partial)?;
-    let (done, total) = m.progress();
-    Err(Error::Incomplete {
-        detail: format!(
-            "the files hold {done} of {total} trials: wrote {} (the result needs them all); run the missing trials with `rocking-block {} --resume {}`",
-            partial.display(),
-            if m.what() == "basin" {
-                "basin"
-            } else {
-                "figure"
-            },
-            partial.display()
-        ),
-    })
-}
-
 pub(super) fn run_merge(
     args: &MergeArgs,
     invocation: &Provenance,
@@ -388,7 +209,7 @@ pub(super) fn run_merge(
     let basins = args
         .shards
         .first()
-        .is_some_and(|p| super::basin_cmd::is_basin_file(p));
+        .is_some_and(|p| super::basin_file::is_basin_file(p));
     let cells = args
         .shards
         .first()
@@ -413,7 +234,7 @@ pub(super) fn run_merge(
         let files = args
             .shards
             .iter()
-            .map(|p| Ok((p.clone(), super::basin_cmd::BasinFile::read(p)?)))
+            .map(|p| Ok((p.clone(), super::basin_file::BasinFile::read(p)?)))
             .collect::<Result<Vec<_>>>()?;
         merge_files(files, &dir, invocation, |f, p| f.provenance = Some(p))?
     } else {

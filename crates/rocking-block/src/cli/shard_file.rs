@@ -3,7 +3,7 @@
 //! partial run (`*.partial.json`, written on an interrupt or by an incomplete merge) or both.
 //! Every file read is checked against the figure's tables before it is used.
 
-use super::sampling::{CountFile, Todo};
+use super::driver::{CountFile, Todo, count_paths, covers, write_count_file};
 use crate::block::Block;
 use crate::error::{Error, Result};
 use crate::figures::sampling::empty_tables;
@@ -42,46 +42,9 @@ pub struct ShardFile {
     pub provenance: Option<Provenance>,
 }
 
-pub(super) use hycont_sample::study::covers;
-
 /// The trials a table has counted (the lengths of its ranges).
 fn covered(c: &Counts) -> u64 {
     c.ranges.iter().map(|(a, b)| b.saturating_sub(*a)).sum()
-}
-
-/// Where a count file named `stem` (`fig9`, `basin`) of shard `(i, n)` goes in `dir`, complete
-/// and partial: `stem.json` for a whole run, `stem.shard-I-of-N.json` for a shard.
-pub(super) fn count_paths(dir: &Path, stem: &str, (i, n): (u64, u64)) -> (PathBuf, PathBuf) {
-    let name = if n == 1 {
-        stem.to_string()
-    } else {
-        format!("{stem}.shard-{i}-of-{n}")
-    };
-    (
-        dir.join(format!("{name}.json")),
-        dir.join(format!("{name}.partial.json")),
-    )
-}
-
-/// Reads a count file written by `what` (for the message) and checks it with `check`.
-///
-/// # Errors
-/// [`Error::Read`] or [`Error::InvalidFile`] naming the file.
-pub(super) fn read_count_file<F: serde::de::DeserializeOwned>(
-    path: &Path,
-    what: &str,
-    check: impl FnOnce(&F) -> std::result::Result<(), String>,
-) -> Result<F> {
-    Ok(hycont_sample::study::read_checked(path, what, check)?)
-}
-
-/// Writes a count file (atomically).
-///
-/// # Errors
-/// [`Error::Io`] naming the file.
-pub(super) fn write_count_file(file: &impl serde::Serialize, path: &Path) -> Result<()> {
-    let text = serde_json::to_string(file).expect("count tables serialise");
-    crate::output::write_atomic(path, text)
 }
 
 fn bad(path: &Path, reason: String) -> Error {
@@ -319,7 +282,7 @@ impl CountFile for ShardFile {
     }
 }
 
-impl super::sampling::Render for ShardFile {
+impl super::driver::Render for ShardFile {
     fn render(&self, out: &OutDir) -> Result<Vec<PathBuf>> {
         let invocation = self.provenance.clone().unwrap_or_default();
         Ok(render(self.figure, out, self.options(), &invocation, &self.counts)?.files)
