@@ -24,11 +24,16 @@ fn scratch(name: &str) -> PathBuf {
 #[test]
 fn two_ranks_print_and_write_what_one_process_does() {
     let (one, two) = (scratch("one"), scratch("two"));
-    let single = Command::new(example()).arg(&one).output().unwrap();
+    let single = Command::new(example())
+        .args(["run", "--out"])
+        .arg(&one)
+        .output()
+        .unwrap();
     assert!(single.status.success(), "{single:?}");
     let ranks = Command::new("mpirun")
         .args(["-n", "2", "--oversubscribe"])
         .arg(example())
+        .args(["run", "--out"])
         .arg(&two)
         .env("OMPI_ALLOW_RUN_AS_ROOT", "1")
         .env("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1")

@@ -8,21 +8,23 @@
 //! the period-1 orbit exists from its fold `a_SN = pi g (1 - e) / (1 + e) / omega^2 = 1.047`
 //! and is stable up to its period doubling `a_PD = 1.527` (see `vibrating_table`).
 //!
-//! The study runs through hycont's study runner ([`hycont::hycont_sample::study`]): Ctrl-C
-//! keeps the cells counted so far in `DIR/table_basins.partial.json` (`DIR`: the first
-//! argument, default `target/table_basins`), which the next run resumes to the same table
-//! (written whole to `DIR/table_basins.json`);
-//! built with `--features mpi` and started under `mpirun -n N`, the ranks share the cells and
-//! print the same table as one process.
+//! The study runs through hycont's study runner ([`hycont::hycont_sample::study`]) with its
+//! command line, so that `scripts/slurm/submit.sh` drives it (`STUDY_BIN` this example,
+//! `STUDY_NAME=table_basins`): `table_basins run [--shard I/N] [--out DIR]` counts the study
+//! (or a shard of its cells) into `DIR/table_basins[.shard-I-of-N].json` (default DIR:
+//! `results`) and prints the table of a whole run; Ctrl-C keeps the cells counted in a
+//! `.partial.json` file that `table_basins run --resume FILE` completes; `table_basins merge
+//! FILES...` merges shards. Built with `--features mpi` and started under `mpirun -n N`, the
+//! ranks share the cells and print and write what one process does.
 //!
-//! Run with `cargo run --release --example table_basins [DIR]`.
+//! Run with `cargo run --release --example table_basins -- run`.
 
 mod model;
 
 use hycont::hycont_sample::adaptive::Adaptive;
 use hycont::hycont_sample::basin::Progress;
 use hycont::hycont_sample::classify::StrobeSettings;
-use hycont::hycont_sample::study::{self, CountFile, Outcome, Plan, Ranks, StudyFile};
+use hycont::hycont_sample::study::{self, Invocation, Outcome, Plan, Ranks, StudyFile};
 use model::{CLASSES, TableClassifier};
 use std::f64::consts::PI;
 use std::sync::Arc;
@@ -34,13 +36,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         return Err(format!("started as one of {n} MPI ranks: build with --features mpi").into());
     }
     let (omega, e, g) = (1.0, 0.5, 1.0);
-    let dir = std::env::args()
-        .nth(1)
-        .unwrap_or("target/table_basins".into());
-    let partial = std::path::Path::new(&dir).join("table_basins.partial.json");
-    let file = if partial.exists() {
-        StudyFile::read(&partial)?
-    } else {
+    let invocation = Invocation::parse(std::env::args().skip(1))?;
+    let new = |shard| {
         let classifier = TableClassifier {
             omega,
             e,
@@ -51,23 +48,25 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             halfwidth: 0.1,
             ..Adaptive::default()
         };
-        let study = model::amplitude_study(1);
-        StudyFile::cells("table_basins", study, classifier, rule, (0, 1))?
+        StudyFile::cells(
+            "table_basins",
+            model::amplitude_study(1),
+            classifier,
+            rule,
+            shard,
+        )
     };
     let progress = Arc::new(Progress::default());
     let stop = Arc::clone(&progress);
     ctrlc::set_handler(move || stop.stop.store(true, std::sync::atomic::Ordering::Relaxed))?;
-    let file = match study::sample(file, dir.as_ref(), &progress, Ranks::current())? {
-        Outcome::Complete { file, .. } => file,
+    let file = match study::serve(&invocation, new, &progress, Ranks::current())? {
+        Outcome::Complete { file, .. } if file.shard == (0, 1) => file,
         Outcome::Partial { path, .. } => {
-            eprintln!("interrupted: run again to resume {}", path.display());
+            eprintln!("incomplete: complete it with `--resume {}`", path.display());
             std::process::exit(1);
         }
         _ => return Ok(()),
     };
-    // The complete counts, for later merges or plots; the partial file is used up.
-    file.write(&file.paths(dir.as_ref()).0)?;
-    let _ = std::fs::remove_file(&partial);
     let Plan::Cells { counts, .. } = &file.plan else {
         unreachable!("a study by cells")
     };

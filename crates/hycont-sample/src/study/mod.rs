@@ -31,12 +31,14 @@
 //!   as a job array of `N` shards and a merge job, for any program (`$STUDY_BIN`, its files
 //!   named `$STUDY_NAME`) that accepts `COMMAND ARGS --shard I/N --out OUT` (writing
 //!   `OUT/NAME.shard-I-of-N.json`, or its `.partial.json` when stopped), `COMMAND --resume
-//!   PARTIAL --out OUT` and `merge SHARDS --out OUT` (the rocking-block command line does).
+//!   PARTIAL --out OUT` and `merge SHARDS --out OUT` (the rocking-block command line does;
+//!   [`Invocation::parse`] and [`serve`] give any program that command line in one call).
 
 mod checkpoint;
 mod count_file;
 mod files;
 mod ranks;
+mod request;
 mod run;
 mod study_file;
 
@@ -46,5 +48,6 @@ pub use files::{ensure_parent, is_special, read_checked, temp_path, write_atomic
 pub use ranks::Ranks;
 #[cfg(feature = "mpi")]
 pub use ranks::start_mpi;
+pub use request::{Invocation, Request, serve};
 pub use run::{Outcome, merge, partial_path, sample};
 pub use study_file::{FORMAT, MAX_TRIALS, Plan, StudyFile, VERSION};
