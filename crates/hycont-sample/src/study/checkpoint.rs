@@ -8,6 +8,7 @@
 //! go, which the ranks share on a cluster).
 
 use super::count_file::{CountFile, Todo};
+use super::ranks::Ranks;
 use crate::basin::Progress;
 use std::ops::Range;
 use std::path::{Path, PathBuf};
@@ -48,25 +49,37 @@ pub fn remove_checkpoints(own: &Path, size: u64) {
     }
 }
 
-/// Counts `todo` into `file` in [`ROUNDS`] rounds, writing `file` to `checkpoint` after each;
-/// stops with the rounds when `progress` says stop.
+/// Counts `todo` (this rank's share) into `file` in [`ROUNDS`] rounds, writing `file` to
+/// `checkpoint` after each. After every round the ranks agree whether any of them stops (its
+/// `progress` says so, or its round failed): then all stop there, so that a stop (a signal
+/// that reaches one rank, a trial budget, a failure) ends the whole job at the same round,
+/// each rank keeping what it counted. Every rank runs exactly [`ROUNDS`] rounds (some
+/// perhaps empty) so that their agreements pair up.
 ///
 /// # Errors
-/// As [`CountFile::fill`] and [`CountFile::write`].
+/// As [`CountFile::fill`] and [`CountFile::write`] (this rank's).
 pub fn fill_in_rounds<F: CountFile>(
     file: &mut F,
     todo: &Todo,
     progress: &Progress,
-    checkpoint: &Path,
+    (checkpoint, ranks): (&Path, Ranks),
 ) -> Result<(), F::Error> {
-    for round in rounds(todo, ROUNDS) {
-        file.fill(&round, progress)?;
-        file.write(checkpoint)?;
-        if progress.stopping() {
+    let mut failure = None;
+    for round in rounds_of(todo, ROUNDS) {
+        if failure.is_none() && round.iter().any(|list| !list.is_empty()) {
+            failure = file
+                .fill(&round, progress)
+                .and_then(|()| file.write(checkpoint))
+                .err();
+        }
+        if ranks.any(progress.stopping() || failure.is_some()) {
+            progress
+                .stop
+                .store(true, std::sync::atomic::Ordering::Relaxed);
             break;
         }
     }
-    Ok(())
+    failure.map_or(Ok(()), Err)
 }
 
 /// `todo` cut into `rounds` rounds: round `k` of each list holds its trials (or cells) from
@@ -79,6 +92,14 @@ pub fn fill_in_rounds<F: CountFile>(
 /// ```
 #[must_use]
 pub fn rounds(todo: &Todo, rounds: u64) -> Vec<Todo> {
+    rounds_of(todo, rounds)
+        .into_iter()
+        .filter(|round| round.iter().any(|list| !list.is_empty()))
+        .collect()
+}
+
+/// [`rounds`] with the empty rounds kept: exactly `rounds` of them.
+fn rounds_of(todo: &Todo, rounds: u64) -> Vec<Todo> {
     let rounds = rounds.max(1);
     let totals: Vec<u64> = todo
         .iter()
@@ -94,7 +115,6 @@ pub fn rounds(todo: &Todo, rounds: u64) -> Vec<Todo> {
                 })
                 .collect::<Todo>()
         })
-        .filter(|round| round.iter().any(|list| !list.is_empty()))
         .collect()
 }
 

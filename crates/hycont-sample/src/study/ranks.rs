@@ -87,6 +87,31 @@ impl Ranks {
         (self.rank, self.size)
     }
 
+    /// Whether `flag` holds on any rank (a collective: every rank of the job must call it,
+    /// as often as the others; one rank of one: `flag`).
+    #[must_use]
+    pub fn any(self, flag: bool) -> bool {
+        if self.size == 1 {
+            return flag;
+        }
+        self.any_of_job(flag)
+    }
+
+    #[cfg(not(feature = "mpi"))]
+    #[allow(clippy::unused_self)]
+    fn any_of_job(self, flag: bool) -> bool {
+        flag
+    }
+
+    #[cfg(feature = "mpi")]
+    fn any_of_job(self, flag: bool) -> bool {
+        use mpi::collective::{CommunicatorCollectives, SystemOperation};
+        let world = mpi::topology::SimpleCommunicator::world();
+        let mut any = 0u8;
+        world.all_reduce_into(&u8::from(flag), &mut any, SystemOperation::max());
+        any == 1
+    }
+
     /// Whether this process writes the results (rank 0).
     #[must_use]
     pub fn is_root(self) -> bool {

@@ -66,7 +66,7 @@ where
     };
     // Several ranks: each checkpoints its counts after every round of its share.
     let mine = match &checkpoint {
-        Some(path) => fill_in_rounds(&mut counted, &todo, progress, path),
+        Some(path) => fill_in_rounds(&mut counted, &todo, progress, (path, ranks)),
         None => counted.fill(&todo, progress),
     }
     .map(|()| counted);
