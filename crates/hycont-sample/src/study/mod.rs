@@ -41,6 +41,7 @@ mod ranks;
 mod request;
 mod run;
 mod study_file;
+mod tally;
 
 pub use checkpoint::{ROUNDS, checkpoint_path, fill_in_rounds, remove_checkpoints, rounds};
 pub use count_file::{CountFile, Todo, covers};
@@ -51,3 +52,7 @@ pub use ranks::start_mpi;
 pub use request::{Invocation, Request, serve};
 pub use run::{Outcome, merge, partial_path, sample};
 pub use study_file::{FORMAT, MAX_TRIALS, Plan, StudyFile, VERSION};
+pub use tally::{
+    cells_counted, cells_cover, cells_progress, cells_todo, fill_cells, fill_trials, runs,
+    trials_progress, trials_todo,
+};

@@ -4,8 +4,12 @@
 
 use super::count_file::{CountFile, Todo, covers};
 use super::files::{read_checked, write_atomic};
-use crate::adaptive::{Adaptive, CellCounts, run_cells};
-use crate::basin::{Classifier, Counts, Progress, Study, run, shard_range, share};
+use super::tally::{
+    cells_counted, cells_cover, cells_progress, cells_todo, fill_cells, fill_trials,
+    trials_progress, trials_todo,
+};
+use crate::adaptive::{Adaptive, CellCounts};
+use crate::basin::{Classifier, Counts, Progress, Study, shard_range};
 use crate::{Error, Result};
 use serde::{Deserialize, Serialize};
 use std::ops::Range;
@@ -224,19 +228,6 @@ impl<C: Classifier> StudyFile<C> {
     }
 }
 
-/// Ranges of consecutive cells.
-fn runs(cells: &[usize]) -> Vec<Range<u64>> {
-    let mut out: Vec<Range<u64>> = Vec::new();
-    for &c in cells {
-        let c = c as u64;
-        match out.last_mut() {
-            Some(r) if r.end == c => r.end = c + 1,
-            _ => out.push(c..c + 1),
-        }
-    }
-    out
-}
-
 impl<C> CountFile for StudyFile<C>
 where
     C: Classifier + Clone + PartialEq + Serialize + serde::de::DeserializeOwned,
@@ -248,20 +239,8 @@ where
     /// Trials counted and trials of the shard; by cells: cells settled and cells of the shard.
     fn progress(&self) -> (u64, u64) {
         match &self.plan {
-            Plan::Trials { counts, .. } => {
-                let range = self.range();
-                let missing: u64 = counts
-                    .missing(range.clone())
-                    .iter()
-                    .map(|r| r.end - r.start)
-                    .sum();
-                (range.end - range.start - missing, range.end - range.start)
-            }
-            Plan::Cells { counts, .. } => {
-                let cells = self.cell_range();
-                let settled = cells.len() - counts.unsettled(cells.clone()).len();
-                (settled as u64, cells.len() as u64)
-            }
+            Plan::Trials { counts, .. } => trials_progress(counts, self.range()),
+            Plan::Cells { counts, .. } => cells_progress(counts, self.cell_range()),
         }
     }
     fn shard(&self) -> (u64, u64) {
@@ -280,11 +259,10 @@ where
         )
     }
     fn todo(&self, part: (u64, u64)) -> Result<Todo> {
-        let ranges = match &self.plan {
-            Plan::Trials { counts, .. } => counts.missing(self.range()),
-            Plan::Cells { counts, .. } => runs(&counts.unsettled(self.cell_range())),
-        };
-        Ok(vec![share(&ranges, part.0, part.1)?])
+        match &self.plan {
+            Plan::Trials { counts, .. } => trials_todo(counts, self.range(), part),
+            Plan::Cells { counts, .. } => cells_todo(counts, self.cell_range(), part),
+        }
     }
     fn planned_trials(&self, todo: &Todo) -> Option<u64> {
         match self.plan {
@@ -295,34 +273,14 @@ where
     fn counted_trials(&self) -> u64 {
         match &self.plan {
             Plan::Trials { .. } => self.progress().0,
-            Plan::Cells { counts, .. } => counts.trials[self.cell_range()].iter().sum(),
+            Plan::Cells { counts, .. } => cells_counted(counts, self.cell_range()),
         }
     }
     fn fill(&mut self, todo: &[Vec<Range<u64>>], progress: &Progress) -> Result<()> {
-        let ranges = todo.iter().flatten();
+        let study = (&self.study, &self.classifier);
         match &mut self.plan {
-            Plan::Trials { counts, .. } => {
-                for r in ranges {
-                    if progress.stopping() {
-                        break;
-                    }
-                    counts.merge(&run(&self.study, &self.classifier, r.clone(), progress)?)?;
-                }
-                Ok(())
-            }
-            Plan::Cells { rule, counts } => {
-                let cells: Vec<usize> = ranges
-                    .flat_map(|r| r.start as usize..r.end as usize)
-                    .collect();
-                run_cells(
-                    &self.study,
-                    &self.classifier,
-                    rule,
-                    counts,
-                    &cells,
-                    progress,
-                )
-            }
+            Plan::Trials { counts, .. } => fill_trials(study, counts, todo, progress),
+            Plan::Cells { rule, counts } => fill_cells(study, rule, counts, todo, progress),
         }
     }
     /// Trials: nothing counted. Cells: the file itself (a cell's longer record wins a merge,
@@ -372,9 +330,7 @@ where
             (Plan::Trials { counts: a, .. }, Plan::Trials { counts: b, .. }) => {
                 covers(a, b, &self.range())
             }
-            (Plan::Cells { counts: a, .. }, Plan::Cells { counts: b, .. }) => {
-                a.trials.iter().zip(&b.trials).all(|(x, y)| x >= y)
-            }
+            (Plan::Cells { counts: a, .. }, Plan::Cells { counts: b, .. }) => cells_cover(a, b),
             _ => false,
         }
     }

@@ -4,7 +4,7 @@
 //! files, `--resume`, `merge` and MPI as the other sampling runs).
 
 use super::basin_file::write_basin;
-use super::driver::{CELL_BATCH, runs};
+use super::driver::CELL_BATCH;
 use super::driver::{CountFile, Todo};
 use super::driver::{count_paths, read_count_file, write_count_file};
 use crate::basin::classifier;
@@ -13,8 +13,9 @@ use crate::error::{Error, Result};
 use crate::figures::sampling::sample_err;
 use crate::output::OutDir;
 use crate::provenance::Provenance;
-use hycont_sample::adaptive::{Adaptive, CellCounts, run_cells};
-use hycont_sample::basin::{Counts, Progress, Study, shard_range, share};
+use hycont_sample::adaptive::{Adaptive, CellCounts};
+use hycont_sample::basin::{Counts, Progress, Study, shard_range};
+use hycont_sample::study::{cells_counted, cells_cover, cells_progress, cells_todo, fill_cells};
 use std::path::{Path, PathBuf};
 
 /// A basin run sampled cell by cell, whole or one shard of its cells.
@@ -108,9 +109,7 @@ impl CountFile for BasinCellFile {
         "basin".into()
     }
     fn progress(&self) -> (u64, u64) {
-        let cells = self.cells();
-        let open = self.table.unsettled(cells.clone()).len();
-        ((cells.len() - open) as u64, cells.len() as u64)
+        cells_progress(&self.table, self.cells())
     }
     fn shard(&self) -> (u64, u64) {
         self.shard
@@ -119,28 +118,21 @@ impl CountFile for BasinCellFile {
         count_paths(dir, "basin", self.shard)
     }
     fn todo(&self, part: (u64, u64)) -> Result<Todo> {
-        let open = runs(&self.table.unsettled(self.cells()));
-        Ok(vec![share(&open, part.0, part.1).map_err(sample_err)?])
+        Ok(cells_todo(&self.table, self.cells(), part)?)
     }
     fn planned_trials(&self, _: &Todo) -> Option<u64> {
         None
     }
     fn counted_trials(&self) -> u64 {
-        self.table.trials[self.cells()].iter().sum()
+        cells_counted(&self.table, self.cells())
     }
     fn fill(&mut self, todo: &[Vec<std::ops::Range<u64>>], progress: &Progress) -> Result<()> {
-        let cells: Vec<usize> = todo
-            .iter()
-            .flatten()
-            .flat_map(|r| r.start as usize..r.end as usize)
-            .collect();
         let c = classifier(&self.block);
-        run_cells(
-            &self.study,
-            &c,
+        fill_cells(
+            (&self.study, &c),
             &self.rule,
             &mut self.table,
-            &cells,
+            todo,
             progress,
         )
         .map_err(sample_err)
@@ -170,12 +162,7 @@ impl CountFile for BasinCellFile {
     fn subsumes(&self, other: &Self) -> bool {
         (&self.study, self.rule, self.shard, self.block)
             == (&other.study, other.rule, other.shard, other.block)
-            && self
-                .table
-                .trials
-                .iter()
-                .zip(&other.table.trials)
-                .all(|(x, y)| x >= y)
+            && cells_cover(&self.table, &other.table)
     }
 }
 

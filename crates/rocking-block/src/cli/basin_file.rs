@@ -9,7 +9,8 @@ use crate::block::Block;
 use crate::error::{Error, Result};
 use crate::output::OutDir;
 use crate::provenance::Provenance;
-use hycont_sample::basin::{Counts, Distribution, Progress, Study, run};
+use hycont_sample::basin::{Counts, Distribution, Progress, Study};
+use hycont_sample::study::{fill_trials, trials_progress, trials_todo};
 use std::path::{Path, PathBuf};
 
 /// The counts of a basin run over one shard of its trials, complete or not.
@@ -102,15 +103,7 @@ impl CountFile for BasinFile {
         "basin".into()
     }
     fn progress(&self) -> (u64, u64) {
-        let range = self.range();
-        let missing: u64 = self
-            .counts
-            .missing(range.clone())
-            .iter()
-            .map(|r| r.end - r.start)
-            .sum();
-        let per = range.end - range.start;
-        (per - missing, per)
+        trials_progress(&self.counts, self.range())
     }
     fn shard(&self) -> (u64, u64) {
         self.shard
@@ -119,22 +112,12 @@ impl CountFile for BasinFile {
         count_paths(dir, "basin", self.shard)
     }
     fn todo(&self, part: (u64, u64)) -> Result<Todo> {
-        let missing = self.counts.missing(self.range());
-        Ok(vec![
-            hycont_sample::basin::share(&missing, part.0, part.1)
-                .map_err(crate::figures::sampling::sample_err)?,
-        ])
+        Ok(trials_todo(&self.counts, self.range(), part)?)
     }
     fn fill(&mut self, todo: &[Vec<std::ops::Range<u64>>], progress: &Progress) -> Result<()> {
         let c = classifier(&self.block);
-        for r in todo.iter().flatten() {
-            let counted = run(&self.study, &c, r.clone(), progress)
-                .map_err(crate::figures::sampling::sample_err)?;
-            self.counts
-                .merge(&counted)
-                .map_err(crate::figures::sampling::sample_err)?;
-        }
-        Ok(())
+        fill_trials((&self.study, &c), &mut self.counts, todo, progress)
+            .map_err(crate::figures::sampling::sample_err)
     }
     fn cleared(&self) -> Self {
         BasinFile {

@@ -15,6 +15,7 @@ use crate::output::OutDir;
 use crate::provenance::Provenance;
 use hycont_sample::adaptive::{Adaptive, CellCounts};
 use hycont_sample::basin::{Progress, shard_range, share};
+use hycont_sample::study::{cells_counted, cells_cover, cells_progress};
 use std::path::{Path, PathBuf};
 
 /// An adaptively sampled Fig. 9, whole or one shard of its cells.
@@ -110,12 +111,9 @@ impl CountFile for CellFile {
     /// Settled cells and cells of the shard, over both tables.
     fn progress(&self) -> (u64, u64) {
         let cells = self.cells();
-        let settled = self
-            .tables
-            .iter()
-            .map(|t| (cells.len() - t.unsettled(cells.clone()).len()) as u64)
-            .sum();
-        (settled, (cells.len() * self.tables.len()) as u64)
+        (self.tables.iter())
+            .map(|t| cells_progress(t, cells.clone()))
+            .fold((0, 0), |(a, b), (c, d)| (a + c, b + d))
     }
     fn shard(&self) -> (u64, u64) {
         self.shard
@@ -135,9 +133,8 @@ impl CountFile for CellFile {
     }
     fn counted_trials(&self) -> u64 {
         let cells = self.cells();
-        self.tables
-            .iter()
-            .map(|t| t.trials[cells.clone()].iter().sum::<u64>())
+        (self.tables.iter())
+            .map(|t| cells_counted(t, cells.clone()))
             .sum()
     }
     fn fill(&mut self, todo: &[Vec<std::ops::Range<u64>>], progress: &Progress) -> Result<()> {
@@ -191,11 +188,9 @@ impl CountFile for CellFile {
                 other.shard,
                 other.block,
             )
-            && self
-                .tables
-                .iter()
+            && (self.tables.iter())
                 .zip(&other.tables)
-                .all(|(a, b)| a.trials.iter().zip(&b.trials).all(|(x, y)| x >= y))
+                .all(|(a, b)| cells_cover(a, b))
     }
 }
 

@@ -232,18 +232,7 @@ pub(super) fn write_count_file(file: &impl serde::Serialize, path: &Path) -> Res
     crate::output::write_atomic(path, text)
 }
 
-/// Ranges of consecutive cells.
-pub(super) fn runs(cells: &[usize]) -> Vec<std::ops::Range<u64>> {
-    let mut out: Vec<std::ops::Range<u64>> = Vec::new();
-    for &c in cells {
-        let c = c as u64;
-        match out.last_mut() {
-            Some(r) if r.end == c => r.end = c + 1,
-            _ => out.push(c..c + 1),
-        }
-    }
-    out
-}
+pub(super) use hycont_sample::study::runs;
 
 /// Trials per cell and round of the runs sampled cell by cell (Fig. 9, `basin --halfwidth`): a cell of one class meets the
 /// default half-width 0.1 after one batch (the Wilson half-width of 0 of 16 is 0.097).
