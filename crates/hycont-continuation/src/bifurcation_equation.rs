@@ -102,18 +102,11 @@ mod tests {
     use crate::PointInfo;
     use hycont_core::problem::{Problem, ZeroFunction};
 
-    /// $F(x, \lambda) = x (x - c \lambda)$: the branches $x = 0$ and $x = c \lambda$ cross at
-    /// the origin at the angle $\arctan c$ (not a right angle for $c \ne 0$). $J(0) = 0$, so
-    /// the null space is the plane and $\psi = 1$; $F_{xx} = 2$, $F_{x\lambda} = -c$,
-    /// $F_{\lambda\lambda} = 0$. With the known tangent $(0, 1)$ (the branch $x = 0$) and
-    /// $\varphi_2 = (1, 0)$: $a_{12} = -c$, $a_{22} = 2$, and the second tangent is
-    /// $\propto -2 (0, 1) - 2c (1, 0)$, i.e. $(c, 1) / \sqrt{1 + c^2}$ oriented along
-    /// $\varphi_2$.
-    struct Crossing {
-        c: f64,
-    }
+    /// One scalar equation $F(x, \lambda)$, given with its partial derivatives as
+    /// `(F, F_x, F_lambda)`.
+    struct Scalar(Box<dyn Fn(f64, f64) -> (f64, f64, f64)>);
 
-    impl ZeroFunction for Crossing {
+    impl ZeroFunction for Scalar {
         fn unknowns(&self) -> usize {
             2
         }
@@ -129,13 +122,23 @@ mod tests {
             r: &mut [f64],
             j: Option<&mut [f64]>,
         ) -> hycont_core::Result<()> {
-            r[0] = u[0] * (u[0] - self.c * u[1]);
+            let (f, fx, fl) = (self.0)(u[0], u[1]);
+            r[0] = f;
             if let Some(j) = j {
-                j[0] = 2.0 * u[0] - self.c * u[1];
-                j[1] = -self.c * u[0];
+                j[0] = fx;
+                j[1] = fl;
             }
             Ok(())
         }
+    }
+
+    /// The continuation problem of `f` (unknowns $x$, $\lambda$).
+    fn toy(f: impl Fn(f64, f64) -> (f64, f64, f64) + 'static) -> Toy<'static> {
+        let mut problem = Problem::new(2);
+        problem
+            .add_part(Box::new(Scalar(Box::new(f))), vec![0, 1])
+            .unwrap();
+        Toy(problem)
     }
 
     struct Toy<'a>(Problem<'a>);
@@ -171,14 +174,17 @@ mod tests {
         }
     }
 
+    /// $F(x, \lambda) = x (x - c \lambda)$: the branches $x = 0$ and $x = c \lambda$ cross at
+    /// the origin at the angle $\arctan c$ (not a right angle for $c \ne 0$). $J(0) = 0$, so
+    /// the null space is the plane and $\psi = 1$; $F_{xx} = 2$, $F_{x\lambda} = -c$,
+    /// $F_{\lambda\lambda} = 0$. With the known tangent $(0, 1)$ (the branch $x = 0$) and
+    /// $\varphi_2 = (1, 0)$: $a_{12} = -c$, $a_{22} = 2$, and the second tangent is
+    /// $\propto -2 (0, 1) - 2c (1, 0)$, i.e. $(c, 1) / \sqrt{1 + c^2}$ oriented along
+    /// $\varphi_2$.
     #[test]
     fn the_second_tangent_of_a_crossing_at_any_angle() {
         for c in [0.3, -2.0, 5.0] {
-            let mut problem = Problem::new(2);
-            problem
-                .add_part(Box::new(Crossing { c }), vec![0, 1])
-                .unwrap();
-            let mut toy = Toy(problem);
+            let mut toy = toy(move |x, l| (x * (x - c * l), 2.0 * x - c * l, -c * x));
             let t = second_branch_tangent(&mut toy, &[0.0, 0.0], &[0.0, 1.0], &[1.0, 0.0]).unwrap();
             let norm = (1.0 + c * c).sqrt();
             let expected = [c.abs() / norm, c.signum() / norm];
@@ -189,66 +195,26 @@ mod tests {
         }
     }
 
-    /// $F = x (x^2 - \lambda)$ with the parameter's copy $\mu$, or $F = x^2$ (`double`): at a
+    /// $F = x (x^2 - \lambda)$ or $F = x^2$ (`double`): at a
     /// pitchfork the second tangent of the known branch $x^2 = \lambda$ (tangent $(1, 0)$) is
     /// the trivial branch's $(0, 1)$ ($a_{12} = F_{x\lambda} = -1$, $a_{22} = F_{\lambda\lambda}
     /// = 0$); for $F = x^2$ the line $x = 0$ is a double root ($a_{12} = 0$, $a_{22} = 2$): no
     /// transversal crossing, a typed error.
-    struct Fork {
-        double: bool,
-    }
-
-    impl ZeroFunction for Fork {
-        fn unknowns(&self) -> usize {
-            2
-        }
-        fn equations(&self) -> usize {
-            1
-        }
-        fn jacobian_pattern(&self) -> Vec<(usize, usize)> {
-            vec![(0, 0), (0, 1)]
-        }
-        fn evaluate(
-            &mut self,
-            u: &[f64],
-            r: &mut [f64],
-            j: Option<&mut [f64]>,
-        ) -> hycont_core::Result<()> {
-            let (x, l) = (u[0], u[1]);
-            r[0] = if self.double { x * x } else { x * (x * x - l) };
-            if let Some(j) = j {
-                j[0] = if self.double {
-                    2.0 * x
-                } else {
-                    3.0 * x * x - l
-                };
-                j[1] = if self.double { 0.0 } else { -x };
-            }
-            Ok(())
-        }
-    }
-
     #[test]
     fn a_pitchfork_and_a_double_root() {
-        let toy = |double| {
-            let mut problem = Problem::new(2);
-            problem
-                .add_part(Box::new(Fork { double }), vec![0, 1])
-                .unwrap();
-            Toy(problem)
-        };
-        let t =
-            second_branch_tangent(&mut toy(false), &[0.0, 0.0], &[1.0, 0.0], &[0.0, 1.0]).unwrap();
+        let fork = || toy(|x, l| (x * (x * x - l), 3.0 * x * x - l, -x));
+        let double = || toy(|x, _| (x * x, 2.0 * x, 0.0));
+        let t = second_branch_tangent(&mut fork(), &[0.0, 0.0], &[1.0, 0.0], &[0.0, 1.0]).unwrap();
         assert!(t[0].abs() < 1e-9 && (t[1] - 1.0).abs() < 1e-9, "{t:?}");
         // Singular along the whole line: no left null vector either.
-        let e = second_branch_tangent(&mut toy(true), &[0.0, 0.0], &[0.0, 1.0], &[1.0, 0.0]);
+        let e = second_branch_tangent(&mut double(), &[0.0, 0.0], &[0.0, 1.0], &[1.0, 0.0]);
         assert!(
             matches!(e, Err(Error::SwitchFailed { .. } | Error::Core(_))),
             "{e:?}"
         );
         // Off the line's singular point the left null vector exists and the quadratic is
         // degenerate: a12 = 0, a22 = 2.
-        let e = second_branch_tangent(&mut toy(true), &[1e-3, 0.0], &[0.0, 1.0], &[1.0, 0.0]);
+        let e = second_branch_tangent(&mut double(), &[1e-3, 0.0], &[0.0, 1.0], &[1.0, 0.0]);
         assert!(matches!(e, Err(Error::SwitchFailed { .. })), "{e:?}");
     }
 }

@@ -111,10 +111,27 @@ pub fn split_at_grazing<S: HybridJacobians + ?Sized>(
     segments.extend_from_slice(&orbit.signature.segments()[k + 1..]);
     starts.extend_from_slice(&orbit.starts[k + 1..]);
     durations.extend_from_slice(&orbit.durations[k + 1..]);
+    assembled(
+        system,
+        orbit,
+        (segments, starts, durations),
+        (k, zero_length),
+    )
+}
+
+/// The split orbit from its pieces (the impact ending segment `k`, the zero-length flight's
+/// index).
+fn assembled<S: HybridJacobians + ?Sized>(
+    system: &S,
+    orbit: &PeriodicOrbit,
+    (segments, starts, durations): (Vec<SegmentSpec>, Vec<Vec<f64>>, Vec<f64>),
+    (impact_segment, zero_length): (usize, Option<usize>),
+) -> Result<GrazingSplit> {
     let signature = Signature::with_closure(system, segments, orbit.signature.closure())?;
+    let params = orbit.params.clone();
     Ok(GrazingSplit {
-        orbit: PeriodicOrbit::new(system, signature, starts, durations, p.clone())?,
-        impact_segment: k,
+        orbit: PeriodicOrbit::new(system, signature, starts, durations, params)?,
+        impact_segment,
         zero_length,
     })
 }
@@ -189,12 +206,12 @@ fn split_at_end<S: HybridJacobians + ?Sized>(
     starts.push(resume);
     starts.extend_from_slice(&orbit.starts[k + 2..]);
     durations.extend_from_slice(&orbit.durations[k + 1..]);
-    let signature = Signature::with_closure(system, segments, orbit.signature.closure())?;
-    Ok(GrazingSplit {
-        orbit: PeriodicOrbit::new(system, signature, starts, durations, p.clone())?,
-        impact_segment: k,
-        zero_length,
-    })
+    assembled(
+        system,
+        orbit,
+        (segments, starts, durations),
+        (k, zero_length),
+    )
 }
 
 /// After the impact by `event` that ends segment `k` in `mode` and leaves the state `after`:
