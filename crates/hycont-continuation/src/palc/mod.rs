@@ -297,25 +297,6 @@ impl<'p, 'a, P: ContinuationProblem<'a> + ?Sized> Palc<'p, 'a, P> {
     /// (arclength along the step, slot, chart, located, accuracy), in the order of the step.
     /// Branch points first: a fold test change next to a located one is the branch point's.
     ///
-    /// For a bound's slot, the sign its test function (value minus level) has inside the
-    /// window: `+1` at its minimum, `-1` at its maximum; `None` for other slots.
-    fn inside_sign(&self, slot: usize) -> Option<f64> {
-        let Slot::Bound { level, on, .. } = self.slots[slot] else {
-            return None;
-        };
-        // A bound's two slots are adjacent: its minimum, then its maximum.
-        let partner =
-            [slot.wrapping_sub(1), slot + 1]
-                .into_iter()
-                .find_map(|k| match self.slots.get(k) {
-                    Some(&Slot::Bound {
-                        on: o, level: l, ..
-                    }) if o == on => Some(l),
-                    _ => None,
-                })?;
-        Some(if level <= partner { 1.0 } else { -1.0 })
-    }
-
     /// From a singular start (`from_singular`: the first step of a run along a given
     /// direction, which starts at a branch point, period doubling or grazing) the fold and
     /// branch-point tests are not watched, they vanish at the start itself, and neither are

@@ -141,6 +141,25 @@ fn pair_product(nt: &[(f64, f64)]) -> f64 {
 }
 
 impl<'a, P: ContinuationProblem<'a> + ?Sized> Palc<'_, 'a, P> {
+    /// For a bound's slot, the sign its test function (value minus level) has inside the
+    /// window: `+1` at its minimum, `-1` at its maximum; `None` for other slots.
+    pub(super) fn inside_sign(&self, slot: usize) -> Option<f64> {
+        let Slot::Bound { level, on, .. } = self.slots[slot] else {
+            return None;
+        };
+        // A bound's two slots are adjacent: its minimum, then its maximum.
+        let partner =
+            [slot.wrapping_sub(1), slot + 1]
+                .into_iter()
+                .find_map(|k| match self.slots.get(k) {
+                    Some(&Slot::Bound {
+                        on: o, level: l, ..
+                    }) if o == on => Some(l),
+                    _ => None,
+                })?;
+        Some(if level <= partner { 1.0 } else { -1.0 })
+    }
+
     pub(super) fn tests(&self, c: &Chart, det_ref: f64) -> Tests {
         let pi = self.p.parameter_index();
         let values = self

@@ -141,51 +141,7 @@ pub fn join_at_grazing<S: HybridJacobians + ?Sized>(
         )?
         .state_final;
     let (segments, starts, durations) = match span {
-        Span::Between(first, last) => {
-            if specs[first].mode != specs[last].mode {
-                return Err(invalid(
-                    first,
-                    &format!(
-                        "the segment after the grazing (segment {last}) is in {}, not in {}: nothing to join",
-                        specs[last].mode, specs[first].mode
-                    ),
-                ));
-            }
-            check_unmoved(first, last, &arrived, &orbit.starts[last])?;
-            let mode = specs[first].mode;
-            let mut segments = specs[..first].to_vec();
-            let mut starts = orbit.starts[..=first].to_vec();
-            let mut durations = orbit.durations[..first].to_vec();
-            let removed: Vec<SegmentEnd> = specs[first..last].iter().map(|s| s.end).collect();
-            match crossed_identity_event(system, orbit, mode, &arrived, &removed) {
-                // The flow crosses an identity event of its mode where the impact was (e.g.
-                // the extremum a signature splits at): the segments end there instead.
-                Some(e) => {
-                    segments.push(SegmentSpec {
-                        mode,
-                        end: SegmentEnd::Event(e),
-                    });
-                    segments.push(SegmentSpec {
-                        mode,
-                        end: specs[last].end,
-                    });
-                    starts.push(orbit.starts[last].clone());
-                    durations.push(orbit.durations[first]);
-                    durations.push(orbit.durations[first + 1..=last].iter().sum());
-                }
-                None => {
-                    segments.push(SegmentSpec {
-                        mode,
-                        end: specs[last].end,
-                    });
-                    durations.push(orbit.durations[first..=last].iter().sum());
-                }
-            }
-            segments.extend_from_slice(&specs[last + 1..]);
-            starts.extend_from_slice(&orbit.starts[last + 1..]);
-            durations.extend_from_slice(&orbit.durations[last + 1..]);
-            (segments, starts, durations)
-        }
+        Span::Between(first, last) => join_between(system, orbit, (first, last), &arrived)?,
         Span::Whole(first) => {
             let removed: Vec<SegmentEnd> = specs.iter().map(|s| s.end).collect();
             let mode = specs[first].mode;
@@ -215,6 +171,63 @@ pub fn join_at_grazing<S: HybridJacobians + ?Sized>(
         },
         removed,
     })
+}
+
+/// A new orbit's segments, starts and durations.
+type Pieces = (Vec<SegmentSpec>, Vec<Vec<f64>>, Vec<f64>);
+
+/// The pieces of the orbit with segments `first` and `last` (and the zero-length segments
+/// between) joined, from segment `first`'s flow, which arrives at `arrived`.
+fn join_between<S: HybridJacobians + ?Sized>(
+    system: &S,
+    orbit: &PeriodicOrbit,
+    (first, last): (usize, usize),
+    arrived: &[f64],
+) -> Result<Pieces> {
+    let specs = orbit.signature.segments();
+    if specs[first].mode != specs[last].mode {
+        return Err(invalid(
+            first,
+            &format!(
+                "the segment after the grazing (segment {last}) is in {}, not in {}: nothing to join",
+                specs[last].mode, specs[first].mode
+            ),
+        ));
+    }
+    check_unmoved(first, last, arrived, &orbit.starts[last])?;
+    let mode = specs[first].mode;
+    let mut segments = specs[..first].to_vec();
+    let mut starts = orbit.starts[..=first].to_vec();
+    let mut durations = orbit.durations[..first].to_vec();
+    let removed: Vec<SegmentEnd> = specs[first..last].iter().map(|s| s.end).collect();
+    match crossed_identity_event(system, orbit, mode, arrived, &removed) {
+        // The flow crosses an identity event of its mode where the impact was (e.g.
+        // the extremum a signature splits at): the segments end there instead.
+        Some(e) => {
+            segments.push(SegmentSpec {
+                mode,
+                end: SegmentEnd::Event(e),
+            });
+            segments.push(SegmentSpec {
+                mode,
+                end: specs[last].end,
+            });
+            starts.push(orbit.starts[last].clone());
+            durations.push(orbit.durations[first]);
+            durations.push(orbit.durations[first + 1..=last].iter().sum());
+        }
+        None => {
+            segments.push(SegmentSpec {
+                mode,
+                end: specs[last].end,
+            });
+            durations.push(orbit.durations[first..=last].iter().sum());
+        }
+    }
+    segments.extend_from_slice(&specs[last + 1..]);
+    starts.extend_from_slice(&orbit.starts[last + 1..]);
+    durations.extend_from_slice(&orbit.durations[last + 1..]);
+    Ok((segments, starts, durations))
 }
 
 /// An event of `mode` other than the `removed` ends whose surface the flow crosses at the
