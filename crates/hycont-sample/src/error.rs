@@ -59,6 +59,15 @@ pub enum Error {
         /// What failed.
         reason: String,
     },
+    /// A study's variable or axis given as text does not parse
+    /// ([`crate::basin::Distribution`]'s `FromStr`, [`crate::basin::Axis::parse`]).
+    #[error("{spec:?}: {reason}")]
+    InvalidSpec {
+        /// The text.
+        spec: String,
+        /// What is wrong with it.
+        reason: &'static str,
+    },
     /// Count tables cannot be merged.
     #[error("cannot merge counts: {reason}")]
     IncompatibleCounts {

@@ -38,6 +38,7 @@ pub mod basin;
 pub mod classify;
 pub mod error;
 pub mod rng;
+mod spec;
 mod split;
 mod strobe_newton;
 pub mod study;

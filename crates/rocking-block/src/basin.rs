@@ -6,9 +6,12 @@
 use crate::block::Block;
 use crate::classes::{Class, RockingClassifier, base_class};
 use crate::error::{Error, Result};
+use crate::output::OutDir;
+use crate::provenance::Provenance;
 use hycont_sample::basin::{Axis, Counts, Distribution, Study};
 use serde_json::{Value, json};
 use std::f64::consts::FRAC_PI_2;
+use std::path::PathBuf;
 
 /// The trial variables in the order the classifier reads them.
 pub const VARIABLES: [&str; 5] = ["omega", "alpha", "beta", "phi0", "psi0"];
@@ -183,4 +186,54 @@ pub fn result_csv(study: &Study, counts: &Counts) -> String {
         text += &(row.join(",") + "\n");
     }
     text
+}
+
+/// Writes a basin's files: `basin.json` (the result with `provenance`, completed with the
+/// block and seed, and amended by `extra`), `basin.csv` and the picture.
+///
+/// # Errors
+/// [`Error::Io`] naming a file that cannot be written.
+pub fn write_basin(
+    out: &OutDir,
+    study: &Study,
+    block: &Block,
+    counts: &Counts,
+    provenance: Provenance,
+    extra: impl FnOnce(&mut serde_json::Value),
+) -> Result<Vec<PathBuf>> {
+    let provenance = provenance.with_block(*block).with_seed(study.seed);
+    let json_path = out.join("basin.json");
+    let mut value = result_json(study, counts);
+    extra(&mut value);
+    crate::figures::write_json(&json_path, &provenance.insert_into(value))?;
+    let csv_path = out.join("basin.csv");
+    crate::output::write_atomic(&csv_path, result_csv(study, counts))?;
+    let title = title(study, block, counts);
+    let pictures = out.picture("basin", |p| {
+        crate::plot::basin_svg(p, &title, study, &folded(counts))
+    })?;
+    Ok([vec![json_path, csv_path], pictures].concat())
+}
+
+/// The picture's title: the fixed variables and the block.
+fn title(study: &Study, block: &Block, counts: &Counts) -> String {
+    let fixed: Vec<String> = study
+        .names
+        .iter()
+        .zip(&study.variables)
+        .filter_map(|(n, d)| match d {
+            Distribution::Fixed(v) => Some(format!("{n} = {v}")),
+            Distribution::Uniform { .. } => None,
+        })
+        .collect();
+    let trials: u64 = (0..counts.counts.len()).map(|c| counts.trials(c)).sum();
+    let at = if fixed.is_empty() {
+        String::new()
+    } else {
+        format!(" at {}", fixed.join(", "))
+    };
+    format!(
+        "basin stability{at}; theta_b = {}, xi = {} ({trials} trials)",
+        block.theta_b, block.xi
+    )
 }

@@ -1,8 +1,8 @@
 //! `mpirun -n 2 rocking-block figure|basin ...` (feature `mpi`; needs `mpirun` on PATH): the
 //! ranks split the trials, rank 0 writes byte for byte what one process writes (same command
 //! line, so even the provenance agrees; Fig. 9 sampled cell by cell too), shards and resumed
-//! runs split alike, an interrupt of
-//! the ranks keeps every trial counted, and the other commands refuse to run on several ranks.
+//! runs split alike, an interrupt of the ranks (or of one of them: it stops them all) keeps
+//! every trial counted, and the other commands refuse to run on several ranks.
 //! Run with `cargo test --release -p rocking-block --features mpi --test mpi`.
 #![cfg(feature = "mpi")]
 
@@ -171,6 +171,75 @@ fn rank_pid(cwd: &Path, rank: u32) -> Option<u32> {
         let ours = here == cwd && env.split(|b| *b == 0).any(|v| v == want.as_bytes());
         ours.then_some(pid)
     })
+}
+
+/// A signal to one rank alone (SIGINT to rank 1; rank 0 and `mpirun` get none) stops the
+/// whole job at the end of the round: the ranks agree after every round whether any of them
+/// stops, rank 0 gathers both ranks' counts and keeps them in the partial file (trials of
+/// rank 0's half, below 50,000, and of rank 1's) and exits 1 as interrupted; the resumed run
+/// completes it.
+#[test]
+fn a_signal_to_one_rank_stops_the_whole_job() {
+    let dir = scratch("mpi-signal");
+    let m = dir.join("mpi");
+    let mut job = mpirun(
+        &m,
+        &[
+            "figure", "10", "--trials", "100000", "--seed", "4", "--out", "res",
+        ],
+    )
+    .stdout(std::process::Stdio::null())
+    .stderr(std::process::Stdio::piped())
+    .spawn()
+    .expect("mpirun runs (install an MPI: see the README)");
+    let checkpoint = m.join("res/fig10.rank-1-of-2.checkpoint.json");
+    while !checkpoint.exists() {
+        assert!(job.try_wait().unwrap().is_none(), "the job ended first");
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+    let pid = rank_pid(&m.canonicalize().unwrap(), 1).expect("rank 1's process");
+    Command::new("kill")
+        .args(["-INT", &pid.to_string()])
+        .run_ok();
+    let out = job.wait_with_output().unwrap();
+    assert_eq!(out.status.code(), Some(1));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("interrupted") && err.contains("fig10.partial.json"),
+        "{err}"
+    );
+    assert!(!m.join("res/fig10.json").exists());
+    let partial: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(m.join("res/fig10.partial.json")).unwrap())
+            .unwrap();
+    let ranges: Vec<(u64, u64)> = partial["counts"][0]["ranges"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|r| (r[0].as_u64().unwrap(), r[1].as_u64().unwrap()))
+        .collect();
+    let counted: u64 = ranges.iter().map(|(a, b)| b - a).sum();
+    assert!(ranges.iter().any(|r| r.0 < 50_000) && ranges.iter().any(|r| r.0 >= 50_000));
+    assert!(counted < 100_000, "{counted} trials: the job did not stop");
+    // Rank 0, not signalled, stopped too (at the same round): its half is incomplete.
+    let rank0: u64 = ranges
+        .iter()
+        .map(|(a, b)| b.min(&50_000).saturating_sub(*a))
+        .sum();
+    assert!(rank0 < 50_000, "rank 0 counted all of its {rank0} trials");
+    mpirun(
+        &m,
+        &[
+            "figure",
+            "--resume",
+            "res/fig10.partial.json",
+            "--out",
+            "res",
+        ],
+    )
+    .run_ok();
+    assert!(m.join("res/fig10.json").exists());
+    std::fs::remove_dir_all(&dir).ok();
 }
 
 /// A rank killed outright (SIGKILL: no signal handler runs, `mpirun` ends the job, rank 0

@@ -2,10 +2,16 @@
 //! kept and resumed, shards merged with full validation, and the trials split across the
 //! ranks of an MPI job (cargo feature `mpi`), for any study a [`CountFile`] describes.
 //!
-//! [`StudyFile`] is the [`CountFile`] of a study of any [`crate::basin::Classifier`] (over
-//! trials, or cell by cell to a stopping rule). A [`CountFile`] is what a study has counted so far over its shard of the trials (its
+//! A [`CountFile`] is what a study has counted so far over its shard of the trials (its
 //! tables, which trials they hold, the seed they were drawn from): what [`sample`] fills and
-//! writes, what [`merge`] joins. Results depend only on the study's seed, never on threads,
+//! writes, what [`merge`] joins. Three ways to have one:
+//! - [`StudyFile`]: the file of a study of any [`crate::basin::Classifier`] (over trials, or
+//!   cell by cell to a stopping rule), in this crate's documented layout;
+//! - a [`TableFile`]: a driver's own file of one or more count tables ([`Table`]: over trials
+//!   or cells) in its own layout (its fields, names and order), which says only what is its
+//!   own (its study, how it counts, its checks) and gets the bookkeeping, checks and merging
+//!   from its tables (the `rocking-block` command line's four files are);
+//! - [`CountFile`] itself, for anything else. Results depend only on the study's seed, never on threads,
 //! shards or ranks: a trial's inputs are a function of its index ([`crate::basin::Study`]),
 //! and counts merge exactly ([`crate::basin::Counts::merge`]).
 //!
@@ -41,6 +47,7 @@ mod ranks;
 mod request;
 mod run;
 mod study_file;
+mod table_file;
 mod tally;
 
 pub use checkpoint::{ROUNDS, checkpoint_path, fill_in_rounds, remove_checkpoints, rounds};
@@ -52,7 +59,5 @@ pub use ranks::start_mpi;
 pub use request::{Invocation, Request, serve};
 pub use run::{Outcome, merge, partial_path, sample};
 pub use study_file::{FORMAT, MAX_TRIALS, Plan, StudyFile, VERSION};
-pub use tally::{
-    cells_counted, cells_cover, cells_progress, cells_todo, fill_cells, fill_trials, runs,
-    trials_progress, trials_todo,
-};
+pub use table_file::{TableFile, shard_paths};
+pub use tally::{Table, fill_cells, fill_trials, runs};

@@ -2,18 +2,13 @@
 //! cell by cell to a stopping rule, whole or one shard: the [`CountFile`] a user's study
 //! hands the runner without writing one of its own.
 
-use super::count_file::{CountFile, Todo, covers};
-use super::files::{read_checked, write_atomic};
-use super::tally::{
-    cells_counted, cells_cover, cells_progress, cells_todo, fill_cells, fill_trials,
-    trials_progress, trials_todo,
-};
+use super::table_file::{TableFile, check_file};
+use super::tally::{Table, fill_cells, fill_trials};
 use crate::adaptive::{Adaptive, CellCounts};
 use crate::basin::{Classifier, Counts, Progress, Study, shard_range};
 use crate::{Error, Result};
 use serde::{Deserialize, Serialize};
 use std::ops::Range;
-use std::path::{Path, PathBuf};
 
 /// The `format` every [`StudyFile`] carries, and its `version`.
 pub const FORMAT: &str = "hycont-sample study";
@@ -69,7 +64,10 @@ pub struct StudyFile<C> {
     pub plan: Plan,
 }
 
-impl<C: Classifier> StudyFile<C> {
+impl<C> StudyFile<C>
+where
+    C: Classifier + Clone + PartialEq + Serialize + serde::de::DeserializeOwned,
+{
     /// A study of `trials` trials with nothing counted, shard `shard`.
     ///
     /// # Errors
@@ -119,8 +117,7 @@ impl<C: Classifier> StudyFile<C> {
             shard,
             plan,
         };
-        file.check()
-            .map_err(|reason| Error::InvalidStudy { reason })?;
+        check_file(&file).map_err(|reason| Error::InvalidStudy { reason })?;
         Ok(file)
     }
 
@@ -142,10 +139,6 @@ impl<C: Classifier> StudyFile<C> {
             ));
         }
         self.study.validate().map_err(|e| e.to_string())?;
-        let (i, n) = self.shard;
-        if n == 0 || i >= n {
-            return Err(format!("shard {i}/{n} is not I/N with 0 <= I < N"));
-        }
         let classes = self.classifier.classes();
         match &self.plan {
             Plan::Trials { trials, counts } => {
@@ -158,16 +151,6 @@ impl<C: Classifier> StudyFile<C> {
                         counts.counts.len(),
                         counts.classes,
                         self.study.cells()
-                    ));
-                }
-                counts.validate().map_err(|e| e.to_string())?;
-                let range = self.range();
-                if let Some(&(a, b)) =
-                    (counts.ranges.iter()).find(|&&(a, b)| a < range.start || b > range.end)
-                {
-                    return Err(format!(
-                        "trials {a}..{b} counted, outside the shard's trials {}..{}",
-                        range.start, range.end
                     ));
                 }
             }
@@ -208,73 +191,114 @@ impl<C: Classifier> StudyFile<C> {
             }
         }
     }
+}
 
-    /// The same study and shard, counts aside.
-    fn same_run(&self, other: &Self) -> bool
-    where
-        C: PartialEq,
-    {
-        let rule = |p: &Plan| match p {
-            Plan::Trials { trials, .. } => (Some(*trials), None),
-            Plan::Cells { rule, .. } => (None, Some(*rule)),
-        };
-        (&self.name, &self.study, &self.classifier, rule(&self.plan))
-            == (
-                &other.name,
-                &other.study,
-                &other.classifier,
-                rule(&other.plan),
-            )
+impl Table for Plan {
+    fn planned(&self) -> bool {
+        matches!(self, Plan::Trials { .. })
+    }
+    fn progress(&self, span: Range<u64>) -> (u64, u64) {
+        match self {
+            Plan::Trials { counts, .. } => counts.progress(span),
+            Plan::Cells { counts, .. } => counts.progress(span),
+        }
+    }
+    fn todo(&self, span: Range<u64>, part: (u64, u64)) -> Result<Vec<Range<u64>>> {
+        match self {
+            Plan::Trials { counts, .. } => counts.todo(span, part),
+            Plan::Cells { counts, .. } => counts.todo(span, part),
+        }
+    }
+    fn counted(&self, span: Range<u64>) -> u64 {
+        match self {
+            Plan::Trials { counts, .. } => counts.counted(span),
+            Plan::Cells { counts, .. } => counts.counted(span),
+        }
+    }
+    fn covers(&self, other: &Self, span: Range<u64>) -> bool {
+        match (self, other) {
+            (Plan::Trials { counts: a, .. }, Plan::Trials { counts: b, .. }) => a.covers(b, span),
+            (Plan::Cells { counts: a, .. }, Plan::Cells { counts: b, .. }) => a.covers(b, span),
+            _ => false,
+        }
+    }
+    fn merge(&mut self, other: &Self) -> Result<()> {
+        match (self, other) {
+            (Plan::Trials { counts: a, .. }, Plan::Trials { counts: b, .. }) => a.merge(b),
+            (Plan::Cells { counts: a, .. }, Plan::Cells { counts: b, .. }) => a.merge(b),
+            _ => Err(Error::IncompatibleCounts {
+                reason: "a study over trials and one sampled cell by cell".into(),
+            }),
+        }
+    }
+    fn cleared(&self) -> Self {
+        match self {
+            Plan::Trials { trials, counts } => Plan::Trials {
+                trials: *trials,
+                counts: counts.cleared(),
+            },
+            Plan::Cells { .. } => self.clone(),
+        }
+    }
+    fn check(&self, span: Range<u64>) -> std::result::Result<(), String> {
+        match self {
+            Plan::Trials { counts, .. } => counts.check(span),
+            Plan::Cells { counts, .. } => counts.check(span),
+        }
     }
 }
 
-impl<C> CountFile for StudyFile<C>
+impl<C> TableFile for StudyFile<C>
 where
     C: Classifier + Clone + PartialEq + Serialize + serde::de::DeserializeOwned,
 {
+    type Table = Plan;
     type Error = Error;
+    const WRITER: &'static str = "a hycont-sample study";
     fn what(&self) -> String {
         self.name.clone()
     }
-    /// Trials counted and trials of the shard; by cells: cells settled and cells of the shard.
-    fn progress(&self) -> (u64, u64) {
-        match &self.plan {
-            Plan::Trials { counts, .. } => trials_progress(counts, self.range()),
-            Plan::Cells { counts, .. } => cells_progress(counts, self.cell_range()),
-        }
+    fn stem(&self) -> String {
+        self.name.clone()
     }
     fn shard(&self) -> (u64, u64) {
         self.shard
     }
-    fn paths(&self, dir: &Path) -> (PathBuf, PathBuf) {
-        let (i, n) = self.shard;
-        let name = if n == 1 {
-            self.name.clone()
-        } else {
-            format!("{}.shard-{i}-of-{n}", self.name)
+    fn set_shard(&mut self, shard: (u64, u64)) {
+        self.shard = shard;
+    }
+    fn extent(&self) -> u64 {
+        match &self.plan {
+            Plan::Trials { trials, .. } => *trials,
+            Plan::Cells { .. } => self.study.cells() as u64,
+        }
+    }
+    fn tables(&self) -> &[Plan] {
+        std::slice::from_ref(&self.plan)
+    }
+    fn tables_mut(&mut self) -> &mut [Plan] {
+        std::slice::from_mut(&mut self.plan)
+    }
+    fn same_run(&self, other: &Self) -> std::result::Result<(), String> {
+        let rule = |p: &Plan| match p {
+            Plan::Trials { trials, .. } => (Some(*trials), None),
+            Plan::Cells { rule, .. } => (None, Some(*rule)),
         };
-        (
-            dir.join(format!("{name}.json")),
-            dir.join(format!("{name}.partial.json")),
-        )
-    }
-    fn todo(&self, part: (u64, u64)) -> Result<Todo> {
-        match &self.plan {
-            Plan::Trials { counts, .. } => trials_todo(counts, self.range(), part),
-            Plan::Cells { counts, .. } => cells_todo(counts, self.cell_range(), part),
+        let key = |f: &Self| {
+            (
+                f.name.clone(),
+                f.study.clone(),
+                f.classifier.clone(),
+                rule(&f.plan),
+            )
+        };
+        if key(self) == key(other) {
+            return Ok(());
         }
-    }
-    fn planned_trials(&self, todo: &Todo) -> Option<u64> {
-        match self.plan {
-            Plan::Trials { .. } => Some(todo.iter().flatten().map(|r| r.end - r.start).sum()),
-            Plan::Cells { .. } => None,
-        }
-    }
-    fn counted_trials(&self) -> u64 {
-        match &self.plan {
-            Plan::Trials { .. } => self.progress().0,
-            Plan::Cells { counts, .. } => cells_counted(counts, self.cell_range()),
-        }
+        Err(format!(
+            "study {:?} differs from the files before (another study, classifier, trial count or rule)",
+            other.name
+        ))
     }
     fn fill(&mut self, todo: &[Vec<Range<u64>>], progress: &Progress) -> Result<()> {
         let study = (&self.study, &self.classifier);
@@ -283,55 +307,7 @@ where
             Plan::Cells { rule, counts } => fill_cells(study, rule, counts, todo, progress),
         }
     }
-    /// Trials: nothing counted. Cells: the file itself (a cell's longer record wins a merge,
-    /// so other processes continue from it).
-    fn cleared(&self) -> Self {
-        let mut out = self.clone();
-        if let Plan::Trials { counts, .. } = &mut out.plan {
-            *counts = Counts::new(counts.classes.clone(), counts.counts.len());
-        }
-        out
-    }
-    fn write(&self, path: &Path) -> Result<()> {
-        let text = serde_json::to_string(self).map_err(|e| Error::Io {
-            path: path.to_path_buf(),
-            reason: e.to_string(),
-        })?;
-        write_atomic(path, text)
-    }
-    fn merge(&mut self, other: &Self) -> std::result::Result<(), String> {
-        if !self.same_run(other) {
-            return Err(format!(
-                "study {:?} differs from the files before (another study, classifier, trial count or rule)",
-                other.name
-            ));
-        }
-        match (&mut self.plan, &other.plan) {
-            (Plan::Trials { counts: a, .. }, Plan::Trials { counts: b, .. }) => a.merge(b),
-            (Plan::Cells { counts: a, .. }, Plan::Cells { counts: b, .. }) => a.merge(b),
-            _ => unreachable!("same_run compares the plans' kinds"),
-        }
-        .map_err(|e| e.to_string())
-    }
-    fn whole(self) -> Self {
-        Self {
-            shard: (0, 1),
-            ..self
-        }
-    }
-    fn read(path: &Path) -> Result<Self> {
-        read_checked(path, "a hycont-sample study", Self::check)
-    }
-    fn subsumes(&self, other: &Self) -> bool {
-        if !(self.same_run(other) && self.shard == other.shard) {
-            return false;
-        }
-        match (&self.plan, &other.plan) {
-            (Plan::Trials { counts: a, .. }, Plan::Trials { counts: b, .. }) => {
-                covers(a, b, &self.range())
-            }
-            (Plan::Cells { counts: a, .. }, Plan::Cells { counts: b, .. }) => cells_cover(a, b),
-            _ => false,
-        }
+    fn check(&self) -> std::result::Result<(), String> {
+        StudyFile::check(self)
     }
 }

@@ -3,11 +3,7 @@
 //! `--max-per-cell` trials; `BasinCellFile` is its count file (shards split cells; partial
 //! files, `--resume`, `merge` and MPI as the other sampling runs).
 
-use super::basin_file::write_basin;
-use super::driver::CELL_BATCH;
-use super::driver::{CountFile, Todo};
-use super::driver::{count_paths, read_count_file, write_count_file};
-use crate::basin::classifier;
+use crate::basin::{classifier, write_basin};
 use crate::block::Block;
 use crate::error::{Error, Result};
 use crate::figures::sampling::sample_err;
@@ -15,8 +11,8 @@ use crate::output::OutDir;
 use crate::provenance::Provenance;
 use hycont_sample::adaptive::{Adaptive, CellCounts};
 use hycont_sample::basin::{Counts, Progress, Study, shard_range};
-use hycont_sample::study::{cells_counted, cells_cover, cells_progress, cells_todo, fill_cells};
-use std::path::{Path, PathBuf};
+use hycont_sample::study::{TableFile, fill_cells};
+use std::path::PathBuf;
 
 /// A basin run sampled cell by cell, whole or one shard of its cells.
 #[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
@@ -36,25 +32,6 @@ pub struct BasinCellFile {
     pub provenance: Option<Provenance>,
 }
 
-/// The stopping rule of `--halfwidth H --max-per-cell N`, in batches of [`CELL_BATCH`].
-pub(super) fn basin_rule(halfwidth: f64, max_per_cell: u64) -> Result<Adaptive> {
-    let rule = Adaptive {
-        halfwidth,
-        max_trials: max_per_cell,
-        batch: CELL_BATCH,
-    };
-    rule.validate().map_err(|e| Error::InvalidArgument {
-        name: "halfwidth",
-        value: format!("{halfwidth} (--max-per-cell {max_per_cell})"),
-        reason: if e.to_string().contains("max_trials") {
-            "--max-per-cell must be at least one batch of 16 trials"
-        } else {
-            "must be in (0, 0.5)"
-        },
-    })?;
-    Ok(rule)
-}
-
 impl BasinCellFile {
     /// A run of `study` to `rule` with nothing counted.
     pub(super) fn new(study: Study, rule: Adaptive, shard: (u64, u64), block: Block) -> Self {
@@ -69,12 +46,6 @@ impl BasinCellFile {
         }
     }
 
-    fn cells(&self) -> std::ops::Range<usize> {
-        let r =
-            shard_range(self.table.counts.len() as u64, self.shard.0, self.shard.1).unwrap_or(0..0);
-        r.start as usize..r.end as usize
-    }
-
     /// The counts as a table of the fixed-trial runs (per-cell counts, no trial ranges), for
     /// the basin's JSON, CSV and picture.
     fn as_counts(&self) -> Counts {
@@ -85,84 +56,62 @@ impl BasinCellFile {
             ranges: Vec::new(),
         }
     }
-
-    fn check(&self) -> std::result::Result<(), String> {
-        self.rule.validate().map_err(|e| e.to_string())?;
-        crate::basin::validate(&self.study, &self.block).map_err(|e| e.to_string())?;
-        let (i, n) = self.shard;
-        if n == 0 || i >= n {
-            return Err(format!("shard {i}/{n} is not I/N with 0 <= I < N"));
-        }
-        let expected = hycont_sample::basin::Classifier::classes(&classifier(&self.block));
-        if self.table.classes != expected || self.table.counts.len() != self.study.cells() {
-            return Err("the table does not fit the study's cells and classes".into());
-        }
-        (self.table)
-            .check_rule(&self.rule, &self.study, self.cells())
-            .map_err(|e| e.to_string())
-    }
 }
 
-impl CountFile for BasinCellFile {
-    type Error = crate::error::Error;
+impl TableFile for BasinCellFile {
+    type Table = CellCounts;
+    type Error = Error;
+    const WRITER: &'static str = "basin --halfwidth";
     fn what(&self) -> String {
         "basin".into()
     }
-    fn progress(&self) -> (u64, u64) {
-        cells_progress(&self.table, self.cells())
+    fn stem(&self) -> String {
+        "basin".into()
     }
     fn shard(&self) -> (u64, u64) {
         self.shard
     }
-    fn paths(&self, dir: &Path) -> (PathBuf, PathBuf) {
-        count_paths(dir, "basin", self.shard)
+    fn set_shard(&mut self, shard: (u64, u64)) {
+        self.shard = shard;
     }
-    fn todo(&self, part: (u64, u64)) -> Result<Todo> {
-        Ok(cells_todo(&self.table, self.cells(), part)?)
+    fn extent(&self) -> u64 {
+        self.table.counts.len() as u64
     }
-    fn planned_trials(&self, _: &Todo) -> Option<u64> {
-        None
+    fn tables(&self) -> &[CellCounts] {
+        std::slice::from_ref(&self.table)
     }
-    fn counted_trials(&self) -> u64 {
-        cells_counted(&self.table, self.cells())
+    fn tables_mut(&mut self) -> &mut [CellCounts] {
+        std::slice::from_mut(&mut self.table)
     }
-    fn fill(&mut self, todo: &[Vec<std::ops::Range<u64>>], progress: &Progress) -> Result<()> {
-        let c = classifier(&self.block);
-        fill_cells(
-            (&self.study, &c),
-            &self.rule,
-            &mut self.table,
-            todo,
-            progress,
-        )
-        .map_err(sample_err)
-    }
-    /// The same file: a cell's longer record wins a merge.
-    fn cleared(&self) -> Self {
-        self.clone()
-    }
-    fn write(&self, path: &Path) -> Result<()> {
-        write_count_file(self, path)
-    }
-    fn merge(&mut self, other: &Self) -> std::result::Result<(), String> {
+    fn same_run(&self, other: &Self) -> std::result::Result<(), String> {
         if (&self.study, self.rule, self.block) != (&other.study, other.rule, other.block) {
             return Err("study, rule or block differ from the files before".into());
         }
-        self.table.merge(&other.table).map_err(|e| e.to_string())
+        Ok(())
     }
-    fn whole(self) -> Self {
-        BasinCellFile {
-            shard: (0, 1),
-            ..self
+    fn fill(&mut self, todo: &[Vec<std::ops::Range<u64>>], progress: &Progress) -> Result<()> {
+        let c = classifier(&self.block);
+        let study = (&self.study, &c);
+        fill_cells(study, &self.rule, &mut self.table, todo, progress).map_err(sample_err)
+    }
+    /// A valid rule, study and block; the table of the study's cells and classes, every cell
+    /// as the rule leaves it.
+    fn check(&self) -> std::result::Result<(), String> {
+        self.rule.validate().map_err(|e| e.to_string())?;
+        crate::basin::validate(&self.study, &self.block).map_err(|e| e.to_string())?;
+        let expected = hycont_sample::basin::Classifier::classes(&classifier(&self.block));
+        if self.table.classes != expected || self.table.counts.len() != self.study.cells() {
+            return Err("the table does not fit the study's cells and classes".into());
         }
-    }
-    fn read(path: &Path) -> Result<Self> {
-        read_count_file(path, "basin --halfwidth", BasinCellFile::check)
-    }
-    fn subsumes(&self, other: &Self) -> bool {
-        (&self.study, self.rule, self.shard, self.block)
-            == (&other.study, other.rule, other.shard, other.block)
-            && cells_cover(&self.table, &other.table)
+        let (i, n) = self.shard;
+        let span = shard_range(self.extent(), i, n).map_err(|e| e.to_string())?;
+        (self.table)
+            .check_rule(
+                &self.rule,
+                &self.study,
+                span.start as usize..span.end as usize,
+            )
+            .map_err(|e| e.to_string())
     }
 }
 

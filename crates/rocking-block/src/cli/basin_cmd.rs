@@ -1,11 +1,11 @@
 //! `basin`: basin stability of a block for user ranges, with shards, resuming and merging as
 //! the sampling figures (see [`super::sampling`]).
 
-use super::basin_cells::{BasinCellFile, basin_rule};
+use super::basin_cells::BasinCellFile;
 use super::basin_file::BasinFile;
 use super::block_args::{BlockArgs, figure_dimensional};
 use super::driver::CountFile;
-use super::driver::{parse_shard, sample, set_threads, stop_on_signals, use_up};
+use super::driver::{cell_rule, parse_shard, sample, set_threads, stop_on_signals, use_up};
 use super::print_written;
 use super::shard_file::MAX_TRIALS;
 use crate::basin::{VARIABLES, classifier, validate};
@@ -87,62 +87,21 @@ pub struct BasinArgs {
     pub block: BlockArgs,
 }
 
-/// A variable's distribution from `VALUE` or `LO:HI`.
-fn distribution(name: &'static str, text: &str) -> Result<Distribution> {
-    let bad = |reason| Error::InvalidArgument {
-        name,
-        value: text.to_string(),
-        reason,
-    };
-    let number = |t: &str| {
-        t.trim()
-            .parse::<f64>()
-            .ok()
-            .filter(|v| v.is_finite())
-            .ok_or_else(|| bad("expected a finite number or LO:HI"))
-    };
-    match text.split_once(':') {
-        None => Ok(Distribution::Fixed(number(text)?)),
-        Some((lo, hi)) => {
-            let (lo, hi) = (number(lo)?, number(hi)?);
-            if lo < hi {
-                Ok(Distribution::Uniform { lo, hi })
-            } else {
-                Err(bad("LO must be below HI"))
-            }
-        }
+/// A library error of text that does not parse as the argument `name` (`--name`).
+fn spec_err(name: &'static str) -> impl Fn(hycont_sample::Error) -> Error {
+    move |e| match e {
+        hycont_sample::Error::InvalidSpec { spec, reason } => Error::InvalidArgument {
+            name,
+            value: spec,
+            reason,
+        },
+        other => other.into(),
     }
 }
 
-/// The binning axis of `NAME:BINS` over the named uniform variable's range.
-fn axis(text: &str, variables: &[Distribution]) -> Result<Axis> {
-    let bad = |reason| Error::InvalidArgument {
-        name: "bin",
-        value: text.to_string(),
-        reason,
-    };
-    let (name, bins) = text
-        .split_once(':')
-        .ok_or_else(|| bad("expected NAME:BINS, e.g. phi0:40"))?;
-    let variable = VARIABLES
-        .iter()
-        .position(|v| *v == name.trim())
-        .ok_or_else(|| bad("NAME must be omega, alpha, beta, phi0 or psi0"))?;
-    let bins: usize = bins
-        .trim()
-        .parse()
-        .ok()
-        .filter(|b| (1..=10_000).contains(b))
-        .ok_or_else(|| bad("BINS must be in 1..=10000"))?;
-    match variables[variable] {
-        Distribution::Uniform { lo, hi } => Ok(Axis {
-            variable,
-            lo,
-            hi,
-            bins,
-        }),
-        Distribution::Fixed(_) => Err(bad("bin a variable drawn from a range (LO:HI)")),
-    }
+/// A variable's distribution from `VALUE` or `LO:HI`.
+fn distribution(name: &'static str, text: &str) -> Result<Distribution> {
+    text.parse().map_err(spec_err(name))
 }
 
 impl BasinArgs {
@@ -157,6 +116,7 @@ impl BasinArgs {
             distribution("phi0", &phi0)?,
             distribution("psi0", &self.psi0)?,
         ];
+        let names: Vec<String> = VARIABLES.iter().map(ToString::to_string).collect();
         if self.bin.len() > 2 {
             return Err(Error::InvalidArgument {
                 name: "bin",
@@ -167,10 +127,10 @@ impl BasinArgs {
         let axes = self
             .bin
             .iter()
-            .map(|t| axis(t, &variables))
+            .map(|t| Axis::parse(t, &names, &variables).map_err(spec_err("bin")))
             .collect::<Result<Vec<_>>>()?;
         let study = Study {
-            names: VARIABLES.iter().map(ToString::to_string).collect(),
+            names,
             variables,
             axes,
             seed: self.seed,
@@ -205,7 +165,7 @@ pub(super) fn run_basin(
         Some(_) => None,
         None => match args.halfwidth {
             Some(h) => {
-                let rule = basin_rule(h, args.max_per_cell)?;
+                let rule = cell_rule(h, args.max_per_cell)?;
                 let block = args.block.block()?;
                 let shard = args.shard.as_deref().map(parse_shard).transpose()?;
                 let mut file =

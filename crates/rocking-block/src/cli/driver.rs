@@ -1,13 +1,14 @@
 //! The command line's glue to the library's study runner ([`hycont_sample::study`]): the
 //! progress bar, signals, threads, shard arguments, the paths and reading and writing of
 //! count files, and the [`Render`] of each count file's result. The count files themselves
-//! (`shard_file`, `cell_file`, `basin_file`, `basin_cells`) and the commands (`sampling`:
-//! `figure` and `merge`; `basin_cmd`) build on it.
+//! (`shard_file`, `cell_file`, `basin_file`, `basin_cells`: [`hycont_sample::study::TableFile`]s)
+//! and the commands (`sampling`: `figure` and `merge`; `basin_cmd`) build on it.
 
 use super::ranks::Ranks;
 use crate::error::{Error, Result};
 use crate::output::OutDir;
 use crate::provenance::Provenance;
+use hycont_sample::adaptive::Adaptive;
 use hycont_sample::basin::Progress;
 use hycont_sample::study::Outcome;
 use std::path::{Path, PathBuf};
@@ -65,7 +66,7 @@ pub(super) fn stop_on_signals(progress: &Arc<Progress>) {
     let _ = ctrlc::set_handler(move || p.stop.store(true, Ordering::Relaxed));
 }
 
-pub(super) use hycont_sample::study::{CountFile, Todo};
+pub(super) use hycont_sample::study::CountFile;
 
 /// What a count file of the command line draws once complete (or, with `--force`, partial):
 /// its figure or basin.
@@ -195,45 +196,43 @@ pub(super) fn merge_files<F: CountFile<Error = Error> + Render>(
     })
 }
 
-pub(super) use hycont_sample::study::covers;
-
-/// Where a count file named `stem` (`fig9`, `basin`) of shard `(i, n)` goes in `dir`, complete
-/// and partial: `stem.json` for a whole run, `stem.shard-I-of-N.json` for a shard.
-pub(super) fn count_paths(dir: &Path, stem: &str, (i, n): (u64, u64)) -> (PathBuf, PathBuf) {
-    let name = if n == 1 {
-        stem.to_string()
-    } else {
-        format!("{stem}.shard-{i}-of-{n}")
-    };
-    (
-        dir.join(format!("{name}.json")),
-        dir.join(format!("{name}.partial.json")),
-    )
+/// Reads each of `paths` as a count file of kind `F` and merges them ([`merge_files`]).
+pub(super) fn merge_paths<F: CountFile<Error = Error> + Render>(
+    paths: &[PathBuf],
+    out: &OutDir,
+    invocation: &Provenance,
+    set_invocation: impl FnOnce(&mut F, Provenance),
+) -> Result<Vec<PathBuf>> {
+    let files = (paths.iter())
+        .map(|p| Ok((p.clone(), F::read(p)?)))
+        .collect::<Result<Vec<_>>>()?;
+    merge_files(files, out, invocation, set_invocation)
 }
 
-/// Reads a count file written by `what` (for the message) and checks it with `check`.
-///
-/// # Errors
-/// [`Error::Read`] or [`Error::InvalidFile`] naming the file.
-pub(super) fn read_count_file<F: serde::de::DeserializeOwned>(
-    path: &Path,
-    what: &str,
-    check: impl FnOnce(&F) -> std::result::Result<(), String>,
-) -> Result<F> {
-    Ok(hycont_sample::study::read_checked(path, what, check)?)
-}
-
-/// Writes a count file (atomically).
-///
-/// # Errors
-/// [`Error::Io`] naming the file.
-pub(super) fn write_count_file(file: &impl serde::Serialize, path: &Path) -> Result<()> {
-    let text = serde_json::to_string(file).expect("count tables serialise");
-    crate::output::write_atomic(path, text)
-}
-
-pub(super) use hycont_sample::study::runs;
-
-/// Trials per cell and round of the runs sampled cell by cell (Fig. 9, `basin --halfwidth`): a cell of one class meets the
-/// default half-width 0.1 after one batch (the Wilson half-width of 0 of 16 is 0.097).
+/// Trials per cell and round of the runs sampled cell by cell (Fig. 9, `basin --halfwidth`):
+/// a cell of one class meets the default half-width 0.1 after one batch (the Wilson
+/// half-width of 0 of 16 is 0.097).
 pub(super) const CELL_BATCH: u64 = 16;
+
+/// The stopping rule of `--halfwidth H --max-per-cell N` (Fig. 9, `basin`), in batches of
+/// [`CELL_BATCH`].
+///
+/// # Errors
+/// [`Error::InvalidArgument`] naming the flag out of range.
+pub(super) fn cell_rule(halfwidth: f64, max_per_cell: u64) -> Result<Adaptive> {
+    let rule = Adaptive {
+        halfwidth,
+        max_trials: max_per_cell,
+        batch: CELL_BATCH,
+    };
+    rule.validate().map_err(|e| Error::InvalidArgument {
+        name: "halfwidth",
+        value: format!("{halfwidth} (--max-per-cell {max_per_cell})"),
+        reason: if e.to_string().contains("max_trials") {
+            "--max-per-cell must be at least one batch of 16 trials"
+        } else {
+            "must be in (0, 0.5)"
+        },
+    })?;
+    Ok(rule)
+}

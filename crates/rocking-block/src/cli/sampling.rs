@@ -6,9 +6,11 @@
 //! result. `merge` checks every file, merges them and writes the figure when the trials are
 //! complete, a partial file otherwise.
 
+use super::basin_cells::BasinCellFile;
+use super::basin_file::BasinFile;
 use super::cell_file::{CellFile, fig9_rule};
 use super::driver::{
-    CountFile, merge_files, parse_shard, sample, set_threads, stop_on_signals, use_up,
+    CountFile, merge_paths, parse_shard, sample, set_threads, stop_on_signals, use_up,
 };
 use super::ranks::Ranks;
 use super::shard_file::{MAX_TRIALS, SAMPLING, ShardFile};
@@ -214,38 +216,21 @@ pub(super) fn run_merge(
         .shards
         .first()
         .is_some_and(|p| super::cell_file::is_cell_file(p));
-    let files = if cells && basins {
-        let files = args
-            .shards
-            .iter()
-            .map(|p| Ok((p.clone(), super::basin_cells::BasinCellFile::read(p)?)))
-            .collect::<Result<Vec<_>>>()?;
-        merge_files(files, &dir, invocation, |f, p| f.provenance = Some(p))?
-    } else if cells {
-        let files = args
-            .shards
-            .iter()
-            .map(|p| Ok((p.clone(), CellFile::read(p)?)))
-            .collect::<Result<Vec<_>>>()?;
-        merge_files(files, &dir, invocation, |f, p| {
-            f.provenance = Some(p.with_block(f.block));
-        })?
-    } else if basins {
-        let files = args
-            .shards
-            .iter()
-            .map(|p| Ok((p.clone(), super::basin_file::BasinFile::read(p)?)))
-            .collect::<Result<Vec<_>>>()?;
-        merge_files(files, &dir, invocation, |f, p| f.provenance = Some(p))?
-    } else {
-        let files = args
-            .shards
-            .iter()
-            .map(|p| Ok((p.clone(), ShardFile::read(p)?)))
-            .collect::<Result<Vec<_>>>()?;
-        merge_files(files, &dir, invocation, |f, p| {
-            f.provenance = Some(p.with_block(f.block));
-        })?
+    let (shards, invocation) = (&args.shards, invocation);
+    let with_block = |p: Provenance, b| Some(p.with_block(b));
+    let files = match (cells, basins) {
+        (true, true) => merge_paths(shards, &dir, invocation, |f: &mut BasinCellFile, p| {
+            f.provenance = Some(p);
+        })?,
+        (true, false) => merge_paths(shards, &dir, invocation, |f: &mut CellFile, p| {
+            f.provenance = with_block(p, f.block);
+        })?,
+        (false, true) => merge_paths(shards, &dir, invocation, |f: &mut BasinFile, p| {
+            f.provenance = Some(p);
+        })?,
+        (false, false) => merge_paths(shards, &dir, invocation, |f: &mut ShardFile, p| {
+            f.provenance = with_block(p, f.block);
+        })?,
     };
     print_written(out, &files, args.json)
 }
