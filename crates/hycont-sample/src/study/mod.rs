@@ -11,8 +11,9 @@
 //!   or cells) in its own layout (its fields, names and order), which says only what is its
 //!   own (its study, how it counts, its checks) and gets the bookkeeping, checks and merging
 //!   from its tables (the `rocking-block` command line's four files are);
-//! - [`CountFile`] itself, for anything else. Results depend only on the study's seed, never on threads,
-//! shards or ranks: a trial's inputs are a function of its index ([`crate::basin::Study`]),
+//! - [`CountFile`] itself, for anything else.
+//!
+//! Results depend only on the study's seed, never on threads, shards or ranks: a trial's inputs are a function of its index ([`crate::basin::Study`]),
 //! and counts merge exactly ([`crate::basin::Counts::merge`]).
 //!
 //! The contract a driver (a command line, a batch script) keeps:
