@@ -57,7 +57,7 @@ pub use files::{ensure_parent, is_special, read_checked, temp_path, write_atomic
 pub use ranks::Ranks;
 #[cfg(feature = "mpi")]
 pub use ranks::start_mpi;
-pub use request::{Invocation, Request, serve};
+pub use request::{Invocation, Request, parse_shard, serve, set_threads, use_up};
 pub use run::{Outcome, merge, partial_path, sample};
 pub use study_file::{FORMAT, MAX_TRIALS, Plan, StudyFile, VERSION};
 pub use table_file::{TableFile, shard_paths};

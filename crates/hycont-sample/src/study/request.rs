@@ -9,7 +9,7 @@ use super::ranks::Ranks;
 use super::run::{Outcome, merge, sample};
 use crate::Error;
 use crate::basin::Progress;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 /// What a study program is asked to do.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -78,7 +78,11 @@ impl Invocation {
                     .ok_or_else(|| usage(format!("{name} needs a value")))
             };
             match a.as_str() {
-                "--shard" => shard = Some(parse_shard(&value("--shard")?)?),
+                "--shard" => {
+                    let text = value("--shard")?;
+                    let bad = |_| usage(format!("--shard {text}: I/N with 0 <= I < N"));
+                    shard = Some(parse_shard(&text).map_err(bad)?);
+                }
                 "--resume" => resume = Some(PathBuf::from(value("--resume")?)),
                 "--out" => out = Some(PathBuf::from(value("--out")?)),
                 "--threads" => {
@@ -115,9 +119,21 @@ impl Invocation {
     }
 }
 
-/// `I/N` with `0 <= I < N`.
-fn parse_shard(text: &str) -> Result<(u64, u64), Error> {
-    let bad = || usage(format!("--shard {text}: I/N with 0 <= I < N"));
+/// Shard `I/N` of a study (0-based, `0 <= I < N`), as `--shard` gives it.
+///
+/// ```
+/// use hycont_sample::study::parse_shard;
+/// assert_eq!(parse_shard("2/5").unwrap(), (2, 5));
+/// assert!(parse_shard("5/5").is_err() && parse_shard("1/0").is_err() && parse_shard("3").is_err());
+/// ```
+///
+/// # Errors
+/// [`Error::InvalidSpec`] for anything else.
+pub fn parse_shard(text: &str) -> Result<(u64, u64), Error> {
+    let bad = || Error::InvalidSpec {
+        spec: text.to_string(),
+        reason: "expected I/N with 0 <= I < N",
+    };
     let (i, n) = text.split_once('/').ok_or_else(bad)?;
     let (i, n): (u64, u64) = (
         i.trim().parse().map_err(|_| bad())?,
@@ -127,6 +143,36 @@ fn parse_shard(text: &str) -> Result<(u64, u64), Error> {
         return Err(bad());
     }
     Ok((i, n))
+}
+
+/// Sizes rayon's global pool to `threads` (`None`: all cores). Only the first call of a
+/// process takes effect; results never depend on it.
+///
+/// # Errors
+/// [`Error::InvalidSpec`] for zero threads.
+pub fn set_threads(threads: Option<usize>) -> Result<(), Error> {
+    match threads {
+        Some(0) => Err(Error::InvalidSpec {
+            spec: "0".into(),
+            reason: "must be at least 1",
+        }),
+        Some(n) => {
+            let _ = rayon::ThreadPoolBuilder::new()
+                .num_threads(n)
+                .build_global();
+            Ok(())
+        }
+        None => Ok(()),
+    }
+}
+
+/// Removes the partial file `partial` that a resumed run completed, unless the run wrote it
+/// again (one of `written`) or it is not a partial file (`*.partial.json`).
+pub fn use_up(partial: &Path, written: &[PathBuf]) {
+    if partial.to_string_lossy().ends_with(".partial.json") && !written.iter().any(|w| w == partial)
+    {
+        let _ = std::fs::remove_file(partial);
+    }
 }
 
 /// Carries out `invocation` for studies of type `F`: a new study from `new(shard)`, or the
@@ -147,12 +193,7 @@ pub fn serve<F: CountFile>(
 where
     F::Error: std::fmt::Display,
 {
-    if let Some(n) = invocation.threads {
-        // Only the first call of a process sizes the pool; results do not depend on it.
-        let _ = rayon::ThreadPoolBuilder::new()
-            .num_threads(n)
-            .build_global();
-    }
+    set_threads(invocation.threads)?;
     let out = &invocation.out;
     let file = match &invocation.request {
         Request::Run { shard } => new(*shard)?,
@@ -196,10 +237,10 @@ where
         other => other,
     };
     // A resumed run has used its partial file up (unless it wrote the same path again).
-    if let (Request::Resume { partial }, Outcome::Complete { .. }) = (&invocation.request, &outcome)
-        && partial.to_string_lossy().ends_with(".partial.json")
+    if let (Request::Resume { partial }, Outcome::Complete { written, .. }) =
+        (&invocation.request, &outcome)
     {
-        let _ = std::fs::remove_file(partial);
+        use_up(partial, written.as_slice());
     }
     Ok(outcome)
 }

@@ -5,7 +5,9 @@ use super::basin_cells::BasinCellFile;
 use super::basin_file::BasinFile;
 use super::block_args::{BlockArgs, figure_dimensional};
 use super::driver::CountFile;
-use super::driver::{cell_rule, parse_shard, sample, set_threads, stop_on_signals, use_up};
+use super::driver::{
+    cell_rule, parse_shard, sample, set_threads, spec_err, stop_on_signals, use_up,
+};
 use super::print_written;
 use super::shard_file::MAX_TRIALS;
 use crate::basin::{VARIABLES, classifier, validate};
@@ -85,18 +87,6 @@ pub struct BasinArgs {
     /// The block.
     #[command(flatten)]
     pub block: BlockArgs,
-}
-
-/// A library error of text that does not parse as the argument `name` (`--name`).
-fn spec_err(name: &'static str) -> impl Fn(hycont_sample::Error) -> Error {
-    move |e| match e {
-        hycont_sample::Error::InvalidSpec { spec, reason } => Error::InvalidArgument {
-            name,
-            value: spec,
-            reason,
-        },
-        other => other.into(),
-    }
 }
 
 /// A variable's distribution from `VALUE` or `LO:HI`.

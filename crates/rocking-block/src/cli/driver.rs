@@ -11,25 +11,26 @@ use crate::provenance::Provenance;
 use hycont_sample::adaptive::Adaptive;
 use hycont_sample::basin::Progress;
 use hycont_sample::study::Outcome;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 
-pub(super) fn parse_shard(text: &str) -> Result<(u64, u64)> {
-    let bad = || Error::InvalidArgument {
-        name: "shard",
-        value: text.to_string(),
-        reason: "expected I/N with 0 <= I < N",
-    };
-    let (i, n) = text.split_once('/').ok_or_else(bad)?;
-    let (i, n): (u64, u64) = (
-        i.trim().parse().map_err(|_| bad())?,
-        n.trim().parse().map_err(|_| bad())?,
-    );
-    if n == 0 || i >= n {
-        return Err(bad());
+/// A library error of text that does not parse as the argument `name` (`--name`), as the
+/// command line's own.
+pub(super) fn spec_err(name: &'static str) -> impl Fn(hycont_sample::Error) -> Error {
+    move |e| match e {
+        hycont_sample::Error::InvalidSpec { spec, reason } => Error::InvalidArgument {
+            name,
+            value: spec,
+            reason,
+        },
+        other => other.into(),
     }
-    Ok((i, n))
+}
+
+/// `--shard I/N`.
+pub(super) fn parse_shard(text: &str) -> Result<(u64, u64)> {
+    hycont_sample::study::parse_shard(text).map_err(spec_err("shard"))
 }
 
 /// Sizes rayon's pool (only the first call of a process does; results do not depend on it).
@@ -37,27 +38,10 @@ pub(super) fn parse_shard(text: &str) -> Result<(u64, u64)> {
 /// # Errors
 /// [`Error::InvalidArgument`] for zero threads.
 pub(super) fn set_threads(threads: Option<usize>) -> Result<()> {
-    if let Some(n) = threads {
-        if n == 0 {
-            return Err(Error::InvalidArgument {
-                name: "threads",
-                value: "0".into(),
-                reason: "must be at least 1",
-            });
-        }
-        let _ = rayon::ThreadPoolBuilder::new()
-            .num_threads(n)
-            .build_global();
-    }
-    Ok(())
+    hycont_sample::study::set_threads(threads).map_err(spec_err("threads"))
 }
 
-/// Removes the partial file a resumed run completed (unless it was rewritten).
-pub(super) fn use_up(from: &Path, written: &[PathBuf]) {
-    if from.to_string_lossy().ends_with(".partial.json") && !written.iter().any(|w| w == from) {
-        let _ = std::fs::remove_file(from);
-    }
-}
+pub(super) use hycont_sample::study::use_up;
 
 /// Stops sampling runs on SIGINT, SIGTERM and SIGHUP (their counts so far are kept).
 pub(super) fn stop_on_signals(progress: &Arc<Progress>) {
