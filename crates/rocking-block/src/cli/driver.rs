@@ -11,7 +11,7 @@ use crate::provenance::Provenance;
 use hycont_sample::adaptive::Adaptive;
 use hycont_sample::basin::Progress;
 use hycont_sample::study::Outcome;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 
@@ -104,14 +104,9 @@ pub(super) fn sample<F: CountFile<Error = Error> + Render>(
     let (done, total) = file.progress();
     Err(Error::Interrupted {
         detail: format!(
-            "{done} of {total} trials counted, kept in {}; complete them with `rocking-block {} --resume {}`",
+            "{done} of {total} trials counted, kept in {}; complete them with {}",
             partial.display(),
-            if file.what() == "basin" {
-                "basin"
-            } else {
-                "figure"
-            },
-            partial.display()
+            resume_hint(&file, &partial)
         ),
     })
 }
@@ -168,16 +163,21 @@ pub(super) fn merge_files<F: CountFile<Error = Error> + Render>(
     let (done, total) = m.progress();
     Err(Error::Incomplete {
         detail: format!(
-            "the files hold {done} of {total} trials: wrote {} (the result needs them all); run the missing trials with `rocking-block {} --resume {}`",
+            "the files hold {done} of {total} trials: wrote {} (the result needs them all); run the missing trials with {}",
             partial.display(),
-            if m.what() == "basin" {
-                "basin"
-            } else {
-                "figure"
-            },
-            partial.display()
+            resume_hint(&m, &partial)
         ),
     })
+}
+
+/// The command that completes `file`'s partial file `partial`.
+fn resume_hint<F: CountFile>(file: &F, partial: &Path) -> String {
+    let command = if file.what() == "basin" {
+        "basin"
+    } else {
+        "figure"
+    };
+    format!("`rocking-block {command} --resume {}`", partial.display())
 }
 
 /// Reads each of `paths` as a count file of kind `F` and merges them ([`merge_files`]).
