@@ -16,9 +16,8 @@ use hycont::{
     Direction, EventAction, EventId, EventSpec, HybridJacobians, HybridSystem, Mode, ParamId,
 };
 
-pub const AMP: ParamId = ParamId(2);
+/// The forcing frequency `w`.
 pub const W: ParamId = ParamId(3);
-pub const GAP: ParamId = ParamId(4);
 pub const FREE: Mode = Mode(0);
 pub const IMPACT: EventId = EventId(0);
 

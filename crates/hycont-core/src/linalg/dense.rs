@@ -43,6 +43,9 @@ pub(crate) fn eliminate_above(
         16 => eliminate_rows::<16>(a, (c, w), perm, pivots, tiny),
         20 => eliminate_rows::<20>(a, (c, w), perm, pivots, tiny),
         24 => eliminate_rows::<24>(a, (c, w), perm, pivots, tiny),
+        _ if m >= super::dense_blocked::BLOCKED_FROM => {
+            super::dense_blocked::eliminate_blocked(a, (m, c, w), perm, pivots, tiny)
+        }
         _ => eliminate_any(a, (m, c, w), perm, pivots, tiny),
     }
 }

@@ -5,6 +5,7 @@
 
 mod condensed;
 pub(crate) mod dense;
+mod dense_blocked;
 mod dense_lu;
 mod eigen;
 mod sparse_lu;
