@@ -106,5 +106,8 @@
 
 pub use hycont_continuation;
 pub use hycont_core;
+// The core's items under `hycont::`, documented once, in `hycont_core` (with nalgebra and
+// num_dual linked, not copied).
+#[doc(no_inline)]
 pub use hycont_core::*;
 pub use hycont_sample;

@@ -46,9 +46,11 @@ pub mod system;
 pub use error::{Error, Result};
 /// The linear-algebra crate of results users compute with (monodromy, saltation matrices,
 /// Floquet vectors, orbit states).
+#[doc(no_inline)]
 pub use nalgebra;
 /// The dual numbers [`HybridModel`]s are evaluated on (re-exported for their
-/// [`num_dual::DualNum`] methods).
+/// [`num_dual::DualNum`](https://docs.rs/num-dual/0.15/num_dual/trait.DualNum.html) methods).
+#[doc(no_inline)]
 pub use num_dual;
 pub use simulate::{
     Dop853, EventConditioning, EventRecord, NonFiniteEvaluation, ParamSet, SampleTimes,

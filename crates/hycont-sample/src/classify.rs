@@ -97,7 +97,7 @@ pub struct StrobeSettings {
     pub newton_radius: f64,
     /// Integration steps allowed per forcing period, on average over each simulated piece
     /// (default 10,000, hundreds of times what a trial takes); a trial that needs more is an error
-    /// ([`Error::StepBudget`], counted as a failure by the basin runs) rather than a wait.
+    /// (`Error::StepBudget`, counted as a failure by the basin runs) rather than a wait.
     pub max_steps_per_period: u64,
     /// Integration tolerances (default `1e-7`, `1e-9`; Newton's refinement converges to ten
     /// times them). Classes are robust to them: on the rocking block's sampling mixes, `1e-9`

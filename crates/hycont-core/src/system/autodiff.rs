@@ -11,7 +11,7 @@ use num_dual::Derivative;
 use num_dual::{Dual64, DualNum, DualSVec64, HyperDual64};
 
 /// The scalar a [`HybridModel`] is written in: `f64`, or a dual number over it. Write the
-/// model's functions with the operators and the methods of [`num_dual::DualNum`] (`sin`, `exp`,
+/// model's functions with the operators and the methods of [`num_dual::DualNum`](https://docs.rs/num-dual/0.15/num_dual/trait.DualNum.html) (`sin`, `exp`,
 /// `powi`, ...); constants enter as `T::from(c)` or through arithmetic with `f64` on the
 /// right (`x * 2.0 + 1.0`, `x / 3.0`): `f64` cannot stand left of a generic scalar (`2.0 * x`
 /// does not compile for a generic `T`; Rust has no `f64: Mul<T>` to name), so write
