@@ -1,4 +1,14 @@
-#![doc = include_str!("../README.md")]
+//! # hycont
+//!
+//! Numerical continuation of periodic orbits of hybrid (impacting, switching,
+//! piecewise-smooth) dynamical systems: simulate a system, solve its periodic orbits by
+//! shooting or collocation with their Floquet multipliers, continue them with located
+//! bifurcations, switch branches (at branch points, period doublings and grazing), follow
+//! special points in two parameters, compute whole diagrams and atlases, and estimate basins
+//! of attraction. This crate is the facade: it re-exports [`hycont_core`] (at the top level
+//! too), [`hycont_continuation`] and [`hycont_sample`]. The workflow step by step, with a
+//! runnable example per step, is `docs/guide.md` in the repository; `docs/clusters.md` runs
+//! sampling studies on clusters.
 //!
 //! ## Walk-through: a ball on a vibrating table
 //!
@@ -77,7 +87,7 @@
 //!     let period2 = run.switch_at("period-2", &branch, pd.point.label, RunDirection::Up)?;
 //!     let last = period2.branch.points.last().ok_or("empty")?;
 //!     assert!((period2.orbit_of(last)?.period() - 4.0 * std::f64::consts::PI).abs() < 1e-8);
-//!     // 5. (see the README) run.curve_at(...) follows PD or SN in (a, omega).
+//!     // 5. run.curve_at(...) follows PD or SN in (a, omega) (the guide, step 5).
 //!     // 6. Save, load and restart at the user point on the stable sheet (impact phase > 0;
 //!     //    the other one is on the unstable sheet past the fold), upwards.
 //!     let saved = OrbitBranch::from_json(&branch.to_json()?)?;
@@ -111,3 +121,8 @@ pub use hycont_core;
 #[doc(no_inline)]
 pub use hycont_core::*;
 pub use hycont_sample;
+
+/// The README's example, compiled and run as a doctest.
+#[cfg(doctest)]
+#[doc = include_str!("../README.md")]
+pub struct ReadmeDoctests;

@@ -548,6 +548,19 @@ fn continue_cli_saves_and_restarts() {
         .find(|s| s["kind"] == "SN")
         .unwrap();
     assert_abs_diff_eq!(sn["omega"].as_f64().unwrap(), 0.909_619_23, epsilon = 1e-7);
+    // The saved run knows its parameter: without --free the restart is the same run.
+    let implied = bin()
+        .args(["continue", "--json", "--restart"])
+        .arg(&run)
+        .args(["--label", "20"])
+        .run_ok();
+    let w: serde_json::Value = serde_json::from_slice(&implied.stdout).unwrap();
+    assert_eq!(w["free"], v["free"]);
+    assert_eq!(w["special_points"], v["special_points"]);
+    // A fresh start must name it.
+    let unnamed = bin().args(["continue", "--json"]).output().unwrap();
+    assert_eq!(unnamed.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&unnamed.stderr).contains("--free"));
     let bad = bin()
         .args(["continue", "--free", "omega", "--restart"])
         .arg(&run)

@@ -101,9 +101,9 @@ pub enum DirectionArg {
 /// Arguments of `rocking-block continue`.
 #[derive(Debug, Args)]
 pub struct ContinueArgs {
-    /// The parameter to continue in.
-    #[arg(long, value_enum)]
-    pub free: FreeArg,
+    /// The parameter to continue in (with --restart: the saved run's unless given).
+    #[arg(long, value_enum, required_unless_present = "restart")]
+    pub free: Option<FreeArg>,
     /// The start: block, forcing, which orbit.
     #[command(flatten)]
     pub start: StartArgs,

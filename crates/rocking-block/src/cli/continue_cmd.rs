@@ -17,11 +17,12 @@ pub(super) fn run_continue(
     invocation: &Provenance,
     out: &mut dyn Write,
 ) -> Result<()> {
-    let free = Free::from(args.free);
     args.start.refuse_with_restart(args.restart.is_some())?;
     let inputs: Vec<&std::path::Path> = args.restart.iter().map(|p| p.as_path()).collect();
     crate::output::check_outputs(&inputs, &output_flags(&args.out, &args.svg, &args.png))?;
-    let (branch, dimensional) = continue_branch(args, free)?;
+    let saved = (args.restart.as_deref()).map(read_saved_run).transpose()?;
+    let free = free_of(args, saved.as_ref())?;
+    let (branch, dimensional) = continue_branch(args, free, saved)?;
     let record = invocation
         .clone()
         .with_parameters(Parameters::from_vec(&branch.template.params))
@@ -118,17 +119,33 @@ impl RecipeArgs {
     }
 }
 
+/// The parameter to continue in: `--free`, or else the saved run's.
+fn free_of(args: &ContinueArgs, saved: Option<&OrbitBranch>) -> Result<Free> {
+    match (args.free, saved, &args.restart) {
+        (Some(f), ..) => Ok(Free::from(f)),
+        (None, Some(saved), Some(path)) => Free::of(saved.free).ok_or_else(|| Error::InvalidFile {
+            path: path.clone(),
+            reason: "the saved run continues neither omega nor alpha: give --free".into(),
+        }),
+        _ => Err(Error::InvalidArgument {
+            name: "free",
+            value: String::new(),
+            reason: "name the parameter to continue in (omega or alpha)",
+        }),
+    }
+}
+
 /// The run `continue` asks for: from a saved run's labelled point, or from a fresh start of
 /// the block and forcing given (with its dimensional inputs, if any).
 fn continue_branch(
     args: &ContinueArgs,
     free: Free,
+    saved: Option<OrbitBranch>,
 ) -> Result<(OrbitBranch, Option<crate::block::DimensionalInputs>)> {
     let window = super::window(free, args.min, args.max)?;
     let recipe = args.recipe.recipe()?;
     let direction = RunDirection::from(args.direction);
-    if let (Some(path), Some(label)) = (&args.restart, args.label) {
-        let saved = read_saved_run(path)?;
+    if let (Some(path), Some(label), Some(saved)) = (&args.restart, args.label, saved) {
         saved.point(label).map_err(|e| Error::InvalidFile {
             path: path.clone(),
             reason: e.to_string(),
