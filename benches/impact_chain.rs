@@ -3,7 +3,8 @@
 //! dimension `n = 2N + 2`), continued in the forcing frequency `w` from the exact orbit
 //! (`reference.rs`) with a fixed step, for N = 1, 2, 5, 10, 25, 50, by multiple shooting and
 //! by collocation (NTST 20, NCOL 4). Throughput in points: criterion's time per element is
-//! the time per branch point. Run with `cargo bench --bench impact_chain` (one size:
+//! the time per branch point; `.../two` times a run of two points (set-up, the start, one
+//! step), so that `(T_branch - T_two) / (points - 2)` is the cost of a step. Run with `cargo bench --bench impact_chain` (one size:
 //! `cargo bench --bench impact_chain -- /50`).
 //!
 //! Targets (issue 39): at N = 50 a point in at most 50 ms by shooting and 200 ms by
@@ -26,10 +27,11 @@ use std::hint::black_box;
 /// Points of each benchmarked branch.
 const POINTS: usize = 6;
 
-/// The branch from `orbit` up in `w` with a fixed step; its number of points.
-fn branch(chain: &ImpactChain, orbit: &PeriodicOrbit, method: OrbitMethod) -> usize {
+/// The branch from `orbit` up in `w` with a fixed step, of at most `points` points; its
+/// number of points.
+fn branch(chain: &ImpactChain, orbit: &PeriodicOrbit, method: OrbitMethod, points: usize) -> usize {
     let mut run = OrbitRun::new(chain, W).expect("a parameter");
-    run.method(method).max_points(POINTS);
+    run.method(method).max_points(points);
     run.steps(1e-3, 1e-3, 1e-3);
     run.run("impacting", orbit, RunDirection::Up)
         .expect("the branch")
@@ -56,10 +58,16 @@ fn growth(c: &mut Criterion) {
         let chain = ImpactChain { masses: n };
         let orbit = setup::exact_orbit(n).expect("an impacting orbit");
         for (name, method) in methods {
-            let points = branch(&chain, &orbit, method);
+            let points = branch(&chain, &orbit, method, POINTS);
             group.throughput(Throughput::Elements(points as u64));
             group.bench_function(format!("{name}/{n}"), |b| {
-                b.iter(|| black_box(branch(&chain, &orbit, method)));
+                b.iter(|| black_box(branch(&chain, &orbit, method, POINTS)));
+            });
+            // The start and one step (the run's set-up, the start's correction and analysis):
+            // the branch's time less this, over its other points, is the cost of a step.
+            group.throughput(Throughput::Elements(2));
+            group.bench_function(format!("{name}/{n}/two"), |b| {
+                b.iter(|| black_box(branch(&chain, &orbit, method, 2)));
             });
         }
     }

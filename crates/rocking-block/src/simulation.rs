@@ -26,6 +26,28 @@ pub enum Outcome {
     OverturnNeg,
 }
 
+impl Outcome {
+    /// What the outcome means, in words (for the command line's output).
+    ///
+    /// ```
+    /// use rocking_block::simulation::Outcome;
+    /// assert!(Outcome::Running.describe().contains("still moving"));
+    /// ```
+    #[must_use]
+    pub fn describe(self) -> &'static str {
+        match self {
+            Outcome::Running => {
+                "still moving at the end time: neither overturned nor at rest for good (simulate longer to see where it settles)"
+            }
+            Outcome::Rest => {
+                "at rest for good: lift-off is impossible (alpha omega^2 tan(theta_b) <= 1)"
+            }
+            Outcome::OverturnPos => "overturned to the right (phi = pi/2)",
+            Outcome::OverturnNeg => "overturned to the left (phi = -pi/2)",
+        }
+    }
+}
+
 /// What to simulate.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct SimulationRequest {

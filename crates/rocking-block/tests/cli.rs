@@ -15,6 +15,13 @@ fn simulate_json_has_the_documented_fields() {
         .run_ok();
     let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     assert_eq!(v["outcome"], "running");
+    // Each outcome says what it means.
+    assert!(
+        v["outcome_description"]
+            .as_str()
+            .unwrap()
+            .contains("still moving at the end time")
+    );
     assert!(v["t_end"].as_f64().unwrap() > 48.0);
     assert!(v["impacts"].as_u64().unwrap() > 5);
     assert_eq!(v["final_state"].as_array().unwrap().len(), 4);

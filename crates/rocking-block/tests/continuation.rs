@@ -577,3 +577,34 @@ fn continue_cli_saves_and_restarts() {
     );
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// Down in alpha from the asymmetric orbit, the branch passes BP3 onto the mirror-image
+/// orbits, whose SB, PD and EP repeat the first ones' values: the summary says so for each,
+/// naming the first point and the BP, and says nothing of the points before the BP.
+#[test]
+fn continue_names_the_mirror_images_past_a_branch_point() {
+    let out = bin()
+        .args(["continue", "--free", "alpha", "--kind", "asymmetric-pos"])
+        .run_ok();
+    let text = String::from_utf8_lossy(&out.stdout).into_owned();
+    let lines: Vec<&str> = text.lines().filter(|l| l.contains(" label ")).collect();
+    let label = |l: &str| l.split_whitespace().nth(2).unwrap().to_string();
+    let bp = lines
+        .iter()
+        .position(|l| l.trim_start().starts_with("BP"))
+        .expect("BP3");
+    assert!(lines[..=bp].iter().all(|l| !l.contains("mirror")), "{text}");
+    for line in &lines[bp + 1..] {
+        let kind = line.split_whitespace().next().unwrap();
+        let first = lines[..bp]
+            .iter()
+            .find(|l| l.trim_start().starts_with(kind))
+            .expect(kind);
+        let note = format!(
+            "(as label {}: past BP label {}",
+            label(first),
+            label(lines[bp])
+        );
+        assert!(line.contains(&note), "{line} lacks {note}");
+    }
+}

@@ -220,23 +220,25 @@ pub(super) fn run_simulate(
         crate::output::write_atomic(path, text)?;
     }
     let title = format!(
-        "rocking block: omega = {}, alpha = {}, phi0 = {}, psi0 = {} ({:?})",
-        params.omega, params.alpha, args.phi0, args.psi0, report.outcome
+        "rocking block: omega = {}, alpha = {}, phi0 = {}, psi0 = {}, beta = {} ({:?})",
+        params.omega, params.alpha, args.phi0, args.psi0, args.beta, report.outcome
     );
     crate::output::write_picture(args.svg.as_deref(), args.png.as_deref(), |p| {
         plot::trajectory_svg(p, &title, &traj, &params)
     })?;
     if args.json {
-        let value = serde_json::to_value(&report).expect("report serialises");
+        let mut value = serde_json::to_value(&report).expect("report serialises");
+        value["outcome_description"] = report.outcome.describe().into();
         let value = stamp(invocation, params, dims, value);
         let text = serde_json::to_string_pretty(&value).expect("report serialises");
         writeln!(out, "{text}").map_err(stdout_err)?;
     } else {
         writeln!(
             out,
-            "outcome: {:?}\nt_end: {:.6}\nimpacts: {}\nfinal mode: {}\nfinal state: {:?}\n\
+            "outcome: {:?} ({})\nt_end: {:.6}\nimpacts: {}\nfinal mode: {}\nfinal state: {:?}\n\
              rest times: {:?}\nsteps: {} (rejected {}), rhs evaluations: {}",
             report.outcome,
+            report.outcome.describe(),
             report.t_end,
             report.impacts,
             report.final_mode,

@@ -221,20 +221,50 @@ fn summary(branch: &OrbitBranch, free: Free, mesh_tol: f64, out: &mut dyn Write)
     if let Some(line) = mesh_summary(branch, mesh_tol) {
         writeln!(out, "{line}").map_err(stdout_err)?;
     }
-    for s in &b.special_points {
+    for (i, s) in b.special_points.iter().enumerate() {
         writeln!(
             out,
-            "  {} label {} {} = {:.10} amp {:.8}{}",
+            "  {} label {} {} = {:.10} amp {:.8}{}{}",
             s.kind.label(),
             s.point.label,
             free.name(),
             s.point[free.id()],
             s.point[AMP],
-            if s.located { "" } else { " (not located)" }
+            if s.located { "" } else { " (not located)" },
+            mirror_note(&b.special_points, i, free.id())
         )
         .map_err(stdout_err)?;
     }
     Ok(())
+}
+
+/// For a special point that repeats an earlier one (the same kind, parameter and amplitude)
+/// with a branch point between them, the note that names both: past a symmetry-breaking
+/// branch point a branch of asymmetric orbits runs on to their mirror images, whose special
+/// points are the same values again.
+fn mirror_note(
+    points: &[hycont_continuation::SpecialPoint],
+    i: usize,
+    free: hycont_core::ParamId,
+) -> String {
+    let s = &points[i];
+    let same = |a: f64, b: f64| (a - b).abs() <= 1e-8 * a.abs().max(1.0);
+    let param = s.point[free];
+    for (j, e) in points[..i].iter().enumerate().rev() {
+        let bp = (points[j + 1..i].iter())
+            .find(|q| q.kind == hycont_continuation::SpecialKind::BranchPoint);
+        if let Some(bp) = bp
+            && e.kind == s.kind
+            && same(e.point[free], param)
+            && same(e.point[AMP], s.point[AMP])
+        {
+            return format!(
+                " (as label {}: past BP label {} the branch runs on the mirror-image orbits)",
+                e.point.label, bp.point.label
+            );
+        }
+    }
+    String::new()
 }
 
 /// A collocation run's mesh: how often it was adapted, its intervals per segment at the start
