@@ -106,8 +106,8 @@ fn sheet_panel(
         .map_err(|e| plot_err(path, e))?;
     chart
         .configure_mesh()
-        .x_desc("omega")
-        .y_desc("alpha")
+        .x_desc(super::key::axis("omega"))
+        .y_desc(super::key::axis("alpha"))
         .draw()
         .map_err(|e| plot_err(path, e))?;
     // A chart whose polygon its neighbours cut away entirely covers nothing of its own.
@@ -145,7 +145,10 @@ fn sheet_panel(
     for c in curves {
         let col = curve_colour(c.kind);
         fine.line(&frame, c.points(), Pen::new(col, 1.5));
-        entries.push((format!("Fig. 6 {} curve", c.kind.label()), Mark::Line(col)));
+        entries.push((
+            format!("Fig. 6 {} curve", super::key::spelled(c.kind.label())),
+            Mark::Line(col),
+        ));
     }
     Ok(())
 }

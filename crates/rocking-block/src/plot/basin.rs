@@ -132,8 +132,8 @@ fn chart<'a, 'b>(
         .map_err(err)?;
     chart
         .configure_mesh()
-        .x_desc(x_name)
-        .y_desc(y_name)
+        .x_desc(super::key::axis(x_name))
+        .y_desc(super::key::axis(y_name))
         .draw()
         .map_err(err)?;
     Ok(chart)

@@ -92,8 +92,8 @@ pub fn branches_svg(
             .map_err(|e| plot_err(path, e))?;
         chart
             .configure_mesh()
-            .x_desc(free.name())
-            .y_desc("Amp = max |phi|")
+            .x_desc(super::key::axis(free.name()))
+            .y_desc(super::key::axis("Amp"))
             .draw()
             .map_err(|e| plot_err(path, e))?;
         chart
@@ -104,6 +104,13 @@ pub fn branches_svg(
             .map_err(|e| plot_err(path, e))?
             .label("static boundary pi/2 - theta_b")
             .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], BLACK.mix(0.5)));
+        chart
+            .draw_series(std::iter::empty::<PathElement<(f64, f64)>>())
+            .map_err(|e| plot_err(path, e))?
+            .label(
+                "SN: fold, BP: branch point, PD: period doubling, SB: Amp at the boundary, GR: grazing",
+            )
+            .legend(|(x, y)| Text::new("", (x, y), ("sans-serif", 1)));
         draw_branch_lines(path, &mut chart, fine, branches, q, true)?;
         fine.here(&main, path)?;
         let outside = |x: f64, y: f64| zoom.is_none_or(|z| !z.holds((x, y)));
@@ -142,8 +149,8 @@ pub fn branches_svg(
                 .map_err(|e| plot_err(path, e))?;
             chart
                 .configure_mesh()
-                .x_desc(free.name())
-                .y_desc("Amp")
+                .x_desc(super::key::axis(free.name()))
+                .y_desc(super::key::axis("Amp"))
                 .x_labels(5)
                 .draw()
                 .map_err(|e| plot_err(path, e))?;
@@ -277,8 +284,8 @@ fn draw_curves(
             .map_err(|e| plot_err(path, e))?;
         chart
             .configure_mesh()
-            .x_desc("omega")
-            .y_desc("alpha")
+            .x_desc(super::key::axis("omega"))
+            .y_desc(super::key::axis("alpha"))
             .draw()
             .map_err(|e| plot_err(path, e))?;
         let by_kind = |k: SpecialKind| curves.iter().find(|c| c.kind == k);
@@ -329,7 +336,10 @@ fn draw_curves(
         for c in curves {
             let col = curve_colour(c.kind);
             fine.line(&frame, c.points(), Pen::new(col, 2.0));
-            entries.push((format!("{} curve", c.kind.label()), Mark::Line(col)));
+            entries.push((
+                format!("{} curve", super::key::spelled(c.kind.label())),
+                Mark::Line(col),
+            ));
         }
         // The one-parameter lines through the start (the study's: Fig. 3 at alpha = 0.66, Fig. 4
         // at omega = 1.3).
@@ -394,9 +404,40 @@ fn draw_curves(
                 )))
                 .map_err(|e| plot_err(path, e))?;
         }
+        draw_user_points(path, &mut chart, curves, &mut entries)?;
         draw_key(&key, "key", &entries).map_err(|e| plot_err(path, e))?;
         Ok(())
     })
+}
+
+/// The curves' user points (UZ: where a curve meets the lines of Figs. 3 and 4), as dots in
+/// their curve's colour, with a key entry if there are any.
+fn draw_user_points<DB: DrawingBackend>(
+    path: &Path,
+    chart: &mut super::fine::Chart<'_, DB>,
+    curves: &[crate::continuation::Curve],
+    entries: &mut Vec<(String, Mark)>,
+) -> Result<()> {
+    use hycont_continuation::SpecialKind;
+    let mut any = false;
+    for c in curves {
+        let colour = curve_colour(c.kind);
+        for s in c.branch.special(SpecialKind::UserPoint) {
+            let at = (s.point[crate::OMEGA], s.point[crate::ALPHA]);
+            chart
+                .draw_series([
+                    Circle::new(at, 5, colour.filled()),
+                    Circle::new(at, 5, BLACK.stroke_width(1)),
+                ])
+                .map_err(|e| plot_err(path, e))?;
+            any = true;
+        }
+    }
+    if any {
+        let text = "UZ (user point): on a dashed line";
+        entries.push((text.into(), Mark::Dot(RGBColor(90, 90, 90), 5)));
+    }
+    Ok(())
 }
 
 /// The kinds of codimension-two points curves carry.
@@ -438,8 +479,8 @@ pub fn test_points_svg(
                 .map_err(|e| plot_err(path, e))?;
             chart
                 .configure_mesh()
-                .x_desc("t")
-                .y_desc("phi")
+                .x_desc(super::key::axis("t"))
+                .y_desc(super::key::axis("phi"))
                 .draw()
                 .map_err(|e| plot_err(path, e))?;
             let frame = fine.frame(&chart);

@@ -157,3 +157,45 @@ pub(super) fn colour_bar<DB: DrawingBackend>(
     .map_err(|e| e.to_string())?;
     Ok(())
 }
+
+/// A special point's label with what it stands for, for keys: `SN (fold)`, ...
+pub(super) fn spelled(label: &str) -> String {
+    let meaning = match label {
+        "SN" => "fold, saddle-node",
+        "BP" => "branch point",
+        "PD" => "period doubling",
+        "TR" => "torus",
+        "SB" => "Amp at the static boundary",
+        "GR" => "grazing",
+        "DB" => "domain boundary",
+        "UZ" => "user point",
+        "EP" => "end point",
+        "OV" => "overturn test point",
+        "R1" => "1:1 resonance",
+        "R2" => "1:2 resonance",
+        "LPPD" => "fold-flip",
+        "LPNS" => "fold-torus",
+        "PDNS" => "flip-torus",
+        "CP" => "cusp",
+        _ => return label.to_string(),
+    };
+    format!("{label} ({meaning})")
+}
+
+/// An axis's title: the study's variable with its meaning and unit (every quantity of the
+/// study is dimensionless, angles in radians).
+pub(super) fn axis(name: &str) -> String {
+    let meaning = match name {
+        "omega" => "forcing frequency / Omega0, dimensionless",
+        "alpha" => "forcing amplitude / R, dimensionless",
+        "beta" => "forcing phase, rad",
+        "phi" => "rotation angle, rad",
+        "phi0" => "initial rotation angle, rad",
+        "psi" => "angular velocity, rad per unit time",
+        "psi0" => "initial angular velocity, rad per unit time",
+        "t" => "time x Omega0, dimensionless",
+        "Amp" => "max |phi| over the orbit, rad",
+        _ => return name.to_string(),
+    };
+    format!("{name} ({meaning})")
+}

@@ -46,8 +46,8 @@ pub fn trajectory_svg(
             .map_err(|e| plot_err(path, e))?;
         chart
             .configure_mesh()
-            .x_desc("t")
-            .y_desc("phi")
+            .x_desc(super::key::axis("t"))
+            .y_desc(super::key::axis("phi"))
             .draw()
             .map_err(|e| plot_err(path, e))?;
         for b in [boundary, -boundary] {
@@ -73,8 +73,8 @@ pub fn trajectory_svg(
             .map_err(|e| plot_err(path, e))?;
         phase
             .configure_mesh()
-            .x_desc("phi")
-            .y_desc("psi")
+            .x_desc(super::key::axis("phi"))
+            .y_desc(super::key::axis("psi"))
             .draw()
             .map_err(|e| plot_err(path, e))?;
         let frame = fine.frame(&phase);
@@ -128,8 +128,8 @@ pub fn orbits_svg(
             .map_err(|e| plot_err(path, e))?;
         phase
             .configure_mesh()
-            .x_desc("phi")
-            .y_desc("psi")
+            .x_desc(super::key::axis("phi"))
+            .y_desc(super::key::axis("psi"))
             .draw()
             .map_err(|e| plot_err(path, e))?;
         for b in [boundary, -boundary] {
@@ -189,8 +189,8 @@ pub fn orbits_svg(
             .map_err(|e| plot_err(path, e))?;
         series
             .configure_mesh()
-            .x_desc("t (one period)")
-            .y_desc("phi")
+            .x_desc(format!("{} over one period", super::key::axis("t")))
+            .y_desc(super::key::axis("phi"))
             .draw()
             .map_err(|e| plot_err(path, e))?;
         let frame = fine.frame(&series);

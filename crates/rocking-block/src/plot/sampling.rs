@@ -48,8 +48,8 @@ pub fn brute_force_svg(
                 .map_err(|e| plot_err(path, e))?;
             chart
                 .configure_mesh()
-                .x_desc("alpha")
-                .y_desc("psi")
+                .x_desc(super::key::axis("alpha"))
+                .y_desc(super::key::axis("psi"))
                 .draw()
                 .map_err(|e| plot_err(path, e))?;
             for (p, colour) in pts() {
@@ -204,8 +204,8 @@ pub fn basins_svg(
                 .map_err(|e| plot_err(path, e))?;
             chart
                 .configure_mesh()
-                .x_desc("phi0")
-                .y_desc("psi0")
+                .x_desc(super::key::axis("phi0"))
+                .y_desc(super::key::axis("psi0"))
                 .draw()
                 .map_err(|e| plot_err(path, e))?;
             let (dx, dy) = (2.0 * boundary / n as f64, 2.0 / n as f64);
@@ -271,8 +271,8 @@ pub fn class_grid_svg(
                 .map_err(|e| plot_err(path, e))?;
             chart
                 .configure_mesh()
-                .x_desc("omega")
-                .y_desc("alpha")
+                .x_desc(super::key::axis("omega"))
+                .y_desc(super::key::axis("alpha"))
                 .draw()
                 .map_err(|e| plot_err(path, e))?;
             for (i, col) in grid.iter().enumerate() {
@@ -330,8 +330,8 @@ pub fn probability_grid_svg(
                     chart
                         .configure_mesh()
                         .disable_mesh()
-                        .x_desc("omega")
-                        .y_desc("alpha")
+                        .x_desc(super::key::axis("omega"))
+                        .y_desc(super::key::axis("alpha"))
                         .draw()
                         .map_err(|e| plot_err(path, e))?;
                     let side = (p.len() as f64).sqrt().round().max(1.0) as usize;
@@ -380,7 +380,12 @@ fn curve_entries(curves: &[crate::continuation::Curve]) -> Vec<(String, Mark)> {
     curve_styles()
         .into_iter()
         .filter(|(kind, _)| curves.iter().any(|c| c.kind == *kind))
-        .map(|(kind, colour)| (format!("{} curve", kind.label()), Mark::Line(colour)))
+        .map(|(kind, colour)| {
+            (
+                format!("{} curve", super::key::spelled(kind.label())),
+                Mark::Line(colour),
+            )
+        })
         .collect()
 }
 
@@ -420,7 +425,7 @@ pub fn marginals_svg(
                 .map_err(|e| plot_err(path, e))?;
             chart
                 .configure_mesh()
-                .x_desc(*name)
+                .x_desc(super::key::axis(name))
                 .y_desc("probability")
                 .draw()
                 .map_err(|e| plot_err(path, e))?;
