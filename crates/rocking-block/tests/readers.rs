@@ -86,7 +86,11 @@ proptest! {
                 bytes[at] = byte;
                 text = String::from_utf8_lossy(&bytes).into_owned();
             }
-            1 => text.truncate(text.floor_char_boundary(at)),
+            1 => {
+                // The char boundary at or before `at` (`floor_char_boundary` needs Rust 1.91).
+                let cut = (0..=at).rev().find(|&i| text.is_char_boundary(i)).unwrap_or(0);
+                text.truncate(cut);
+            }
             _ => {
                 // Replace the number starting at or after `at`.
                 if let Some(start) = text[at..].find(|c: char| c.is_ascii_digit()).map(|i| i + at) {
