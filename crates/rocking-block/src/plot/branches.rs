@@ -5,6 +5,7 @@ use super::key::{Mark, curve_colour, draw_key, over_white};
 use super::{emptiest_corner, mode_colour, pieces, plot_err, range};
 use crate::error::Result;
 use crate::model::Parameters;
+use crate::simulation::Outcome;
 use hycont_core::Trajectory;
 use plotters::prelude::*;
 use std::path::Path;
@@ -463,11 +464,21 @@ pub fn test_points_svg(
         let panels = root.split_evenly((3, 2));
         for ((panel, t), traj) in panels.iter().zip(tests).zip(trajectories) {
             let (pieces, _) = pieces(traj);
-            let t1 = traj.t_final.max(1e-9);
+            // A block that settles is shown until a little after it comes to rest for good,
+            // not over the flat rest of the simulated window.
+            let rest = t.rest_times.last().copied().filter(|_| t.outcome == Outcome::Rest);
+            let t1 = rest.map_or(traj.t_final, |r| (1.3 * r).min(traj.t_final)).max(1e-9);
+            let phi_max = (pieces.iter().flat_map(|p| &p.points))
+                .filter(|q| q.0 <= t1)
+                .fold(0.05_f64, |m, q| m.max(q.1.abs()));
+            let y = 1.15 * phi_max;
+            let settled = rest.map_or(String::new(), |r| {
+                format!(", at rest from t = {r:.2} (of {:.0} simulated)", traj.t_final)
+            });
             let mut chart = ChartBuilder::on(panel)
                 .caption(
                     format!(
-                        "{}: omega {:.2}, alpha {:.3}: {:?}",
+                        "{}: omega {:.2}, alpha {:.3}: {:?}{settled}",
                         t.label, t.omega, t.alpha, t.outcome
                     ),
                     ("sans-serif", 13),
@@ -475,7 +486,7 @@ pub fn test_points_svg(
                 .margin(8)
                 .x_label_area_size(38)
                 .y_label_area_size(50)
-                .build_cartesian_2d(0.0..t1, -1.6..1.6)
+                .build_cartesian_2d(0.0..t1, -y..y)
                 .map_err(|e| plot_err(path, e))?;
             chart
                 .configure_mesh()
