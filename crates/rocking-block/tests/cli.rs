@@ -294,20 +294,21 @@ fn figure_6_writes_curves_and_test_points() {
                 .contains("<svg")
         );
     }
-    // The key (beside the plot) names the regions, every curve, the lines of Figs. 3 and 4 and
-    // the test points.
+    // The key (beside the plot) names the regions, every curve (its acronym spelled out), the
+    // lines of Figs. 3 and 4, the test points and the curves' user points.
     let svg = std::fs::read_to_string(dir.join("fig6.svg")).unwrap();
     let texts: Vec<&str> = svg.lines().map(str::trim).collect();
     for needle in [
         "stable symmetric period 1",
         "stable asymmetric period 1",
-        "SN curve",
-        "BP curve",
-        "PD curve",
-        "SB curve",
+        "SN (fold, saddle-node) curve",
+        "BP (branch point) curve",
+        "PD (period doubling) curve",
+        "SB (Amp at the static boundary) curve",
         "line alpha = 0.66",
         "line omega = 1.3",
         "test point (its outcome)",
+        "UZ (user point): on a dashed line",
     ] {
         assert!(texts.contains(&needle), "fig6.svg lacks {needle:?}");
     }

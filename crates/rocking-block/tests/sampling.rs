@@ -409,14 +409,14 @@ fn figures_8_to_10_write_their_json() {
     // group's panel at both betas.
     let svg9 = std::fs::read_to_string(dir.join("fig9.svg")).unwrap();
     for needle in [
-        "omega",
-        "alpha",
+        "omega (forcing frequency / Omega0, dimensionless)",
+        "alpha (forcing amplitude / R, dimensionless)",
         "probability",
         "0.00",
         "1.00",
-        "SN curve",
-        "BP curve",
-        "PD curve",
+        "SN (fold, saddle-node) curve",
+        "BP (branch point) curve",
+        "PD (period doubling) curve",
         "symmetric_p1, beta = 0.0000",
         "other, beta = 1.5708",
     ] {
@@ -507,7 +507,12 @@ fn figure_8_grid_matches_the_studys_description() {
     drawn.dedup();
     let texts = svg_texts(&dir.join("fig8.svg"));
     key_names(&texts, &drawn);
-    for curve in ["SN curve", "BP curve", "PD curve", "final class"] {
+    for curve in [
+        "SN (fold, saddle-node) curve",
+        "BP (branch point) curve",
+        "PD (period doubling) curve",
+        "final class",
+    ] {
         assert!(texts.iter().any(|t| t == curve), "{curve}");
     }
     std::fs::remove_dir_all(&dir).ok();

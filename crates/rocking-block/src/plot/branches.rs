@@ -466,14 +466,23 @@ pub fn test_points_svg(
             let (pieces, _) = pieces(traj);
             // A block that settles is shown until a little after it comes to rest for good,
             // not over the flat rest of the simulated window.
-            let rest = t.rest_times.last().copied().filter(|_| t.outcome == Outcome::Rest);
-            let t1 = rest.map_or(traj.t_final, |r| (1.3 * r).min(traj.t_final)).max(1e-9);
+            let rest = t
+                .rest_times
+                .last()
+                .copied()
+                .filter(|_| t.outcome == Outcome::Rest);
+            let t1 = rest
+                .map_or(traj.t_final, |r| (1.3 * r).min(traj.t_final))
+                .max(1e-9);
             let phi_max = (pieces.iter().flat_map(|p| &p.points))
                 .filter(|q| q.0 <= t1)
                 .fold(0.05_f64, |m, q| m.max(q.1.abs()));
             let y = 1.15 * phi_max;
             let settled = rest.map_or(String::new(), |r| {
-                format!(", at rest from t = {r:.2} (of {:.0} simulated)", traj.t_final)
+                format!(
+                    ", at rest from t = {r:.2} (of {:.0} simulated)",
+                    traj.t_final
+                )
             });
             let mut chart = ChartBuilder::on(panel)
                 .caption(

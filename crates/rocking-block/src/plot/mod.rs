@@ -154,14 +154,15 @@ fn range(values: impl Iterator<Item = f64>) -> (f64, f64) {
 }
 
 /// The corner of the plot area whose quarter (the outer 45 % in x, 30 % in y) holds the fewest
-/// data points, for the legend (so that it does not hide the branches).
+/// data points, for the legend (so that it does not hide the branches); or the middle of the
+/// left or right side (30 % in y around the centre) where that holds fewer still.
 fn emptiest_corner(
     points: &[(f64, f64)],
     (x_lo, x_hi): (f64, f64),
     (y_lo, y_hi): (f64, f64),
 ) -> SeriesLabelPosition {
     let (wx, wy) = (0.45 * (x_hi - x_lo), 0.3 * (y_hi - y_lo));
-    let count = |right: bool, upper: bool| {
+    let count = |right: bool, upper: Option<bool>| {
         points
             .iter()
             .filter(|(x, y)| {
@@ -170,20 +171,23 @@ fn emptiest_corner(
                 } else {
                     *x <= x_lo + wx
                 };
-                let in_y = if upper {
-                    *y >= y_hi - wy
-                } else {
-                    *y <= y_lo + wy
+                let in_y = match upper {
+                    Some(true) => *y >= y_hi - wy,
+                    Some(false) => *y <= y_lo + wy,
+                    None => (*y - 0.5 * (y_lo + y_hi)).abs() <= 0.5 * wy,
                 };
                 in_x && in_y
             })
             .count()
     };
+    // Corners first: a middle place is taken only where it hides strictly fewer points.
     [
-        (SeriesLabelPosition::UpperRight, count(true, true)),
-        (SeriesLabelPosition::UpperLeft, count(false, true)),
-        (SeriesLabelPosition::LowerRight, count(true, false)),
-        (SeriesLabelPosition::LowerLeft, count(false, false)),
+        (SeriesLabelPosition::UpperRight, count(true, Some(true))),
+        (SeriesLabelPosition::UpperLeft, count(false, Some(true))),
+        (SeriesLabelPosition::LowerRight, count(true, Some(false))),
+        (SeriesLabelPosition::LowerLeft, count(false, Some(false))),
+        (SeriesLabelPosition::MiddleLeft, count(false, None)),
+        (SeriesLabelPosition::MiddleRight, count(true, None)),
     ]
     .into_iter()
     .min_by_key(|(_, c)| *c)

@@ -38,7 +38,9 @@ pub fn brute_force_svg(
                     .chain(down.iter().map(|p| (p, RGBColor(214, 39, 40).mix(0.5))))
                     .filter(move |(p, _)| p.value >= lo && p.value <= hi)
             };
-            let (y_lo, y_hi) = range(pts().flat_map(|(p, _)| p.samples.iter().map(|s| s[1])));
+            let (y_lo, y_data) = range(pts().flat_map(|(p, _)| p.samples.iter().map(|s| s[1])));
+            // A band above the data for the special points' names.
+            let y_hi = y_data + 0.2 * (y_data - y_lo);
             let mut chart = ChartBuilder::on(area)
                 .caption(title, ("sans-serif", 16))
                 .margin(10)
@@ -76,6 +78,35 @@ pub fn brute_force_svg(
     })
 }
 
+/// Where the names of sorted vertical lines go: `(alpha, name, row)`, rows from the top.
+/// Lines closer than `gap` form a cluster whose names take a row each (up to three); a larger
+/// cluster names its first two alone and the rest together, first to last.
+fn marker_labels(lines: &[(&str, f64)], gap: f64) -> Vec<(f64, String, u8)> {
+    let mut clusters: Vec<Vec<(&str, f64)>> = Vec::new();
+    for &line in lines {
+        match clusters.last_mut() {
+            Some(c) if line.1 - c.last().map_or(f64::NEG_INFINITY, |l| l.1) < gap => c.push(line),
+            _ => clusters.push(vec![line]),
+        }
+    }
+    let mut out = Vec::new();
+    for c in clusters {
+        if c.len() <= 3 {
+            out.extend(
+                (0u8..)
+                    .zip(&c)
+                    .map(|(row, &(name, at))| (at, name.to_string(), row)),
+            );
+        } else {
+            out.push((c[0].1, c[0].0.to_string(), 0));
+            out.push((c[1].1, c[1].0.to_string(), 1));
+            let last = c[c.len() - 1].0;
+            out.push((c[2].1, format!("{}-{last}", c[2].0), 2));
+        }
+    }
+    out
+}
+
 type Chart2d<'a, DB> = ChartContext<
     'a,
     DB,
@@ -96,11 +127,18 @@ fn annotate_sweeps<'a, DB: DrawingBackend + 'a>(
 ) -> std::result::Result<(), String> {
     let err = |e: DrawingAreaErrorKind<DB::ErrorType>| e.to_string();
     let grey = RGBColor(90, 90, 90);
-    let shown = markers.iter().filter(|m| m.1 > lo && m.1 < hi);
-    // Names go on the highest of three rows whose last name is at least 4 % of the axis to
-    // the left (else the row whose last name is farthest), so that close lines stay readable.
-    let mut rows = [f64::NEG_INFINITY; 3];
-    for &(name, alpha) in shown {
+    // The samples drawn, for the legend's place (the corner that covers the fewest).
+    let mut sampled: Vec<(f64, f64)> = (up.iter().chain(down))
+        .filter(|p| p.value >= lo && p.value <= hi)
+        .flat_map(|p| p.samples.iter().map(move |s| (p.value, s[1])))
+        .collect();
+    let mut shown: Vec<(&str, f64)> = markers
+        .iter()
+        .copied()
+        .filter(|m| m.1 > lo && m.1 < hi)
+        .collect();
+    shown.sort_by(|a, b| a.1.total_cmp(&b.1));
+    for &(_, alpha) in &shown {
         chart
             .draw_series(DashedLineSeries::new(
                 vec![(alpha, y_lo), (alpha, y_hi)],
@@ -109,22 +147,20 @@ fn annotate_sweeps<'a, DB: DrawingBackend + 'a>(
                 grey.stroke_width(1),
             ))
             .map_err(err)?;
-        let gap = 0.04 * (hi - lo);
-        let row = rows
-            .iter()
-            .position(|&last| alpha - last >= gap)
-            .unwrap_or_else(|| {
-                (0..rows.len())
-                    .min_by(|&a, &b| rows[a].total_cmp(&rows[b]))
-                    .unwrap_or(0)
-            });
-        rows[row] = alpha;
-        #[allow(clippy::cast_precision_loss)]
-        let y = y_hi - (y_hi - y_lo) * 0.05 * row as f64;
+    }
+    // Names go in the band above the data (the chart's top sixth), one row each within a
+    // cluster of lines closer than 4 % of the axis; a cluster of more than three gives its
+    // first two a row each and the rest one name for all ("PD3-PD6"), so no names overlap.
+    let labels = marker_labels(&shown, 0.04 * (hi - lo));
+    let label_y = |row: u8| y_hi - (y_hi - y_lo) * (0.02 + 0.05 * f64::from(row));
+    // The legend avoids the names too.
+    sampled.extend(labels.iter().map(|(at, _, row)| (*at, label_y(*row))));
+    for (at, name, row) in labels {
+        let y = label_y(row);
         chart
             .draw_series(std::iter::once(Text::new(
                 format!(" {name}"),
-                (alpha, y),
+                (at, y),
                 ("sans-serif", 13).into_font().color(&grey),
             )))
             .map_err(err)?;
@@ -166,7 +202,7 @@ fn annotate_sweeps<'a, DB: DrawingBackend + 'a>(
     }
     chart
         .configure_series_labels()
-        .position(SeriesLabelPosition::MiddleLeft)
+        .position(super::emptiest_corner(&sampled, (lo, hi), (y_lo, y_hi)))
         .border_style(BLACK)
         .background_style(WHITE.mix(0.9))
         .draw()
