@@ -556,7 +556,13 @@ fn render10(
             "trials_per_bin": (0..50).map(|i| c.trials(i)).collect::<Vec<_>>(),
             "probabilities": probs.iter().map(|(n, p)| (n.to_string(), json!(p))).collect::<serde_json::Map<_, _>>(),
         }));
-        panels.push((*name, axis[0].lo, axis[0].hi, probs));
+        let trials: Vec<u64> = (0..c.counts.len()).map(|i| c.trials(i)).collect();
+        panels.push(plot::Marginal {
+            name,
+            range: (axis[0].lo, axis[0].hi),
+            probabilities: probs,
+            trials,
+        });
     }
     let json = json!({
         "figure": 10,

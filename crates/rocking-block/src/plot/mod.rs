@@ -17,7 +17,7 @@ pub use branches::{Zoom, branches_svg, curve_svg, curves_svg, test_points_svg};
 pub use orbits::{orbits_svg, trajectory_svg};
 pub use png::svg_to_png;
 pub use sampling::{
-    basins_svg, brute_force_svg, class_grid_svg, marginals_svg, probability_grid_svg,
+    Marginal, basins_svg, brute_force_svg, class_grid_svg, marginals_svg, probability_grid_svg,
 };
 
 use crate::error::Error;

@@ -431,16 +431,25 @@ fn curve_styles() -> [(hycont_continuation::SpecialKind, RGBColor); 3] {
     [Fold, BranchPoint, PeriodDoubling].map(|k| (k, curve_colour(k)))
 }
 
-/// Fig. 10: group probabilities against each binned variable, under `title`.
+/// One panel of Fig. 10: the group probabilities per bin of a variable over `range`, and the
+/// bins' trials (for the 95 % Wilson intervals drawn around them).
+pub struct Marginal<'a> {
+    /// The binned variable.
+    pub name: &'a str,
+    /// Its range.
+    pub range: (f64, f64),
+    /// Each group's probability per bin.
+    pub probabilities: Vec<(&'static str, Vec<f64>)>,
+    /// Trials per bin.
+    pub trials: Vec<u64>,
+}
+
+/// Fig. 10: group probabilities against each binned variable, with their 95 % Wilson intervals
+/// shaded, under `title`.
 ///
 /// # Errors
 /// [`crate::Error::Plot`] if the file cannot be written.
-#[allow(clippy::type_complexity)]
-pub fn marginals_svg(
-    path: &Path,
-    title: &str,
-    panels: &[(&str, f64, f64, Vec<(&str, Vec<f64>)>)],
-) -> Result<()> {
+pub fn marginals_svg(path: &Path, title: &str, panels: &[Marginal<'_>]) -> Result<()> {
     super::titled_picture(path, (1420, 450), title, |root, fine| {
         let (plots, key) = root.split_horizontally(1200);
         let areas = plots.split_evenly((1, panels.len()));
@@ -451,40 +460,68 @@ pub fn marginals_svg(
             RGBColor(0, 0, 0),
             RGBColor(148, 103, 189),
         ];
-        for (area, (name, lo, hi, probs)) in areas.iter().zip(panels) {
+        for (area, panel) in areas.iter().zip(panels) {
+            let (lo, hi) = panel.range;
             let mut chart = ChartBuilder::on(area)
-                .caption(format!("against {name}"), ("sans-serif", 13))
+                .caption(format!("against {}", panel.name), ("sans-serif", 13))
                 .margin(8)
                 .x_label_area_size(30)
                 .y_label_area_size(40)
-                .build_cartesian_2d(*lo..*hi, 0.0..1.0)
+                .build_cartesian_2d(lo..hi, 0.0..1.0)
                 .map_err(|e| plot_err(path, e))?;
             chart
                 .configure_mesh()
-                .x_desc(super::key::axis(name))
+                .x_desc(super::key::axis(panel.name))
                 .y_desc("probability")
                 .draw()
                 .map_err(|e| plot_err(path, e))?;
+            let n = panel.trials.len().max(1);
+            let x = |i: usize| lo + (hi - lo) * (i as f64 + 0.5) / n as f64;
+            for ((_, p), col) in panel.probabilities.iter().zip(colours) {
+                let band = wilson_band(p, &panel.trials, x);
+                chart
+                    .draw_series(std::iter::once(Polygon::new(band, col.mix(0.2).filled())))
+                    .map_err(|e| plot_err(path, e))?;
+            }
             let frame = fine.frame(&chart);
-            for ((_, p), col) in probs.iter().zip(colours) {
-                let n = p.len().max(1);
-                let pts: Vec<(f64, f64)> = p
-                    .iter()
-                    .enumerate()
+            for ((_, p), col) in panel.probabilities.iter().zip(colours) {
+                let pts: Vec<(f64, f64)> = (p.iter().enumerate())
                     .filter(|(_, v)| v.is_finite())
-                    .map(|(i, v)| (lo + (hi - lo) * (i as f64 + 0.5) / n as f64, *v))
+                    .map(|(i, v)| (x(i), *v))
                     .collect();
                 fine.line(&frame, pts, Pen::new(col, 2.0));
             }
         }
-        // The key beside the panels (inside, it would cover the curves).
-        let groups = panels.first().map(|p| &p.3[..]).unwrap_or_default();
-        let entries: Vec<(String, Mark)> = groups
+        let groups = panels
+            .first()
+            .map(|p| &p.probabilities[..])
+            .unwrap_or_default();
+        let mut entries: Vec<(String, Mark)> = groups
             .iter()
             .zip(colours)
             .map(|((group, _), col)| ((*group).to_string(), Mark::Line(col)))
             .collect();
+        entries.push((
+            "shaded: 95 % Wilson interval".into(),
+            Mark::Swatch(super::key::over_white(RGBColor(90, 90, 90), 0.2)),
+        ));
+        // The key beside the panels (inside, it would cover the curves).
         draw_key(&key, "solution group", &entries).map_err(|e| plot_err(path, e))?;
         Ok(())
     })
+}
+
+/// The polygon of the 95 % Wilson intervals of probabilities `p` over bins of `trials` trials
+/// (bin `i` at `x(i)`): the upper ends left to right, then the lower ends back.
+fn wilson_band(p: &[f64], trials: &[u64], x: impl Fn(usize) -> f64) -> Vec<(f64, f64)> {
+    let ends: Vec<(f64, f64, f64)> = (p.iter().zip(trials).enumerate())
+        .filter(|(_, (v, n))| v.is_finite() && **n > 0)
+        .map(|(i, (v, &n))| {
+            let (lo, hi) = hycont_sample::basin::wilson((v * n as f64).round() as u64, n);
+            (x(i), lo, hi)
+        })
+        .collect();
+    let upper = ends.iter().map(|&(x, _, hi)| (x, hi));
+    let lower = ends.iter().rev().map(|&(x, lo, _)| (x, lo));
+    upper.chain(lower).collect()
 }
