@@ -63,6 +63,7 @@ pub fn trajectory_svg(
             let pen = Pen::new(mode_colour(piece.mode), 2.0);
             fine.line(&frame, piece.points.iter().map(|q| (q.0, q.1)), pen);
         }
+        mode_key(path, &mut chart, (t0, t1), (phi_lo, phi_hi), &pieces)?;
 
         let (psi_lo, psi_hi) = range(pieces.iter().flat_map(|p| p.points.iter().map(|q| q.2)));
         let mut phase = ChartBuilder::on(&lower)
@@ -87,6 +88,51 @@ pub fn trajectory_svg(
         }
         Ok(())
     })
+}
+
+/// The key of a trajectory's colours (the modes it visits, the static boundary), in the
+/// corner of the plot its curve leaves freest.
+fn mode_key<'a, DB: DrawingBackend + 'a>(
+    path: &Path,
+    chart: &mut super::fine::Chart<'a, DB>,
+    (t0, t1): (f64, f64),
+    (phi_lo, phi_hi): (f64, f64),
+    pieces: &[super::Piece],
+) -> Result<()> {
+    use crate::model::REST;
+    for (mode, what) in [
+        (PLUS, "mode + (rocking about the right corner, phi > 0)"),
+        (MINUS, "mode - (rocking about the left corner, phi < 0)"),
+        (REST, "at rest on the base"),
+    ] {
+        if !pieces.iter().any(|p| p.mode == mode) {
+            continue;
+        }
+        let colour = mode_colour(mode);
+        chart
+            .draw_series(std::iter::empty::<PathElement<(f64, f64)>>())
+            .map_err(|e| plot_err(path, e))?
+            .label(what)
+            .legend(move |(x, y)| {
+                PathElement::new(vec![(x, y), (x + 20, y)], colour.stroke_width(2))
+            });
+    }
+    chart
+        .draw_series(std::iter::empty::<PathElement<(f64, f64)>>())
+        .map_err(|e| plot_err(path, e))?
+        .label("static boundary +-(pi/2 - theta_b)")
+        .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], BLACK.mix(0.4)));
+    let points: Vec<(f64, f64)> = pieces
+        .iter()
+        .flat_map(|p| p.points.iter().map(|q| (q.0, q.1)))
+        .collect();
+    chart
+        .configure_series_labels()
+        .border_style(BLACK)
+        .background_style(WHITE.mix(0.85))
+        .position(emptiest_corner(&points, (t0, t1), (phi_lo, phi_hi)))
+        .draw()
+        .map_err(|e| plot_err(path, e))
 }
 
 /// Draws periodic orbits: phase portraits $(\varphi, \psi)$ (top, segments coloured by mode,
