@@ -304,7 +304,7 @@ fn figure_6_writes_curves_and_test_points() {
         "SN (fold, saddle-node) curve",
         "BP (branch point) curve",
         "PD (period doubling) curve",
-        "SB (Amp at the static boundary) curve",
+        "SB (Amp at the boundary) curve",
         "line alpha = 0.66",
         "line omega = 1.3",
         "test point (its outcome)",

@@ -165,7 +165,7 @@ pub(super) fn spelled(label: &str) -> String {
         "BP" => "branch point",
         "PD" => "period doubling",
         "TR" => "torus",
-        "SB" => "Amp at the static boundary",
+        "SB" => "Amp at the boundary",
         "GR" => "grazing",
         "DB" => "domain boundary",
         "UZ" => "user point",
