@@ -72,9 +72,6 @@ impl TableFile for Marginals {
     fn what(&self) -> String {
         "marginals".into()
     }
-    fn stem(&self) -> String {
-        "marginals".into()
-    }
     fn shard(&self) -> (u64, u64) {
         self.part
     }

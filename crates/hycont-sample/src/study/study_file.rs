@@ -258,9 +258,6 @@ where
     fn what(&self) -> String {
         self.name.clone()
     }
-    fn stem(&self) -> String {
-        self.name.clone()
-    }
     fn shard(&self) -> (u64, u64) {
         self.shard
     }

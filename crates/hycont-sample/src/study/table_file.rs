@@ -25,8 +25,10 @@ pub trait TableFile: Clone + serde::Serialize + serde::de::DeserializeOwned {
     /// What is sampled, for messages (e.g. `figure 7`, `basin`).
     fn what(&self) -> String;
     /// The stem of its file names: `STEM.json` (a whole run), `STEM.shard-I-of-N.json`,
-    /// `*.partial.json` ([`shard_paths`]).
-    fn stem(&self) -> String;
+    /// `*.partial.json` ([`shard_paths`]); by default [`TableFile::what`].
+    fn stem(&self) -> String {
+        self.what()
+    }
     /// `(i, n)`: shard `i` of `n` (a whole run is `(0, 1)`).
     fn shard(&self) -> (u64, u64);
     /// Sets the shard (a merge makes the whole run, `(0, 1)`).

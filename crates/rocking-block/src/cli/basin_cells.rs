@@ -65,9 +65,6 @@ impl TableFile for BasinCellFile {
     fn what(&self) -> String {
         "basin".into()
     }
-    fn stem(&self) -> String {
-        "basin".into()
-    }
     fn shard(&self) -> (u64, u64) {
         self.shard
     }

@@ -46,9 +46,6 @@ impl TableFile for BasinFile {
     fn what(&self) -> String {
         "basin".into()
     }
-    fn stem(&self) -> String {
-        "basin".into()
-    }
     fn shard(&self) -> (u64, u64) {
         self.shard
     }
