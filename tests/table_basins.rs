@@ -156,3 +156,57 @@ fn the_study_resumes_and_merges_to_an_uninterrupted_run() {
     assert_eq!(study::merge(shards).unwrap().plan, whole.plan);
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// The bouncing orbit's own neighbourhood (the example's second table): started near the
+/// closed-form orbit (`model::NearOrbit`, take-off velocity within 2 % and phase within
+/// 0.02 rad), every trial is period 1 in the cells where the closed form's multipliers are
+/// inside the unit circle, and none is beyond the period doubling, where the orbit is unstable
+/// (a trial lands on an unstable orbit with probability 0). The drops of the main study, with
+/// less energy than the orbit, all end on the sticking orbit in `[1.1, 1.5)` instead.
+#[test]
+fn trials_near_the_bouncing_orbit_stay_exactly_where_it_is_stable() {
+    let near = model::NearOrbit {
+        table: classifier(),
+        spread: 0.02,
+    };
+    let (lo, bins) = (1.1, 6);
+    let study = model::near_orbit_study(lo, lo + 0.1 * bins as f64, bins, 3);
+    let rule = Adaptive::default();
+    let mut counts = CellCounts::new(near.classes(), bins);
+    let cells: Vec<usize> = (0..bins).collect();
+    run_cells(
+        &study,
+        &near,
+        &rule,
+        &mut counts,
+        &cells,
+        &Progress::default(),
+    )
+    .unwrap();
+    for cell in 0..bins {
+        let (a_lo, a_hi) = (lo + 0.1 * cell as f64, lo + 0.1 * (cell + 1) as f64);
+        let mu = |a| model::orbit_multiplier(a, 1.0, E, 1.0).unwrap();
+        let period_one = counts.counts[cell][2];
+        assert!(counts.trials[cell] > 0 && counts.failures[cell] == 0);
+        if mu(a_lo) < 1.0 && mu(a_hi) < 1.0 {
+            assert_eq!(period_one, counts.trials[cell], "[{a_lo}, {a_hi})");
+        } else if mu(a_lo) > 1.0 {
+            assert_eq!(period_one, 0, "[{a_lo}, {a_hi})");
+        }
+    }
+    // The main study's drops in [1.1, 1.5): the sticking orbit, not the bouncing one.
+    let drops = model::amplitude_study(1);
+    let mut main = CellCounts::new(classifier().classes(), drops.cells());
+    run_cells(
+        &drops,
+        &classifier(),
+        &rule,
+        &mut main,
+        &[6, 7],
+        &Progress::default(),
+    )
+    .unwrap();
+    for cell in [6, 7] {
+        assert_eq!(main.counts[cell][1], main.trials[cell], "cell {cell}");
+    }
+}

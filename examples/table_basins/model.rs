@@ -184,3 +184,77 @@ pub fn amplitude_study(seed: u64) -> hycont::hycont_sample::basin::Study {
         seed,
     }
 }
+
+/// The bouncing period-1 orbit's state just after its impact at amplitude `a` (closed form,
+/// `tests/vibrating_table.rs`): phase `theta0` with `a omega^2 cos(theta0) = pi g (1 - e) /
+/// (1 + e)` on the stable branch (`sin(theta0) > 0`), take-off velocity `w+ = e g T / (1 + e)`;
+/// `None` below the fold.
+pub fn orbit_after_impact(a: f64, omega: f64, e: f64, g: f64) -> Option<[f64; 3]> {
+    let t = 2.0 * PI / omega;
+    let c = PI * g * (1.0 - e) / (1.0 + e) / (a * omega * omega);
+    (c <= 1.0).then(|| [0.0, e * g * t / (1.0 + e), c.acos()])
+}
+
+/// The largest modulus of the period-1 orbit's multipliers at `a` (closed form): the impact
+/// map's Jacobian has trace `1 + e^2 - kappa (1 + e)`, `kappa = a omega^2 sin(theta0) (1 + e) /
+/// g`, and determinant `e^2`.
+pub fn orbit_multiplier(a: f64, omega: f64, e: f64, g: f64) -> Option<f64> {
+    let theta0 = orbit_after_impact(a, omega, e, g)?[2];
+    let kappa = a * omega * omega * theta0.sin() * (1.0 + e) / g;
+    let (tr, det) = (1.0 + e * e - kappa * (1.0 + e), e * e);
+    let disc = tr * tr - 4.0 * det;
+    Some(if disc >= 0.0 {
+        0.5 * (tr.abs() + disc.sqrt())
+    } else {
+        det.sqrt()
+    })
+}
+
+/// Trials started near the bouncing period-1 orbit: a trial's variables `[a, u, v]` (`u`, `v`
+/// in `[-1, 1)`) start the ball just after the orbit's impact with its take-off velocity
+/// scaled by `1 + spread u` and its phase moved by `spread v` radians; classified as
+/// [`TableClassifier`] does. `NaN` variables below the fold (no orbit) are an error.
+pub struct NearOrbit {
+    pub table: TableClassifier,
+    pub spread: f64,
+}
+
+impl hycont::hycont_sample::basin::Classifier for NearOrbit {
+    fn classes(&self) -> Vec<String> {
+        self.table.classes()
+    }
+    fn classify(&self, v: &[f64]) -> Result<usize, String> {
+        let TableClassifier { omega, e, g, .. } = self.table;
+        let [z, w, theta] = orbit_after_impact(v[0], omega, e, g)
+            .ok_or_else(|| format!("no period-1 orbit at a = {}", v[0]))?;
+        let start = [
+            v[0],
+            z,
+            w * (1.0 + self.spread * v[1]),
+            theta + self.spread * v[2],
+        ];
+        self.table.classify(&start)
+    }
+}
+
+/// The near-orbit study: `a` uniform on `[lo, hi)` in `bins` cells, `u`, `v` on `[-1, 1)`.
+pub fn near_orbit_study(
+    lo: f64,
+    hi: f64,
+    bins: usize,
+    seed: u64,
+) -> hycont::hycont_sample::basin::Study {
+    use hycont::hycont_sample::basin::{Axis, Distribution, Study};
+    let unit = Distribution::Uniform { lo: -1.0, hi: 1.0 };
+    Study {
+        names: ["a", "u", "v"].map(String::from).to_vec(),
+        variables: vec![Distribution::Uniform { lo, hi }, unit, unit],
+        axes: vec![Axis {
+            variable: 0,
+            lo,
+            hi,
+            bins,
+        }],
+        seed,
+    }
+}

@@ -16,6 +16,12 @@
 //!   the Jacobian from the variational equations with saltation matrices, looks for the fixed
 //!   point; when it converges, is stable and the state is within `newton_radius` of it, the
 //!   trial is classified from it;
+//! - a period $k \ge 2$ found by repetition is checked against the lower periods $j \mid k$: a
+//!   trial still converging to a period-$j$ orbit repeats with period $k$ first when its
+//!   multipliers turn the deviation nearly round in $k$ periods (a multiplier near $-1$ flips
+//!   it each period, and $x_k - x_{k-2}$ is a fraction $|1+\mu|$ of $x_k - x_{k-1}$); when
+//!   Newton's method finds a stable period-$j$ orbit within `newton_radius`, the trial is
+//!   classified from it (this check runs with `newton_every = 0` too);
 //! - a period-1 orbit is **symmetric** when the system has a symmetry $S$ and the sample half
 //!   a period later is the $S$-image of the strobe sample (to `symmetry_tol`);
 //! - **undecided** after `max_periods` (chaos, periods above `max_period`, long transients).
@@ -90,7 +96,9 @@ pub struct StrobeSettings {
     pub max_period: usize,
     /// Periods between scheduled Newton refinements (default 30; 0 disables them), doubled
     /// after each refinement that fails; a refinement also runs as soon as a geometric
-    /// convergence is predicted to end within `newton_radius`.
+    /// convergence is predicted to end within `newton_radius`. A period above 1 found by
+    /// repetition is checked against the lower periods by Newton whatever this is (see the
+    /// module's docs).
     pub newton_every: usize,
     /// Largest distance (max-norm in the strobe components) of the state from a stable fixed
     /// point found by Newton for the trial to be classified by it (default 0.05).
@@ -530,6 +538,9 @@ fn decide<S: PeriodicallyForced + HybridJacobians + ?Sized>(
             break;
         }
         if (0..kk).all(|i| dist(comps, &st[k - i], &st[k - i - kk]) <= settings.tol * scale) {
+            if let Some(c) = lower_period(system, p, x, mode, kk, rec, periods, settings)? {
+                return Ok(Some(c));
+            }
             let attractor = Attractor::Periodic {
                 period: kk,
                 symmetric: false,
@@ -540,6 +551,42 @@ fn decide<S: PeriodicallyForced + HybridJacobians + ?Sized>(
                 Decision::Converged,
                 periods,
             )));
+        }
+    }
+    Ok(None)
+}
+
+/// The check of a period `kk >= 2` found by repetition: a trial still converging to an orbit of
+/// a lower period `j` (a divisor of `kk`) repeats with period `kk` first when its multipliers
+/// turn the deviation nearly round in `kk` periods ($\mu^{kk} \approx 1$, e.g. $\mu$ near $-1$
+/// for `kk = 2`: the deviation flips each period and $x_k - x_{k-2}$ is a fraction $|1+\mu|$
+/// of $x_k - x_{k-1}$). That trial is classified from the lower period's orbit when Newton's
+/// method finds it stable and within `newton_radius`, the same test as the refinements' (an
+/// orbit of period `kk` near a stable one of period `j` is not an attractor of its own there:
+/// past a period doubling the lower period is unstable).
+#[allow(clippy::too_many_arguments)]
+fn lower_period<S: PeriodicallyForced + HybridJacobians + ?Sized>(
+    system: &S,
+    p: &[f64],
+    x: &[f64],
+    mode: Mode,
+    kk: usize,
+    rec: &mut Record,
+    periods: usize,
+    settings: &StrobeSettings,
+) -> Result<Option<Classification>> {
+    let comps = system.strobe_components();
+    for j in (1..kk).filter(|j| kk % j == 0) {
+        let Some(f) = refine(system, p, x, mode, j, settings)? else {
+            continue;
+        };
+        if f.stable && dist(comps, x, &f.z) <= settings.newton_radius {
+            // Of period j exactly: a period-j fixed point that returns after one period was
+            // found as j = 1 already.
+            if j > 1 && dist(comps, &f.one, &f.z) <= PERIOD_ONE {
+                continue;
+            }
+            return Ok(Some(from_fixed(system, rec, j, f, periods, settings)));
         }
     }
     Ok(None)

@@ -246,3 +246,48 @@ fn bad_settings_and_inputs_are_errors() {
         .is_err()
     );
 }
+
+/// No doubling where there is none. The damped oscillator's strobe map is affine with the
+/// multipliers $\mu = e^{(-\zeta \pm i\sqrt{1-\zeta^2})T}$, $T = 2\pi/\omega$: every start tends
+/// to the one period-1 orbit, spiralling in when $\arg\mu$ is near $\pi$ (each period flips the
+/// deviation nearly over). Then $x_k - x_{k-2}$ is much smaller than $x_k - x_{k-1}$
+/// (by $|1-\mu^2|/|1-\mu| \approx 1 - |\mu|$ at $\arg\mu = \pi$), so the strobes repeat with
+/// period 2 to the tolerance well before they repeat with period 1; a classifier that takes
+/// that repetition for a period-2 orbit reports a doubling that does not exist. Every start,
+/// for multipliers of modulus 0.5 to 0.95 at arguments from 0.8 pi to pi, must be period 1.
+#[test]
+fn a_period_one_orbit_approached_by_flips_is_not_period_two() {
+    let system = FiniteDifferences::new(Forced);
+    let mut state = 0x9e37_79b9_7f4a_7c15_u64;
+    let mut uniform = move || {
+        state ^= state << 13;
+        state ^= state >> 7;
+        state ^= state << 17;
+        (state >> 11) as f64 / (1u64 << 53) as f64
+    };
+    for modulus in [0.5_f64, 0.8, 0.95] {
+        for turn in [0.8, 0.9, 1.0] {
+            // arg = sqrt(1 - zeta^2) T = turn pi and |mu| = exp(-zeta T).
+            let ratio = -modulus.ln() / (turn * PI); // zeta / sqrt(1 - zeta^2)
+            let zeta = ratio / (1.0 + ratio * ratio).sqrt();
+            let omega = 2.0 * (1.0 - zeta * zeta).sqrt() / turn;
+            let p = [0.3, omega, zeta, 1e3];
+            for newton_every in [30, 0] {
+                let settings = StrobeSettings {
+                    newton_every,
+                    ..StrobeSettings::default()
+                };
+                for _ in 0..20 {
+                    let x0 = [4.0 * uniform() - 2.0, 4.0 * uniform() - 2.0, 0.0, 1.0];
+                    let c = classify(&system, &p, Mode(0), &x0, &settings).unwrap();
+                    assert!(
+                        matches!(c.attractor, Attractor::Periodic { period: 1, .. }),
+                        "|mu| = {modulus}, arg = {turn} pi, start {x0:?}: {:?} ({:?})",
+                        c.attractor,
+                        c.decision
+                    );
+                }
+            }
+        }
+    }
+}
