@@ -576,7 +576,7 @@ fn lower_period<S: PeriodicallyForced + HybridJacobians + ?Sized>(
     settings: &StrobeSettings,
 ) -> Result<Option<Classification>> {
     let comps = system.strobe_components();
-    for j in (1..kk).filter(|j| kk % j == 0) {
+    for j in (1..kk).filter(|j| kk.is_multiple_of(*j)) {
         let Some(f) = refine(system, p, x, mode, j, settings)? else {
             continue;
         };
