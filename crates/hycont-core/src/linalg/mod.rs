@@ -126,6 +126,23 @@ impl SparsePattern {
         if blocks.is_empty() {
             return Self::new(nrows, ncols, entries);
         }
+        Self::with_blocks_owned(nrows, ncols, entries.to_vec(), blocks)
+    }
+
+    /// [`SparsePattern::with_blocks`] keeping `entries` instead of a copy (a large system's
+    /// collocation pattern has millions of entries).
+    ///
+    /// # Errors
+    /// As [`SparsePattern::with_blocks`].
+    pub fn with_blocks_owned(
+        nrows: usize,
+        ncols: usize,
+        entries: Vec<(usize, usize)>,
+        blocks: &[EliminationBlock],
+    ) -> Result<Self> {
+        if blocks.is_empty() {
+            return Self::new(nrows, ncols, &entries);
+        }
         if nrows != ncols {
             return Err(Error::InvalidSetting {
                 name: "elimination blocks",
@@ -133,14 +150,15 @@ impl SparsePattern {
                 reason: "condensation needs a square matrix",
             });
         }
-        check_range(nrows, ncols, entries)?;
+        check_range(nrows, ncols, &entries)?;
+        let condensed = Some(Condensed::new(nrows, &entries, blocks)?);
         Ok(Self {
             nrows,
             ncols,
-            entries: entries.to_vec(),
+            entries,
             full: None,
             dense: None,
-            condensed: Some(Condensed::new(nrows, entries, blocks)?),
+            condensed,
             current: Current::None,
         })
     }

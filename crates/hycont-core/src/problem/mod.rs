@@ -357,6 +357,9 @@ impl<'a> Problem<'a> {
         if let Some(j) = jac.as_deref_mut() {
             let parts: usize = self.parts.iter().map(|p| p.pattern.len()).sum();
             j.truncate(parts);
+            // Room for the monitors' gradients too: a vector grown by doubling past millions
+            // of entries would hold up to twice them.
+            j.reserve_exact(self.pattern_len().saturating_sub(j.len()));
             j.resize(parts, 0.0);
         }
         let any_held = jac.is_some() && use_held && self.mark_held(u)?;
@@ -470,7 +473,7 @@ impl<'a> Problem<'a> {
             JacobianUse::Exact,
         )?;
         let mut out = vec![vec![0.0; self.unknowns()]; self.equations()];
-        for (&(r, c), v) in self.global_pattern().iter().zip(&values) {
+        for ((r, c), v) in self.global_entries().zip(&values) {
             out[r][c] += v;
         }
         Ok(out)

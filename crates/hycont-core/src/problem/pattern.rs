@@ -1,7 +1,7 @@
 //! The Jacobian's structure: its entries, the parts' elimination blocks, and the sparse
 //! pattern built from them once (and handed to a problem of the same structure).
 
-use super::Problem;
+use super::{Activity, Problem};
 use crate::error::Result;
 use crate::linalg::{EliminationBlock, SparsePattern};
 
@@ -13,29 +13,38 @@ impl Problem<'_> {
     }
 
     pub(super) fn global_pattern(&self) -> Vec<(usize, usize)> {
-        let len = self.parts.iter().map(|p| p.pattern.len()).sum::<usize>()
+        let mut entries = Vec::with_capacity(self.pattern_len());
+        entries.extend(self.global_entries());
+        entries
+    }
+
+    /// The number of the Jacobian's entries.
+    pub(super) fn pattern_len(&self) -> usize {
+        self.parts.iter().map(|p| p.pattern.len()).sum::<usize>()
             + self
                 .monitors
                 .iter()
-                .map(|m| m.unknowns.len() + 1)
-                .sum::<usize>();
-        let mut entries = Vec::with_capacity(len);
-        for part in &self.parts {
-            for &(r, c) in &part.pattern {
-                entries.push((part.row + r, part.unknowns[c]));
-            }
-        }
+                .map(|m| m.unknowns.len() + usize::from(matches!(m.activity, Activity::Active(_))))
+                .sum::<usize>()
+    }
+
+    /// The Jacobian's entries in order, without collecting them (a large system's pattern has
+    /// millions).
+    pub(super) fn global_entries(&self) -> impl Iterator<Item = (usize, usize)> + '_ {
+        let parts = self.parts.iter().flat_map(|part| {
+            part.pattern
+                .iter()
+                .map(move |&(r, c)| (part.row + r, part.unknowns[c]))
+        });
         let row0 = self.equations() - self.monitors.len();
         let slots = self.active_slots();
-        for (k, m) in self.monitors.iter().enumerate() {
-            for &c in &m.unknowns {
-                entries.push((row0 + k, c));
-            }
-            if let Some(slot) = slots[k] {
-                entries.push((row0 + k, slot));
-            }
-        }
-        entries
+        let monitors = self.monitors.iter().enumerate().flat_map(move |(k, m)| {
+            m.unknowns
+                .iter()
+                .map(move |&c| (row0 + k, c))
+                .chain(slots[k].map(|slot| (row0 + k, slot)))
+        });
+        parts.chain(monitors)
     }
 
     /// The parts' [`LocalBlock`](crate::problem::LocalBlock)s in the problem's rows and unknowns.
@@ -78,7 +87,7 @@ impl Problem<'_> {
             } else {
                 Vec::new()
             };
-            self.pattern = Some(SparsePattern::with_blocks(m, n, &entries, &blocks)?);
+            self.pattern = Some(SparsePattern::with_blocks_owned(m, n, entries, &blocks)?);
         }
         Ok(self.pattern.as_mut().expect("pattern built above"))
     }
@@ -91,7 +100,8 @@ impl Problem<'_> {
         let same = self.pattern.is_some()
             && other.pattern.is_none()
             && (self.equations(), self.unknowns()) == (other.equations(), other.unknowns())
-            && self.global_pattern() == other.global_pattern()
+            && self.pattern_len() == other.pattern_len()
+            && self.global_entries().eq(other.global_entries())
             && self.elimination_blocks() == other.elimination_blocks();
         if same {
             other.pattern = self.pattern.take();

@@ -416,7 +416,8 @@ pub(crate) fn solve_collocation_unchecked<S: HybridJacobians + ?Sized>(
         }
         let (mut problem, _) =
             collocation_problem_impl(system, &orbit, meshes.clone(), settings.ncol)?;
-        if let Some(p) = previous.as_mut() {
+        // The previous problem is dropped here, before the new one's Newton iteration.
+        if let Some(mut p) = previous.take() {
             p.hand_pattern_to(&mut problem);
         }
         let sol = newton(&mut problem, &pack_nodes(&nodes, &orbit), newton_settings)?;
