@@ -1,7 +1,7 @@
-//! `figure 9` sampled cell by cell (`--halfwidth`, the default without `--trials`): every cell
-//! meets the rule or its cap, the figure reports trials and half-widths per cell, shards
-//! merge and interrupted runs resume into exactly the whole run's figure, and bad settings
-//! are refused.
+//! `figure 9` and `figure 7` sampled cell by cell (`--halfwidth`, the default without
+//! `--trials`): every cell meets the rule or its cap, the figure reports trials and
+//! half-widths per cell, shards merge and interrupted runs resume into exactly the whole run's
+//! figure, and bad settings are refused.
 
 mod common;
 
@@ -119,7 +119,7 @@ fn bad_adaptive_settings_are_refused() {
         (&["figure", "9", "--halfwidth", "0.6"][..], "halfwidth"),
         (&["figure", "9", "--halfwidth", "0"][..], "halfwidth"),
         (&["figure", "9", "--max-per-cell", "8"][..], "max-per-cell"),
-        (&["figure", "7", "--halfwidth", "0.1"][..], "halfwidth"),
+        (&["figure", "10", "--halfwidth", "0.1"][..], "halfwidth"),
         (
             &["figure", "9", "--halfwidth", "0.1", "--trials", "50"][..],
             "--trials",
@@ -216,5 +216,51 @@ fn basins_sampled_cell_by_cell() {
         let out = bin().args(args).arg("--out").arg(&dir).output().unwrap();
         fails(&out, 2, needle);
     }
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// Fig. 7 by cells (its default): two shards of each omega's 1,600 cells of (phi0, psi0),
+/// capped at one batch of 16 trials, merge into a figure with every cell sampled (a run of
+/// 2,000 trials per omega leaves about a third of them empty), its trials and half-widths
+/// reported per cell and no key entry for empty cells.
+#[test]
+fn figure_7_by_cells_has_no_empty_cell() {
+    let dir = scratch("adaptive-fig7");
+    let shards = dir.join("shards");
+    for i in 0..2 {
+        bin()
+            .args(["figure", "7"])
+            .args(CAPPED)
+            .args(["--shard", &format!("{i}/2"), "--out"])
+            .arg(&shards)
+            .run_ok();
+    }
+    let merged = dir.join("merged");
+    bin()
+        .arg("merge")
+        .arg(shards.join("fig7.shard-0-of-2.json"))
+        .arg(shards.join("fig7.shard-1-of-2.json"))
+        .arg("--out")
+        .arg(&merged)
+        .run_ok();
+    let v = json(&merged.join("fig7.json"));
+    assert_eq!(v["sampling"]["adaptive"], true);
+    let basins = v["basins"].as_array().unwrap();
+    assert_eq!(basins.len(), 6);
+    for basin in basins {
+        let trials = basin["trials_per_cell"].as_array().unwrap();
+        assert_eq!(trials.len(), 1600);
+        assert!(trials.iter().all(|n| n == 16));
+        assert_eq!(basin["trials"], 16 * 1600);
+        let dominant = basin["raster"]["dominant"].as_array().unwrap();
+        assert!(
+            dominant
+                .iter()
+                .flat_map(|r| r.as_array().unwrap())
+                .all(|c| c.is_string())
+        );
+    }
+    let svg = std::fs::read_to_string(merged.join("fig7.svg")).unwrap();
+    assert!(svg.contains("trials cell by cell") && !svg.contains("no trials in the cell"));
     std::fs::remove_dir_all(&dir).ok();
 }

@@ -260,7 +260,8 @@ fn figure_5_shows_the_period_doubling_cascade() {
         "PD2",
         "sweep up (alpha increasing)",
         "sweep down (alpha decreasing)",
-        "sweep down overturned (no samples)",
+        "sweep down overturned (no samples;",
+        "PD (period doubling)",
     ] {
         assert!(
             texts.iter().any(|t| t == needle),

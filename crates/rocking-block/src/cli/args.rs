@@ -330,18 +330,19 @@ pub struct FigureArgs {
     /// Output directory.
     #[arg(long, default_value = "results")]
     pub out: PathBuf,
-    /// Sampling figures: trials per basin (default: Fig. 7 2,000 per omega, Fig. 10 100,000,
-    /// enough for the study's trends in about a minute for `all`; the study: 20,000 for Fig. 7,
-    /// 1,000,000 per beta for Fig. 9, 2,000,000 for Fig. 10). For Fig. 9, a fixed number of
-    /// trials per beta instead of the adaptive default (see --halfwidth).
+    /// Sampling figures: trials per basin (default: Fig. 10 100,000, enough for the study's
+    /// trends; the study: 20,000 per omega for Fig. 7, 1,000,000 per beta for Fig. 9,
+    /// 2,000,000 for Fig. 10). For Figs. 7 and 9, a fixed number of trials per omega or beta
+    /// instead of the default cell by cell (see --halfwidth).
     #[arg(long, allow_hyphen_values = true)]
     pub trials: Option<u64>,
-    /// Fig. 9: trials drawn cell by cell (omega, alpha uniform inside each cell of the grid)
-    /// until every class's 95 % Wilson half-width in every cell is at most this, or the cell
-    /// has --max-per-cell trials [default without --trials: 0.1].
+    /// Figs. 7 and 9: trials drawn cell by cell (uniform inside each cell of the grid: Fig. 7
+    /// (phi0, psi0), Fig. 9 (omega, alpha)) until every class's 95 % Wilson half-width in
+    /// every cell is at most this, or the cell has --max-per-cell trials [default without
+    /// --trials: 0.1].
     #[arg(long, conflicts_with = "trials", allow_hyphen_values = true)]
     pub halfwidth: Option<f64>,
-    /// Fig. 9 sampled adaptively: most trials per cell (and beta).
+    /// Figs. 7 and 9 sampled cell by cell: most trials per cell (and panel).
     #[arg(long, default_value_t = 4096, allow_hyphen_values = true)]
     pub max_per_cell: u64,
     /// Sampling figures: seed (results are identical for a seed whatever the threads).

@@ -1,6 +1,6 @@
-//! `CellFile`: an adaptively sampled Fig. 9 on disk (its per-cell tables, stopping rule, seed,
-//! block and shard of cells), complete or not: what `figure 9 --halfwidth`, its shards, its
-//! partial files, `--resume` and `merge` read and write. A shard `I/N` runs the cells of
+//! `CellFile`: Fig. 7 or 9 sampled cell by cell on disk (its per-cell tables, stopping rule,
+//! seed, block and shard of cells), complete or not: what `figure 7` and `figure 9` (without
+//! `--trials`), their shards, their partial files, `--resume` and `merge` read and write. A shard `I/N` runs the cells of
 //! [`hycont_sample::basin::shard_range`]`(cells, I, N)`; a cell's record with more trials
 //! contains one with fewer, so merging keeps the longer.
 
@@ -8,7 +8,9 @@ use super::FigureArgs;
 use super::driver::cell_rule;
 use crate::block::Block;
 use crate::error::{Error, Result};
-use crate::figures::fig9_cells::{DEFAULT_HALFWIDTH, empty_cell_tables, fill_cells, render9_cells};
+use crate::figures::cells::{
+    BY_CELLS, DEFAULT_HALFWIDTH, cell_studies, empty_cell_tables, fill_cells, render_cells,
+};
 use crate::figures::sampling::SampleOptions;
 use crate::output::OutDir;
 use crate::provenance::Provenance;
@@ -17,10 +19,10 @@ use hycont_sample::basin::{Progress, shard_range};
 use hycont_sample::study::TableFile;
 use std::path::{Path, PathBuf};
 
-/// An adaptively sampled Fig. 9, whole or one shard of its cells.
+/// Fig. 7 or 9 sampled cell by cell, whole or one shard of its cells.
 #[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
 pub struct CellFile {
-    /// The figure (9).
+    /// The figure (7 or 9).
     pub figure: u32,
     /// The stopping rule.
     pub rule: Adaptive,
@@ -28,7 +30,7 @@ pub struct CellFile {
     pub seed: u64,
     /// `(i, n)`: shard `i` of `n` of the cells (a whole run is `(0, 1)`).
     pub shard: (u64, u64),
-    /// One table per beta.
+    /// One table per panel (Fig. 7: per omega, Fig. 9: per beta).
     pub tables: Vec<CellCounts>,
     /// The block.
     pub block: Block,
@@ -46,17 +48,23 @@ pub(super) fn is_cell_file(path: &Path) -> bool {
 }
 
 impl CellFile {
-    /// A run of Fig. 9 to `rule` with nothing counted.
-    pub(super) fn new(rule: Adaptive, seed: u64, shard: (u64, u64), block: Block) -> Self {
-        CellFile {
-            figure: 9,
+    /// A run of figure `figure` (7 or 9) to `rule` with nothing counted.
+    pub(super) fn new(
+        figure: u32,
+        rule: Adaptive,
+        seed: u64,
+        shard: (u64, u64),
+        block: Block,
+    ) -> Result<Self> {
+        Ok(CellFile {
+            figure,
             rule,
             seed,
             shard,
-            tables: empty_cell_tables(),
+            tables: empty_cell_tables(figure)?,
             block,
             provenance: None,
-        }
+        })
     }
 
     fn options(&self) -> SampleOptions {
@@ -71,12 +79,12 @@ impl CellFile {
 impl TableFile for CellFile {
     type Table = CellCounts;
     type Error = Error;
-    const WRITER: &'static str = "figure 9 --halfwidth";
+    const WRITER: &'static str = "figure 7 or 9 sampled cell by cell";
     fn what(&self) -> String {
-        "figure 9".into()
+        format!("figure {}", self.figure)
     }
     fn stem(&self) -> String {
-        "fig9".into()
+        format!("fig{}", self.figure)
     }
     fn shard(&self) -> (u64, u64) {
         self.shard
@@ -114,26 +122,35 @@ impl TableFile for CellFile {
             })
             .collect();
         let (options, rule) = (self.options(), self.rule);
-        fill_cells(&options, &rule, &mut self.tables, &cells, progress)
+        fill_cells(
+            self.figure,
+            &options,
+            &rule,
+            &mut self.tables,
+            &cells,
+            progress,
+        )
     }
-    /// Fig. 9's two tables, every cell as the rule leaves it: whole batches, settled exactly
-    /// when it meets the rule, nothing in another shard's cells.
+    /// The figure's tables (Fig. 7: six, Fig. 9: two), every cell as the rule leaves it: whole
+    /// batches, settled exactly when it meets the rule, nothing in another shard's cells.
     fn check(&self) -> std::result::Result<(), String> {
-        if self.figure != 9 {
+        if !BY_CELLS.contains(&self.figure) {
             return Err(format!("figure {} is not sampled by cells", self.figure));
         }
         self.rule.validate().map_err(|e| e.to_string())?;
         self.block.validate().map_err(|e| e.to_string())?;
-        let expected = empty_cell_tables();
+        let fig = self.figure;
+        let expected = empty_cell_tables(fig).map_err(|e| e.to_string())?;
         if self.tables.len() != expected.len() {
-            return Err(format!("{} tables; Fig. 9 has 2", self.tables.len()));
+            let (got, want) = (self.tables.len(), expected.len());
+            return Err(format!("{got} tables; Fig. {fig} has {want}"));
         }
         let (i, n) = self.shard;
         let span = shard_range(self.extent(), i, n).map_err(|e| e.to_string())?;
-        let studies = crate::figures::fig9_cells::fig9_cell_studies(&self.options());
+        let studies = cell_studies(fig, &self.options()).map_err(|e| e.to_string())?;
         for (k, ((t, e), study)) in self.tables.iter().zip(&expected).zip(&studies).enumerate() {
             if t.classes != e.classes || t.counts.len() != e.counts.len() {
-                return Err(format!("table {k} is not a Fig. 9 table"));
+                return Err(format!("table {k} is not a Fig. {fig} table"));
             }
             let cells = span.start as usize..span.end as usize;
             (t.check_rule(&self.rule, study, cells)).map_err(|e| format!("table {k}: {e}"))?;
@@ -142,8 +159,8 @@ impl TableFile for CellFile {
     }
 }
 
-/// The stopping rule of Fig. 9 sampled adaptively (`--halfwidth`, `--max-per-cell`).
-pub(super) fn fig9_rule(args: &FigureArgs) -> Result<Adaptive> {
+/// The stopping rule of Figs. 7 and 9 sampled cell by cell (`--halfwidth`, `--max-per-cell`).
+pub(super) fn cells_rule(args: &FigureArgs) -> Result<Adaptive> {
     cell_rule(
         args.halfwidth.unwrap_or(DEFAULT_HALFWIDTH),
         args.max_per_cell,
@@ -157,6 +174,7 @@ impl super::driver::Render for CellFile {
             .clone()
             .unwrap_or_default()
             .with_block(self.block);
-        Ok(render9_cells(out, &self.options(), &self.rule, &invocation, &self.tables)?.files)
+        let (options, rule) = (self.options(), &self.rule);
+        Ok(render_cells(self.figure, out, &options, rule, &invocation, &self.tables)?.files)
     }
 }

@@ -8,7 +8,7 @@
 
 use super::basin_cells::BasinCellFile;
 use super::basin_file::BasinFile;
-use super::cell_file::{CellFile, fig9_rule};
+use super::cell_file::{CellFile, cells_rule};
 use super::driver::{
     CountFile, merge_paths, parse_shard, sample, set_threads, stop_on_signals, use_up,
 };
@@ -16,6 +16,7 @@ use super::ranks::Ranks;
 use super::shard_file::{MAX_TRIALS, SAMPLING, ShardFile};
 use super::{FigureArgs, MergeArgs, print_written};
 use crate::error::{Error, Result};
+use crate::figures::cells::BY_CELLS;
 use crate::figures::sampling::{SampleOptions, empty_tables};
 use crate::output::OutDir;
 use crate::provenance::Provenance;
@@ -113,9 +114,9 @@ pub(super) fn run_figure(
     }
     let mut written: Vec<PathBuf> = Vec::new();
     for n in which {
-        if n == 9 && args.trials.is_none() {
-            let mut file =
-                CellFile::new(fig9_rule(args)?, args.seed, shard.unwrap_or((0, 1)), block);
+        if BY_CELLS.contains(&n) && args.trials.is_none() {
+            let shard = shard.unwrap_or((0, 1));
+            let mut file = CellFile::new(n, cells_rule(args)?, args.seed, shard, block)?;
             file.provenance = Some(invocation.clone());
             written.extend(sample(file, &dir, args.force, &progress)?);
         } else if SAMPLING.contains(&n) {
@@ -183,11 +184,11 @@ fn checked_options(
             reason: "must be in 1..=10^12 (shard larger studies into separate runs)",
         });
     }
-    if args.halfwidth.is_some() && !which.contains(&9) {
+    if args.halfwidth.is_some() && !which.iter().any(|n| BY_CELLS.contains(n)) {
         return Err(Error::InvalidArgument {
             name: "halfwidth",
             value: format!("figures {}", crate::figures::names(which)),
-            reason: "applies to Fig. 9 (sampled cell by cell)",
+            reason: "applies to Figs. 7 and 9 (sampled cell by cell)",
         });
     }
     let shard = args.shard.as_deref().map(parse_shard).transpose()?;

@@ -2,10 +2,11 @@
 
 pub mod atlas;
 pub mod branches;
+pub mod cells;
 mod fig2;
 mod fig5;
 pub mod fig6;
-pub mod fig9_cells;
+mod fig7;
 mod fig9_files;
 pub mod sampling;
 pub mod tables;

@@ -2,6 +2,7 @@
 //! rendered from the count tables of [`super::tables`]) and Fig. 8 (final classes).
 
 pub use super::fig5::figure5;
+pub use super::fig7::{FIG7_OMEGAS, RASTER, fig7_study, figure7, raster, render7_cells};
 pub use super::tables::{counts_for, empty_tables, fill, missing, tables_share_trials};
 
 use super::fig9_files::{probabilities_json, write_fig9};
@@ -23,7 +24,7 @@ pub fn default_trials(n: u32) -> u64 {
 }
 
 /// Options of the sampling figures.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct SampleOptions {
     /// Trials per basin (Fig. 7: per omega).
     pub trials: u64,
@@ -38,46 +39,6 @@ pub(crate) fn sample_err(e: hycont_sample::Error) -> Error {
         name: "study",
         value: e.to_string(),
         reason: "invalid sampling study",
-    }
-}
-
-/// The omega values of Fig. 7.
-pub const FIG7_OMEGAS: [f64; 6] = [1.0, 1.16, 1.5, 2.0, 3.0, 4.0];
-
-/// Raster bins per axis of Fig. 7's basins.
-pub const RASTER: usize = 40;
-
-/// The basin study of Fig. 7 at one omega.
-#[must_use]
-pub fn fig7_study(omega: f64, seed: u64, block: &Block) -> Study {
-    let b = block.static_boundary();
-    Study {
-        names: ["omega", "alpha", "beta", "phi0", "psi0"]
-            .iter()
-            .map(ToString::to_string)
-            .collect(),
-        variables: vec![
-            Distribution::Fixed(omega),
-            Distribution::Fixed(0.66),
-            Distribution::Fixed(0.0),
-            Distribution::Uniform { lo: -b, hi: b },
-            Distribution::Uniform { lo: -1.0, hi: 1.0 },
-        ],
-        axes: vec![
-            Axis {
-                variable: 3,
-                lo: -b,
-                hi: b,
-                bins: RASTER,
-            },
-            Axis {
-                variable: 4,
-                lo: -1.0,
-                hi: 1.0,
-                bins: RASTER,
-            },
-        ],
-        seed,
     }
 }
 
@@ -122,45 +83,6 @@ pub fn fractions_json(counts: &Counts) -> (Value, Value, Value) {
     (Value::Object(fr), Value::Object(ci), Value::Object(wr))
 }
 
-/// The dominant study class per raster cell (`null` for empty cells).
-#[must_use]
-pub fn raster(counts: &Counts) -> Vec<Vec<Option<&'static str>>> {
-    (0..RASTER)
-        .map(|i| {
-            (0..RASTER)
-                .map(|j| {
-                    let cell = &counts.counts[i * RASTER + j];
-                    let mut per = [0u64; 8];
-                    for (k, n) in cell.iter().enumerate() {
-                        per[base_class(k).0.index()] += n;
-                    }
-                    let (best, n) = per
-                        .iter()
-                        .enumerate()
-                        .max_by_key(|(_, n)| **n)
-                        .expect("8 classes");
-                    (*n > 0).then(|| Class::ALL[best].name())
-                })
-                .collect()
-        })
-        .collect()
-}
-
-/// Fig. 7: basins at alpha = 0.66, beta = 0 for the omega values of [`FIG7_OMEGAS`], `trials`
-/// each (the study: 20,000), phi0 uniform in the static boundary, psi0 in (-1, 1).
-///
-/// # Errors
-/// Numerical or I/O failures.
-pub fn figure7(
-    out: &OutDir,
-    options: SampleOptions,
-    provenance: &Provenance,
-    progress: &Progress,
-) -> Result<FigureFiles> {
-    let counts = counts_for(7, options, 0..options.trials, progress)?;
-    render(7, out, options, provenance, &counts)
-}
-
 /// Writes sampling figure `n` (7, 9 or 10) from its count tables (e.g. merged shards).
 ///
 /// # Errors
@@ -178,7 +100,7 @@ pub fn render(
         .with_seed(options.seed)
         .with_trials(options.trials);
     match n {
-        7 => render7(out, options, provenance, counts),
+        7 => super::fig7::render7(out, options, provenance, counts, None),
         9 => render9(out, options, provenance, counts),
         10 => render10(out, options, provenance, counts),
         _ => Err(Error::InvalidArgument {
@@ -187,65 +109,6 @@ pub fn render(
             reason: "only the sampling figures 7, 9 and 10 are rendered from counts",
         }),
     }
-}
-
-fn render7(
-    out: &OutDir,
-    options: SampleOptions,
-    provenance: &Provenance,
-    all: &[Counts],
-) -> Result<FigureFiles> {
-    if all.len() != FIG7_OMEGAS.len() {
-        return Err(Error::InvalidArgument {
-            name: "counts",
-            value: all.len().to_string(),
-            reason: "Fig. 7 needs one table per omega",
-        });
-    }
-    let mut basins = Vec::new();
-    let mut rasters = Vec::new();
-    for (k, (&omega, counts)) in FIG7_OMEGAS.iter().zip(all).enumerate() {
-        let study = fig7_study(omega, options.seed.wrapping_add(k as u64), &options.block);
-        let (fractions, intervals, with_rest) = fractions_json(counts);
-        let trials: u64 = (0..counts.counts.len()).map(|c| counts.trials(c)).sum();
-        let r = raster(counts);
-        basins.push(json!({
-            "omega": omega,
-            "alpha": 0.66,
-            "beta": 0.0,
-            "trials": trials,
-            "seed": study.seed,
-            "fractions": fractions,
-            "intervals_95": intervals,
-            "with_rest_phases": with_rest,
-            "failures": counts.failures.iter().sum::<u64>(),
-            "trial_ranges": counts.ranges,
-            "raster": {"phi0": [study.axes[0].lo, study.axes[0].hi, RASTER], "psi0": [-1.0, 1.0, RASTER], "dominant": r},
-        }));
-        rasters.push((omega, r));
-    }
-    let json = json!({
-        "figure": 7,
-        "parameters": {"alpha": 0.66, "beta": 0.0, "xi": options.block.xi, "theta_b": options.block.theta_b},
-        "classifier": crate::classes::ClassifierSettings::default(),
-        "basins": basins,
-    });
-    let json_path = out.join("fig7.json");
-    write_json(&json_path, &provenance.insert_into(json))?;
-    let per_omega = all
-        .first()
-        .map_or(0, |c| (0..c.counts.len()).map(|i| c.trials(i)).sum());
-    let title = format!(
-        "Fig. 7: dominant class per cell of initial (phi0, psi0), alpha = 0.66, beta = 0, {per_omega} trials per omega{}",
-        options.block.note()
-    );
-    let pictures = out.picture("fig7", |p| {
-        plot::basins_svg(p, &title, &rasters, options.block.static_boundary())
-    })?;
-    Ok(FigureFiles {
-        figure: 7,
-        files: [vec![json_path], pictures].concat(),
-    })
 }
 
 /// The classes shown by Figs. 9 and 10 (the study's groups): each a list of study classes.

@@ -16,6 +16,8 @@ pub(super) enum Mark {
     Cross(RGBColor),
     /// A dot of a radius (px).
     Dot(RGBColor, i32),
+    /// No mark: the entry continues the one above.
+    Blank,
 }
 
 /// `c` over white at opacity `a` (as drawn with `c.mix(a)`).
@@ -115,6 +117,7 @@ pub(super) fn draw_key<DB: DrawingBackend>(
                 }),
             Mark::Cross(c) => area.draw(&Cross::new((16, y), 5, c.stroke_width(2))),
             Mark::Dot(c, r) => area.draw(&Circle::new((16, y), r, c.filled())),
+            Mark::Blank => Ok(()),
         }
         .map_err(err)?;
         area.draw(&Text::new(label.clone(), (32, y - 7), font.clone()))

@@ -9,8 +9,8 @@ use std::path::Path;
 
 /// Fig. 5: psi at the stroboscopic samples against alpha (sweep up: dark, down: red), with a
 /// blow-up of [0.73, 0.79]; dashed vertical lines at the special points `markers` (name,
-/// alpha) and crosses under the axis where a sweep overturned (`overturned(point)`: no
-/// samples there).
+/// alpha) and crosses in a strip under the data where a sweep overturned (`overturned(point)`:
+/// no samples there; sweep up's row above sweep down's).
 ///
 /// # Errors
 /// [`crate::Error::Plot`] if the file cannot be written.
@@ -22,8 +22,10 @@ pub fn brute_force_svg(
     markers: &[(&str, f64)],
     overturned: &dyn Fn(&hycont_sample::sweep::SweepPoint) -> bool,
 ) -> Result<()> {
-    super::picture(path, (1000, 900), |root, _| {
-        let (top, bottom) = root.split_vertically(450);
+    super::picture(path, (1290, 900), |root, _| {
+        let (charts, key) = root.split_horizontally(1000);
+        draw_key(&key, "key", &sweep_entries()).map_err(|e| plot_err(path, e))?;
+        let (top, bottom) = charts.split_vertically(450);
         for (area, (lo, hi), title) in [
             (&top, (0.5, 0.8), title),
             (
@@ -39,14 +41,16 @@ pub fn brute_force_svg(
                     .filter(move |(p, _)| p.value >= lo && p.value <= hi)
             };
             let (y_lo, y_data) = range(pts().flat_map(|(p, _)| p.samples.iter().map(|s| s[1])));
-            // A band above the data for the special points' names.
+            // A band above the data for the special points' names, a strip under it for the
+            // overturned values (one row per sweep).
             let y_hi = y_data + 0.2 * (y_data - y_lo);
+            let y_min = y_lo - 0.12 * (y_data - y_lo);
             let mut chart = ChartBuilder::on(area)
                 .caption(title, ("sans-serif", 16))
                 .margin(10)
                 .x_label_area_size(35)
                 .y_label_area_size(55)
-                .build_cartesian_2d(lo..hi, y_lo..y_hi)
+                .build_cartesian_2d(lo..hi, y_min..y_hi)
                 .map_err(|e| plot_err(path, e))?;
             chart
                 .configure_mesh()
@@ -66,7 +70,7 @@ pub fn brute_force_svg(
             annotate_sweeps(
                 &mut chart,
                 (lo, hi),
-                (y_lo, y_hi),
+                (y_min, y_lo, y_hi),
                 up,
                 down,
                 markers,
@@ -113,13 +117,13 @@ type Chart2d<'a, DB> = ChartContext<
     Cartesian2d<plotters::coord::types::RangedCoordf64, plotters::coord::types::RangedCoordf64>,
 >;
 
-/// Fig. 5's annotations: the special points' lines and names, the overturned values, and the
-/// legend of the two sweeps.
+/// Fig. 5's annotations: the special points' lines and names, and the overturned values (the
+/// key beside the charts says what each is).
 #[allow(clippy::too_many_arguments)]
 fn annotate_sweeps<'a, DB: DrawingBackend + 'a>(
     chart: &mut Chart2d<'a, DB>,
     (lo, hi): (f64, f64),
-    (y_lo, y_hi): (f64, f64),
+    (y_min, y_lo, y_hi): (f64, f64, f64),
     up: &[hycont_sample::sweep::SweepPoint],
     down: &[hycont_sample::sweep::SweepPoint],
     markers: &[(&str, f64)],
@@ -127,11 +131,6 @@ fn annotate_sweeps<'a, DB: DrawingBackend + 'a>(
 ) -> std::result::Result<(), String> {
     let err = |e: DrawingAreaErrorKind<DB::ErrorType>| e.to_string();
     let grey = RGBColor(90, 90, 90);
-    // The samples drawn, for the legend's place (the corner that covers the fewest).
-    let mut sampled: Vec<(f64, f64)> = (up.iter().chain(down))
-        .filter(|p| p.value >= lo && p.value <= hi)
-        .flat_map(|p| p.samples.iter().map(move |s| (p.value, s[1])))
-        .collect();
     let mut shown: Vec<(&str, f64)> = markers
         .iter()
         .copied()
@@ -141,7 +140,7 @@ fn annotate_sweeps<'a, DB: DrawingBackend + 'a>(
     for &(_, alpha) in &shown {
         chart
             .draw_series(DashedLineSeries::new(
-                vec![(alpha, y_lo), (alpha, y_hi)],
+                vec![(alpha, y_min), (alpha, y_hi)],
                 6,
                 4,
                 grey.stroke_width(1),
@@ -153,8 +152,6 @@ fn annotate_sweeps<'a, DB: DrawingBackend + 'a>(
     // first two a row each and the rest one name for all ("PD3-PD6"), so no names overlap.
     let labels = marker_labels(&shown, 0.04 * (hi - lo));
     let label_y = |row: u8| y_hi - (y_hi - y_lo) * (0.02 + 0.05 * f64::from(row));
-    // The legend avoids the names too.
-    sampled.extend(labels.iter().map(|(at, _, row)| (*at, label_y(*row))));
     for (at, name, row) in labels {
         let y = label_y(row);
         chart
@@ -165,48 +162,48 @@ fn annotate_sweeps<'a, DB: DrawingBackend + 'a>(
             )))
             .map_err(err)?;
     }
-    for (sweep, what, colour) in [
-        (up, "sweep up overturned (no samples)", RGBColor(40, 40, 40)),
-        (
-            down,
-            "sweep down overturned (no samples)",
-            RGBColor(214, 39, 40),
-        ),
-    ] {
-        let gone: Vec<f64> = sweep
-            .iter()
-            .filter(|p| overturned(p) && p.value >= lo && p.value <= hi)
-            .map(|p| p.value)
-            .collect();
+    // The strip under the data: sweep up's crosses at a third of it, sweep down's at two.
+    let strip = |k: f64| y_lo - (y_lo - y_min) * k / 3.0;
+    for (sweep, colour, y) in [(up, UP, strip(1.0)), (down, DOWN, strip(2.0))] {
+        let gone = (sweep.iter()).filter(|p| overturned(p) && p.value >= lo && p.value <= hi);
         chart
-            .draw_series(
-                gone.iter()
-                    .map(|&a| Cross::new((a, y_lo), 3, colour.stroke_width(1))),
-            )
-            .map_err(err)?
-            .label(what)
-            .legend(move |(x, y)| Cross::new((x + 10, y), 3, colour.stroke_width(1)));
+            .draw_series(gone.map(|p| Cross::new((p.value, y), 3, colour.stroke_width(1))))
+            .map_err(err)?;
     }
-    for (label, colour) in [
-        ("sweep up (alpha increasing)", BLACK.mix(0.8)),
+    Ok(())
+}
+
+/// Sweep up's colour (its samples drawn at opacity 0.8, its overturns opaque).
+const UP: RGBColor = RGBColor(40, 40, 40);
+/// Sweep down's colour (its samples drawn at opacity 0.5, its overturns opaque).
+const DOWN: RGBColor = RGBColor(214, 39, 40);
+
+/// Fig. 5's key: the two sweeps' samples and overturns, the special points' lines.
+fn sweep_entries() -> Vec<(String, Mark)> {
+    use super::key::{over_white, spelled};
+    vec![
         (
-            "sweep down (alpha decreasing)",
-            RGBColor(214, 39, 40).mix(0.5),
+            "sweep up (alpha increasing)".into(),
+            Mark::Dot(over_white(BLACK, 0.8), 3),
         ),
-    ] {
-        chart
-            .draw_series(std::iter::empty::<Circle<(f64, f64), i32>>())
-            .map_err(err)?
-            .label(label)
-            .legend(move |(x, y)| Circle::new((x + 10, y), 3, colour.filled()));
-    }
-    chart
-        .configure_series_labels()
-        .position(super::emptiest_corner(&sampled, (lo, hi), (y_lo, y_hi)))
-        .border_style(BLACK)
-        .background_style(WHITE.mix(0.9))
-        .draw()
-        .map_err(err)
+        (
+            "sweep down (alpha decreasing)".into(),
+            Mark::Dot(over_white(DOWN, 0.5), 3),
+        ),
+        ("sweep up overturned (no samples;".into(), Mark::Cross(UP)),
+        ("   the row under the data)".into(), Mark::Blank),
+        (
+            "sweep down overturned (no samples;".into(),
+            Mark::Cross(DOWN),
+        ),
+        ("   the lowest row)".into(), Mark::Blank),
+        (
+            "special point of Fig. 4's branch:".into(),
+            Mark::Dashed(RGBColor(90, 90, 90)),
+        ),
+        (format!("   {}", spelled("BP")), Mark::Blank),
+        (format!("   {}", spelled("PD")), Mark::Blank),
+    ]
 }
 
 /// Fig. 7: one raster of the dominant class per (phi0, psi0) cell for each omega, under
@@ -227,7 +224,11 @@ pub fn basins_svg(
             .iter()
             .flat_map(|(_, r)| r.iter().flatten().flatten().copied());
         let mut entries = class_entries(drawn);
-        entries.push(("no trials in the cell".into(), Mark::Swatch(WHITE)));
+        // White cells only where a run of few trials left cells without any.
+        let empty = (rasters.iter()).any(|(_, r)| r.iter().flatten().any(Option::is_none));
+        if empty {
+            entries.push(("no trials in the cell".into(), Mark::Swatch(WHITE)));
+        }
         draw_key(&key, "dominant class", &entries).map_err(|e| plot_err(path, e))?;
         for (panel, (omega, raster)) in panels.iter().zip(rasters) {
             let n = raster.len().max(1);
