@@ -49,6 +49,21 @@ fn simulate_writes_csv_and_svg() {
     assert!(text.lines().count() > 500);
     let svg_text = std::fs::read_to_string(&svg).unwrap();
     assert!(svg_text.contains("<svg") && svg_text.contains("polyline"));
+    // The run rocks from one corner to the other (impacts): the key says what the phase
+    // portrait's jumps are, and names both modes.
+    let modes: Vec<&str> = text
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').nth(1).unwrap())
+        .collect();
+    assert!(modes.windows(2).any(|w| w == ["+", "-"]));
+    for needle in [
+        "impact at phi = 0: psi jumps",
+        "mode + (rocking",
+        "mode - (rocking",
+    ] {
+        assert!(svg_text.contains(needle), "{needle}");
+    }
     std::fs::remove_dir_all(&dir).ok();
 }
 

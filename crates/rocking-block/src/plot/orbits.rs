@@ -86,6 +86,25 @@ pub fn trajectory_svg(
         for (pre, post) in &jumps {
             fine.line(&frame, [*pre, *post], Pen::new(BLACK.mix(0.5), 1.0));
         }
+        if !jumps.is_empty() {
+            // The jumps' key, where the portrait leaves room (over the curves drawn so far).
+            fine.here(root, path)?;
+            phase
+                .draw_series(std::iter::empty::<PathElement<(f64, f64)>>())
+                .map_err(|e| plot_err(path, e))?
+                .label("impact at phi = 0: psi jumps (thin grey line, before to after)")
+                .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], BLACK.mix(0.5)));
+            let points: Vec<(f64, f64)> = (pieces.iter())
+                .flat_map(|p| p.points.iter().map(|q| (q.1, q.2)))
+                .collect();
+            phase
+                .configure_series_labels()
+                .border_style(BLACK)
+                .background_style(WHITE.mix(0.85))
+                .position(emptiest_corner(&points, (phi_lo, phi_hi), (psi_lo, psi_hi)))
+                .draw()
+                .map_err(|e| plot_err(path, e))?;
+        }
         Ok(())
     })
 }
@@ -199,6 +218,16 @@ pub fn orbits_svg(
                     PathElement::new(vec![(x, y), (x + 20, y)], colour.stroke_width(2))
                 });
         }
+        phase
+            .draw_series(std::iter::empty::<PathElement<(f64, f64)>>())
+            .map_err(|e| plot_err(path, e))?
+            .label("impact at phi = 0: psi jumps (thin grey)")
+            .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], BLACK.mix(0.5)));
+        phase
+            .draw_series(std::iter::empty::<PathElement<(f64, f64)>>())
+            .map_err(|e| plot_err(path, e))?
+            .label("static boundary +-(pi/2 - theta_b)")
+            .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], BLACK.mix(0.4)));
         let frame = fine.frame(&phase);
         for (idx, (_, segments)) in sampled.iter().enumerate() {
             let width = if idx == 0 { 3.0 } else { 1.0 };
