@@ -1,6 +1,7 @@
 //! The atlas figure: each sheet's charts (their polygons in the (omega, alpha) plane) filled
 //! by Amp, unstable ones dotted, boundary charts marked by their edge, Fig. 6's curves over it.
 
+use super::atlas_shading::Shading;
 use super::fine::Pen;
 use super::key::{Mark, colour_bar, curve_colour, draw_key};
 use super::plot_err;
@@ -110,25 +111,7 @@ fn sheet_panel(
         .y_desc(super::key::axis("alpha"))
         .draw()
         .map_err(|e| plot_err(path, e))?;
-    // A chart whose polygon its neighbours cut away entirely covers nothing of its own.
-    for c in atlas.atlas.charts.iter().filter(|c| c.polygon.len() >= 3) {
-        let colour = amp_colour(c.point.get(AMP).unwrap_or(0.0) / amp_max);
-        let mut outline = polygon(atlas, c);
-        chart
-            .draw_series(std::iter::once(Polygon::new(
-                outline.clone(),
-                colour.filled(),
-            )))
-            .map_err(|e| plot_err(path, e))?;
-        // The outline in the fill's colour closes the hairlines between neighbours.
-        outline.push(outline[0]);
-        chart
-            .draw_series(std::iter::once(PathElement::new(
-                outline,
-                colour.stroke_width(1),
-            )))
-            .map_err(|e| plot_err(path, e))?;
-    }
+    shade(path, &chart, atlas, amp_max)?;
     let centre = |c: &AtlasChart| (c.point[crate::OMEGA], c.point[crate::ALPHA]);
     let unstable = atlas.atlas.charts.iter().filter(|c| !c.point.stable());
     chart
@@ -149,6 +132,69 @@ fn sheet_panel(
             format!("Fig. 6 {} curve", super::key::spelled(c.kind.label())),
             Mark::Line(col),
         ));
+    }
+    Ok(())
+}
+
+/// Cells of this many pixels square are shaded with one colour.
+const CELL: i32 = 2;
+
+/// Fills the area the sheet's charts cover with Amp interpolated between the chart centres
+/// ([`Shading`]): cells of [`CELL`] pixels, a row's neighbours of the same colour (of the
+/// colour bar's 150 steps) drawn as one rectangle.
+fn shade<DB: DrawingBackend>(
+    path: &Path,
+    chart: &super::fine::Chart<'_, DB>,
+    atlas: &OrbitAtlas,
+    amp_max: f64,
+) -> Result<()> {
+    // A chart whose polygon its neighbours cut away entirely covers nothing of its own.
+    let charts: Vec<&AtlasChart> = (atlas.atlas.charts.iter())
+        .filter(|c| c.polygon.len() >= 3)
+        .collect();
+    let centres: Vec<(f64, f64)> = (charts.iter())
+        .map(|c| (c.point[crate::OMEGA], c.point[crate::ALPHA]))
+        .collect();
+    let values: Vec<f64> = (charts.iter())
+        .map(|c| c.point.get(AMP).unwrap_or(0.0) / amp_max)
+        .collect();
+    let polygons: Vec<Vec<(f64, f64)>> = charts.iter().map(|c| polygon(atlas, c)).collect();
+    let (xr, yr) = (chart.x_range(), chart.y_range());
+    let shading = Shading::new(
+        &centres,
+        &values,
+        &polygons,
+        [(xr.start, xr.end), (yr.start, yr.end)],
+    );
+    let area = chart.plotting_area().strip_coord_spec();
+    let (w, h) = area.dim_in_pixel();
+    let (w, h) = (i32::try_from(w).unwrap_or(0), i32::try_from(h).unwrap_or(0));
+    // The colour bar's bands: band k of 150 is the colour of k / 150.
+    let level = |v: f64| ((v.clamp(0.0, 1.0) * 150.0).floor() as u32).min(149);
+    let mut cells = Vec::new();
+    for py in (0..h).step_by(CELL as usize) {
+        let y =
+            yr.end - (f64::from(py) + 0.5 * f64::from(CELL)) / f64::from(h) * (yr.end - yr.start);
+        let mut run: Option<(i32, u32)> = None;
+        for px in (0..w).step_by(CELL as usize).chain([w]) {
+            let x = xr.start
+                + (f64::from(px) + 0.5 * f64::from(CELL)) / f64::from(w) * (xr.end - xr.start);
+            let here = (px < w)
+                .then(|| shading.value_at(x, y))
+                .flatten()
+                .map(level);
+            if run.map(|r| Some(r.1)) != Some(here) {
+                if let Some((start, l)) = run.take() {
+                    cells.push(([(start, py), (px, py + CELL)], l));
+                }
+                run = here.map(|l| (px, l));
+            }
+        }
+    }
+    for (corners, l) in cells {
+        let colour = amp_colour(f64::from(l) / 150.0);
+        area.draw(&Rectangle::new(corners, colour.filled()))
+            .map_err(|e| plot_err(path, e))?;
     }
     Ok(())
 }

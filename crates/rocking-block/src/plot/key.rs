@@ -158,6 +158,20 @@ pub(super) fn colour_bar<DB: DrawingBackend>(
         Rectangle::new([(0.0, lo * max), (1.0, hi * max)], colour(lo).filled())
     }))
     .map_err(|e| e.to_string())?;
+    // The top of the bar, ticked right of it, unless a tick (of 0.1) is there already.
+    if (max * 10.0 - (max * 10.0).round()).abs() > 0.02 {
+        let (px, py) = bar.backend_coord(&(1.0, max));
+        let (bx, by) = area.get_base_pixel();
+        let (x, y) = (px - bx, py - by);
+        area.draw(&PathElement::new(
+            vec![(x, y), (x + 5, y)],
+            BLACK.stroke_width(1),
+        ))
+        .map_err(|e| e.to_string())?;
+        let font = ("sans-serif", 13).into_font();
+        area.draw(&Text::new(format!("{max:.3} (max)"), (x + 8, y - 2), font))
+            .map_err(|e| e.to_string())?;
+    }
     Ok(())
 }
 

@@ -3,6 +3,7 @@
 //! [`curves_svg`], [`test_points_svg`]), sampling maps ([`basins_svg`] and the others).
 
 mod atlas;
+mod atlas_shading;
 mod basin;
 mod branches;
 mod fine;
