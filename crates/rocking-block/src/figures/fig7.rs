@@ -113,32 +113,9 @@ pub(super) fn render7(
     let mut rasters = Vec::new();
     let mut widest = 0.0f64;
     for (k, (&omega, counts)) in FIG7_OMEGAS.iter().zip(all).enumerate() {
-        let study = fig7_study(omega, options.seed.wrapping_add(k as u64), &options.block);
-        let (fractions, intervals, with_rest) = fractions_json(counts);
-        let trials: u64 = (0..counts.counts.len()).map(|c| counts.trials(c)).sum();
-        let r = raster(counts);
-        let mut basin = json!({
-            "omega": omega,
-            "alpha": 0.66,
-            "beta": 0.0,
-            "trials": trials,
-            "seed": study.seed,
-            "fractions": fractions,
-            "intervals_95": intervals,
-            "with_rest_phases": with_rest,
-            "failures": counts.failures.iter().sum::<u64>(),
-            "raster": {"phi0": [study.axes[0].lo, study.axes[0].hi, RASTER], "psi0": [-1.0, 1.0, RASTER], "dominant": r},
-        });
-        let (key, value) = match cells.and_then(|(_, t)| t.get(k)) {
-            Some(t) => {
-                let widths: Vec<f64> = (0..t.counts.len()).map(|c| t.halfwidth(c)).collect();
-                widest = widths.iter().copied().fold(widest, f64::max);
-                basin["largest_halfwidth_per_cell"] = json!(widths);
-                ("trials_per_cell", json!(t.trials))
-            }
-            None => ("trial_ranges", json!(counts.ranges)),
-        };
-        basin[key] = value;
+        let table = cells.and_then(|(_, t)| t.get(k));
+        let (basin, r, w) = basin_json(k, omega, counts, table, &options);
+        widest = widest.max(w);
         basins.push(basin);
         rasters.push((omega, r));
     }
@@ -178,6 +155,44 @@ pub(super) fn render7(
         figure: 7,
         files: [vec![json_path], pictures].concat(),
     })
+}
+
+/// Panel `k`'s entry of `fig7.json` (at `omega`, from `counts`, and its per-cell `table` when
+/// sampled cell by cell), its raster and its largest half-width (0 without cells).
+fn basin_json(
+    k: usize,
+    omega: f64,
+    counts: &Counts,
+    table: Option<&CellCounts>,
+    options: &SampleOptions,
+) -> (serde_json::Value, Vec<Vec<Option<&'static str>>>, f64) {
+    let study = fig7_study(omega, options.seed.wrapping_add(k as u64), &options.block);
+    let (fractions, intervals, with_rest) = fractions_json(counts);
+    let trials: u64 = (0..counts.counts.len()).map(|c| counts.trials(c)).sum();
+    let r = raster(counts);
+    let mut basin = json!({
+        "omega": omega,
+        "alpha": 0.66,
+        "beta": 0.0,
+        "trials": trials,
+        "seed": study.seed,
+        "fractions": fractions,
+        "intervals_95": intervals,
+        "with_rest_phases": with_rest,
+        "failures": counts.failures.iter().sum::<u64>(),
+        "raster": {"phi0": [study.axes[0].lo, study.axes[0].hi, RASTER], "psi0": [-1.0, 1.0, RASTER], "dominant": r},
+    });
+    let mut widest = 0.0f64;
+    match table {
+        Some(t) => {
+            let widths: Vec<f64> = (0..t.counts.len()).map(|c| t.halfwidth(c)).collect();
+            widest = widths.iter().copied().fold(widest, f64::max);
+            basin["largest_halfwidth_per_cell"] = json!(widths);
+            basin["trials_per_cell"] = json!(t.trials);
+        }
+        None => basin["trial_ranges"] = json!(counts.ranges),
+    }
+    (basin, r, widest)
 }
 
 /// Writes Fig. 7 from its per-cell tables (one per omega), sampled cell by cell to `rule`.
