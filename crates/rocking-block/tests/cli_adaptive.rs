@@ -6,9 +6,32 @@
 mod common;
 
 use common::{RunOk, bin, fails, json, scratch, without_provenance};
+use std::path::{Path, PathBuf};
 
 /// A cheap adaptive Fig. 9: one batch of 16 trials per cell (the cap), 28,800 trials.
 const CAPPED: [&str; 6] = ["--halfwidth", "0.05", "--max-per-cell", "16", "--seed", "4"];
+
+/// Figure `figure` in two shards of its cells ([`CAPPED`]) under `dir/shards`, merged into
+/// `dir/merged`: the two directories.
+fn two_shards_merged(figure: &str, dir: &Path) -> (PathBuf, PathBuf) {
+    let shards = dir.join("shards");
+    for i in 0..2 {
+        bin()
+            .args(["figure", figure])
+            .args(CAPPED)
+            .args(["--shard", &format!("{i}/2"), "--out"])
+            .arg(&shards)
+            .run_ok();
+    }
+    let merged = dir.join("merged");
+    bin()
+        .arg("merge")
+        .args((0..2).map(|i| shards.join(format!("fig{figure}.shard-{i}-of-2.json"))))
+        .arg("--out")
+        .arg(&merged)
+        .run_ok();
+    (shards, merged)
+}
 
 #[test]
 fn cells_meet_the_rule_and_the_figure_reports_them() {
@@ -57,23 +80,7 @@ fn shards_and_resumed_runs_give_the_whole_run() {
             .all(|n| n == 16)
     );
     // Two shards of the cells, merged.
-    let shards = dir.join("shards");
-    for i in 0..2 {
-        bin()
-            .args(["figure", "9"])
-            .args(CAPPED)
-            .args(["--shard", &format!("{i}/2"), "--out"])
-            .arg(&shards)
-            .run_ok();
-    }
-    let merged = dir.join("merged");
-    bin()
-        .arg("merge")
-        .arg(shards.join("fig9.shard-0-of-2.json"))
-        .arg(shards.join("fig9.shard-1-of-2.json"))
-        .arg("--out")
-        .arg(&merged)
-        .run_ok();
+    let (shards, merged) = two_shards_merged("9", &dir);
     let fig = |d: &std::path::Path| without_provenance(&json(&d.join("fig9.json")));
     assert_eq!(fig(&merged), fig(&whole));
     // A merge of one shard is incomplete: a partial file, exit 1.
@@ -226,23 +233,7 @@ fn basins_sampled_cell_by_cell() {
 #[test]
 fn figure_7_by_cells_has_no_empty_cell() {
     let dir = scratch("adaptive-fig7");
-    let shards = dir.join("shards");
-    for i in 0..2 {
-        bin()
-            .args(["figure", "7"])
-            .args(CAPPED)
-            .args(["--shard", &format!("{i}/2"), "--out"])
-            .arg(&shards)
-            .run_ok();
-    }
-    let merged = dir.join("merged");
-    bin()
-        .arg("merge")
-        .arg(shards.join("fig7.shard-0-of-2.json"))
-        .arg(shards.join("fig7.shard-1-of-2.json"))
-        .arg("--out")
-        .arg(&merged)
-        .run_ok();
+    let (_, merged) = two_shards_merged("7", &dir);
     let v = json(&merged.join("fig7.json"));
     assert_eq!(v["sampling"]["adaptive"], true);
     let basins = v["basins"].as_array().unwrap();

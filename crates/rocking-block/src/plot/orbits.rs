@@ -89,11 +89,8 @@ pub fn trajectory_svg(
         if !jumps.is_empty() {
             // The jumps' key, where the portrait leaves room (over the curves drawn so far).
             fine.here(root, path)?;
-            phase
-                .draw_series(std::iter::empty::<PathElement<(f64, f64)>>())
-                .map_err(|e| plot_err(path, e))?
-                .label("impact at phi = 0: psi jumps (thin grey line, before to after)")
-                .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], BLACK.mix(0.5)));
+            let jump = "impact at phi = 0: psi jumps (thin grey line, before to after)";
+            key_line(path, &mut phase, jump, BLACK.mix(0.5))?;
             let points: Vec<(f64, f64)> = (pieces.iter())
                 .flat_map(|p| p.points.iter().map(|q| (q.1, q.2)))
                 .collect();
@@ -107,6 +104,25 @@ pub fn trajectory_svg(
         }
         Ok(())
     })
+}
+
+/// The static boundary's key entry.
+const BOUNDARY: &str = "static boundary +-(pi/2 - theta_b)";
+
+/// A key entry of `chart`: a short line in `style` and `label`.
+fn key_line<'a, DB: DrawingBackend + 'a>(
+    path: &Path,
+    chart: &mut super::fine::Chart<'a, DB>,
+    label: &str,
+    style: impl Into<ShapeStyle>,
+) -> Result<()> {
+    let style = style.into();
+    chart
+        .draw_series(std::iter::empty::<PathElement<(f64, f64)>>())
+        .map_err(|e| plot_err(path, e))?
+        .label(label)
+        .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], style));
+    Ok(())
 }
 
 /// The key of a trajectory's colours (the modes it visits, the static boundary), in the
@@ -128,19 +144,9 @@ fn mode_key<'a, DB: DrawingBackend + 'a>(
             continue;
         }
         let colour = mode_colour(mode);
-        chart
-            .draw_series(std::iter::empty::<PathElement<(f64, f64)>>())
-            .map_err(|e| plot_err(path, e))?
-            .label(what)
-            .legend(move |(x, y)| {
-                PathElement::new(vec![(x, y), (x + 20, y)], colour.stroke_width(2))
-            });
+        key_line(path, chart, what, colour.stroke_width(2))?;
     }
-    chart
-        .draw_series(std::iter::empty::<PathElement<(f64, f64)>>())
-        .map_err(|e| plot_err(path, e))?
-        .label("static boundary +-(pi/2 - theta_b)")
-        .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], BLACK.mix(0.4)));
+    key_line(path, chart, BOUNDARY, BLACK.mix(0.4))?;
     let points: Vec<(f64, f64)> = pieces
         .iter()
         .flat_map(|p| p.points.iter().map(|q| (q.0, q.1)))
@@ -210,24 +216,11 @@ pub fn orbits_svg(
             (MINUS, "mode - (left corner)"),
         ] {
             let colour = mode_colour(mode);
-            phase
-                .draw_series(std::iter::empty::<PathElement<(f64, f64)>>())
-                .map_err(|e| plot_err(path, e))?
-                .label(label)
-                .legend(move |(x, y)| {
-                    PathElement::new(vec![(x, y), (x + 20, y)], colour.stroke_width(2))
-                });
+            key_line(path, &mut phase, label, colour.stroke_width(2))?;
         }
-        phase
-            .draw_series(std::iter::empty::<PathElement<(f64, f64)>>())
-            .map_err(|e| plot_err(path, e))?
-            .label("impact at phi = 0: psi jumps (thin grey)")
-            .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], BLACK.mix(0.5)));
-        phase
-            .draw_series(std::iter::empty::<PathElement<(f64, f64)>>())
-            .map_err(|e| plot_err(path, e))?
-            .label("static boundary +-(pi/2 - theta_b)")
-            .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], BLACK.mix(0.4)));
+        let jump = "impact at phi = 0: psi jumps (thin grey)";
+        key_line(path, &mut phase, jump, BLACK.mix(0.5))?;
+        key_line(path, &mut phase, BOUNDARY, BLACK.mix(0.4))?;
         let frame = fine.frame(&phase);
         for (idx, (_, segments)) in sampled.iter().enumerate() {
             let width = if idx == 0 { 3.0 } else { 1.0 };
