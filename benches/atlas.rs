@@ -1,7 +1,7 @@
 //! Two-dimensional atlases: the vibrating table's stable period-one orbits over `(a, omega)`
 //! (`examples/vibrating_table/model.rs`, exact derivatives by `AutoDiff`), covered up to the
 //! fold and the period doubling and the bounds `omega` in [0.8, 1.25], `a <= 1.8`, by both
-//! discretisations (the family of `tests/atlas.rs`). Run with `cargo bench --bench atlas`.
+//! discretisations (the family of `tests/integration/atlas.rs`). Run with `cargo bench --bench atlas`.
 
 #[path = "../examples/vibrating_table/model.rs"]
 mod model;

@@ -5,7 +5,7 @@
 //! Benchmarked, on both discretisations: the grazing curve in `(A, w)` over `w` in
 //! `[0.2, 1.58]` both ways from the default GR point that ends the impacting branch at
 //! `w = 1` (the target: under a second, within `1e-9` of the closed form, which
-//! `tests/grazing_curves.rs` checks).
+//! `tests/integration/grazing_curves.rs` checks).
 
 #[path = "../examples/impact_oscillator/model.rs"]
 mod model;

@@ -23,7 +23,7 @@ const E: f64 = 0.5;
 const G: f64 = 1.0;
 
 /// The stable period-1 orbit at `a = 1.3`, `omega = 1` from its closed-form post-impact state
-/// (see `tests/vibrating_table.rs`).
+/// (see `tests/integration/vibrating_table.rs`).
 fn start(table: &FiniteDifferences<Table>) -> PeriodicOrbit {
     model::period_one(table, [1.3, 1.0, E, G]).expect("the start orbit")
 }

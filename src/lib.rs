@@ -46,7 +46,7 @@
 //! For $e = 1/2$, $g = 1$, $\omega = 1$ the fold is at $a = \pi g(1-e)/((1+e)\omega^2) =
 //! \pi/3$ and the period doubling at
 //! $a\omega^2 = g\sqrt{4(1+e^2)^2/(1+e)^4 + \pi^2(1-e)^2/(1+e)^2}$ (derived in
-//! `tests/vibrating_table.rs`):
+//! `tests/integration/vibrating_table.rs`):
 //!
 //! ```
 //! include!("../examples/vibrating_table/model.rs"); // `Table`, `A`, `OMEGA`, `IMPACT`, ...

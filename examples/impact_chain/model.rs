@@ -1,4 +1,4 @@
-// The model of the `impact_chain` example (shared with `tests/impact_chain.rs` and
+// The model of the `impact_chain` example (shared with `tests/integration/impact_chain.rs` and
 // `benches/impact_chain.rs`): a chain of `N` unit masses, each joined to the next (the first
 // to a fixed base) by a spring `k` and a dashpot `c`, the first forced by `A sin(w t)`, the
 // last striking a rigid stop at `x_N = d` with restitution `e` (`v_N -> -e v_N`). A linear

@@ -4,7 +4,7 @@
 //! default), and the grazing curve in `(A, w)` is followed from it in one call. Every point
 //! is printed next to the closed form `A = d sqrt((k - w^2)^2 + (c w)^2)`: at a grazing the
 //! orbit is the free harmonic response whose amplitude `A / sqrt((k - w^2)^2 + (c w)^2)` is
-//! the wall's distance `d` (derived in `tests/grazing_curves.rs`).
+//! the wall's distance `d` (derived in `tests/integration/grazing_curves.rs`).
 //!
 //! The curve holds the one condition that attains the admissibility margin at the grazing,
 //! here the impact's approach rate (a smooth function of the orbit), not the margin itself

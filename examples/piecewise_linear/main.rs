@@ -4,7 +4,7 @@
 //! the switching surface); the soft orbit below is continued up until its maximum touches the
 //! surface (an event on a grazing-margin measure); the grazing curve in `(f, omega)` follows.
 //! Located points are printed next to the closed form `f = d D(omega)`,
-//! `D = sqrt((1 - omega^2)^2 + (2 zeta omega)^2)` (derived in `tests/piecewise_linear.rs`,
+//! `D = sqrt((1 - omega^2)^2 + (2 zeta omega)^2)` (derived in `tests/integration/piecewise_linear.rs`,
 //! which also checks the orbits against matrix exponentials).
 //!
 //! User code: 99 lines (model.rs 55, this file 44; without comments and blank lines).

@@ -1,4 +1,4 @@
-// The model of the `table_basins` example (shared with `tests/table_basins.rs`): the ball on
+// The model of the `table_basins` example (shared with `tests/integration/table_basins.rs`): the ball on
 // a vibrating table of `vibrating_table`, plus sticking. State `(z, w, theta)`: height and
 // velocity of the ball relative to the table `s(t) = a sin(omega t)`, forcing phase. In flight
 // `z' = w`, `w' = -g + a omega^2 sin(theta)`, `theta' = omega`; an impact (`z` falls through 0)
@@ -186,7 +186,7 @@ pub fn amplitude_study(seed: u64) -> hycont::hycont_sample::basin::Study {
 }
 
 /// The bouncing period-1 orbit's state just after its impact at amplitude `a` (closed form,
-/// `tests/vibrating_table.rs`): phase `theta0` with `a omega^2 cos(theta0) = pi g (1 - e) /
+/// `tests/integration/vibrating_table.rs`): phase `theta0` with `a omega^2 cos(theta0) = pi g (1 - e) /
 /// (1 + e)` on the stable branch (`sin(theta0) > 0`), take-off velocity `w+ = e g T / (1 + e)`;
 /// `None` below the fold.
 pub fn orbit_after_impact(a: f64, omega: f64, e: f64, g: f64) -> Option<[f64; 3]> {

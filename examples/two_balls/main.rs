@@ -4,7 +4,7 @@
 //! points where ball 2's multipliers meet them (LPPD, R1, R2, LPNS, PDNS), the other curve
 //! through a fold-flip point in one call, and the whole diagram (every PD switched at, the
 //! cascade's ratios) in one call. Located points are printed next to their closed forms
-//! (derived in `tests/codim2_points.rs`; omega = 1):
+//! (derived in `tests/integration/codim2_points.rs`; omega = 1):
 //! `a_SN(e, g) = pi g (1 - e) / (1 + e)`, `a_PD(e, g) = g F(e)`,
 //! `F(e) = sqrt(4 (1 + e^2)^2 / (1 + e)^4 + pi^2 (1 - e)^2 / (1 + e)^2)`.
 //!

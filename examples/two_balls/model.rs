@@ -1,9 +1,9 @@
-// The model of the `two_balls` example (shared with `tests/codim2_points.rs`): two balls
+// The model of the `two_balls` example (shared with `tests/integration/codim2_points.rs`): two balls
 // bouncing on vibrating tables driven by one forcing, ball 2's table a phase `psi` ahead; each
 // is the Holmes ball of `examples/vibrating_table`. They do not interact, so a period-1 orbit
 // is a pair of the single ball's orbits and its multipliers are the union of theirs: ball 1's
 // fold and period-doubling curves in (a, e2) meet ball 2's special points at closed-form
-// places (derived in `tests/codim2_points.rs`).
+// places (derived in `tests/integration/codim2_points.rs`).
 //
 // State `(z1, w1, z2, w2, theta)`: heights and velocities of the balls above their tables, the
 // forcing phase; parameters `(a, omega, e1, e2, g1, g2, psi)`; analytic Jacobians (`TwoBalls`),
@@ -163,7 +163,7 @@ impl HybridJacobians for TwoBalls {
 }
 
 /// The two balls written once for any scalar: with `AutoDiff` a system with exact
-/// Jacobians, equal to [`TwoBalls`]' hand-coded ones (`tests/autodiff.rs`).
+/// Jacobians, equal to [`TwoBalls`]' hand-coded ones (`tests/integration/autodiff.rs`).
 pub struct TwoBallsModel;
 
 impl HybridModel for TwoBallsModel {

@@ -5,7 +5,7 @@
 //! differentiation (`AutoDiff::new(TableModel)`), and the whole family of stable period-1
 //! orbits over `(a, omega)` as an atlas of charts bounded by the fold and the period doubling;
 //! located points are printed next to their
-//! closed forms (derived in `tests/vibrating_table.rs`): `a_SN omega^2 = pi g (1 - e) / (1 + e)` and
+//! closed forms (derived in `tests/integration/vibrating_table.rs`): `a_SN omega^2 = pi g (1 - e) / (1 + e)` and
 //! `a_PD omega^2 = g sqrt(4 (1 + e^2)^2 / (1 + e)^4 + pi^2 (1 - e)^2 / (1 + e)^2)`.
 //!
 //! User code: 166 lines (model.rs 92 with the model written twice, once for central differences

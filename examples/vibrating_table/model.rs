@@ -8,7 +8,7 @@
 // `HybridJacobians`, checked by the library tests), by `FiniteDifferences` (as the example
 // starts), or exactly by automatic differentiation from `TableModel`, the same equations
 // written once for any scalar (`AutoDiff::new(TableModel)`). `period_one` builds the stable
-// period-1 orbit from its closed form (derived in `tests/vibrating_table.rs`).
+// period-1 orbit from its closed form (derived in `tests/integration/vibrating_table.rs`).
 
 use hycont::ParamId;
 use hycont::{Direction, EventAction, EventId, EventSpec, HybridModel, HybridSystem, Mode, Scalar};
@@ -68,8 +68,8 @@ impl HybridSystem for Table {
     }
 }
 
-/// Hand-coded derivatives of the table (`tests/vibrating_table.rs` checks them against central
-/// differences, `tests/autodiff.rs` against `TableModel`'s).
+/// Hand-coded derivatives of the table (`tests/integration/vibrating_table.rs` checks them against central
+/// differences, `tests/integration/autodiff.rs` against `TableModel`'s).
 impl hycont::HybridJacobians for Table {
     fn vector_field_jacobian(
         &self,

@@ -1,7 +1,7 @@
 //! The rocking block written once for any scalar ([`RockingBlockModel`], a
 //! [`HybridModel`]): with [`hycont_core::AutoDiff`] a system with exact Jacobians by automatic
 //! differentiation, beside [`RockingBlock`]'s hand-coded ones (equal to rounding:
-//! `tests/autodiff.rs`). Events, modes, symmetry, Zeno transitions and hints are
+//! `tests/integration/autodiff.rs`). Events, modes, symmetry, Zeno transitions and hints are
 //! [`RockingBlock`]'s.
 
 use crate::model::{

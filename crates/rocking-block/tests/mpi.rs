@@ -6,6 +6,7 @@
 //! Run with `cargo test --release -p rocking-block --features mpi --test mpi`.
 #![cfg(feature = "mpi")]
 
+#[path = "integration/common/mod.rs"]
 mod common;
 
 use common::{RunOk, bin, json, scratch, without_provenance};
