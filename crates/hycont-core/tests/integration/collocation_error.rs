@@ -2,7 +2,7 @@
 //! of the relaxation oscillator.
 //!
 //! # The reference
-//! `Relaxation` (tests/common): $\dot x = a - x$, $\dot y = -2y$, fired at $x = 1.5$ and reset
+//! `Relaxation` (`common`): $\dot x = a - x$, $\dot y = -2y$, fired at $x = 1.5$ and reset
 //! to $(x/3, y + 1)$. Its orbit starts at $x = 0.5$, $y_0 = 1/(1 - e^{-2T})$ and lasts
 //! $T = \ln\frac{a - 0.5}{a - 1.5}$, so at time $t = \tau T$ of the segment
 //! $x = a - (a - 0.5)e^{-t}$, $y = y_0 e^{-2t}$: the true error of a collocation solution is
