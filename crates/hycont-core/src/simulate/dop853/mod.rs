@@ -6,6 +6,7 @@
 //! [`Dop853::integrate`] and [`Dop853::integrate_fixed`].
 
 mod dense_output;
+mod step_size;
 
 #[allow(clippy::wildcard_imports)]
 use super::tableau::*;
@@ -115,7 +116,8 @@ pub struct Dop853 {
     cont: [Vec<f64>; 8],
     dense_ready: bool,
     last_rejected: bool,
-    err_old: f64,
+    /// $\ln \max(\mathrm{err}_{old}, 10^{-4})$ of the last accepted step (PI control only).
+    ln_err_old: f64,
     controller_beta: f64,
     stats: StepperStats,
 }
@@ -157,7 +159,7 @@ impl Dop853 {
             cont: std::array::from_fn(|_| v()),
             dense_ready: false,
             last_rejected: false,
-            err_old: 1e-4,
+            ln_err_old: step_size::LN_ERR_OLD_MIN,
             controller_beta: 0.0,
             stats: StepperStats::default(),
         }
@@ -179,9 +181,13 @@ impl Dop853 {
 
     /// Sets the PI step-size controller's $\beta$ (Hairer's `WORK(4)`, `0` = pure I-control, the
     /// stepper's default): $h_{new} = h \cdot 0.9\, \mathrm{err}^{-(1/8 - 0.2\beta)}\,
-    /// \mathrm{err}_{old}^{\beta}$.
+    /// \mathrm{err}_{old}^{\beta}$. A new $\beta$ starts the controller's memory over (as
+    /// [`Dop853::start`] does), with $\mathrm{err}_{old} = 10^{-4}$.
     pub fn set_controller_beta(&mut self, beta: f64) {
-        self.controller_beta = beta;
+        if beta != self.controller_beta {
+            self.controller_beta = beta;
+            self.ln_err_old = step_size::LN_ERR_OLD_MIN;
+        }
     }
 
     /// Work counters since construction or the last [`Dop853::reset_stats`].
@@ -271,49 +277,8 @@ impl Dop853 {
         self.y.copy_from_slice(y);
         self.dense_ready = false;
         self.last_rejected = false;
-        self.err_old = 1e-4;
+        self.ln_err_old = step_size::LN_ERR_OLD_MIN;
         Self::eval(rhs, &mut self.stats, t, &self.y, &mut self.f)
-    }
-
-    /// Hairer's initial step-size heuristic (one extra evaluation), for integrating towards
-    /// `direction` (+1 or -1), at most `h_max` in magnitude.
-    ///
-    /// # Errors
-    /// If the right-hand side is not finite at the trial point.
-    pub fn initial_step<F: FnMut(f64, &[f64], &mut [f64])>(
-        &mut self,
-        rhs: &mut F,
-        direction: f64,
-        h_max: f64,
-    ) -> Result<f64, NonFiniteEvaluation> {
-        let m = self.n_err;
-        let (mut dnf, mut dny) = (0.0, 0.0);
-        for i in 0..m {
-            let sk = self.atol + self.rtol * self.y[i].abs();
-            dnf += (self.f[i] / sk).powi(2);
-            dny += (self.y[i] / sk).powi(2);
-        }
-        let mut h = if dnf <= 1e-10 || dny <= 1e-10 {
-            1e-6
-        } else {
-            (dny / dnf).sqrt() * 0.01
-        };
-        h = h.min(h_max) * direction;
-        stage(&mut self.y_tmp, &self.y, h, [(1.0, &self.f)]);
-        Self::eval(rhs, &mut self.stats, self.t + h, &self.y_tmp, &mut self.k2)?;
-        let mut der2 = 0.0;
-        for i in 0..m {
-            let sk = self.atol + self.rtol * self.y[i].abs();
-            der2 += ((self.k2[i] - self.f[i]) / sk).powi(2);
-        }
-        let der2 = der2.sqrt() / h.abs();
-        let der12 = der2.max(dnf.sqrt());
-        let h1 = if der12 <= 1e-15 {
-            (h.abs() * 1e-3).max(1e-6)
-        } else {
-            (0.01 / der12).powf(1.0 / 8.0)
-        };
-        Ok((100.0 * h.abs()).min(h1).min(h_max) * direction)
     }
 
     /// Attempts a step of size `h` from the current point; returns the scaled error estimate
@@ -497,37 +462,6 @@ impl Dop853 {
             });
         }
         Ok(err)
-    }
-
-    /// The step size to try next after an attempt of size `h` with scaled error `err`.
-    #[must_use]
-    pub fn next_step_size(&mut self, h: f64, err: f64) -> f64 {
-        const SAFE: f64 = 0.9;
-        const MIN_FACTOR: f64 = 0.333;
-        const MAX_FACTOR: f64 = 6.0;
-        let beta = self.controller_beta;
-        if err <= 1.0 {
-            let mut factor = if err == 0.0 {
-                MAX_FACTOR
-            } else {
-                (SAFE * err.powf(-(1.0 / 8.0 - 0.2 * beta)) * self.err_old.powf(beta))
-                    .clamp(MIN_FACTOR, MAX_FACTOR)
-            };
-            self.err_old = err.max(1e-4);
-            if self.last_rejected {
-                factor = factor.min(1.0);
-            }
-            self.last_rejected = false;
-            h * factor
-        } else {
-            self.last_rejected = true;
-            h * (SAFE * err.powf(-1.0 / 8.0)).max(MIN_FACTOR)
-        }
-    }
-
-    /// Records a rejected attempt in the statistics.
-    pub fn reject(&mut self) {
-        self.stats.rejected_steps += 1;
     }
 
     /// Accepts the pending step: evaluates the derivative at its end (the first stage of the next
