@@ -147,15 +147,19 @@ pub struct RockingBlock;
 
 /// $(\sin, \cos)$ of the pivot angle $\theta_b \pm \varphi$ and the sign $\pm 1$ of mode
 /// `mode` (zeros at rest).
+///
+/// By the `libm` crate's `sincos` (within an ulp, as glibc's): glibc's saves and restores the
+/// rounding mode on every call, which made it a fifth of a shooting branch's time, and
+/// `libm`'s takes about 60 % of its time.
 #[inline(always)]
 fn pivot(mode: Mode, phi: f64, theta_b: f64) -> (f64, f64, f64) {
     match mode {
         PLUS => {
-            let (sn, cs) = (theta_b + phi).sin_cos();
+            let (sn, cs) = libm::sincos(theta_b + phi);
             (sn, cs, 1.0)
         }
         MINUS => {
-            let (sn, cs) = (theta_b - phi).sin_cos();
+            let (sn, cs) = libm::sincos(theta_b - phi);
             (sn, cs, -1.0)
         }
         _ => (0.0, 0.0, 0.0),
