@@ -10,6 +10,7 @@
 //! The error at the mesh points is $O(h^{2\,\mathrm{ncol}})$ (superconvergence).
 
 mod basis;
+mod columns;
 mod condense;
 mod mesh;
 mod solve;
@@ -21,6 +22,7 @@ use crate::problem::{LocalBlock, ZeroFunction};
 use crate::system::HybridJacobians;
 use basis::Basis;
 pub use basis::gauss_legendre_points;
+use columns::{NodeColumns, interpolate, interpolate_any, node_of_group};
 use serde::{Deserialize, Serialize};
 pub use solve::{
     CollocationSolution, collocation_adapted_meshes, collocation_error_estimate,
@@ -96,6 +98,7 @@ pub struct Collocation<'a, S: ?Sized> {
     ends: EndConditions,
     // Work space.
     xi: Vec<f64>,
+    dx: Vec<f64>,
     f: Vec<f64>,
     a: Vec<f64>,
     fp: Vec<f64>,
@@ -146,6 +149,7 @@ impl<'a, S: HybridJacobians + ?Sized> Collocation<'a, S> {
             np,
             ends,
             xi: vec![0.0; n],
+            dx: vec![0.0; n],
             f: vec![0.0; n],
             a: vec![0.0; n * n],
             fp: vec![0.0; n * np],
@@ -345,82 +349,6 @@ impl<S: HybridJacobians + ?Sized> ZeroFunction for Collocation<'_, S> {
     }
 }
 
-/// The nodes' columns of one collocation point's rows in its interval's block.
-struct NodeColumns<'b> {
-    block: &'b mut [f64],
-    /// The block's rows (`ncol * n`) and the point's first row.
-    rows: usize,
-    at: usize,
-    /// $A = f_x$ at the point (column-major), $L_i(z_c)$, $L_i'(z_c)$, $-h T$.
-    a: &'b [f64],
-    l: &'b [f64],
-    dl: &'b [f64],
-    ht: f64,
-}
-
-impl NodeColumns<'_> {
-    /// Column (node, comp) on the point's rows: $L_i'(z_c) e_{comp} - h T L_i(z_c) A_{:, comp}$,
-    /// with the state dimension `N` known at compile time (whole columns of `A` at once).
-    fn write<const N: usize>(self) {
-        let ncol = self.l.len() - 1;
-        let mut a = [[0.0; N]; N];
-        for (col, src) in a.iter_mut().zip(self.a.chunks_exact(N)) {
-            col.copy_from_slice(src);
-        }
-        for (node, (&lv, &dv)) in self.l.iter().zip(self.dl).enumerate() {
-            let s = self.ht * lv;
-            let g = group_of_node(node, ncol);
-            for (comp, a_col) in a.iter().enumerate() {
-                let start = (g * N + comp) * self.rows + self.at;
-                let col: &mut [f64; N] = (&mut self.block[start..start + N])
-                    .try_into()
-                    .expect("N rows");
-                for (o, x) in col.iter_mut().zip(a_col) {
-                    *o = s * x;
-                }
-                col[comp] += dv;
-            }
-        }
-    }
-
-    /// [`NodeColumns::write`] for any state dimension.
-    fn write_any(self, n: usize) {
-        let ncol = self.l.len() - 1;
-        for (node, (&lv, &dv)) in self.l.iter().zip(self.dl).enumerate() {
-            let s = self.ht * lv;
-            let g = group_of_node(node, ncol);
-            for comp in 0..n {
-                let col = &mut self.block[(g * n + comp) * self.rows + self.at..][..n];
-                for (o, x) in col.iter_mut().zip(&self.a[comp * n..(comp + 1) * n]) {
-                    *o = s * x;
-                }
-                col[comp] += dv;
-            }
-        }
-    }
-}
-
-/// The node whose `n` columns come `g`-th in an interval's block: the interior nodes
-/// `1..ncol` first (the unknowns condensation eliminates), then node `0`, then node `ncol`.
-fn node_of_group(g: usize, ncol: usize) -> usize {
-    match (g + 1).cmp(&ncol) {
-        std::cmp::Ordering::Less => g + 1,
-        std::cmp::Ordering::Equal => 0,
-        std::cmp::Ordering::Greater => ncol,
-    }
-}
-
-/// The inverse of [`node_of_group`].
-fn group_of_node(node: usize, ncol: usize) -> usize {
-    if node == 0 {
-        ncol - 1
-    } else if node == ncol {
-        ncol
-    } else {
-        node - 1
-    }
-}
-
 /// A collocation point: its segment's mode and state dimension, its index in the interval, the
 /// interval's length and the segment's duration.
 #[derive(Clone, Copy)]
@@ -453,12 +381,16 @@ impl<S: HybridJacobians + ?Sized> Collocation<'_, S> {
         let (lc, dlc) = (&self.basis.l[at.c], &self.basis.dl[at.c]);
         let (xi, f) = (&mut self.xi[..n], &mut self.f[..n]);
         let (a, fp) = (&mut self.a[..n * n], &mut self.fp[..n * np]);
-        // xi = p(z_c)
-        xi.fill(0.0);
-        for (x, &lv) in nodes.chunks_exact(n).zip(lc) {
-            for (xi, xv) in xi.iter_mut().zip(x) {
-                *xi += lv * xv;
-            }
+        let dx = &mut self.dx[..n];
+        // xi = p(z_c), dx = p'(z_c) (per unit of the interval's coordinate).
+        match n {
+            1 => interpolate::<1>(nodes, (lc, dlc), xi, dx),
+            2 => interpolate::<2>(nodes, (lc, dlc), xi, dx),
+            3 => interpolate::<3>(nodes, (lc, dlc), xi, dx),
+            4 => interpolate::<4>(nodes, (lc, dlc), xi, dx),
+            5 => interpolate::<5>(nodes, (lc, dlc), xi, dx),
+            6 => interpolate::<6>(nodes, (lc, dlc), xi, dx),
+            _ => interpolate_any(nodes, (lc, dlc), xi, dx),
         }
         if jac.is_some() {
             (self.system).vector_field_with_jacobian(at.mode, xi, p, f, a, Some(fp));
@@ -478,13 +410,8 @@ impl<S: HybridJacobians + ?Sized> Collocation<'_, S> {
             });
         }
         let ht = -at.h * at.t;
-        for (r, f) in res.iter_mut().zip(f.iter()) {
-            *r = ht * f;
-        }
-        for (x, &dv) in nodes.chunks_exact(n).zip(dlc) {
-            for (r, xv) in res.iter_mut().zip(x) {
-                *r += dv * xv;
-            }
+        for ((r, f), d) in res.iter_mut().zip(f.iter()).zip(dx.iter()) {
+            *r = d + ht * f;
         }
         let Some(block) = jac else {
             return Ok(());

@@ -1,6 +1,6 @@
 //! Unit tests of the collocation part's block layout and column writers.
 
-use super::{NodeColumns, group_of_node, node_of_group};
+use super::columns::{NodeColumns, group_of_node, interpolate, interpolate_any, node_of_group};
 
 /// The block's column groups list every node once: interior nodes first, then the first
 /// and the last node.
@@ -63,4 +63,51 @@ fn fixed_size_node_columns_match_the_general_kernel() {
     same_columns::<4>();
     same_columns::<5>();
     same_columns::<6>();
+}
+
+/// The polynomial and its derivative at the collocation points reproduce a polynomial of the
+/// basis' degree from its values at the nodes: component `i` of the nodes samples
+/// $q_i(s) = \sum_{k \le \mathrm{ncol}} (i + 1)^{-k} s^k$ at $s = j / \mathrm{ncol}$, and the
+/// interpolant of degree ncol through those values is $q_i$ itself, so
+/// $\xi_i = q_i(z_c)$ and $d_i = q_i'(z_c)$ exactly but for roundoff. The kernel for a state
+/// dimension known at compile time gives the general kernel's numbers bit for bit (the same
+/// sums in the same order).
+fn interpolates_polynomials<const N: usize>() {
+    for ncol in 1..=7 {
+        let basis = super::Basis::new(ncol);
+        let z = super::gauss_legendre_points(ncol);
+        let q = |i: usize, s: f64| -> (f64, f64) {
+            let r = 1.0 / (i + 1) as f64;
+            let value = (0..=ncol).map(|k| (r * s).powi(k as i32)).sum();
+            let slope = (1..=ncol)
+                .map(|k| k as f64 * r * (r * s).powi(k as i32 - 1))
+                .sum();
+            (value, slope)
+        };
+        let nodes: Vec<f64> = (0..=ncol)
+            .flat_map(|j| (0..N).map(move |i| (j, i)))
+            .map(|(j, i)| q(i, j as f64 / ncol as f64).0)
+            .collect();
+        for c in 0..ncol {
+            let lc = (&basis.l[c][..], &basis.dl[c][..]);
+            let (mut xi, mut d) = ([0.0; N], [0.0; N]);
+            let (mut xi_any, mut d_any) = ([0.0; N], [0.0; N]);
+            interpolate::<N>(&nodes, lc, &mut xi, &mut d);
+            interpolate_any(&nodes, lc, &mut xi_any, &mut d_any);
+            assert_eq!((xi, d), (xi_any, d_any), "N = {N}, ncol = {ncol}");
+            for i in 0..N {
+                let (value, slope) = q(i, z[c]);
+                approx::assert_abs_diff_eq!(xi[i], value, epsilon = 1e-12);
+                approx::assert_abs_diff_eq!(d[i], slope, epsilon = 1e-10);
+            }
+        }
+    }
+}
+
+#[test]
+fn interpolation_at_the_collocation_points_reproduces_polynomials() {
+    interpolates_polynomials::<1>();
+    interpolates_polynomials::<3>();
+    interpolates_polynomials::<4>();
+    interpolates_polynomials::<6>();
 }
