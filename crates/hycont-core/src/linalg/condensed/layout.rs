@@ -149,9 +149,14 @@ impl Condensed {
             red_row: &red_row,
             red_col: &red_col,
         };
-        let mut dest = me.route(entries, &ctx, &mut red_entries);
-        me.group_pin_entries(&mut dest);
-        me.routes = Routes::new(&dest, top);
+        // Routed straight into runs (no destination per entry is stored: a large system's
+        // pattern has millions of entries); the other entries of pinned columns once their
+        // places, grouped by pin, are known.
+        let pinned = me.route(entries, &ctx, &mut red_entries, top);
+        let new_index = me.group_pin_entries();
+        for (e, i) in pinned {
+            me.routes.push(e, Dest::PinColumn(new_index[i]), top);
+        }
         let mut covered = vec![0u8; dense_len];
         for run in &me.routes.dense {
             for c in &mut covered[run.at..run.at + run.len as usize] {
@@ -173,8 +178,9 @@ impl Condensed {
     }
 
     /// Orders the other entries of pinned columns by pin (stable: each pin's in entry order),
-    /// with `pin_starts` delimiting each pin's, and points their destinations there.
-    fn group_pin_entries(&mut self, dest: &mut [Dest]) {
+    /// with `pin_starts` delimiting each pin's; returns each entry's new place (by its place
+    /// in `pin_entries`).
+    fn group_pin_entries(&mut self) -> Vec<usize> {
         let mut order: Vec<usize> = (0..self.pin_entries.len()).collect();
         order.sort_by_key(|&i| self.pin_entries[i].0);
         let mut new_index = vec![0; order.len()];
@@ -190,21 +196,19 @@ impl Condensed {
         }
         self.pin_rows = order.iter().map(|&i| self.pin_entries[i].1).collect();
         self.pin_entries = Vec::new();
-        for d in dest {
-            if let Dest::PinColumn(i) = d {
-                *i = new_index[*i];
-            }
-        }
+        new_index
     }
 
-    /// Sets the destination of every entry.
+    /// Routes every entry into `routes` (pins' pivots after the blocks' `pin0`), but the other
+    /// entries of pinned columns: returned as (entry, place in `pin_entries`).
     fn route(
         &mut self,
         entries: &[(usize, usize)],
         ctx: &Numbering<'_>,
         red_entries: &mut Vec<(usize, usize)>,
-    ) -> Vec<Dest> {
-        let mut out = Vec::with_capacity(entries.len());
+        pin0: usize,
+    ) -> Vec<(usize, usize)> {
+        let mut pinned = Vec::new();
         // Position of each block column and block row within its block.
         let mut local = vec![NONE; ctx.row_owner.len()];
         let mut local_row = vec![NONE; ctx.row_owner.len()];
@@ -220,14 +224,15 @@ impl Condensed {
                 local_row[r] = i;
             }
         }
-        for &(r, c) in entries {
+        for (e, &(r, c)) in entries.iter().enumerate() {
             let (rb, cb) = (ctx.row_owner[r], ctx.col_owner[c]);
             let pin = ctx.pin_of_col[c];
             let dest = if pin != NONE && ctx.pin_of_row[r] == pin {
                 Dest::Pivot(pin)
             } else if pin != NONE {
+                pinned.push((e, self.pin_entries.len()));
                 self.pin_entries.push((pin, r));
-                Dest::PinColumn(self.pin_entries.len() - 1)
+                continue;
             } else if rb != NONE {
                 let blk = &self.blocks[rb];
                 let i = local_row[r];
@@ -258,9 +263,9 @@ impl Condensed {
                 red_entries.push((ctx.red_row[r], ctx.red_col[c]));
                 Dest::Reduced(red_entries.len() - 1)
             };
-            out.push(dest);
+            self.routes.push(e, dest, pin0);
         }
-        out
+        pinned
     }
 }
 

@@ -62,29 +62,27 @@ struct Routes {
 }
 
 impl Routes {
-    fn new(dest: &[Dest], pin0: usize) -> Self {
-        let mut r = Self::default();
-        for (e, d) in dest.iter().enumerate() {
-            let e = u32::try_from(e).expect("at most 2^32 entries");
-            let (list, at) = match *d {
-                Dest::Dense(p) => (&mut r.dense, p),
-                Dest::Border(p) => (&mut r.border, p),
-                Dest::Reduced(p) => (&mut r.reduced, p),
-                Dest::Pivot(p) => (&mut r.pivot, pin0 + p),
-                Dest::PinColumn(p) => (&mut r.pin_column, p),
-            };
-            match list.last_mut() {
-                Some(run) if run.entry + run.len == e && run.at + run.len as usize == at => {
-                    run.len += 1;
-                }
-                _ => list.push(Run {
-                    entry: e,
-                    len: 1,
-                    at,
-                }),
+    /// Adds entry `e`'s destination (entries in increasing order per destination list; pivots
+    /// of pins go after the blocks' `pin0` pivots).
+    fn push(&mut self, e: usize, d: Dest, pin0: usize) {
+        let e = u32::try_from(e).expect("at most 2^32 entries");
+        let (list, at) = match d {
+            Dest::Dense(p) => (&mut self.dense, p),
+            Dest::Border(p) => (&mut self.border, p),
+            Dest::Reduced(p) => (&mut self.reduced, p),
+            Dest::Pivot(p) => (&mut self.pivot, pin0 + p),
+            Dest::PinColumn(p) => (&mut self.pin_column, p),
+        };
+        match list.last_mut() {
+            Some(run) if run.entry + run.len == e && run.at + run.len as usize == at => {
+                run.len += 1;
             }
+            _ => list.push(Run {
+                entry: e,
+                len: 1,
+                at,
+            }),
         }
-        r
     }
 }
 
