@@ -1,4 +1,4 @@
-//! Unit tests of the collocation part's block layout and column writers.
+//! Unit tests of the collocation part's block layout, column writers and interpolation kernels.
 
 use super::columns::{NodeColumns, group_of_node, interpolate, interpolate_any, node_of_group};
 
