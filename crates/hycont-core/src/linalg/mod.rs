@@ -52,7 +52,10 @@ enum Current {
 /// matrix for that factorisation. Both give the same solves and determinant up to rounding.
 /// A square pattern of at most 48 unknowns without blocks is factorised densely (partial
 /// pivoting): at that size the arithmetic costs less than a sparse factorisation's bookkeeping.
-/// A zero pivot there (a singular matrix) falls back to the sparse LU for that factorisation.
+/// So is one of at most 2048 unknowns with at least a quarter of its places filled (as the last
+/// reduced system of a large system's collocation is): a sparse LU's fill would make it dense
+/// anyway, without the dense kernels' blocking. A zero pivot there (a singular matrix) falls
+/// back to the sparse LU for that factorisation.
 ///
 /// ```
 /// use hycont_core::linalg::{EliminationBlock, SparsePattern};
@@ -81,13 +84,31 @@ pub struct SparsePattern {
     current: Current,
 }
 
+/// Largest square pattern factorised densely because it is filled (see [`SparsePattern`]).
+const DENSE_FILLED_UP_TO: usize = 2048;
+
+/// Whether the `n x n` pattern `entries` is factorised densely: up to [`DENSE_UP_TO`]
+/// unknowns, or up to [`DENSE_FILLED_UP_TO`] with at least a quarter of its places filled.
+fn dense_pattern(n: usize, entries: &[(usize, usize)]) -> bool {
+    if (1..=DENSE_UP_TO).contains(&n) {
+        return true;
+    }
+    if n > DENSE_FILLED_UP_TO || 4 * entries.len() < n * n {
+        return false;
+    }
+    let mut places: Vec<(usize, usize)> = entries.to_vec();
+    places.sort_unstable();
+    places.dedup();
+    4 * places.len() >= n * n
+}
+
 impl SparsePattern {
     /// Builds the pattern from `(row, col)` pairs.
     ///
     /// # Errors
     /// [`Error::InvalidSetting`] if an index is out of range.
     pub fn new(nrows: usize, ncols: usize, entries: &[(usize, usize)]) -> Result<Self> {
-        if nrows == ncols && (1..=DENSE_UP_TO).contains(&nrows) {
+        if nrows == ncols && dense_pattern(nrows, entries) {
             check_range(nrows, ncols, entries)?;
             return Ok(Self {
                 nrows,
