@@ -129,9 +129,10 @@ std::thread_local! {
 /// [`product_any`]: the same values (up to the sign of a zero).
 #[derive(Debug, Default)]
 struct Diagonals {
-    /// Per diagonal `d` (at `d + n - 1`): its first and one past its last nonzero position,
-    /// then its place in `stretches` (work space of `fill`).
+    /// Per diagonal `d` (at `d + n - 1`): its first and one past its last nonzero position
+    /// (work space of `fill`).
     range: Vec<(usize, usize)>,
+    /// Per diagonal `d` (at `d + n - 1`): its place in `stretches` (work space of `fill`).
     slot: Vec<usize>,
     /// The stored stretches, by increasing $d$: `(d, first position, start in values)`;
     /// stretch `s` is `values[stretches[s].2..stretches[s + 1].2]` (a last entry closes).

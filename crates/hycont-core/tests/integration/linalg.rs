@@ -136,7 +136,10 @@ fn filled_patterns_solve_as_sparse_ones() {
         // An index out of range is refused however filled the pattern.
         let mut bad = entries.clone();
         bad.push((n, 0));
-        assert!(SparsePattern::new(n, n, &bad).is_err(), "n = {n}, fill {fill}");
+        assert!(
+            SparsePattern::new(n, n, &bad).is_err(),
+            "n = {n}, fill {fill}"
+        );
     }
 }
 
