@@ -24,7 +24,7 @@ pub(crate) fn augmented_pattern(problem: &Problem<'_>) -> Result<(SparsePattern,
     entries.reserve_exact(n);
     entries.extend((0..n).map(|j| (m, j)));
     let blocks = problem.elimination_blocks();
-    Ok((SparsePattern::with_blocks_owned(n, n, entries, &blocks)?, k))
+    Ok((SparsePattern::with_blocks(n, n, &entries, &blocks)?, k))
 }
 
 /// At a (located) branch point `u` of a branch with tangent `t`, the direction of the other

@@ -8,6 +8,7 @@ pub(crate) mod dense;
 mod dense_blocked;
 mod dense_lu;
 mod eigen;
+mod entries;
 mod sparse_lu;
 
 use crate::error::{Error, Result};
@@ -15,6 +16,7 @@ pub use condensed::ReducedRows;
 use condensed::{Condensation, Condensed};
 use dense_lu::{DENSE_UP_TO, DenseLu};
 pub use eigen::{eigenvalues, eigenvectors};
+use entries::Entries;
 use faer::sparse::SparseColMat;
 use sparse_lu::SparseLu;
 
@@ -75,7 +77,8 @@ enum Current {
 pub struct SparsePattern {
     nrows: usize,
     ncols: usize,
-    entries: Vec<(usize, usize)>,
+    /// The entries, for a full LU built later (none where it is built at once).
+    entries: Entries,
     /// The whole matrix's LU: built at once without blocks, on the first fallback with them.
     full: Option<SparseLu>,
     /// The whole matrix's dense LU, instead of `full`, for small square patterns.
@@ -109,11 +112,10 @@ impl SparsePattern {
     /// [`Error::InvalidSetting`] if an index is out of range.
     pub fn new(nrows: usize, ncols: usize, entries: &[(usize, usize)]) -> Result<Self> {
         if nrows == ncols && dense_pattern(nrows, entries) {
-            check_range(nrows, ncols, entries)?;
             return Ok(Self {
                 nrows,
                 ncols,
-                entries: entries.to_vec(),
+                entries: Entries::new(nrows, ncols, entries)?,
                 full: None,
                 dense: Some(DenseLu::new(nrows, entries)),
                 condensed: None,
@@ -123,7 +125,7 @@ impl SparsePattern {
         Ok(Self {
             nrows,
             ncols,
-            entries: Vec::new(),
+            entries: Entries::default(),
             full: Some(SparseLu::new(nrows, ncols, entries)?),
             dense: None,
             condensed: None,
@@ -147,23 +149,6 @@ impl SparsePattern {
         if blocks.is_empty() {
             return Self::new(nrows, ncols, entries);
         }
-        Self::with_blocks_owned(nrows, ncols, entries.to_vec(), blocks)
-    }
-
-    /// [`SparsePattern::with_blocks`] keeping `entries` instead of a copy (a large system's
-    /// collocation pattern has millions of entries).
-    ///
-    /// # Errors
-    /// As [`SparsePattern::with_blocks`].
-    pub fn with_blocks_owned(
-        nrows: usize,
-        ncols: usize,
-        entries: Vec<(usize, usize)>,
-        blocks: &[EliminationBlock],
-    ) -> Result<Self> {
-        if blocks.is_empty() {
-            return Self::new(nrows, ncols, &entries);
-        }
         if nrows != ncols {
             return Err(Error::InvalidSetting {
                 name: "elimination blocks",
@@ -171,12 +156,12 @@ impl SparsePattern {
                 reason: "condensation needs a square matrix",
             });
         }
-        check_range(nrows, ncols, &entries)?;
-        let condensed = Some(Condensed::new(nrows, &entries, blocks)?);
+        let compact = Entries::new(nrows, ncols, entries)?;
+        let condensed = Some(Condensed::new(nrows, entries, blocks)?);
         Ok(Self {
             nrows,
             ncols,
-            entries,
+            entries: compact,
             full: None,
             dense: None,
             condensed,
@@ -202,6 +187,15 @@ impl SparsePattern {
         self.full.as_ref().map_or(self.entries.len(), SparseLu::len)
     }
 
+    /// Whether `entries` are this pattern's entries in order; `None` where the pattern did
+    /// not keep them (a sparse LU built at once).
+    pub(crate) fn has_entries(
+        &self,
+        entries: impl Iterator<Item = (usize, usize)>,
+    ) -> Option<bool> {
+        (self.condensed.is_some() || self.dense.is_some()).then(|| self.entries.eq_pairs(entries))
+    }
+
     /// Whether the pattern has no entries.
     #[must_use]
     pub fn is_empty(&self) -> bool {
@@ -215,7 +209,7 @@ impl SparsePattern {
     pub fn matrix(&self, values: &[f64]) -> Result<SparseColMat<usize, f64>> {
         match &self.full {
             Some(full) => full.matrix(values),
-            None => SparseLu::new(self.nrows, self.ncols, &self.entries)?.matrix(values),
+            None => SparseLu::new(self.nrows, self.ncols, &self.entries.pairs())?.matrix(values),
         }
     }
 
@@ -241,7 +235,11 @@ impl SparsePattern {
             return Ok(());
         }
         if self.full.is_none() {
-            self.full = Some(SparseLu::new(self.nrows, self.ncols, &self.entries)?);
+            self.full = Some(SparseLu::new(
+                self.nrows,
+                self.ncols,
+                &self.entries.pairs(),
+            )?);
         }
         let full = self.full.as_mut().expect("built above");
         full.factorize(values)?;
@@ -366,18 +364,6 @@ impl SparsePattern {
         crate::error::check_len("right-hand sides", b, self.nrows() * k)?;
         self.solve_cols(b, k, false)
     }
-}
-
-/// Refuses entries outside an `nrows x ncols` matrix.
-fn check_range(nrows: usize, ncols: usize, entries: &[(usize, usize)]) -> Result<()> {
-    if entries.iter().any(|&(r, c)| r >= nrows || c >= ncols) {
-        return Err(Error::InvalidSetting {
-            name: "sparse pattern",
-            value: entries.len() as f64,
-            reason: "an entry is out of range",
-        });
-    }
-    Ok(())
 }
 
 fn not_factorized<T>() -> Result<T> {

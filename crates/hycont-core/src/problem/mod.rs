@@ -44,7 +44,9 @@ struct Part<'a> {
     function: Box<dyn ZeroFunction + 'a>,
     unknowns: Vec<usize>,
     row: usize,
-    pattern: Vec<(usize, usize)>,
+    /// The number of its Jacobian's entries (the entries themselves are asked of the function
+    /// when a pattern is built: a large system's are millions, not kept per part).
+    entries: usize,
 }
 
 struct Monitor<'a> {
@@ -150,12 +152,12 @@ impl<'a> Problem<'a> {
     ) -> Result<PartId> {
         self.check_indices("part unknowns", &unknowns, function.unknowns())?;
         let row = self.parts.iter().map(|p| p.function.equations()).sum();
-        let pattern = function.jacobian_pattern();
+        let entries = function.jacobian_len();
         self.parts.push(Part {
             function,
             unknowns,
             row,
-            pattern,
+            entries,
         });
         self.pattern = None;
         Ok(PartId(self.parts.len() - 1))
@@ -355,7 +357,7 @@ impl<'a> Problem<'a> {
         // The parts' values first (kept from the last evaluation where a part writes them all),
         // then the monitors' gradients, appended.
         if let Some(j) = jac.as_deref_mut() {
-            let parts: usize = self.parts.iter().map(|p| p.pattern.len()).sum();
+            let parts: usize = self.parts.iter().map(|p| p.entries).sum();
             j.truncate(parts);
             // Room for the monitors' gradients too: a vector grown by doubling past millions
             // of entries would hold up to twice them.
@@ -373,8 +375,8 @@ impl<'a> Problem<'a> {
             let res = &mut residual[part.row..part.row + rows];
             match jac.as_deref_mut() {
                 Some(j) => {
-                    let at = &mut j[start..start + part.pattern.len()];
-                    start += part.pattern.len();
+                    let at = &mut j[start..start + part.entries];
+                    start += part.entries;
                     if !part.function.writes_every_entry() {
                         at.fill(0.0);
                     }

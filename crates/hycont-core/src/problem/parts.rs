@@ -10,8 +10,15 @@ pub trait ZeroFunction {
     /// Number of equations.
     fn equations(&self) -> usize;
     /// The Jacobian's non-zero entries as `(equation, local unknown)` pairs; fixed for the life
-    /// of the part.
+    /// of the part (a problem asks for them again whenever it builds its sparsity pattern,
+    /// rather than keeping a copy).
     fn jacobian_pattern(&self) -> Vec<(usize, usize)>;
+    /// The number of [`ZeroFunction::jacobian_pattern`]'s entries. The default builds the
+    /// pattern to count it; a part with millions of entries says it directly (a problem checks
+    /// the two agree when it builds its pattern).
+    fn jacobian_len(&self) -> usize {
+        self.jacobian_pattern().len()
+    }
     /// Evaluates the residual (length [`ZeroFunction::equations`]) and, if asked, the Jacobian's
     /// values in the order of [`ZeroFunction::jacobian_pattern`].
     ///

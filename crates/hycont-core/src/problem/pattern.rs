@@ -12,15 +12,31 @@ impl Problem<'_> {
         self.global_pattern()
     }
 
+    /// The Jacobian's entries in order, collected: each part's pattern, asked of it and mapped
+    /// to the problem's rows and unknowns in place (one part's is the collection's storage),
+    /// then the monitors' rows.
     pub(super) fn global_pattern(&self) -> Vec<(usize, usize)> {
-        let mut entries = Vec::with_capacity(self.pattern_len());
-        entries.extend(self.global_entries());
+        let total = self.pattern_len();
+        let mut entries: Vec<(usize, usize)> = Vec::new();
+        for part in &self.parts {
+            let mut local = part.function.jacobian_pattern();
+            for e in &mut local {
+                *e = (part.row + e.0, part.unknowns[e.1]);
+            }
+            if entries.is_empty() {
+                entries = local;
+                entries.reserve_exact(total.saturating_sub(entries.len()));
+            } else {
+                entries.extend_from_slice(&local);
+            }
+        }
+        entries.extend(self.monitor_entries());
         entries
     }
 
     /// The number of the Jacobian's entries.
     pub(super) fn pattern_len(&self) -> usize {
-        self.parts.iter().map(|p| p.pattern.len()).sum::<usize>()
+        self.parts.iter().map(|p| p.entries).sum::<usize>()
             + self
                 .monitors
                 .iter()
@@ -28,23 +44,28 @@ impl Problem<'_> {
                 .sum::<usize>()
     }
 
-    /// The Jacobian's entries in order, without collecting them (a large system's pattern has
-    /// millions).
+    /// The Jacobian's entries in order, without collecting them all (a large system's pattern
+    /// has millions; each part's is asked of it in turn).
     pub(super) fn global_entries(&self) -> impl Iterator<Item = (usize, usize)> + '_ {
         let parts = self.parts.iter().flat_map(|part| {
-            part.pattern
-                .iter()
-                .map(move |&(r, c)| (part.row + r, part.unknowns[c]))
+            part.function
+                .jacobian_pattern()
+                .into_iter()
+                .map(move |(r, c)| (part.row + r, part.unknowns[c]))
         });
+        parts.chain(self.monitor_entries())
+    }
+
+    /// The monitors' rows' entries, after the parts'.
+    fn monitor_entries(&self) -> impl Iterator<Item = (usize, usize)> + '_ {
         let row0 = self.equations() - self.monitors.len();
         let slots = self.active_slots();
-        let monitors = self.monitors.iter().enumerate().flat_map(move |(k, m)| {
+        self.monitors.iter().enumerate().flat_map(move |(k, m)| {
             m.unknowns
                 .iter()
                 .map(move |&c| (row0 + k, c))
                 .chain(slots[k].map(|slot| (row0 + k, slot)))
-        });
-        parts.chain(monitors)
+        })
     }
 
     /// The parts' [`LocalBlock`](crate::problem::LocalBlock)s in the problem's rows and unknowns.
@@ -76,18 +97,26 @@ impl Problem<'_> {
     /// a square problem condenses its parts' [`LocalBlock`](crate::problem::LocalBlock)s.
     ///
     /// # Errors
-    /// If the pattern is invalid, or a part's local blocks are (out of range, overlapping, read
-    /// by another block's equations).
+    /// If the pattern is invalid, a part's pattern has another length than its
+    /// [`ZeroFunction::jacobian_len`](crate::problem::ZeroFunction::jacobian_len), or a part's
+    /// local blocks are invalid (out of range, overlapping, read by another block's equations).
     pub fn pattern(&mut self) -> Result<&mut SparsePattern> {
         if self.pattern.is_none() {
             let entries = self.global_pattern();
+            if entries.len() != self.pattern_len() {
+                return Err(crate::Error::InvalidSetting {
+                    name: "jacobian_len",
+                    value: entries.len() as f64,
+                    reason: "a part's pattern has another length than it says",
+                });
+            }
             let (m, n) = (self.equations(), self.unknowns());
             let blocks = if m == n {
                 self.elimination_blocks()
             } else {
                 Vec::new()
             };
-            self.pattern = Some(SparsePattern::with_blocks_owned(m, n, entries, &blocks)?);
+            self.pattern = Some(SparsePattern::with_blocks(m, n, &entries, &blocks)?);
         }
         Ok(self.pattern.as_mut().expect("pattern built above"))
     }
@@ -97,11 +126,17 @@ impl Problem<'_> {
     /// e.g. the same collocation problem on another mesh with as many intervals: `other` is
     /// then spared the build. Returns whether it moved.
     pub(crate) fn hand_pattern_to(&mut self, other: &mut Problem<'_>) -> bool {
-        let same = self.pattern.is_some()
-            && other.pattern.is_none()
+        let Some(pattern) = self.pattern.as_ref() else {
+            return false;
+        };
+        // Against the entries the pattern kept where it did (one of the two problems' patterns
+        // is then asked of its parts, not both).
+        let same = other.pattern.is_none()
             && (self.equations(), self.unknowns()) == (other.equations(), other.unknowns())
             && self.pattern_len() == other.pattern_len()
-            && self.global_entries().eq(other.global_entries())
+            && pattern
+                .has_entries(other.global_entries())
+                .unwrap_or_else(|| self.global_entries().eq(other.global_entries()))
             && self.elimination_blocks() == other.elimination_blocks();
         if same {
             other.pattern = self.pattern.take();
@@ -115,10 +150,12 @@ mod tests {
     use super::Problem;
     use crate::problem::ZeroFunction;
 
-    /// $F(u) = A u - b$ for a fixed matrix with the entries `pattern`.
+    /// $F(u) = A u - b$ for a fixed matrix with the entries `pattern` (of which it may claim
+    /// another number, `claimed`).
     struct Linear {
         pattern: Vec<(usize, usize)>,
         values: Vec<f64>,
+        claimed: Option<usize>,
     }
 
     impl ZeroFunction for Linear {
@@ -130,6 +167,9 @@ mod tests {
         }
         fn jacobian_pattern(&self) -> Vec<(usize, usize)> {
             self.pattern.clone()
+        }
+        fn jacobian_len(&self) -> usize {
+            self.claimed.unwrap_or(self.pattern.len())
         }
         fn evaluate(
             &mut self,
@@ -153,6 +193,7 @@ mod tests {
         let part = Linear {
             pattern: pattern.to_vec(),
             values: values.to_vec(),
+            claimed: None,
         };
         p.add_part(Box::new(part), vec![0, 1]).unwrap();
         p
@@ -177,5 +218,33 @@ mod tests {
         assert_eq!(r, vec![-0.5, -0.5]);
         // Nothing to hand on any more.
         assert!(!first.hand_pattern_to(&mut problem(&diag, &[1.0, 1.0])));
+    }
+
+    /// A part that counts its entries wrongly is refused when the pattern is built (its values
+    /// would be read against other entries), naming the setting; the problem and its pattern
+    /// read each part's entries in order (two parts, the second's rows and unknowns shifted).
+    #[test]
+    fn parts_entries_are_counted_and_mapped_in_order() {
+        let mut p = Problem::new(3);
+        let lying = Linear {
+            pattern: vec![(0, 0), (1, 1)],
+            values: vec![1.0, 1.0],
+            claimed: Some(3),
+        };
+        p.add_part(Box::new(lying), vec![0, 1]).unwrap();
+        let err = p.pattern().unwrap_err();
+        assert!(err.to_string().contains("jacobian_len"), "{err}");
+
+        let mut p = problem(&[(0, 0), (1, 0), (1, 1)], &[1.0, 2.0, 3.0]);
+        let second = Linear {
+            pattern: vec![(0, 1), (0, 0)],
+            values: vec![1.0, 1.0],
+            claimed: None,
+        };
+        p.add_part(Box::new(second), vec![1, 0]).unwrap();
+        let expected = vec![(0, 0), (1, 0), (1, 1), (2, 0), (2, 1)];
+        assert_eq!(p.jacobian_entries(), expected);
+        assert!(p.global_entries().eq(expected.iter().copied()));
+        assert_eq!(p.pattern_len(), 5);
     }
 }

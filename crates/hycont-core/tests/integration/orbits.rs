@@ -141,6 +141,7 @@ fn shooting_and_collocation_jacobians_match_finite_differences() {
 }
 
 fn check_part(part: &mut dyn ZeroFunction, u: &[f64], tol: f64) {
+    assert_eq!(part.jacobian_len(), part.jacobian_pattern().len());
     let nu = part.unknowns();
     let mut problem = Problem::new(nu);
     struct Wrap<'a>(&'a mut dyn ZeroFunction);
@@ -153,6 +154,9 @@ fn check_part(part: &mut dyn ZeroFunction, u: &[f64], tol: f64) {
         }
         fn jacobian_pattern(&self) -> Vec<(usize, usize)> {
             self.0.jacobian_pattern()
+        }
+        fn jacobian_len(&self) -> usize {
+            self.0.jacobian_len()
         }
         fn evaluate(
             &mut self,

@@ -242,16 +242,7 @@ impl<S: HybridJacobians + ?Sized> ZeroFunction for Collocation<'_, S> {
         let kk = self.signature.len();
         // The exact length: a large system's pattern has millions of entries, and a vector
         // grown by doubling would hold up to twice them.
-        let len = (0..kk)
-            .map(|k| {
-                let (n, n_to) = (self.dims[k], self.next_dim(k));
-                let ntst = self.meshes[k].len() - 1;
-                let symmetric = k + 1 == kk && self.ends.symmetric();
-                ntst * ncol * n * ((ncol + 1) * n + 1 + np)
-                    + (n_to + 1) * (n + np)
-                    + n_to * if symmetric { n_to } else { 1 }
-            })
-            .sum();
+        let len = self.jacobian_len();
         let mut out = Vec::with_capacity(len);
         for k in 0..kk {
             let (n, n_to) = (self.dims[k], self.next_dim(k));
@@ -294,6 +285,23 @@ impl<S: HybridJacobians + ?Sized> ZeroFunction for Collocation<'_, S> {
         }
         debug_assert_eq!(out.len(), len);
         out
+    }
+
+    /// Each interval's dense block ($n_{col} n$ rows over $n_{col} + 1$ nodes, the duration
+    /// and the parameters), then each segment's boundary rows.
+    fn jacobian_len(&self) -> usize {
+        let (np, ncol) = (self.np, self.basis.ncol);
+        let kk = self.signature.len();
+        (0..kk)
+            .map(|k| {
+                let (n, n_to) = (self.dims[k], self.next_dim(k));
+                let ntst = self.meshes[k].len() - 1;
+                let symmetric = k + 1 == kk && self.ends.symmetric();
+                ntst * ncol * n * ((ncol + 1) * n + 1 + np)
+                    + (n_to + 1) * (n + np)
+                    + n_to * if symmetric { n_to } else { 1 }
+            })
+            .sum()
     }
 
     fn evaluate(
