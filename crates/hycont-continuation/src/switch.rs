@@ -24,7 +24,7 @@ pub(crate) fn augmented_pattern(problem: &Problem<'_>) -> Result<(SparsePattern,
     entries.reserve_exact(n);
     entries.extend((0..n).map(|j| (m, j)));
     let blocks = problem.elimination_blocks();
-    Ok((SparsePattern::with_blocks(n, n, &entries, &blocks)?, k))
+    Ok((SparsePattern::with_blocks_owned(n, n, entries, &blocks)?, k))
 }
 
 /// At a (located) branch point `u` of a branch with tangent `t`, the direction of the other
@@ -95,6 +95,7 @@ pub(crate) fn inverse_iteration_on(
     let mut res = vec![0.0; m];
     problem.evaluate(u, &mut res, Some(&mut values))?;
     values.truncate(k);
+    values.reserve_exact(t.len());
     values.extend_from_slice(t);
     pattern.factorize(&values)?;
     let mut x: Vec<f64> = (0..n)
@@ -169,6 +170,7 @@ fn null_vector(problem: &mut Problem<'_>, u: &[f64], row: &[f64]) -> Result<Opti
     let mut res = vec![0.0; m];
     problem.evaluate(u, &mut res, Some(&mut values))?;
     values.truncate(k);
+    values.reserve_exact(row.len());
     values.extend_from_slice(row);
     if pattern.factorize(&values).is_err() {
         return Ok(inverse_iteration(problem, u, row).ok());

@@ -111,6 +111,7 @@ impl<'p, 'a, P: ContinuationProblem<'a> + ?Sized> Solver<'p, 'a, P> {
             .problem()
             .evaluate_for(u, &mut self.res[..m], &mut values, purpose)?;
         values.truncate(self.k);
+        values.reserve_exact(rows[0].len() + rows[1].len());
         values.extend_from_slice(&rows[0]);
         values.extend_from_slice(&rows[1]);
         let out = self.pattern.factorize(&values);

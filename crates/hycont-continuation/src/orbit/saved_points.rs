@@ -180,6 +180,7 @@ impl<S: HybridJacobians + ?Sized> Slot<'_, S> {
         let mut values = Vec::new();
         problem.evaluate(u, &mut residual, Some(&mut values))?;
         values.truncate(self.k);
+        values.reserve_exact(t.len());
         values.extend_from_slice(t);
         let mut x = vec![0.0; t.len()];
         if let Some(last) = x.last_mut() {

@@ -35,6 +35,9 @@ impl<'a, P: ContinuationProblem<'a> + ?Sized> Palc<'_, 'a, P> {
             .problem()
             .evaluate_for(u, &mut self.res[..n - 1], &mut values, purpose)?;
         values.truncate(self.k);
+        // Exactly the row's room (the problem sized the values for its own entries: a vector
+        // grown by doubling would hold twice a large system's millions).
+        values.reserve_exact(row.len());
         values.extend_from_slice(row);
         self.res[n - 1] = dot(row, u) - dot(row, u0) - s;
         let out = self.pattern.factorize(&values);

@@ -44,20 +44,19 @@ impl Entries {
         self.0.len()
     }
 
+    /// The entries in order, as `usize` pairs.
+    pub(super) fn iter(&self) -> impl ExactSizeIterator<Item = (usize, usize)> + '_ {
+        self.0.iter().map(|&(r, c)| (r as usize, c as usize))
+    }
+
     /// Whether `other` lists the same entries in the same order.
-    pub(super) fn eq_pairs(&self, mut other: impl Iterator<Item = (usize, usize)>) -> bool {
-        self.0
-            .iter()
-            .all(|&(r, c)| other.next() == Some((r as usize, c as usize)))
-            && other.next().is_none()
+    pub(super) fn eq_pairs(&self, other: impl Iterator<Item = (usize, usize)>) -> bool {
+        self.iter().eq(other)
     }
 
     /// The entries as `usize` pairs.
     pub(super) fn pairs(&self) -> Vec<(usize, usize)> {
-        self.0
-            .iter()
-            .map(|&(r, c)| (r as usize, c as usize))
-            .collect()
+        self.iter().collect()
     }
 }
 

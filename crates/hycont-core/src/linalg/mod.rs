@@ -156,12 +156,36 @@ impl SparsePattern {
                 reason: "condensation needs a square matrix",
             });
         }
-        let compact = Entries::new(nrows, ncols, entries)?;
-        let condensed = Some(Condensed::new(nrows, entries, blocks)?);
+        Self::condensed(nrows, Entries::new(nrows, ncols, entries)?, blocks)
+    }
+
+    /// [`SparsePattern::with_blocks`] taking `entries`: they are freed as soon as they are
+    /// kept compactly, before the layout is built (a large system's collocation pattern has
+    /// millions of entries).
+    ///
+    /// # Errors
+    /// As [`SparsePattern::with_blocks`].
+    pub fn with_blocks_owned(
+        nrows: usize,
+        ncols: usize,
+        entries: Vec<(usize, usize)>,
+        blocks: &[EliminationBlock],
+    ) -> Result<Self> {
+        if blocks.is_empty() {
+            return Self::new(nrows, ncols, &entries);
+        }
+        let compact = Entries::new(nrows, ncols, &entries)?;
+        drop(entries);
+        Self::condensed(nrows, compact, blocks)
+    }
+
+    /// The condensed `n x n` pattern of `entries` with `blocks` (at least one).
+    fn condensed(n: usize, entries: Entries, blocks: &[EliminationBlock]) -> Result<Self> {
+        let condensed = Some(Condensed::new(n, &entries, blocks)?);
         Ok(Self {
-            nrows,
-            ncols,
-            entries: compact,
+            nrows: n,
+            ncols: n,
+            entries,
             full: None,
             dense: None,
             condensed,

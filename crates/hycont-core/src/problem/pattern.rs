@@ -116,7 +116,7 @@ impl Problem<'_> {
             } else {
                 Vec::new()
             };
-            self.pattern = Some(SparsePattern::with_blocks(m, n, &entries, &blocks)?);
+            self.pattern = Some(SparsePattern::with_blocks_owned(m, n, entries, &blocks)?);
         }
         Ok(self.pattern.as_mut().expect("pattern built above"))
     }
@@ -125,7 +125,11 @@ impl Problem<'_> {
     /// to `other` if `other` has the same Jacobian structure (entries and elimination blocks),
     /// e.g. the same collocation problem on another mesh with as many intervals: `other` is
     /// then spared the build. Returns whether it moved.
+    ///
+    /// `self` is spent: its Jacobian's values (as large as its entries) are released first,
+    /// before the comparison asks `other`'s parts for their entries.
     pub(crate) fn hand_pattern_to(&mut self, other: &mut Problem<'_>) -> bool {
+        self.values = Vec::new();
         let Some(pattern) = self.pattern.as_ref() else {
             return false;
         };

@@ -3,6 +3,7 @@
 
 use super::{Block, Border, Condensed, Dest, Pin, Routes};
 use crate::error::{Error, Result};
+use crate::linalg::entries::Entries;
 use crate::linalg::{EliminationBlock, SparsePattern, permutation_sign};
 
 const NONE: usize = usize::MAX;
@@ -48,12 +49,12 @@ fn owners(n: usize, blocks: &[EliminationBlock]) -> Result<(Vec<usize>, Vec<usiz
 /// `pin_of_row[r]`/`pin_of_col[c]` give the pin's index. One pin per column.
 fn pins(
     n: usize,
-    entries: &[(usize, usize)],
+    entries: &Entries,
     row_owner: &[usize],
     col_owner: &[usize],
 ) -> (Vec<Pin>, Vec<usize>, Vec<usize>) {
     let (mut first, mut multi) = (vec![NONE; n], vec![false; n]);
-    for &(r, c) in entries {
+    for (r, c) in entries.iter() {
         if first[r] == NONE {
             first[r] = c;
         } else if first[r] != c {
@@ -78,7 +79,7 @@ impl Condensed {
     /// The condensed layout of a square pattern.
     pub(in crate::linalg) fn new(
         n: usize,
-        entries: &[(usize, usize)],
+        entries: &Entries,
         specs: &[EliminationBlock],
     ) -> Result<Self> {
         let (row_owner, col_owner) = owners(n, specs)?;
@@ -203,7 +204,7 @@ impl Condensed {
     /// entries of pinned columns: returned as (entry, place in `pin_entries`).
     fn route(
         &mut self,
-        entries: &[(usize, usize)],
+        entries: &Entries,
         ctx: &Numbering<'_>,
         red_entries: &mut Vec<(usize, usize)>,
         pin0: usize,
@@ -224,7 +225,7 @@ impl Condensed {
                 local_row[r] = i;
             }
         }
-        for (e, &(r, c)) in entries.iter().enumerate() {
+        for (e, (r, c)) in entries.iter().enumerate() {
             let (rb, cb) = (ctx.row_owner[r], ctx.col_owner[c]);
             let pin = ctx.pin_of_col[c];
             let dest = if pin != NONE && ctx.pin_of_row[r] == pin {
@@ -273,7 +274,7 @@ impl Condensed {
 /// rows that read its columns (its border rows); checks that no block's columns appear in
 /// another block's rows and that each block's rows read all its columns.
 fn block_reads(
-    entries: &[(usize, usize)],
+    entries: &Entries,
     specs: &[EliminationBlock],
     (row_owner, col_owner): (&[usize], &[usize]),
     red_col: &[usize],
@@ -281,10 +282,17 @@ fn block_reads(
 ) -> Result<Vec<Vec<usize>>> {
     let mut borders: Vec<Vec<usize>> = vec![Vec::new(); specs.len()];
     let mut read = vec![false; col_owner.len()];
-    for &(r, c) in entries {
+    // Consecutive repeats are not listed again (sorted and deduplicated later: a block's
+    // entries come column by column, each kept column once per row).
+    let push_new = |list: &mut Vec<usize>, x: usize| {
+        if list.last() != Some(&x) {
+            list.push(x);
+        }
+    };
+    for (r, c) in entries.iter() {
         let (rb, cb) = (row_owner[r], col_owner[c]);
         if rb != NONE && cb == NONE && red_col[c] != NONE {
-            blocks[rb].other.push(red_col[c]);
+            push_new(&mut blocks[rb].other, red_col[c]);
         } else if rb != NONE && cb == rb {
             read[c] = true;
         } else if rb != NONE && cb != NONE {
@@ -293,7 +301,7 @@ fn block_reads(
                 "a block's unknowns appear in another block's equations",
             ));
         } else if rb == NONE && cb != NONE {
-            borders[cb].push(r);
+            push_new(&mut borders[cb], r);
         }
     }
     if blocks.iter().any(|blk| blk.cols.iter().any(|&j| !read[j])) {
