@@ -9,6 +9,10 @@
 //!
 //! Targets (issue 39): at N = 50 a point in at most 50 ms by shooting and 200 ms by
 //! collocation on a 2-core machine; from N = 10 to 50 no steeper than n^2 by shooting.
+//!
+//! Run whole (no filter), the bench ends with each method's cost of a step per size, from the
+//! medians criterion stored for this run, and the growth exponent fitted to it from N = 10 to
+//! 50: the least-squares slope of $\ln t$ against $\ln n$.
 
 #[path = "../examples/impact_chain/model.rs"]
 mod model;
@@ -40,9 +44,9 @@ fn branch(chain: &ImpactChain, orbit: &PeriodicOrbit, method: OrbitMethod, point
         .len()
 }
 
-fn growth(c: &mut Criterion) {
-    hycont::hycont_continuation::check_branches(false);
-    let methods = [
+/// The methods compared.
+fn methods() -> [(&'static str, OrbitMethod); 2] {
+    [
         (
             "shooting",
             OrbitMethod::Shooting(ShootingSettings::default()),
@@ -51,7 +55,79 @@ fn growth(c: &mut Criterion) {
             "collocation",
             OrbitMethod::Collocation(CollocationSettings::default()),
         ),
-    ];
+    ]
+}
+
+/// Criterion's stored median time of benchmark `id` of this group, in seconds (`None` where
+/// it has none): `$CRITERION_HOME`, or `criterion` in the target directory holding this
+/// executable (`target/<profile>/deps/`), as criterion places it.
+fn stored_median(id: &str) -> Option<f64> {
+    let home = match std::env::var_os("CRITERION_HOME") {
+        Some(h) => std::path::PathBuf::from(h),
+        None => std::env::current_exe()
+            .ok()?
+            .ancestors()
+            .nth(3)?
+            .join("criterion"),
+    };
+    let path = home
+        .join("impact_chain")
+        .join(id.replace('/', "_"))
+        .join("new")
+        .join("estimates.json");
+    let text = std::fs::read_to_string(path).ok()?;
+    let json: serde_json::Value = serde_json::from_str(&text).ok()?;
+    Some(json["median"]["point_estimate"].as_f64()? * 1e-9)
+}
+
+/// The least-squares slope of $\ln t$ against $\ln n$ over the points `(n, t)`.
+fn fitted_exponent(points: &[(f64, f64)]) -> f64 {
+    let logs: Vec<(f64, f64)> = points.iter().map(|(n, t)| (n.ln(), t.ln())).collect();
+    let k = logs.len() as f64;
+    let (mx, my) = logs
+        .iter()
+        .fold((0.0, 0.0), |(a, b), (x, y)| (a + x / k, b + y / k));
+    let sxy: f64 = logs.iter().map(|(x, y)| (x - mx) * (y - my)).sum();
+    let sxx: f64 = logs.iter().map(|(x, _)| (x - mx) * (x - mx)).sum();
+    sxy / sxx
+}
+
+/// Prints each method's cost of a step per size, `(T_branch - T_two) / (points - 2)` from
+/// criterion's medians, and its growth exponent from N = 10 to 50.
+fn report_growth() {
+    for (name, _) in methods() {
+        let mut fit = Vec::new();
+        for n in setup::SIZES {
+            let (Some(long), Some(two)) = (
+                stored_median(&format!("{name}/{n}")),
+                stored_median(&format!("{name}/{n}/two")),
+            ) else {
+                eprintln!("{name}, N = {n}: no stored medians");
+                continue;
+            };
+            let step = (long - two) / (POINTS - 2) as f64;
+            let dim = 2 * n + 2;
+            eprintln!(
+                "{name}, N = {n} (n = {dim}): a step {:.2} ms, set-up and start {:.1} ms",
+                1e3 * step,
+                1e3 * two
+            );
+            if n >= 10 && step > 0.0 {
+                fit.push((dim as f64, step));
+            }
+        }
+        if fit.len() >= 2 {
+            eprintln!(
+                "{name}: a step grows as n^{:.2} from N = 10 to 50",
+                fitted_exponent(&fit)
+            );
+        }
+    }
+}
+
+fn growth(c: &mut Criterion) {
+    hycont::hycont_continuation::check_branches(false);
+    let methods = methods();
     let mut group = c.benchmark_group("impact_chain");
     group.sample_size(10);
     for n in setup::SIZES {
@@ -72,6 +148,14 @@ fn growth(c: &mut Criterion) {
         }
     }
     group.finish();
+    // A filter (e.g. `-- /50`) measures some sizes only, `--list` none: the report needs them
+    // all from this run.
+    if !std::env::args()
+        .skip(1)
+        .any(|a| !a.starts_with('-') || a == "--list")
+    {
+        report_growth();
+    }
 }
 
 criterion_group!(benches, growth);
