@@ -1,12 +1,31 @@
 //! LU with partial pivoting of a small square pattern stored densely. Up to [`DENSE_UP_TO`]
 //! unknowns (shooting with a few segments, small reduced systems) the arithmetic of a dense
-//! factorisation costs less than a sparse one's bookkeeping.
+//! factorisation costs less than a sparse one's bookkeeping; up to [`DENSE_FILLED_UP_TO`], a
+//! pattern a quarter filled or more would fill in anyway ([`dense_pattern`] decides).
 
 use super::LogProduct;
 use crate::error::{Error, Result};
 
 /// Largest dimension factorised densely.
 pub(super) const DENSE_UP_TO: usize = 48;
+
+/// Largest square pattern factorised densely because it is filled (see [`super::SparsePattern`]).
+const DENSE_FILLED_UP_TO: usize = 2048;
+
+/// Whether the `n x n` pattern `entries` is factorised densely: up to [`DENSE_UP_TO`]
+/// unknowns, or up to [`DENSE_FILLED_UP_TO`] with at least a quarter of its places filled.
+pub(super) fn dense_pattern(n: usize, entries: &[(usize, usize)]) -> bool {
+    if (1..=DENSE_UP_TO).contains(&n) {
+        return true;
+    }
+    if n > DENSE_FILLED_UP_TO || 4 * entries.len() < n * n {
+        return false;
+    }
+    let mut places: Vec<(usize, usize)> = entries.to_vec();
+    places.sort_unstable();
+    places.dedup();
+    4 * places.len() >= n * n
+}
 
 /// $P A = L U$ of an `n x n` pattern, column-major, $L$ unit lower triangular below the
 /// diagonal and $U$ on and above it; `perm[i]` is the row of $A$ that is row `i` of $PA$.

@@ -14,7 +14,7 @@ mod sparse_lu;
 use crate::error::{Error, Result};
 pub use condensed::ReducedRows;
 use condensed::{Condensation, Condensed};
-use dense_lu::{DENSE_UP_TO, DenseLu};
+use dense_lu::{DenseLu, dense_pattern};
 pub use eigen::{eigenvalues, eigenvectors};
 use entries::Entries;
 use faer::sparse::SparseColMat;
@@ -87,24 +87,6 @@ pub struct SparsePattern {
     current: Current,
 }
 
-/// Largest square pattern factorised densely because it is filled (see [`SparsePattern`]).
-const DENSE_FILLED_UP_TO: usize = 2048;
-
-/// Whether the `n x n` pattern `entries` is factorised densely: up to [`DENSE_UP_TO`]
-/// unknowns, or up to [`DENSE_FILLED_UP_TO`] with at least a quarter of its places filled.
-fn dense_pattern(n: usize, entries: &[(usize, usize)]) -> bool {
-    if (1..=DENSE_UP_TO).contains(&n) {
-        return true;
-    }
-    if n > DENSE_FILLED_UP_TO || 4 * entries.len() < n * n {
-        return false;
-    }
-    let mut places: Vec<(usize, usize)> = entries.to_vec();
-    places.sort_unstable();
-    places.dedup();
-    4 * places.len() >= n * n
-}
-
 impl SparsePattern {
     /// Builds the pattern from `(row, col)` pairs.
     ///
@@ -149,14 +131,7 @@ impl SparsePattern {
         if blocks.is_empty() {
             return Self::new(nrows, ncols, entries);
         }
-        if nrows != ncols {
-            return Err(Error::InvalidSetting {
-                name: "elimination blocks",
-                value: nrows as f64,
-                reason: "condensation needs a square matrix",
-            });
-        }
-        Self::condensed(nrows, Entries::new(nrows, ncols, entries)?, blocks)
+        Self::condensed((nrows, ncols), Entries::new(nrows, ncols, entries)?, blocks)
     }
 
     /// [`SparsePattern::with_blocks`] taking `entries`: they are freed as soon as they are
@@ -176,11 +151,24 @@ impl SparsePattern {
         }
         let compact = Entries::new(nrows, ncols, &entries)?;
         drop(entries);
-        Self::condensed(nrows, compact, blocks)
+        Self::condensed((nrows, ncols), compact, blocks)
     }
 
-    /// The condensed `n x n` pattern of `entries` with `blocks` (at least one).
-    fn condensed(n: usize, entries: Entries, blocks: &[EliminationBlock]) -> Result<Self> {
+    /// The condensed pattern of `entries` with `blocks` (at least one); refuses a matrix that
+    /// is not square.
+    fn condensed(
+        (nrows, ncols): (usize, usize),
+        entries: Entries,
+        blocks: &[EliminationBlock],
+    ) -> Result<Self> {
+        if nrows != ncols {
+            return Err(Error::InvalidSetting {
+                name: "elimination blocks",
+                value: nrows as f64,
+                reason: "condensation needs a square matrix",
+            });
+        }
+        let n = nrows;
         let condensed = Some(Condensed::new(n, &entries, blocks)?);
         Ok(Self {
             nrows: n,

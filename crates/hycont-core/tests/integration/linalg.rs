@@ -5,7 +5,7 @@ use crate::common;
 
 use approx::assert_abs_diff_eq;
 use common::Rng;
-use hycont_core::linalg::{SparsePattern, eigenvalues};
+use hycont_core::linalg::{EliminationBlock, SparsePattern, eigenvalues};
 
 /// A random sparse matrix: a random row permutation of a diagonally weighted matrix with a few
 /// random off-diagonal entries per column (non-singular, determinant of either sign).
@@ -204,4 +204,24 @@ fn eigenvalues_of_a_rotation_scaling() {
     for (re, im) in ev {
         assert!((re - 0.6).abs() < 1e-14 && (im.abs() - 0.8).abs() < 1e-14);
     }
+}
+
+/// Condensation needs a square matrix: a 3 x 2 pattern with an elimination block is refused by
+/// both constructors (borrowing and taking the entries), naming the setting; the same entries
+/// without blocks make a valid (rectangular) pattern.
+#[test]
+fn non_square_patterns_with_blocks_are_refused() {
+    let entries = vec![(0, 0), (1, 0), (1, 1), (2, 1)];
+    let block = || {
+        vec![EliminationBlock {
+            rows: vec![0, 1],
+            cols: vec![0],
+        }]
+    };
+    let err = SparsePattern::with_blocks(3, 2, &entries, &block()).unwrap_err();
+    assert!(err.to_string().contains("square"), "{err}");
+    let err = SparsePattern::with_blocks_owned(3, 2, entries.clone(), &block()).unwrap_err();
+    assert!(err.to_string().contains("square"), "{err}");
+    let plain = SparsePattern::with_blocks_owned(3, 2, entries, &[]).unwrap();
+    assert_eq!((plain.nrows(), plain.ncols(), plain.len()), (3, 2, 4));
 }
