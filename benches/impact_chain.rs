@@ -93,11 +93,12 @@ fn fitted_exponent(points: &[(f64, f64)]) -> f64 {
 }
 
 /// Prints each method's cost of a step per size, `(T_branch - T_two) / (points - 2)` from
-/// criterion's medians, and its growth exponent from N = 10 to 50.
-fn report_growth() {
-    for (name, _) in methods() {
+/// criterion's medians (`points[m][i]`: the branch's points by method `m` at size `i`), and
+/// its growth exponent from N = 10 to 50.
+fn report_growth(points: &[[usize; setup::SIZES.len()]; 2]) {
+    for ((name, _), points) in methods().into_iter().zip(points) {
         let mut fit = Vec::new();
-        for n in setup::SIZES {
+        for (n, &count) in setup::SIZES.into_iter().zip(points) {
             let (Some(long), Some(two)) = (
                 stored_median(&format!("{name}/{n}")),
                 stored_median(&format!("{name}/{n}/two")),
@@ -105,7 +106,7 @@ fn report_growth() {
                 eprintln!("{name}, N = {n}: no stored medians");
                 continue;
             };
-            let step = (long - two) / (POINTS - 2) as f64;
+            let step = (long - two) / count.saturating_sub(2).max(1) as f64;
             let dim = 2 * n + 2;
             eprintln!(
                 "{name}, N = {n} (n = {dim}): a step {:.2} ms, set-up and start {:.1} ms",
@@ -130,11 +131,13 @@ fn growth(c: &mut Criterion) {
     let methods = methods();
     let mut group = c.benchmark_group("impact_chain");
     group.sample_size(10);
-    for n in setup::SIZES {
+    let mut counts = [[0; setup::SIZES.len()]; 2];
+    for (i, n) in setup::SIZES.into_iter().enumerate() {
         let chain = ImpactChain { masses: n };
         let orbit = setup::exact_orbit(n).expect("an impacting orbit");
-        for (name, method) in methods {
+        for (m, (name, method)) in methods.into_iter().enumerate() {
             let points = branch(&chain, &orbit, method, POINTS);
+            counts[m][i] = points;
             group.throughput(Throughput::Elements(points as u64));
             group.bench_function(format!("{name}/{n}"), |b| {
                 b.iter(|| black_box(branch(&chain, &orbit, method, POINTS)));
@@ -154,7 +157,7 @@ fn growth(c: &mut Criterion) {
         .skip(1)
         .any(|a| !a.starts_with('-') || a == "--list")
     {
-        report_growth();
+        report_growth(&counts);
     }
 }
 
