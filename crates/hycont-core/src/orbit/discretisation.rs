@@ -448,14 +448,20 @@ impl Discretisation {
         out.extend_from_slice(&v[..nv]);
         match image {
             Some(sym) => {
-                // Segment by segment: its values are states of its mode's dimension.
+                // Segment by segment: its values are states of its mode's dimension, mapped by
+                // S's leading block (the sums of `Z2Symmetry::apply`, in its order).
+                out.resize(2 * nv, -0.0);
                 let mut at = 0;
                 for (k, x0) in like.starts.iter().enumerate() {
                     let (n, len) = (x0.len(), self.values_of_segment(like, k));
-                    let mut y = vec![0.0; n];
-                    for x in v[at..at + len].chunks_exact(n) {
-                        sym.apply(x, &mut y);
-                        out.extend_from_slice(&y);
+                    let s = sym.block(n);
+                    let (x, y) = (&v[at..at + len], &mut out[nv + at..nv + at + len]);
+                    for (x, y) in x.chunks_exact(n.max(1)).zip(y.chunks_exact_mut(n.max(1))) {
+                        for (col, &xj) in s.chunks_exact(n).zip(x) {
+                            for (o, sij) in y.iter_mut().zip(col) {
+                                *o += sij * xj;
+                            }
+                        }
                     }
                     at += len;
                 }

@@ -396,3 +396,81 @@ fn a_symmetry_that_mixes_a_modes_states_with_others_is_refused() {
     let e = swap.validate(&AutoDiff::new(SymmetricShuttle)).unwrap_err();
     assert!(e.to_string().contains("mode #0's 1 states"), "{e}");
 }
+
+/// The unknowns of the unfolded orbit of a half orbit across modes of 1 and 2 states: the
+/// segment values, then each state mapped by the symmetry's leading block of its mode's
+/// dimension (as [`hycont_core::Z2Symmetry::apply`] maps it), the durations twice, then the
+/// parameters; by shooting (the starts) and by collocation (every node). The symmetry is an
+/// involution that is not a signed permutation ($S = [[-1, 0], [c, 1]]$, $S^2 = I$), so every
+/// entry of its 2 x 2 block counts.
+#[test]
+fn repeated_unknowns_map_each_state_by_its_modes_block() {
+    use hycont_core::orbit::Discretisation;
+    let system = AutoDiff::new(SymmetricShuttle);
+    let segments = vec![
+        SegmentSpec {
+            mode: A,
+            end: SegmentEnd::Event(UP),
+        },
+        SegmentSpec {
+            mode: B,
+            end: SegmentEnd::Event(DOWN),
+        },
+    ];
+    let half =
+        Signature::with_closure(&system, segments, hycont_core::orbit::Closure::Symmetric).unwrap();
+    let like = PeriodicOrbit::new(
+        &system,
+        half,
+        vec![vec![0.02], vec![1.05, -0.95 * P[0]]],
+        vec![0.95, 1.3],
+        P.to_vec(),
+    )
+    .unwrap();
+    let sym = hycont_core::Z2Symmetry {
+        matrix: vec![-1.0, 0.7, 0.0, 1.0],
+        modes: vec![A2, B2, A, B],
+        events: vec![UP2, DOWN2, UP, DOWN],
+    };
+    let collocation = Discretisation::Collocation {
+        meshes: vec![vec![0.0, 0.5, 1.0], vec![0.0, 0.2, 0.6, 1.0]],
+        ncol: 3,
+    };
+    for disc in [
+        Discretisation::Shooting(ShootingSettings::default()),
+        collocation,
+    ] {
+        // Per segment: its states' count and dimension.
+        let states: Vec<(usize, usize)> = match &disc {
+            Discretisation::Shooting(_) => vec![(1, 1), (1, 2)],
+            Discretisation::Collocation { meshes, ncol } => meshes
+                .iter()
+                .zip([1, 2])
+                .map(|(m, n)| ((m.len() - 1) * ncol + 1, n))
+                .collect(),
+        };
+        let nv: usize = states.iter().map(|(k, n)| k * n).sum();
+        let v: Vec<f64> = (0..nv + 2 + P.len())
+            .map(|i| (i as f64 + 1.0) * 0.37 - 2.0)
+            .collect();
+        let mut expected = v[..nv].to_vec();
+        let mut at = 0;
+        for &(count, n) in &states {
+            for _ in 0..count {
+                let mut y = vec![0.0; n];
+                sym.apply(&v[at..at + n], &mut y);
+                expected.extend_from_slice(&y);
+                at += n;
+            }
+        }
+        expected.extend_from_slice(&v[nv..nv + 2]);
+        expected.extend_from_slice(&v[nv..]);
+        let got = disc.repeat_unknowns(&like, &v, Some(&sym));
+        assert_eq!(got.len(), expected.len());
+        for (g, e) in got.iter().zip(&expected) {
+            assert_eq!(g.to_bits(), e.to_bits(), "{got:?} against {expected:?}");
+        }
+        let plain = disc.repeat_unknowns(&like, &v, None);
+        assert_eq!(plain[nv..2 * nv], v[..nv]);
+    }
+}
