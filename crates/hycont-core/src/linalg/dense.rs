@@ -145,22 +145,25 @@ fn pivoted_steps(
     }
     let mut sign = 1.0;
     for k in 0..c {
-        let col = &a[k * m..(k + 1) * m];
-        let mut p = k;
-        for i in k + 1..m {
-            if col[i].abs() > col[p].abs() {
-                p = i;
-            }
-        }
-        let piv = col[p];
+        // The first row with the largest magnitude at or below the diagonal: the largest
+        // magnitude (in independent lanes, without branches), then where it is first. NaNs are
+        // passed over as by a scan with `>`, except on the diagonal itself, which refuses.
+        let col = &a[k * m + k..(k + 1) * m];
+        let largest = super::max_norm(col);
+        let p = k + col.iter().position(|v| v.abs() == largest).unwrap_or(0);
+        let piv = if col[0].is_nan() {
+            col[0]
+        } else {
+            a[k * m + p]
+        };
         if !(piv.abs() > tiny && piv.is_finite()) {
             return None;
         }
         if p != k {
             sign = -sign;
             perm.swap(p, k);
-            for j in 0..w {
-                a.swap(k + j * m, p + j * m);
+            for col in a[..w * m].chunks_exact_mut(m) {
+                col.swap(k, p);
             }
         }
         pivots[k] = piv;
@@ -201,8 +204,96 @@ pub(crate) fn reciprocals(pivots: &[f64], inv: &mut [f64]) {
 
 #[cfg(test)]
 mod tests {
-    use super::{eliminate_any, eliminate_rows, reciprocals, solve_upper};
+    use super::{eliminate_above, eliminate_any, eliminate_rows, reciprocals, solve_upper};
     use proptest::prelude::*;
+
+    /// Gaussian elimination with partial pivoting as a textbook states it, entry by entry: at
+    /// step `k` the pivot is the first row at or below `k` whose entry in column `k` has the
+    /// largest magnitude; rows are swapped across all `w` columns, the multipliers
+    /// $a_{ik} / a_{kk}$ (as a product with the pivot's reciprocal) stored in place, and
+    /// $a_{ij} \mathrel{-}= l_i a_{kj}$ for every row below and column to the right.
+    fn textbook(a: &mut [f64], (m, c, w): (usize, usize, usize)) -> (Vec<usize>, Vec<f64>) {
+        let mut perm: Vec<usize> = (0..m).collect();
+        let mut pivots = Vec::new();
+        for k in 0..c {
+            let mut p = k;
+            for i in k + 1..m {
+                if a[i + k * m].abs() > a[p + k * m].abs() {
+                    p = i;
+                }
+            }
+            perm.swap(k, p);
+            for j in 0..w {
+                a.swap(k + j * m, p + j * m);
+            }
+            let inv = 1.0 / a[k + k * m];
+            pivots.push(a[k + k * m]);
+            for i in k + 1..m {
+                a[i + k * m] *= inv;
+                for j in k + 1..w {
+                    a[i + j * m] -= a[i + k * m] * a[k + j * m];
+                }
+            }
+        }
+        (perm, pivots)
+    }
+
+    proptest! {
+        /// Both kernels choose the textbook's pivots, in the textbook's order, among entries
+        /// with many ties of magnitude (small integers of both signs, zeros among them), and
+        /// give its numbers exactly.
+        #[test]
+        fn kernels_pivot_as_the_textbook(
+            values in proptest::collection::vec(-3i32..=3, 16 * 22),
+            c in 1usize..=12,
+        ) {
+            let w = 22;
+            // 16 rows: the kernel for a row count known at compile time; the block's first 15
+            // rows: the general one.
+            for m in [16, 15] {
+                let mut a: Vec<f64> = values
+                    .chunks_exact(16)
+                    .flat_map(|col| col[..m].iter().map(|&v| f64::from(v)))
+                    .collect();
+                let mut reference = a.clone();
+                let (perm_r, piv_r) = textbook(&mut reference, (m, c, w));
+                if piv_r.contains(&0.0) {
+                    continue; // singular: refused (see `fixed_row_count_kernel_matches_the_general_one`)
+                }
+                let (mut perm, mut piv) = (vec![0; m], vec![0.0; c]);
+                let ok = eliminate_above(&mut a, (m, c, w), &mut perm, &mut piv, 0.0);
+                prop_assert!(ok.is_some());
+                prop_assert_eq!(&perm, &perm_r);
+                prop_assert_eq!(&piv, &piv_r);
+                prop_assert_eq!(&a, &reference);
+            }
+        }
+    }
+
+    /// A NaN on the diagonal at a step refuses the block, as a zero or infinite pivot does; a
+    /// NaN below it is passed over by the pivot search (the scan's `>` is false for it).
+    #[test]
+    fn a_nan_pivot_is_refused() {
+        for m in [4usize, 5] {
+            let mut a = vec![0.0; m * m];
+            for i in 0..m {
+                a[i + i * m] = 1.0 + i as f64;
+            }
+            let (mut perm, mut piv) = (vec![0; m], vec![0.0; m]);
+            let mut nan_diag = a.clone();
+            nan_diag[0] = f64::NAN;
+            nan_diag[1] = 5.0; // larger than the rest of column 0
+            assert_eq!(
+                eliminate_above(&mut nan_diag, (m, 1, m), &mut perm, &mut piv, 0.0),
+                None
+            );
+            let mut nan_below = a.clone();
+            nan_below[2] = f64::NAN;
+            nan_below[1] = 5.0;
+            assert!(eliminate_above(&mut nan_below, (m, 1, m), &mut perm, &mut piv, 0.0).is_some());
+            assert_eq!((perm[0], piv[0]), (1, 5.0));
+        }
+    }
 
     proptest! {
         /// The kernel for a row count known at compile time gives the general kernel's numbers
