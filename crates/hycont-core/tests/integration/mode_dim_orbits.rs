@@ -31,8 +31,9 @@ fn closed_form() -> (f64, f64) {
     ((v0 - w) / a, w)
 }
 
-fn signature() -> Signature {
-    let segments = vec![
+/// The climb (A, to UP) and the fall (B, to DOWN).
+fn climb_and_fall() -> Vec<SegmentSpec> {
+    vec![
         SegmentSpec {
             mode: A,
             end: SegmentEnd::Event(UP),
@@ -41,8 +42,11 @@ fn signature() -> Signature {
             mode: B,
             end: SegmentEnd::Event(DOWN),
         },
-    ];
-    Signature::new(&Shuttle::default(), segments).unwrap()
+    ]
+}
+
+fn signature() -> Signature {
+    Signature::new(&Shuttle::default(), climb_and_fall()).unwrap()
 }
 
 /// The shuttle as a [`HybridModel`]: its resets' rectangular Jacobians by dual numbers.
@@ -329,35 +333,36 @@ impl HybridModel for SymmetricShuttle {
     }
 }
 
+/// A half orbit of the symmetric shuttle near its solution: the climb from 0.02, the fall
+/// from 1.05 for `fall`.
+fn half_orbit_guess(system: &AutoDiff<SymmetricShuttle>, fall: f64) -> PeriodicOrbit {
+    let half = Signature::with_closure(
+        system,
+        climb_and_fall(),
+        hycont_core::orbit::Closure::Symmetric,
+    )
+    .unwrap();
+    PeriodicOrbit::new(
+        system,
+        half,
+        vec![vec![0.02], vec![1.05, -0.95 * P[0]]],
+        vec![0.95, fall],
+        P.to_vec(),
+    )
+    .unwrap()
+}
+
 /// A half orbit across modes of 1 and 2 states (closed by S's 1 x 1 block into A'), by
 /// shooting and by collocation: the half period 1 + t_B (1e-10), the half map's multiplier 1
 /// (1e-9), the unfolded orbit's four segments of 1, 2, 1 and 2 states.
 #[test]
 fn symmetric_half_orbits_across_dimensions() {
     use hycont_core::orbit::{
-        Closure, CollocationSettings, solve_symmetric_collocation, solve_symmetric_shooting,
+        CollocationSettings, solve_symmetric_collocation, solve_symmetric_shooting,
     };
     let system = AutoDiff::new(SymmetricShuttle);
     let (t_b, _) = closed_form();
-    let segments = vec![
-        SegmentSpec {
-            mode: A,
-            end: SegmentEnd::Event(UP),
-        },
-        SegmentSpec {
-            mode: B,
-            end: SegmentEnd::Event(DOWN),
-        },
-    ];
-    let half = Signature::with_closure(&system, segments, Closure::Symmetric).unwrap();
-    let guess = PeriodicOrbit::new(
-        &system,
-        half,
-        vec![vec![0.02], vec![1.05, -0.95 * P[0]]],
-        vec![0.95, 1.05 * t_b],
-        P.to_vec(),
-    )
-    .unwrap();
+    let guess = half_orbit_guess(&system, 1.05 * t_b);
     let newton = NewtonSettings::default();
     let by_shooting =
         solve_symmetric_shooting(&system, &guess, ShootingSettings::default(), &newton).unwrap();
@@ -407,26 +412,7 @@ fn a_symmetry_that_mixes_a_modes_states_with_others_is_refused() {
 fn repeated_unknowns_map_each_state_by_its_modes_block() {
     use hycont_core::orbit::Discretisation;
     let system = AutoDiff::new(SymmetricShuttle);
-    let segments = vec![
-        SegmentSpec {
-            mode: A,
-            end: SegmentEnd::Event(UP),
-        },
-        SegmentSpec {
-            mode: B,
-            end: SegmentEnd::Event(DOWN),
-        },
-    ];
-    let half =
-        Signature::with_closure(&system, segments, hycont_core::orbit::Closure::Symmetric).unwrap();
-    let like = PeriodicOrbit::new(
-        &system,
-        half,
-        vec![vec![0.02], vec![1.05, -0.95 * P[0]]],
-        vec![0.95, 1.3],
-        P.to_vec(),
-    )
-    .unwrap();
+    let like = half_orbit_guess(&system, 1.3);
     let sym = hycont_core::Z2Symmetry {
         matrix: vec![-1.0, 0.7, 0.0, 1.0],
         modes: vec![A2, B2, A, B],
