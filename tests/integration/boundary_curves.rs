@@ -136,8 +136,14 @@ fn the_boundary_curve_follows_the_closed_form() {
         );
         let end = branch.branch.special_points.last().unwrap();
         assert_abs_diff_eq!(end.point[A], a_db(P[4]), epsilon = 1e-8);
-        // The DB point of the admissibility's domain margin.
+        // The DB point of the admissibility's domain margin: the collapse's GR comes with it,
+        // and the orbit problem names DB (the impact crosses the wrap's surface at a finite
+        // rate: not a grazing).
         assert_eq!(end.kind, db);
+        assert_eq!(
+            crate::collapse_ends::end_at_collapse(&sys, &branch, &end.point),
+            0
+        );
         let label = end.point.label;
         run.bounds(1.0, 3.0);
         let spec = CurveSpec::new(PHASE).bounds(0.2, 1.2);

@@ -21,6 +21,7 @@ mod atlas;
 mod autodiff;
 mod boundary_curves;
 mod codim2_points;
+mod collapse_ends;
 mod cusp_point;
 mod grazing_curves;
 mod grazing_impacts;

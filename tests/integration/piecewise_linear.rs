@@ -81,7 +81,7 @@ fn soft_orbit(f: f64, omega: f64) -> PeriodicOrbit {
 }
 
 /// A two-mode orbit read off a simulation, starting at the engaging crossing.
-fn two_mode_orbit(f: f64, omega: f64) -> PeriodicOrbit {
+pub fn two_mode_orbit(f: f64, omega: f64) -> PeriodicOrbit {
     let p = params(f, omega);
     let x0 = soft_orbit(0.9 * f_graze(omega), omega).starts[0].clone();
     let mut sim = Simulator::new(SimulationSettings::default()).unwrap();

@@ -242,9 +242,22 @@ pub trait ContinuationProblem<'a> {
         let _ = u;
         Ok(())
     }
-    /// Events to detect and locate (default: none).
+    /// Events to detect and locate (default: none), in order of precedence: where terminal
+    /// events are located at one point (closer than the location's tolerance, e.g. two
+    /// margins that vanish together where a segment collapses), the run ends at the one
+    /// [`ContinuationProblem::end_among`] names, by default the one listed first, not at
+    /// whichever rounding places first.
     fn monitor_events(&self) -> Vec<MonitorEvent> {
         Vec::new()
+    }
+    /// Which of the terminal events `located` (of [`ContinuationProblem::monitor_events`], in
+    /// its order, at least one), all located at the point `u`, ends the run: an index into
+    /// `located`. Default: 0, the one listed first. A problem overrides it where the point
+    /// itself tells which event says more (an orbit's segment collapsing tangentially is a
+    /// grazing, one collapsing across another event's surface a boundary).
+    fn end_among(&mut self, u: &[f64], located: &[MonitorEvent]) -> usize {
+        let _ = (u, located);
+        0
     }
     /// The critical value ($+1$ or $-1$) of a non-trivial multiplier the problem holds at
     /// every point (a fold or period-doubling curve), whose other multipliers' crossings

@@ -267,6 +267,9 @@ impl<'a, S: HybridJacobians + ?Sized> ContinuationProblem<'a> for Codim2<'a, S> 
     fn monitor_events(&self) -> Vec<MonitorEvent> {
         self.inner.monitor_events()
     }
+    fn end_among(&mut self, u: &[f64], located: &[MonitorEvent]) -> usize {
+        self.inner.end_among(u, located)
+    }
     fn unknown_weights(&self) -> Option<Vec<f64>> {
         self.inner.unknown_weights()
     }

@@ -289,7 +289,8 @@ impl<'a, S: HybridJacobians + ?Sized> OrbitRun<'a, S> {
             // surface it touches: as singular as the collapse itself.
             CurveCondition::Measure { .. }
                 if start.durations.iter().enumerate().any(|(k, d)| {
-                    d.abs() < 1e-8 && collapses_tangentially(self.system, &start, k)
+                    d.abs() < 1e-8
+                        && super::collapse::collapses_tangentially(self.system, &start, k)
                 }) =>
             {
                 return Err(wrong(
@@ -324,7 +325,7 @@ impl<'a, S: HybridJacobians + ?Sized> OrbitRun<'a, S> {
                     .enumerate()
                     .min_by(|a, b| a.1.abs().total_cmp(&b.1.abs()))
                     .map_or(0, |(k, _)| k);
-                if collapses_tangentially(self.system, &start, segment) {
+                if super::collapse::collapses_tangentially(self.system, &start, segment) {
                     return Err(wrong(
                         "its segment collapses onto an event surface the flow touches \
                          tangentially, where a zero duration is not a regular condition; \
@@ -403,27 +404,4 @@ impl<'a, S: HybridJacobians + ?Sized> OrbitRun<'a, S> {
         }
         Ok(events)
     }
-}
-
-/// Whether the collapsed segment `k` of `orbit` ends at an event whose surface the flow of its
-/// mode touches tangentially at the segment's start ($|\nabla h \cdot f| \le 10^{-6}
-/// |\nabla h| |f|$): a grazing, where the segment's duration behaves like a square root of the
-/// parameter distance and holding it at zero is singular.
-fn collapses_tangentially<S: HybridJacobians + ?Sized>(
-    system: &S,
-    orbit: &hycont_core::orbit::PeriodicOrbit,
-    k: usize,
-) -> bool {
-    let seg = orbit.signature.segments()[k];
-    let hycont_core::orbit::SegmentEnd::Event(e) = seg.end else {
-        return false;
-    };
-    let x = &orbit.starts[k];
-    let n = x.len();
-    let (mut f, mut g) = (vec![0.0; n], vec![0.0; n]);
-    system.vector_field(seg.mode, x, &orbit.params, &mut f);
-    system.event_gradient(e, x, &orbit.params, &mut g, None);
-    let rate: f64 = f.iter().zip(&g).map(|(a, b)| a * b).sum();
-    let norm = |v: &[f64]| v.iter().map(|a| a * a).sum::<f64>().sqrt();
-    rate.abs() <= 1e-6 * norm(&f) * norm(&g)
 }

@@ -4,6 +4,7 @@
 
 mod atlas;
 mod cascade;
+mod collapse;
 mod curves;
 mod diagram;
 mod diagram_check;

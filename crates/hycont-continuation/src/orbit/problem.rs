@@ -537,15 +537,33 @@ impl<'a, S: HybridJacobians + ?Sized> ContinuationProblem<'a> for OrbitContinuat
             other => Ok(other?),
         }
     }
+    /// The run's events, then the collapse of any segment (a grazing of the shortest
+    /// segment's duration; [`ContinuationProblem::end_among`] says when it ends the run).
     fn monitor_events(&self) -> Vec<MonitorEvent> {
-        let mut events = vec![MonitorEvent {
+        let mut events = self.events.clone();
+        events.push(MonitorEvent {
             kind: SpecialKind::Grazing,
             on: Quantity::Measure(MeasureId::SHORTEST_SEGMENT),
             level: 0.0,
             terminal: true,
-        }];
-        events.extend(self.events.iter().copied());
+        });
         events
+    }
+    /// At a collapsed segment the run's domain margin vanishes with the collapse (its
+    /// conditions include the durations). Where the segment's flow meets its end's surface
+    /// tangentially (two events merging at zero speed) the collapse is a grazing and its GR
+    /// ends the run; else the run's events by precedence (a segment collapsing across another
+    /// event's surface: the domain margin's DB).
+    fn end_among(&mut self, u: &[f64], located: &[MonitorEvent]) -> usize {
+        let collapse = Quantity::Measure(MeasureId::SHORTEST_SEGMENT);
+        let Some(i) = located.iter().position(|e| e.on == collapse) else {
+            return 0;
+        };
+        let orbit = self.orbit(u);
+        match super::collapse::collapsed_segment(&orbit) {
+            Some(k) if super::collapse::collapses_tangentially(self.system, &orbit, k) => i,
+            _ => 0,
+        }
     }
 }
 

@@ -334,12 +334,26 @@ impl<'a, S: HybridJacobians + ?Sized> OrbitRun<'a, S> {
                 reason: "has its own detector; events take SB, GR, UZ or a user label",
             });
         }
-        self.events.push(MonitorEvent {
-            kind,
-            on,
-            level,
-            terminal,
-        });
+        // The run's admissibility events stay last: a user's event located at one point with
+        // them ends the run ([`crate::ContinuationProblem::monitor_events`]'s precedence).
+        let ons = self
+            .admissibility
+            .map(|(graze, domain)| [Quantity::from(graze), Quantity::from(domain)]);
+        let at = match ons {
+            Some(ons) if !ons.contains(&on) => (self.events.iter())
+                .position(|e| ons.contains(&e.on))
+                .unwrap_or(self.events.len()),
+            _ => self.events.len(),
+        };
+        self.events.insert(
+            at,
+            MonitorEvent {
+                kind,
+                on,
+                level,
+                terminal,
+            },
+        );
         Ok(self)
     }
 

@@ -7,6 +7,7 @@ mod models;
 mod admissibility;
 mod atlas_sphere;
 mod closed_form;
+mod coinciding_ends;
 mod diagram;
 mod mesh_adaptation;
 mod saved_atlas;

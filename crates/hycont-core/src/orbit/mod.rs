@@ -48,6 +48,7 @@ pub use measure::{
 };
 pub use measure_set::MeasureSet;
 pub use periodic_orbit::PeriodicOrbit;
+pub(crate) use periodic_orbit::settle_zero_durations;
 pub use scan::{BOUNDARY_BAND, CriticalPoint, OrbitScan, ScanNeeds, Turn, Watch, scan};
 pub use shooting::{CachedSegment, LinearizationCache, Shooting, ShootingSettings};
 pub use signature::{Closure, SegmentEnd, SegmentSpec, Signature};
@@ -259,7 +260,7 @@ pub fn solve_shooting<S: HybridJacobians + ?Sized>(
     refuse_half_orbit(guess, "solve_symmetric_shooting")?;
     let mut problem = shooting_problem(system, guess, settings)?;
     let sol = newton(&mut problem, &pack(guess), newton_settings)?;
-    let orbit = unpack(guess, &sol.u);
+    let orbit = solved_orbit(guess, &sol.u, newton_settings);
     check_admissible(system, &orbit)?;
     let floquet = monodromy_by_shooting(system, &orbit, settings)?;
     Ok(OrbitSolution {
@@ -268,6 +269,19 @@ pub fn solve_shooting<S: HybridJacobians + ?Sized>(
         newton: sol.history,
         residual: sol.residual,
     })
+}
+
+/// The orbit of `like`'s layout that a shooting Newton solve converged to at `u`, with its
+/// zero-length segments settled ([`settle_zero_durations`] at the solve's
+/// resolution).
+pub(crate) fn solved_orbit(
+    like: &PeriodicOrbit,
+    u: &[f64],
+    newton_settings: &NewtonSettings,
+) -> PeriodicOrbit {
+    let mut orbit = unpack(like, u);
+    settle_zero_durations(&mut orbit.durations, newton_settings.resolution(u));
+    orbit
 }
 
 /// Refuses a half orbit ([`Closure::Symmetric`]) where a full orbit is solved: its

@@ -552,3 +552,31 @@ pub(crate) fn follow<S: HybridSystem + ?Sized>(
     let orbit = PeriodicOrbit::new(system, signature, starts, durations, params.to_vec())?;
     Ok((orbit, x))
 }
+
+/// Sets to zero the durations a solve left negative by no more than its resolution
+/// `resolution` (the Newton step tolerance $\text{tol}\,(1 + \|u\|_\infty)$,
+/// [`crate::problem::NewtonSettings::resolution`]): segments of zero length, e.g. the flight
+/// of no time a grazing orbit has in the signature beyond it. There the family that keeps the
+/// segment at zero length crosses the one that changes its duration (a branch point), and a
+/// solve at fixed parameters moves the duration by rounding either way; the orbit itself is
+/// the same to the solve's tolerance. Larger negative durations are left for the caller to
+/// refuse or locate.
+pub(crate) fn settle_zero_durations(durations: &mut [f64], resolution: f64) {
+    for d in durations {
+        if *d < 0.0 && *d >= -resolution {
+            *d = 0.0;
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    /// Within the resolution below zero: zero; beyond it, positive, or not finite: unchanged.
+    #[test]
+    fn durations_a_rounding_below_zero_are_zero() {
+        let mut d = [-1e-12, -1e-10, -1.1e-10, 0.0, 2e-12, 1.5, f64::NAN];
+        super::settle_zero_durations(&mut d, 1e-10);
+        assert_eq!(&d[..6], &[0.0, 0.0, -1.1e-10, 0.0, 2e-12, 1.5]);
+        assert!(d[6].is_nan());
+    }
+}

@@ -233,7 +233,7 @@ pub fn solve_symmetric_shooting<S: HybridJacobians + ?Sized>(
     half_guess.symmetry_at_starts(system)?;
     let mut problem = super::shooting_problem(system, half_guess, settings)?;
     let sol = crate::problem::newton(&mut problem, &super::pack(half_guess), newton_settings)?;
-    let half = super::unpack(half_guess, &sol.u);
+    let half = super::solved_orbit(half_guess, &sol.u, newton_settings);
     super::check_admissible(system, &half)?;
     // The wrap saltation of M_half already maps into sigma(m_0).
     let m_half = monodromy_by_shooting(system, &half, settings)?.monodromy;

@@ -36,6 +36,19 @@ impl Default for NewtonSettings {
 }
 
 impl NewtonSettings {
+    /// The resolution of a solution `u` converged under these settings: the step tolerance
+    /// $\text{tol}\,(1 + \|u\|_\infty)$ within which the last step left it.
+    ///
+    /// ```
+    /// use hycont_core::problem::NewtonSettings;
+    /// let s = NewtonSettings::default();
+    /// assert!((s.resolution(&[-3.0, 1.0]) - 4e-10).abs() < 1e-24);
+    /// ```
+    #[must_use]
+    pub fn resolution(&self, u: &[f64]) -> f64 {
+        self.tol * (1.0 + max_norm(u))
+    }
+
     /// Checks the settings.
     ///
     /// # Errors
@@ -317,7 +330,7 @@ pub fn newton(
             && settings.chord_contraction > 0.0
             && trial_res <= settings.chord_contraction * res;
     }
-    let tol = settings.tol * (1.0 + max_norm(&u));
+    let tol = settings.resolution(&u);
     let (failure, why) = diagnose(&history, max_norm(&f), settings.residual_tol, tol);
     Err(Error::NewtonFailed {
         reason: format!(

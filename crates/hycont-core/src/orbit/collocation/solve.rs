@@ -422,7 +422,17 @@ pub(crate) fn solve_collocation_unchecked<S: HybridJacobians + ?Sized>(
         }
         let sol = newton(&mut problem, &pack_nodes(&nodes, &orbit), newton_settings)?;
         previous = Some(problem);
-        let (nd, ob) = unpack_nodes(&sol.u, &orbit, &sizes);
+        let (mut nd, mut ob) = unpack_nodes(&sol.u, &orbit, &sizes);
+        crate::orbit::settle_zero_durations(&mut ob.durations, newton_settings.resolution(&sol.u));
+        // A segment of zero length has all its nodes at its start.
+        for (k, d) in ob.durations.iter().enumerate() {
+            if *d == 0.0 {
+                let n = ob.starts[k].len();
+                let (first, rest) = nd[k].split_at_mut(n);
+                rest.chunks_exact_mut(n)
+                    .for_each(|x| x.copy_from_slice(first));
+            }
+        }
         nodes = nd;
         orbit = ob;
         residual = sol.residual;
