@@ -13,7 +13,7 @@
 //! $s \in (0, h)$, by the ITP method until the bracket in $s$ is below the location tolerance.
 //! A fold test change beside a located branch point in the same step is the branch point's.
 
-use crate::branch::{Branch, BranchPoint, EndReason, RunStatistics, SpecialKind, SpecialPoint};
+use crate::branch::{Branch, BranchPoint, EndReason, RunStatistics};
 use crate::error::{Error, Result};
 use crate::observe::Observer;
 use crate::quantity::Quantity;
@@ -28,6 +28,7 @@ pub(crate) mod critical;
 mod locate;
 mod predict;
 mod slots;
+mod special;
 mod start;
 
 use predict::{extrapolate, max_abs};
@@ -293,173 +294,6 @@ impl<'p, 'a, P: ContinuationProblem<'a> + ?Sized> Palc<'p, 'a, P> {
         }
     }
 
-    /// The test functions that change sign between `a` and `b` (a step `h`), each located:
-    /// (arclength along the step, slot, chart, located, accuracy), in the order of the step.
-    /// Branch points first: a fold test change next to a located one is the branch point's.
-    ///
-    /// From a singular start (`from_singular`: the first step of a run along a given
-    /// direction, which starts at a branch point, period doubling or grazing) the fold and
-    /// branch-point tests are not watched, they vanish at the start itself, and neither are
-    /// events and bounds the start lies on (within [`START_EVENT_TOL`] of their level, e.g.
-    /// the grazing a switch starts at): the start is located on them already.
-    fn located_in_step(
-        &mut self,
-        a: &Chart,
-        b: &Chart,
-        h: f64,
-        from_singular: bool,
-    ) -> Vec<Located> {
-        let det_ref = a.det.1;
-        let ta = self.tests(a, det_ref);
-        let tb = self.tests(b, det_ref);
-        let singular =
-            |slot: Slot| matches!(slot, Slot::Fold | Slot::BranchPoint | Slot::Cusp { .. });
-        let on_it = |slot: usize| match self.slots[slot] {
-            Slot::Event { level, .. } | Slot::Bound { level, .. } => {
-                ta.values[slot].abs() <= START_EVENT_TOL * (1.0 + level.abs())
-            }
-            _ => false,
-        };
-        let changed = |slot: usize| {
-            let (ga, gb) = (ta.values[slot], tb.values[slot]);
-            let crossed = match self.inside_sign(slot) {
-                // A bound ends a run that leaves the window: from inside (or on it) to outside,
-                // not back in from a start a rounding outside (e.g. a located end point).
-                Some(side) => side * ga >= 0.0 && side * gb < 0.0,
-                None => ga != 0.0 && ga * gb <= 0.0,
-            };
-            crossed && !(from_singular && (singular(self.slots[slot]) || on_it(slot)))
-        };
-        let mut order: Vec<usize> = (0..self.slots.len()).filter(|&k| changed(k)).collect();
-        order.sort_by_key(|&k| self.slots[k] != Slot::BranchPoint);
-        let mut found: Vec<Located> = Vec::new();
-        self.locating = true;
-        for slot in order {
-            let bp = found
-                .iter()
-                .find(|f| self.slots[f.slot] == Slot::BranchPoint && f.located)
-                .map(|f| f.s);
-            let result = match (self.slots[slot], bp) {
-                (Slot::Fold, Some(s_bp)) => self.locate_fold_beside(a, b, h, slot, s_bp),
-                _ => Some(self.locate(a, (a, 0.0), (b, h), slot)),
-            };
-            if let Some((chart, located, accuracy)) = result {
-                let s = self.wdot(&a.t, &chart.u) - self.wdot(&a.t, &a.u);
-                found.push(Located {
-                    s,
-                    slot,
-                    chart,
-                    located,
-                    accuracy,
-                });
-            }
-        }
-        self.locating = false;
-        found.sort_by(|x, y| x.s.total_cmp(&y.s));
-        found
-    }
-
-    /// The special point of a located sign change in the step from `a` to `b` (`None` for a
-    /// located sign change without a multiplier at the kind's critical value: a multiplier
-    /// through infinity for PD, a neutral saddle for TR; see [`critical`]).
-    fn special_point(
-        &self,
-        f: Located,
-        (a, b): (&Chart, &Chart),
-        h: f64,
-        label: usize,
-    ) -> Option<SpecialPoint> {
-        let kind = Self::kind_of(self.slots[f.slot]);
-        let mut c = f.chart;
-        let tol = self.settings.critical_tolerance;
-        let (genuine, critical) = match self.slots[f.slot] {
-            Slot::Codim2 { held, crossing, .. } => {
-                critical::genuine_codim2(&c.info, held, crossing, tol)
-            }
-            // Both parameters stationary: a turning point of the curve in the continued
-            // parameter alone is not a cusp.
-            Slot::Cusp { second } => (c.t[second].abs() <= tol, None),
-            _ => critical::genuine(kind, &c.info, tol),
-        };
-        let always_checked = matches!(
-            self.slots[f.slot],
-            Slot::Codim2 {
-                crossing: Crossing::Circle,
-                ..
-            } | Slot::Cusp { .. }
-        );
-        if (f.located || kind == SpecialKind::Torus || always_checked) && !genuine {
-            return None;
-        }
-        // At a branch point the augmented Jacobian is singular and the tangent solved there
-        // tends to the other branch's direction: keep this branch's tangent, from the
-        // bracketing chart (branch switching needs it). Not where only the problem's
-        // branch-point factor changed sign: the Jacobian is regular there.
-        if kind == SpecialKind::BranchPoint && a.det.0 != b.det.0 {
-            c.t.clone_from(&a.t);
-        }
-        let (on, level) = match self.slots[f.slot] {
-            Slot::Event { on, level, .. } | Slot::Bound { on, level, .. } => {
-                (Some(on), Some(level))
-            }
-            _ => (None, None),
-        };
-        Some(SpecialPoint {
-            kind,
-            point: self.point(&c, label, h),
-            bracket: (self.parameter(&a.u), self.parameter(&b.u)),
-            located: f.located,
-            accuracy: f.accuracy,
-            on,
-            level,
-            critical,
-        })
-    }
-
-    /// Whether a special point at `slot` of `kind` ends the run, and why.
-    fn ends_run(&self, slot: usize, kind: SpecialKind) -> Option<EndReason> {
-        if self.settings.stop_at.contains(&kind) {
-            return Some(EndReason::Reached(kind));
-        }
-        match self.slots[slot] {
-            Slot::Bound { .. } => Some(EndReason::Bound),
-            Slot::Event {
-                terminal: true,
-                kind,
-                ..
-            } => Some(EndReason::Inadmissible(kind)),
-            _ => None,
-        }
-    }
-
-    /// The special points of the step `h` from `a` to `b`, labelled from `*label + 1` on, into
-    /// `branch` (and the observer); the reason the run ends at one of them, if it does.
-    fn record_special_points(
-        &mut self,
-        (a, b): (&Chart, &Chart),
-        h: f64,
-        label: &mut usize,
-        branch: &mut Branch,
-        observer: &mut dyn Observer,
-        from_singular: bool,
-    ) -> Option<EndReason> {
-        for f in self.located_in_step(a, b, h, from_singular) {
-            let slot = f.slot;
-            let Some(special) = self.special_point(f, (a, b), h, *label + 1) else {
-                self.stats.discarded_tests += 1;
-                continue;
-            };
-            *label += 1;
-            observer.special(&special);
-            let end = self.ends_run(slot, special.kind);
-            branch.special_points.push(special);
-            if end.is_some() {
-                return end;
-            }
-        }
-        None
-    }
-
     /// The next step after a corrector that took `iterations`: longer (by the growth factor,
     /// up to the largest step) after at most two, halved (down to the smallest) after more
     /// than the target.
@@ -580,14 +414,4 @@ impl<'p, 'a, P: ContinuationProblem<'a> + ?Sized> Palc<'p, 'a, P> {
         branch.attach_measure_keys();
         Ok(branch)
     }
-}
-
-/// A test function's sign change located in a step.
-struct Located {
-    /// Arclength from the step's start.
-    s: f64,
-    slot: usize,
-    chart: Chart,
-    located: bool,
-    accuracy: f64,
 }
