@@ -511,6 +511,10 @@ impl<'a, S: HybridJacobians + ?Sized> ContinuationProblem<'a> for OrbitContinuat
     fn discretisation_revision(&self) -> usize {
         self.current
     }
+    /// By collocation (see [`ContinuationProblem::chord_steps`]).
+    fn chord_steps(&self) -> bool {
+        matches!(self.disc, Discretisation::Collocation { .. })
+    }
     fn restore_discretisation(&mut self, revision: usize) -> Result<bool> {
         self.restore(revision)
     }

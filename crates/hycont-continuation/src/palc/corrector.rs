@@ -25,6 +25,7 @@ impl<'a, P: ContinuationProblem<'a> + ?Sized> Palc<'_, 'a, P> {
         purpose: JacobianUse,
     ) -> Result<()> {
         let n = self.n;
+        self.generation += 1;
         if self.locating {
             self.stats.location_jacobians += 1;
         } else {
@@ -57,6 +58,9 @@ impl<'a, P: ContinuationProblem<'a> + ?Sized> Palc<'_, 'a, P> {
     /// solutions to high order and is mostly a solution already) the exact factorisation is
     /// done at the predictor and its residual checked first: a predictor that solves the
     /// equations is accepted with that one factorisation; otherwise it starts the iterations.
+    /// Otherwise, with chord steps armed by [`Palc::step`] (the previous chart's factorisation,
+    /// see [`super::chord`]), the iterations start from that factorisation without a new one,
+    /// until the contraction is slow or a solution is expected.
     pub(super) fn correct(
         &mut self,
         u_pred: &[f64],
@@ -78,11 +82,20 @@ impl<'a, P: ContinuationProblem<'a> + ?Sized> Palc<'_, 'a, P> {
         // factorisation the solution needs is done there directly (its residual decides
         // convergence as any other; if it does not converge, it serves the next steps).
         let mut exact = accurate_predictor;
+        // Chord steps armed by the step (see `chord`): the held factorisation serves until
+        // a factorisation replaces it.
+        let mut chord = if exact { None } else { self.chord.take() };
+        let chord_start = chord.is_some();
+        self.chord_converged = false;
+        // Whether the last factorisation was the exact one that chord steps led to.
+        let mut via_chord = false;
         if exact {
             self.factor(&u, row, u0, s, JacobianUse::Exact)?;
             if max_abs(&self.res) <= ns.residual_tol {
                 return Ok((u, 0));
             }
+        } else if chord.is_some() {
+            self.residual(&u, row, u0, s)?;
         } else {
             self.factor(&u, row, u0, s, JacobianUse::NewtonDirection)?;
         }
@@ -101,6 +114,7 @@ impl<'a, P: ContinuationProblem<'a> + ?Sized> Palc<'_, 'a, P> {
             if !fresh {
                 if expect_solution {
                     self.factor(&u, row, u0, s, JacobianUse::Exact)?;
+                    via_chord = chord.take().is_some();
                 } else {
                     self.residual(&u, row, u0, s)?;
                 }
@@ -114,16 +128,20 @@ impl<'a, P: ContinuationProblem<'a> + ?Sized> Palc<'_, 'a, P> {
             {
                 // Converged: the tangent and the determinant need the factorisation there.
                 if !exact {
+                    via_chord = chord.take().is_some();
                     self.factor(&u, row, u0, s, JacobianUse::Exact)?;
                 }
+                self.chord_converged = via_chord;
                 return Ok((u, it));
             }
+            via_chord = false;
             if it == max_it || !res.is_finite() {
                 break;
             }
             if !fresh && !exact && res > 0.2 * last_res {
                 // Slow contraction: refresh the Jacobian.
                 self.factor(&u, row, u0, s, JacobianUse::NewtonDirection)?;
+                chord = None;
             }
             // A chord iteration contracts the residual by about the same factor each step.
             expect_solution = it > 0 && res * (res / last_res) <= 0.1 * ns.residual_tol;
@@ -131,13 +149,16 @@ impl<'a, P: ContinuationProblem<'a> + ?Sized> Palc<'_, 'a, P> {
                 *d = -r;
             }
             self.pattern.solve_in_place(&mut du)?;
+            if let Some(c) = &chord {
+                c.correct(&mut du);
+            }
             last_step = max_abs(&du);
             last_res = res;
             recent[done % RECENT] = hycont_core::problem::NewtonIteration {
                 residual: res,
                 step: last_step,
                 damping: 1.0,
-                factorized: fresh || exact,
+                factorized: (fresh && !chord_start) || exact,
             };
             done += 1;
             if last_step > 1e3 * scale {
@@ -199,6 +220,7 @@ impl<'a, P: ContinuationProblem<'a> + ?Sized> Palc<'_, 'a, P> {
         let mut x = vec![0.0; self.n];
         x[self.n - 1] = 1.0;
         self.pattern.solve_in_place(&mut x)?;
+        self.z.clone_from(&x);
         self.wnormalize(&mut x);
         Ok((x, det))
     }

@@ -23,6 +23,7 @@ use hycont_core::ParamId;
 use hycont_core::linalg::SparsePattern;
 
 mod adapt;
+mod chord;
 mod corrector;
 pub(crate) mod critical;
 mod locate;
@@ -31,7 +32,7 @@ mod slots;
 mod special;
 mod start;
 
-use predict::{extrapolate, max_abs};
+use predict::{extrapolate, max_abs, onto_hyperplane};
 use slots::{Crossing, Slot, Source};
 pub(crate) use slots::{pd_test, tr_test};
 
@@ -68,6 +69,19 @@ pub(crate) struct Palc<'p, 'a, P: ContinuationProblem<'a> + ?Sized> {
     /// The last run's first chart from a start without a direction (its start, discretisation
     /// revision and chart): a run the other way from the same start begins there too.
     first: Option<(Vec<f64>, usize, Chart)>,
+    /// Factorisations so far (a held factorisation is valid while this has not changed).
+    generation: u64,
+    /// The last stepping chart's factorisation, for the next step's chord steps.
+    held: Option<chord::Held>,
+    /// Chord steps armed for the next corrector call (by [`Palc::step`] only).
+    chord: Option<chord::Chord>,
+    /// $A^{-1} e_n$ of the last tangent, before normalisation.
+    z: Vec<f64>,
+    /// Whether the last correction converged by chord steps alone: one of its iterations
+    /// counts for the step control's growth what a Newton iteration it replaced does not (a
+    /// linear contraction takes one more iteration from the same start; see
+    /// [`Palc::next_step`]).
+    chord_converged: bool,
     _marker: std::marker::PhantomData<&'a ()>,
 }
 
@@ -141,6 +155,11 @@ impl<'p, 'a, P: ContinuationProblem<'a> + ?Sized> Palc<'p, 'a, P> {
             stats: RunStatistics::default(),
             locating: false,
             first: None,
+            generation: 0,
+            held: None,
+            chord: None,
+            z: Vec::new(),
+            chord_converged: false,
             _marker: std::marker::PhantomData,
         })
     }
@@ -170,6 +189,7 @@ impl<'p, 'a, P: ContinuationProblem<'a> + ?Sized> Palc<'p, 'a, P> {
     fn relayout(&mut self) -> Result<()> {
         let (pattern, k, n, w) = Self::layout(self.p)?;
         self.pattern = pattern;
+        self.generation += 1;
         self.k = k;
         self.n = n;
         self.w = w;
@@ -276,7 +296,14 @@ impl<'p, 'a, P: ContinuationProblem<'a> + ?Sized> Palc<'p, 'a, P> {
     /// angle) and may be retried shorter; an error when it fails at the smallest step.
     fn step(&mut self, a: &Chart, pred: &[f64], h: f64) -> Result<Option<Chart>> {
         let at = self.row_of(&a.t);
+        // Chord steps from `a`'s factorisation, if it is still the one factorised.
+        let generation = self.generation;
+        let chords = self.p.chord_steps();
+        self.chord = (self.held.take())
+            .filter(|held| chords && held.generation == generation)
+            .and_then(|held| chord::Chord::new(held, &at));
         let corrected = self.correct(pred, &at, &a.u, h, false);
+        self.chord = None;
         let h_min = self.settings.h_min;
         match corrected.and_then(|(u, it)| self.chart(u, &at, it)) {
             Ok(mut b)
@@ -296,7 +323,11 @@ impl<'p, 'a, P: ContinuationProblem<'a> + ?Sized> Palc<'p, 'a, P> {
 
     /// The next step after a corrector that took `iterations`: longer (by the growth factor,
     /// up to the largest step) after at most two, halved (down to the smallest) after more
-    /// than the target.
+    /// than the target. A correction by chord steps alone is passed with one iteration less:
+    /// from the predictor's residual $r_0$ chord steps contract linearly (by the Jacobian's
+    /// change over the step) where Newton's contract quadratically, and they take about one
+    /// more to the tolerance (on the rocking block's collocation branch: three where Newton
+    /// took one or two, at the same steps).
     fn next_step(&self, h: f64, iterations: usize) -> f64 {
         if iterations <= 2 {
             (h * self.settings.growth).min(self.settings.h_max)
@@ -356,11 +387,23 @@ impl<'p, 'a, P: ContinuationProblem<'a> + ?Sized> Palc<'p, 'a, P> {
         let mut previous: Option<(Vec<f64>, Vec<f64>, f64)> = None;
         while branch.points.len() < self.settings.max_points {
             let pred = match &previous {
-                Some((u_p, t_p, h_p)) => extrapolate(u_p, t_p, *h_p, &a.u, &a.t, h),
+                Some((u_p, t_p, h_p)) => {
+                    let mut pred = extrapolate(u_p, t_p, *h_p, &a.u, &a.t, h);
+                    onto_hyperplane(&mut pred, &self.row_of(&a.t), (&a.u, &a.t), h);
+                    pred
+                }
                 None => a.u.iter().zip(&a.t).map(|(x, t)| x + h * t).collect(),
             };
             let b = match self.step(&a, &pred, h) {
-                Ok(Some(b)) => b,
+                Ok(Some(b)) => {
+                    // `b`'s chart factorised [J(b); W t_a] last: the next step's chords.
+                    self.held = Some(chord::Held {
+                        generation: self.generation,
+                        row: self.row_of(&a.t),
+                        z: std::mem::take(&mut self.z),
+                    });
+                    b
+                }
                 Ok(None) => {
                     self.stats.rejected_steps += 1;
                     previous = None;
@@ -395,7 +438,7 @@ impl<'p, 'a, P: ContinuationProblem<'a> + ?Sized> Palc<'p, 'a, P> {
                 branch.end = EndReason::Closed;
                 break;
             }
-            h = self.next_step(h, b.iterations);
+            h = self.next_step(h, b.iterations - usize::from(self.chord_converged));
             previous = Some((std::mem::take(&mut a.u), std::mem::take(&mut a.t), step));
             a = b;
             since_adapted += 1;
