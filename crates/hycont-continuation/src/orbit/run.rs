@@ -278,7 +278,9 @@ impl<'a, S: HybridJacobians + ?Sized> OrbitRun<'a, S> {
     }
 
     /// Like [`OrbitRun::add_event`], and the branch ends there (e.g. beyond it the orbits are
-    /// not admissible).
+    /// not admissible). Where terminal events are located at one point (within the location
+    /// tolerance), the one added first ends the branch, and users' events come before the
+    /// run's admissibility margins ([`crate::ContinuationProblem::monitor_events`]).
     ///
     /// # Errors
     /// As [`OrbitRun::add_event`].
