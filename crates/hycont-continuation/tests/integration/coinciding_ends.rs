@@ -14,10 +14,9 @@ use crate::models::*;
 use hycont_continuation::observe::Silent;
 use hycont_continuation::{
     Branch, ContinuationProblem, ContinuationSettings, EndReason, MeasureId, MonitorEvent,
-    PointInfo, Quantity, SpecialKind, continue_branch,
+    Quantity, SpecialKind, continue_branch,
 };
 use hycont_core::ParamId;
-use hycont_core::problem::Problem;
 
 const LOCATE_TOL: f64 = 1e-10;
 
@@ -95,65 +94,23 @@ fn coinciding_terminal_events_end_the_run_in_the_listed_order() {
     }
 }
 
-/// The test problem with an `end_among` that names the last of the coinciding events (a
-/// problem that knows which says more at the point), recording what it was asked.
-struct LastSaysMore {
-    inner: Test,
-    asked: Vec<Vec<SpecialKind>>,
-}
-
-impl ContinuationProblem<'static> for LastSaysMore {
-    fn problem(&mut self) -> &mut Problem<'static> {
-        self.inner.problem()
-    }
-    fn parameter_index(&self) -> usize {
-        self.inner.parameter_index()
-    }
-    fn parameter_position(&self) -> usize {
-        self.inner.parameter_position()
-    }
-    fn parameter_name(&self) -> String {
-        self.inner.parameter_name()
-    }
-    fn parameter_names(&self) -> Vec<String> {
-        self.inner.parameter_names()
-    }
-    fn monitor_names(&self) -> Vec<String> {
-        self.inner.monitor_names()
-    }
-    fn analyse(&mut self, u: &[f64]) -> hycont_core::Result<PointInfo> {
-        self.inner.analyse(u)
-    }
-    fn monitor_events(&self) -> Vec<MonitorEvent> {
-        self.inner.monitor_events()
-    }
-    fn end_among(&mut self, u: &[f64], located: &[MonitorEvent]) -> usize {
-        assert!(
-            (u[1] - 0.49).abs() < 1e-9,
-            "asked at the point: l = {}",
-            u[1]
-        );
-        self.asked.push(located.iter().map(|e| e.kind).collect());
-        located.len() - 1
-    }
-}
-
 /// A problem's `end_among` is asked once, at the point, with the coinciding events in the
 /// listed order, and its choice ends the run; events that do not coincide are not put to it.
 #[test]
 fn the_problem_names_the_end_among_coinciding_events() {
+    // A problem that knows the last of the coinciding events says more.
+    let last = |located: &[MonitorEvent]| located.len() - 1;
     let delta = 0.4 * LOCATE_TOL;
-    let mut p = LastSaysMore {
-        inner: parabola_with(vec![event_a(), event_b(delta)]),
-        asked: Vec::new(),
-    };
+    let mut p = parabola_with(vec![event_a(), event_b(delta)]);
+    p.end_choice = Some(last);
     let b = run(&mut p);
     assert_eq!(b.special_points.last().unwrap().kind, label("B"));
-    assert_eq!(p.asked, vec![vec![label("A"), label("B")]]);
-    let mut apart = LastSaysMore {
-        inner: parabola_with(vec![event_a(), event_b(100.0 * LOCATE_TOL)]),
-        asked: Vec::new(),
-    };
+    assert_eq!(p.asked.len(), 1, "{:?}", p.asked);
+    let (l, kinds) = &p.asked[0];
+    assert!((l - 0.49).abs() < 1e-9, "asked at the point: l = {l}");
+    assert_eq!(kinds, &vec![label("A"), label("B")]);
+    let mut apart = parabola_with(vec![event_a(), event_b(100.0 * LOCATE_TOL)]);
+    apart.end_choice = Some(last);
     let b = run(&mut apart);
     assert_eq!(b.special_points.last().unwrap().kind, label("B"));
     assert!(apart.asked.is_empty(), "{:?}", apart.asked);

@@ -52,6 +52,10 @@ pub struct Test {
     pub fail_above: f64,
     pub weights: Option<Vec<f64>>,
     pub bp_factor: Option<fn(&[f64]) -> f64>,
+    /// `end_among`'s choice among coinciding terminal events (default: the trait's, 0).
+    pub end_choice: Option<fn(&[MonitorEvent]) -> usize>,
+    /// What `end_among` was asked: the parameter at the point and the events' kinds.
+    pub asked: Vec<(f64, Vec<hycont_continuation::SpecialKind>)>,
 }
 
 impl Test {
@@ -83,6 +87,8 @@ impl Test {
             fail_above: f64::INFINITY,
             weights: None,
             bp_factor: None,
+            end_choice: None,
+            asked: Vec::new(),
         }
     }
     /// u0 = (state, parameter, active monitor value = parameter).
@@ -131,6 +137,11 @@ impl ContinuationProblem<'static> for Test {
     }
     fn monitor_events(&self) -> Vec<MonitorEvent> {
         self.events.clone()
+    }
+    fn end_among(&mut self, u: &[f64], located: &[MonitorEvent]) -> usize {
+        self.asked
+            .push((u[self.dim], located.iter().map(|e| e.kind).collect()));
+        self.end_choice.map_or(0, |choose| choose(located))
     }
     fn unknown_weights(&self) -> Option<Vec<f64>> {
         self.weights.clone()
