@@ -456,10 +456,22 @@ impl Discretisation {
                     let (n, len) = (x0.len(), self.values_of_segment(like, k));
                     let s = sym.block(n);
                     let (x, y) = (&v[at..at + len], &mut out[nv + at..nv + at + len]);
-                    for (x, y) in x.chunks_exact(n.max(1)).zip(y.chunks_exact_mut(n.max(1))) {
-                        for (col, &xj) in s.chunks_exact(n).zip(x) {
-                            for (o, sij) in y.iter_mut().zip(col) {
-                                *o += sij * xj;
+                    // A diagonal S (e.g. -I) maps each component alone: the same numbers as the
+                    // full product, whose other terms are exact zeros.
+                    let diagonal = (0..n * n).all(|k| k % (n + 1) == 0 || s[k] == 0.0);
+                    if diagonal && x.iter().all(|v| v.is_finite()) {
+                        let d: Vec<f64> = (0..n).map(|i| s[i * (n + 1)]).collect();
+                        for (x, y) in x.chunks_exact(n.max(1)).zip(y.chunks_exact_mut(n.max(1))) {
+                            for ((o, xi), di) in y.iter_mut().zip(x).zip(&d) {
+                                *o += di * xi;
+                            }
+                        }
+                    } else {
+                        for (x, y) in x.chunks_exact(n.max(1)).zip(y.chunks_exact_mut(n.max(1))) {
+                            for (col, &xj) in s.chunks_exact(n).zip(x) {
+                                for (o, sij) in y.iter_mut().zip(col) {
+                                    *o += sij * xj;
+                                }
                             }
                         }
                     }
