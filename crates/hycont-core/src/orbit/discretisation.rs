@@ -456,8 +456,9 @@ impl Discretisation {
                     let (n, len) = (x0.len(), self.values_of_segment(like, k));
                     let s = sym.block(n);
                     let (x, y) = (&v[at..at + len], &mut out[nv + at..nv + at + len]);
-                    // A diagonal S (e.g. -I) maps each component alone: the same numbers as the
-                    // full product, whose other terms are exact zeros.
+                    // A diagonal S (e.g. -I) maps each component alone: the values of the full
+                    // product, whose other terms are exact zeros for finite states (a zero's
+                    // sign aside).
                     let diagonal = (0..n * n).all(|k| k % (n + 1) == 0 || s[k] == 0.0);
                     if diagonal && x.iter().all(|v| v.is_finite()) {
                         let d: Vec<f64> = (0..n).map(|i| s[i * (n + 1)]).collect();
