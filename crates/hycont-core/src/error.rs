@@ -303,7 +303,8 @@ pub fn check_finite(what: &'static str, values: &[f64]) -> Result<()> {
 
 /// Whether every entry is finite, without a branch per entry: $\sum_i 0 \cdot v_i$ (in four
 /// independent lanes) is zero exactly when no $v_i$ is infinite or NaN ($0 \cdot \infty$ is
-/// NaN). A check on every Jacobian block of a collocation evaluation.
+/// NaN). A check on every Jacobian block of a collocation evaluation, and on the states a
+/// diagonal symmetry maps.
 #[inline]
 pub(crate) fn all_finite(values: &[f64]) -> bool {
     let mut lanes = [0.0_f64; 4];

@@ -460,7 +460,7 @@ impl Discretisation {
                     // product, whose other terms are exact zeros for finite states (a zero's
                     // sign aside).
                     let diagonal = (0..n * n).all(|k| k % (n + 1) == 0 || s[k] == 0.0);
-                    if diagonal && x.iter().all(|v| v.is_finite()) {
+                    if diagonal && crate::error::all_finite(x) {
                         let d: Vec<f64> = (0..n).map(|i| s[i * (n + 1)]).collect();
                         for (x, y) in x.chunks_exact(n.max(1)).zip(y.chunks_exact_mut(n.max(1))) {
                             for ((o, xi), di) in y.iter_mut().zip(x).zip(&d) {
