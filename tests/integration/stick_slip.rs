@@ -115,6 +115,37 @@ fn the_stick_slip_family_goes_on_from_the_grazing_by_shooting() {
     }
 }
 
+/// The domain margin along the sustained-stick family is the stop's distance from the
+/// position's maximum, $0.5 - x_1$ where MINSEP ends the second segment (the first segment's
+/// start, MINSEP's reset being the identity), at every point by both discretisations (1e-8:
+/// the margin is read off the scan's integration of each segment from its start, the
+/// reference off the discretised orbit's next start; they differ by the discretisation's
+/// error, as collocation and shooting do in the test below). The other conditions are larger (COLLISION at PHASE's end about 0.3-0.4, the durations
+/// about 1.7). The position is extremal exactly where that segment ends, so the scan finds
+/// the turn a rounding error before or after the end; the margin takes it as the end's value
+/// either way (as an interior turn it would have gone to the grazing margin instead, and the
+/// domain margin jumped to the next condition from one point to the next).
+#[test]
+fn the_domain_margin_is_the_stop_distance_at_the_flights_turn() {
+    for method in [
+        OrbitMethod::Shooting(ShootingSettings::default()),
+        collocation(),
+    ] {
+        let (two, ..) = families(method);
+        let names = &two.branch.monitor_names;
+        let domain = names.iter().position(|n| n == "admissible_domain").unwrap();
+        for q in &two.branch.points {
+            let reference = 0.5 - two.orbit_of(q).unwrap().starts[0][0];
+            let margin = q.monitors[domain];
+            assert!(
+                (margin - reference).abs() < 1e-8,
+                "V = {}: {margin} against {reference}",
+                q.params[0]
+            );
+        }
+    }
+}
+
 /// Collocation locates the same fold, grazing and stick-slip orbits as shooting (1e-8).
 #[test]
 fn collocation_agrees_with_shooting_across_the_grazing() {

@@ -10,7 +10,8 @@
 //!   length between two impacts; its end conditions put it on its end event's surface);
 //! - no **interior touch or crossing**: every local minimum of $\sigma_e h_e$ reached from the
 //!   pre-crossing side (found on the dense output by [`super::scan`], not only at mesh points)
-//!   is positive, and so is the end value of every other event reached from that side;
+//!   is positive, and so is the end value of every other event reached from that side (a turn
+//!   the scan finds within its [`super::scan::BOUNDARY_BAND`] of the segment's end is the end's);
 //! - the segment's **terminal event** is reached in its declared direction:
 //!   $-\sigma_e \dot h_e > 0$ at the end (a zero approach rate is a grazing impact), from a
 //!   start not beyond its surface.
@@ -187,6 +188,13 @@ fn conditions<S: HybridJacobians + ?Sized>(
         let start = &orbit.starts[k];
         let band =
             super::scan::BOUNDARY_BAND * (1.0 + start.iter().fold(0.0f64, |m, v| m.max(v.abs())));
+        // A critical point found this close to the segment's end is the end's (the scan's band
+        // at a split): its value is the end's, which the end's conditions below take. Counted
+        // as an interior turn, the same value would move between the margins as integration
+        // error puts the point before or after the end (e.g. an event function that is
+        // extremal where the segment ends, as a position at the velocity's zero ending a
+        // flight), and the margins would jump along a branch.
+        let end_band = super::scan::BOUNDARY_BAND * duration.abs().max(1.0);
         let monitored = system.events(seg.mode);
         for &(e, sigma) in events.iter().filter(|(e, _)| monitored.contains(e)) {
             let h0 = sigma * system.event(e, start, p);
@@ -203,7 +211,7 @@ fn conditions<S: HybridJacobians + ?Sized>(
             };
             for c in scan
                 .critical_of(Watch::Event(e))
-                .filter(|c| c.segment == k && c.t > 0.0)
+                .filter(|c| c.segment == k && c.t > 0.0 && c.t < duration - end_band)
             {
                 let v = sigma * c.value;
                 let is_min = (c.turn == Turn::Min) == (sigma > 0.0);
