@@ -1,7 +1,7 @@
 //! Locating special points in a step: charts at a given arclength on a chart's hyperplanes, the
 //! ITP root bracket on a test function, and folds beside a branch point.
 
-use super::predict::hermite;
+use super::predict::{GraphNode, hermite_graph};
 use super::slots::{Slot, Source};
 use super::{Chart, Palc};
 use crate::ContinuationProblem;
@@ -13,8 +13,9 @@ impl<'a, P: ContinuationProblem<'a> + ?Sized> Palc<'_, 'a, P> {
     /// analysis (multipliers, monitors) is copied from `a` (enough for the fold and branch-point
     /// tests, which use the tangent and the determinant only).
     ///
-    /// The predictor interpolates the bracket's charts `lo` (at `s_lo`) and `hi` (at `s_hi`):
-    /// cubic Hermite in $s$ with slopes $t / \langle t_a, t \rangle_W$, which keeps it on the hyperplane
+    /// The predictor interpolates the bracket's charts `lo` (at `s_lo`) and `hi` (at `s_hi`) as
+    /// a graph over `a`'s tangent line (cubic Hermite in $s$ with slopes
+    /// $t / \langle t_a, t \rangle_W$, see [`hermite_graph`]), which keeps it on the hyperplane
     /// and makes it accurate to $O(w^4)$ in the bracket width $w$, so that late in a location
     /// the predictor is already a solution; linear where a slope is unreliable (the tangent
     /// turns away from $t_a$, e.g. next to a branch point).
@@ -30,7 +31,13 @@ impl<'a, P: ContinuationProblem<'a> + ?Sized> Palc<'_, 'a, P> {
         let x = (s - s_lo) / w;
         let (d_lo, d_hi) = (self.wdot(&a.t, &lo.t), self.wdot(&a.t, &hi.t));
         let pred: Vec<f64> = if d_lo > 0.5 && d_hi > 0.5 {
-            hermite(&lo.u, (w / d_lo, &lo.t), &hi.u, (w / d_hi, &hi.t), x)
+            let nodes = [(lo, s_lo, d_lo), (hi, s_hi, d_hi)].map(|(c, sigma, along)| GraphNode {
+                sigma,
+                u: &c.u,
+                t: &c.t,
+                along,
+            });
+            hermite_graph(&nodes, s)
         } else {
             lo.u.iter()
                 .zip(&hi.u)

@@ -2,8 +2,9 @@
 //!
 //! A chart is a solution $u$ of $F(u) = 0$ ($F: \mathbb{R}^N \to \mathbb{R}^{N-1}$) with its unit
 //! tangent $t$ ($J t = 0$, oriented along the run). From chart $(u_a, t_a)$ a step $h$ predicts
-//! by extrapolating the cubic Hermite interpolant of the previous chart and $(u_a, t_a)$ (the
-//! tangent predictor $u_a + h t_a$ at the start and after a rejected step) and corrects on the
+//! by extrapolating the quintic Hermite interpolant of $(u_a, t_a)$ and the two charts before it
+//! as a graph over $t_a$'s line (fewer charts at the start and after a rejected step: the
+//! tangent predictor $u_a + h t_a$ with none) and corrects on the
 //! hyperplane $\langle t_a, u - u_a \rangle_W = h$ with chord Newton on the augmented system
 //! $[F; \langle t_a, u - u_a \rangle_W - h]$, Jacobian $A = [J; (W t_a)^\top]$, where
 //! $\langle \cdot, \cdot \rangle_W$ is the arclength inner product with the problem's unknown
@@ -32,9 +33,13 @@ mod slots;
 mod special;
 mod start;
 
-use predict::{extrapolate, max_abs, onto_hyperplane};
+use predict::{GraphNode, hermite_graph, max_abs};
 use slots::{Crossing, Slot, Source};
 pub(crate) use slots::{pd_test, tr_test};
+
+/// The charts the stepping predictor interpolates: the current one and the two before it
+/// (quintic Hermite, see [`Palc::predictor`]).
+const PREDICTOR_CHARTS: usize = 3;
 
 /// Within this of an event's level (relative to `1 + |level|`), a directed run's start lies
 /// on the event: its first step does not locate it again ([`Palc::located_in_step`]).
@@ -321,6 +326,30 @@ impl<'p, 'a, P: ContinuationProblem<'a> + ?Sized> Palc<'p, 'a, P> {
         }
     }
 
+    /// The predictor of a step `h` from chart `a`: the Hermite interpolant of `a` and the
+    /// charts before it (`previous`, the latest first) as a graph over `a`'s tangent line
+    /// (see [`hermite_graph`]), with the charts before it taken while each lies behind the one
+    /// after it and its tangent is within 60 degrees of `a`'s; the tangent predictor
+    /// $u_a + h t_a$ without them.
+    fn predictor(&self, a: &Chart, previous: &[(Vec<f64>, Vec<f64>)], h: f64) -> Vec<f64> {
+        let at_a = self.wdot(&a.t, &a.u);
+        let mut nodes = vec![GraphNode {
+            sigma: 0.0,
+            u: &a.u,
+            t: &a.t,
+            along: 1.0,
+        }];
+        for (u, t) in previous {
+            let (sigma, along) = (self.wdot(&a.t, u) - at_a, self.wdot(&a.t, t));
+            let behind = nodes.last().is_some_and(|last| sigma < last.sigma);
+            if !(behind && along > 0.5) {
+                break;
+            }
+            nodes.push(GraphNode { sigma, u, t, along });
+        }
+        hermite_graph(&nodes, h)
+    }
+
     /// The next step after a corrector that took `iterations`: longer (by the growth factor,
     /// up to the largest step) after at most two, halved (down to the smallest) after more
     /// than the target. A correction by chord steps alone is passed with one iteration less:
@@ -382,18 +411,11 @@ impl<'p, 'a, P: ContinuationProblem<'a> + ?Sized> Palc<'p, 'a, P> {
         let start = (a.u.clone(), a.info.clone());
         let mut h = self.settings.first_step();
         let mut travelled = 0.0;
-        // The chart before `a` and the step from it, for the predictor; `None` after a
+        // The charts before `a` (the latest first), for the predictor; cleared after a
         // rejected step (the tangent predictor is then used).
-        let mut previous: Option<(Vec<f64>, Vec<f64>, f64)> = None;
+        let mut previous: Vec<(Vec<f64>, Vec<f64>)> = Vec::with_capacity(PREDICTOR_CHARTS);
         while branch.points.len() < self.settings.max_points {
-            let pred = match &previous {
-                Some((u_p, t_p, h_p)) => {
-                    let mut pred = extrapolate(u_p, t_p, *h_p, &a.u, &a.t, h);
-                    onto_hyperplane(&mut pred, &self.row_of(&a.t), (&a.u, &a.t), h);
-                    pred
-                }
-                None => a.u.iter().zip(&a.t).map(|(x, t)| x + h * t).collect(),
-            };
+            let pred = self.predictor(&a, &previous, h);
             let b = match self.step(&a, &pred, h) {
                 Ok(Some(b)) => {
                     // `b`'s chart factorised [J(b); W t_a] last: the next step's chords.
@@ -406,7 +428,7 @@ impl<'p, 'a, P: ContinuationProblem<'a> + ?Sized> Palc<'p, 'a, P> {
                 }
                 Ok(None) => {
                     self.stats.rejected_steps += 1;
-                    previous = None;
+                    previous.clear();
                     h = (0.5 * h).max(self.settings.h_min);
                     continue;
                 }
@@ -430,7 +452,6 @@ impl<'p, 'a, P: ContinuationProblem<'a> + ?Sized> Palc<'p, 'a, P> {
                 break;
             }
             travelled += h;
-            let step = h;
             // Closed branch: back near the start after a long way.
             let dist = self.distance_to_start(&b, &start, revision);
             if travelled > 10.0 * self.settings.h_max && dist < 0.5 * h && branch.points.len() > 10
@@ -439,15 +460,16 @@ impl<'p, 'a, P: ContinuationProblem<'a> + ?Sized> Palc<'p, 'a, P> {
                 break;
             }
             h = self.next_step(h, b.iterations - usize::from(self.chord_converged));
-            previous = Some((std::mem::take(&mut a.u), std::mem::take(&mut a.t), step));
+            previous.truncate(PREDICTOR_CHARTS - 2);
+            previous.insert(0, (std::mem::take(&mut a.u), std::mem::take(&mut a.t)));
             a = b;
             since_adapted += 1;
             if self.adaptation_due(&a, since_adapted) {
                 since_adapted = 0;
                 if let Some(c) = self.rediscretised(&a)? {
-                    // The predictor restarts from the tangent: the previous chart is on the
-                    // old discretisation.
-                    previous = None;
+                    // The predictor restarts from the tangent: the previous charts are on
+                    // the old discretisation.
+                    previous.clear();
                     a = c;
                 }
             }

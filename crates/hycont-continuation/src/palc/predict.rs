@@ -1,5 +1,5 @@
 //! Small vector helpers and the predictors of PALC: the generic direction, orientation, and the
-//! cubic Hermite interpolant of two charts.
+//! Hermite interpolant of charts as a graph over a tangent line (stepping and location).
 
 pub(super) use hycont_core::linalg::max_norm as max_abs;
 
@@ -45,54 +45,190 @@ pub(super) fn orientation(t: &[f64], pi: usize) -> f64 {
     }
 }
 
-/// The cubic Hermite interpolant at $x$ of values `u0`, `u1` at $x = 0, 1$ with derivatives
-/// `c0 * d0`, `c1 * d1` (in $x$), e.g. charts `width` apart in arclength with tangents scaled to
-/// arclength derivatives. $x$ outside $[0, 1]$ extrapolates.
-pub(super) fn hermite(
-    u0: &[f64],
-    (c0, d0): (f64, &[f64]),
-    u1: &[f64],
-    (c1, d1): (f64, &[f64]),
-    x: f64,
-) -> Vec<f64> {
-    let h00 = (1.0 + 2.0 * x) * (1.0 - x) * (1.0 - x);
-    let h10 = x * (1.0 - x) * (1.0 - x);
-    let h01 = x * x * (3.0 - 2.0 * x);
-    let h11 = x * x * (x - 1.0);
-    (0..u0.len())
-        .map(|i| h00 * u0[i] + h10 * c0 * d0[i] + h01 * u1[i] + h11 * c1 * d1[i])
+/// A chart seen from the tangent line of the current chart $(u_a, t_a)$: its coordinate
+/// $\sigma = \langle t_a, u - u_a \rangle_W$ along the line, its point $u$ and tangent $t$, and
+/// $\langle t_a, t \rangle_W$: the branch's slope there as a graph over the line is
+/// $du/d\sigma = t / \langle t_a, t \rangle_W$.
+pub(super) struct GraphNode<'c> {
+    pub(super) sigma: f64,
+    pub(super) u: &'c [f64],
+    pub(super) t: &'c [f64],
+    pub(super) along: f64,
+}
+
+/// The Hermite interpolant of the branch as a graph over a chart's tangent line, through
+/// `nodes` (values and slopes at distinct coordinates), at coordinate `x`: the predictor on the
+/// corrector's hyperplane $\sigma = x$ of that chart.
+///
+/// In this coordinate the data are exact (every chart's $\sigma$ and slope are computed, not
+/// estimated from step lengths), so $k$ charts give an error $O(h^{2k})$ in their spacing $h$:
+/// a step from the current chart with the two charts before it, $O(h^6)$, against the $O(h^2)$
+/// of the tangent predictor; a location between two charts, $O(w^4)$ in the bracket's width.
+/// The interpolant's $\sigma$-component is the line itself (every slope has $\sigma$-component
+/// 1), so the predictor lies on the hyperplane.
+pub(super) fn hermite_graph(nodes: &[GraphNode<'_>], x: f64) -> Vec<f64> {
+    let weights = hermite_weights(&nodes.iter().map(|nd| nd.sigma).collect::<Vec<_>>(), x);
+    let mut p = vec![0.0; nodes.first().map_or(0, |nd| nd.u.len())];
+    for (nd, (wv, ws)) in nodes.iter().zip(weights) {
+        let ws = ws / nd.along;
+        for ((pi, u), t) in p.iter_mut().zip(nd.u).zip(nd.t) {
+            *pi += wv * u + ws * t;
+        }
+    }
+    p
+}
+
+/// The Hermite basis at `x` for nodes `z` (distinct): per node, the weights of its value and
+/// of its slope in the interpolant of degree `2 z.len() - 1`. Each is the interpolant of unit
+/// data, by Newton's divided differences on the doubled nodes.
+fn hermite_weights(z: &[f64], x: f64) -> Vec<(f64, f64)> {
+    let m = 2 * z.len();
+    let at = |j: usize| z[j / 2];
+    // The interpolant of unit data: value (`slope == false`) or slope 1 at `node`, 0 elsewhere.
+    let unit = |node: usize, slope: bool| {
+        let one =
+            |j: usize, of_slope: bool| f64::from(u8::from(j / 2 == node && slope == of_slope));
+        let mut level: Vec<f64> = (0..m).map(|j| one(j, false)).collect();
+        let mut coef = vec![level[0]];
+        for l in 1..m {
+            for j in 0..m - l {
+                // At l = 1 an even j pairs a node with itself: the slope datum.
+                level[j] = if l == 1 && j.is_multiple_of(2) {
+                    one(j, true)
+                } else {
+                    (level[j + 1] - level[j]) / (at(j + l) - at(j))
+                };
+            }
+            coef.push(level[0]);
+        }
+        (0..m).rev().fold(0.0, |p, l| coef[l] + (x - at(l)) * p)
+    };
+    (0..z.len())
+        .map(|i| (unit(i, false), unit(i, true)))
         .collect()
 }
 
-/// The predictor of a step `h` from chart $(u_a, t_a)$ reached by a step `h_p` from
-/// $(u_p, t_p)$: the cubic Hermite interpolant of the two charts (unit tangents as derivatives in
-/// arclength) extrapolated to `h` beyond $u_a$. Its error is $O(h^3)$ against the tangent
-/// predictor's $O(h^2)$, so the corrector starts closer (fewer chord iterations).
-pub(super) fn extrapolate(
-    u_p: &[f64],
-    t_p: &[f64],
-    h_p: f64,
-    u_a: &[f64],
-    t_a: &[f64],
-    h: f64,
-) -> Vec<f64> {
-    hermite(u_p, (h_p, t_p), u_a, (h_p, t_a), 1.0 + h / h_p)
-}
+#[cfg(test)]
+mod tests {
+    use super::{GraphNode, hermite_graph, hermite_weights};
 
-/// Moves a predictor of a step `h` from $(u_a, t_a)$ along $t_a$ onto the corrector's
-/// hyperplane $\langle r, u - u_a \rangle = h$ (`row` $= r = W t_a$). An extrapolated curve
-/// reaches the hyperplane $O(h^4)$ away along the tangent, and the corrector's first Newton step
-/// would carry that offset's square as its error; moved along the straight tangent, the
-/// predictor stays as close to the branch as it was (its distance changes by the curvature
-/// times the offset squared). On the rocking block's collocation branch at the largest step the
-/// residual at the predictor falls from about 1.5e-4 to 2e-7 and one Newton step converges,
-/// where two were needed.
-pub(super) fn onto_hyperplane(pred: &mut [f64], row: &[f64], (u_a, t_a): (&[f64], &[f64]), h: f64) {
-    let along = dot(row, t_a);
-    if along > 0.0 {
-        let off = (h - (dot(row, pred) - dot(row, u_a))) / along;
-        for (p, t) in pred.iter_mut().zip(t_a) {
-            *p += off * t;
-        }
+    /// $p(\sigma) = \sum_{j \le d} c_j \sigma^j$ and $p'(\sigma)$.
+    fn poly(c: &[f64], x: f64) -> (f64, f64) {
+        let value = c.iter().rev().fold(0.0, |p, cj| cj + x * p);
+        let slope = (1..c.len()).rev().fold(0.0, |p, j| j as f64 * c[j] + x * p);
+        (value, slope)
+    }
+
+    /// Hermite interpolation on $k$ nodes is exact for polynomials of degree $2k - 1$ (the
+    /// interpolant is unique in that space) and not for degree $2k$: at $x$ the error of
+    /// $\sigma^{2k}$ is $\prod_i (x - z_i)^2$ (the interpolant of $\sigma^{2k}$ is $\sigma^{2k}$
+    /// minus the monic polynomial with the doubled nodes as roots).
+    #[test]
+    fn weights_reproduce_polynomials_of_degree_two_k_minus_one() {
+        let z = [0.0, -0.7, -1.5];
+        let x = 0.4;
+        let w = hermite_weights(&z, x);
+        let interpolate = |c: &[f64]| -> f64 {
+            z.iter()
+                .zip(&w)
+                .map(|(&zi, &(wv, ws))| {
+                    let (v, s) = poly(c, zi);
+                    wv * v + ws * s
+                })
+                .sum()
+        };
+        let c5 = [0.3, -1.2, 0.8, 2.0, -0.5, 0.25];
+        approx::assert_abs_diff_eq!(interpolate(&c5), poly(&c5, x).0, epsilon = 1e-12);
+        let mut c6 = [0.0; 7];
+        c6[6] = 1.0;
+        let want: f64 = z.iter().map(|zi| (x - zi) * (x - zi)).product();
+        approx::assert_relative_eq!(
+            poly(&c6, x).0 - interpolate(&c6),
+            want,
+            max_relative = 1e-10
+        );
+        assert!(want > 1e-3, "the degree-6 error is not zero: {want}");
+    }
+
+    /// Extrapolation one spacing beyond three nodes converges as $h^6$: on
+    /// $u(\sigma) = (\sigma, e^\sigma, \cos(\sigma + 1/2))$ (a graph over its first coordinate:
+    /// tangent line $e_1$, slopes $u'$ with $\sigma$-component 1) from nodes $0, -h, -2h$ to
+    /// $\sigma = h$ the error is $u^{(6)}(\xi) / 6! \cdot h^2 (2h)^2 (3h)^2$, both sixth
+    /// derivatives nonzero near 0, so halving $h$ divides it by about $2^6 = 64$; the
+    /// predictor's first component is $h$ (on the hyperplane).
+    #[test]
+    fn step_predictor_converges_to_sixth_order() {
+        let curve = |s: f64| [s, s.exp(), (s + 0.5).cos()];
+        let slope = |s: f64| [1.0, s.exp(), -(s + 0.5).sin()];
+        let error = |h: f64| {
+            let (us, ts): (Vec<_>, Vec<_>) = [0.0, -h, -2.0 * h]
+                .iter()
+                .map(|&s| (curve(s), slope(s)))
+                .unzip();
+            let nodes: Vec<GraphNode<'_>> = (0..3)
+                .map(|i| GraphNode {
+                    sigma: -(i as f64) * h,
+                    u: &us[i],
+                    t: &ts[i],
+                    along: 1.0,
+                })
+                .collect();
+            let p = hermite_graph(&nodes, h);
+            approx::assert_abs_diff_eq!(p[0], h, epsilon = 1e-15);
+            let want = curve(h);
+            (1..3).map(|i| (p[i] - want[i]).abs()).fold(0.0, f64::max)
+        };
+        let (e1, e2) = (error(0.1), error(0.05));
+        let order = (e1 / e2).log2();
+        assert!(
+            (5.7..6.3).contains(&order),
+            "order {order} ({e1:e}, {e2:e})"
+        );
+    }
+
+    /// Slopes are tangents over $\langle t_a, t \rangle_W$: on the unit circle seen from the
+    /// tangent line at angle 0 (coordinate $\sigma = \sin\theta$, graph
+    /// $y = \sqrt{1 - \sigma^2}$, whose sixth derivative is $-45$ at 0), nodes at
+    /// $\theta = 0, -0.05, -0.1$ with unit tangents $(\cos\theta, -\sin\theta)$ interpolate the graph
+    /// to its error bound $|y^{(6)}| / 6! \prod_i (x - \sigma_i)^2$ (taken with a factor 2 for
+    /// $\xi \ne 0$); unit tangents used as slopes (without the scaling) miss it by far. With one
+    /// node the predictor is the tangent step itself.
+    #[test]
+    fn unit_tangents_are_scaled_to_graph_slopes() {
+        let point = |th: f64| [th.sin(), th.cos()];
+        let tangent = |th: f64| [th.cos(), -th.sin()];
+        let angles = [0.0, -0.05, -0.1];
+        let (us, ts): (Vec<_>, Vec<_>) = angles.iter().map(|&a| (point(a), tangent(a))).unzip();
+        let x = 0.05;
+        let bound =
+            2.0 * 45.0 / 720.0 * us.iter().map(|u| (x - u[0]) * (x - u[0])).product::<f64>();
+        let error = |scaled: bool| {
+            let nodes: Vec<GraphNode<'_>> = (0..3)
+                .map(|i| GraphNode {
+                    sigma: us[i][0],
+                    u: &us[i],
+                    t: &ts[i],
+                    along: if scaled { ts[i][0] } else { 1.0 },
+                })
+                .collect();
+            let p = hermite_graph(&nodes, x);
+            if scaled {
+                approx::assert_abs_diff_eq!(p[0], x, epsilon = 1e-15);
+            }
+            (p[1] - (1.0 - x * x).sqrt()).abs()
+        };
+        assert!(error(true) <= bound, "{} > {bound}", error(true));
+        assert!(
+            error(false) > 10.0 * bound,
+            "{} <= 10 x {bound}",
+            error(false)
+        );
+        let one = GraphNode {
+            sigma: 0.0,
+            u: &us[0],
+            t: &ts[0],
+            along: 1.0,
+        };
+        assert_eq!(hermite_graph(&[one], x), vec![x, 1.0]);
     }
 }
