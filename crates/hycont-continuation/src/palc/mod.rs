@@ -351,20 +351,28 @@ impl<'p, 'a, P: ContinuationProblem<'a> + ?Sized> Palc<'p, 'a, P> {
     }
 
     /// The next step after a corrector that took `iterations`: longer (by the growth factor,
-    /// up to the largest step) after at most two, halved (down to the smallest) after more
-    /// than the target. A correction by chord steps alone is passed with one iteration less:
-    /// from the predictor's residual $r_0$ chord steps contract linearly (by the Jacobian's
-    /// change over the step) where Newton's contract quadratically, and they take about one
-    /// more to the tolerance (on the rocking block's collocation branch: three where Newton
-    /// took one or two, at the same steps).
-    fn next_step(&self, h: f64, iterations: usize) -> f64 {
-        if iterations <= 2 {
-            (h * self.settings.growth).min(self.settings.h_max)
-        } else if iterations > self.settings.target_iterations {
-            (0.5 * h).max(self.settings.h_min)
+    /// up to the largest step) after at most two, halved (down to the smallest) after more than
+    /// the target. A correction by chord steps alone is passed with one iteration less: from the
+    /// predictor's residual $r_0$ chord steps contract linearly (by the Jacobian's change over
+    /// the step) where Newton's contract quadratically, and they take about one more to the
+    /// tolerance.
+    ///
+    /// Either way no longer than a turn of the tangent by 90 % of the largest angle, at
+    /// `bending` (the turn per unit step expected over the next step): where the branch's
+    /// curvature bounds the steps (an easy corrector, as the high-order predictor makes it),
+    /// they follow it below the angle instead of growing into a rejection, halving and growing
+    /// again.
+    fn next_step(&self, h: f64, iterations: usize, bending: f64) -> f64 {
+        let s = &self.settings;
+        let next = if iterations <= 2 {
+            h * s.growth
+        } else if iterations > s.target_iterations {
+            0.5 * h
         } else {
             h
-        }
+        };
+        next.min(0.9 * s.max_angle / bending)
+            .clamp(s.h_min, s.h_max)
     }
 
     pub(crate) fn run(
@@ -414,6 +422,8 @@ impl<'p, 'a, P: ContinuationProblem<'a> + ?Sized> Palc<'p, 'a, P> {
         // The charts before `a` (the latest first), for the predictor; cleared after a
         // rejected step (the tangent predictor is then used).
         let mut previous: Vec<(Vec<f64>, Vec<f64>)> = Vec::with_capacity(PREDICTOR_CHARTS);
+        // The last step's turn of the tangent per unit step (see `next_step`).
+        let mut bending: Option<f64> = None;
         while branch.points.len() < self.settings.max_points {
             let pred = self.predictor(&a, &previous, h);
             let b = match self.step(&a, &pred, h) {
@@ -459,7 +469,23 @@ impl<'p, 'a, P: ContinuationProblem<'a> + ?Sized> Palc<'p, 'a, P> {
                 branch.end = EndReason::Closed;
                 break;
             }
-            h = self.next_step(h, b.iterations - usize::from(self.chord_converged));
+            // The tangent's turn per unit step, and the next step's expected from its trend (a
+            // rising curvature rises on, by at most the growth factor).
+            let now = self.wdot(&b.t, &a.t).clamp(-1.0, 1.0).acos() / h;
+            let trend = |before: f64| {
+                if before > 0.0 {
+                    (now / before).clamp(1.0, self.settings.growth)
+                } else {
+                    1.0
+                }
+            };
+            let expected = now * bending.map_or(1.0, trend);
+            bending = Some(now);
+            h = self.next_step(
+                h,
+                b.iterations - usize::from(self.chord_converged),
+                expected,
+            );
             previous.truncate(PREDICTOR_CHARTS - 2);
             previous.insert(0, (std::mem::take(&mut a.u), std::mem::take(&mut a.t)));
             a = b;

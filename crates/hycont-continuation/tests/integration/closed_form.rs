@@ -236,6 +236,41 @@ fn a_branch_point_factor_from_the_analysis_is_located() {
     assert!(sn.located && sn.point.params[0].abs() < 1e-9);
 }
 
+/// The unit circle $x^2 + l^2 = 1$ continued in $l$: the test problem's unknowns are
+/// $(x, l, l)$ (the parameter and its monitor), so in the arclength metric the circle is an
+/// ellipse whose curvature varies about threefold along it, and the steps are bounded by the
+/// largest angle between consecutive tangents (0.15 rad), not by the corrector (every point
+/// converges at once from the high-order predictor). The step control follows the curvature
+/// (and its trend) below the angle: no step is rejected (without that, steps grown by the
+/// factor 1.4 into a turn above the angle are rejected, halved, grown and rejected again: 17
+/// times on this run), consecutive tangents stay within the angle, and the steps are not
+/// timid (the longest above 0.2: the angle allows about 0.27 where the curvature is least).
+#[test]
+fn steps_follow_the_curvature_below_the_largest_angle_without_rejections() {
+    fn circle(u: &[f64], r: &mut [f64], j: Option<&mut [f64]>) {
+        r[0] = u[0] * u[0] + u[1] * u[1] - 1.0;
+        if let Some(j) = j {
+            j[0] = 2.0 * u[0];
+            j[1] = 2.0 * u[1];
+        }
+    }
+    let mut t = Test::new(1, circle, no_multipliers);
+    let u0 = t.start(&[1.0], 0.0);
+    let mut s = ContinuationSettings::default().steps(0.01, 1e-8, 1.0);
+    s.max_points = 60;
+    let b = continue_branch(&mut t, "circle", &u0, 1.0, &s, &mut Silent).unwrap();
+    assert_eq!(b.statistics.rejected_steps, 0, "{:?}", b.statistics);
+    for w in b.points.windows(2) {
+        // Unit tangents in the (unweighted) arclength metric.
+        let (p, q) = (&w[0].tangent, &w[1].tangent);
+        let cos: f64 = p.iter().zip(q).map(|(a, b)| a * b).sum();
+        let angle = cos.clamp(-1.0, 1.0).acos();
+        assert!(angle <= s.max_angle, "{angle} at l = {}", w[1].params[0]);
+    }
+    let longest = b.points.iter().map(|p| p.step).fold(0.0, f64::max);
+    assert!(longest > 0.2, "longest step {longest}");
+}
+
 /// The work counters of a run (evaluations while stepping and while locating) are consistent
 /// and survive serialisation.
 #[test]
