@@ -375,6 +375,19 @@ impl<'p, 'a, P: ContinuationProblem<'a> + ?Sized> Palc<'p, 'a, P> {
             .clamp(s.h_min, s.h_max)
     }
 
+    /// The turn of the tangent per unit step expected over the next step, from the step `h`
+    /// from `a` to `b` and the step before it (`last`, updated): this step's, times its rise
+    /// since the last (a rising curvature rises on), by at most the growth factor.
+    fn bending_ahead(&self, (a, b): (&Chart, &Chart), h: f64, last: &mut Option<f64>) -> f64 {
+        let now = self.wdot(&b.t, &a.t).clamp(-1.0, 1.0).acos() / h;
+        let trend = match *last {
+            Some(before) if before > 0.0 => (now / before).clamp(1.0, self.settings.growth),
+            _ => 1.0,
+        };
+        *last = Some(now);
+        now * trend
+    }
+
     pub(crate) fn run(
         &mut self,
         name: &str,
@@ -469,23 +482,8 @@ impl<'p, 'a, P: ContinuationProblem<'a> + ?Sized> Palc<'p, 'a, P> {
                 branch.end = EndReason::Closed;
                 break;
             }
-            // The tangent's turn per unit step, and the next step's expected from its trend (a
-            // rising curvature rises on, by at most the growth factor).
-            let now = self.wdot(&b.t, &a.t).clamp(-1.0, 1.0).acos() / h;
-            let trend = |before: f64| {
-                if before > 0.0 {
-                    (now / before).clamp(1.0, self.settings.growth)
-                } else {
-                    1.0
-                }
-            };
-            let expected = now * bending.map_or(1.0, trend);
-            bending = Some(now);
-            h = self.next_step(
-                h,
-                b.iterations - usize::from(self.chord_converged),
-                expected,
-            );
+            let bend = self.bending_ahead((&a, &b), h, &mut bending);
+            h = self.next_step(h, b.iterations - usize::from(self.chord_converged), bend);
             previous.truncate(PREDICTOR_CHARTS - 2);
             previous.insert(0, (std::mem::take(&mut a.u), std::mem::take(&mut a.t)));
             a = b;
