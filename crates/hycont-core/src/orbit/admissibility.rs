@@ -194,7 +194,7 @@ fn conditions<S: HybridJacobians + ?Sized>(
         // error puts the point before or after the end (e.g. an event function that is
         // extremal where the segment ends, as a position at the velocity's zero ending a
         // flight), and the margins would jump along a branch.
-        let end_band = super::scan::BOUNDARY_BAND * duration.abs().max(1.0);
+        let end_band = super::scan::boundary_margin(duration);
         let monitored = system.events(seg.mode);
         for &(e, sigma) in events.iter().filter(|(e, _)| monitored.contains(e)) {
             let h0 = sigma * system.event(e, start, p);

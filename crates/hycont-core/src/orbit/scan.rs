@@ -286,6 +286,12 @@ impl<S: HybridJacobians + ?Sized> HybridSystem for ScanFlow<'_, S> {
 /// integration belong to the boundary (see [`scan`]).
 pub const BOUNDARY_BAND: f64 = 1e-6;
 
+/// The band's width in time at the ends of a segment of duration `duration`:
+/// [`BOUNDARY_BAND`]` * max(1, |T_k|)`.
+pub(super) fn boundary_margin(duration: f64) -> f64 {
+    BOUNDARY_BAND * duration.abs().max(1.0)
+}
+
 /// Scans `orbit` (each segment integrated once from its start for its duration): end states,
 /// critical points of `needs.watches` and integrals of `needs.integrals`. Boundaries that are
 /// interior points of the signature are checked directly and, when critical, reported with
@@ -445,7 +451,7 @@ impl SegmentScan<'_> {
         let duration = orbit.durations[k];
         let mode = flow.mode;
         let segments = orbit.signature.segments().len();
-        let margin = BOUNDARY_BAND * duration.abs().max(1.0);
+        let margin = boundary_margin(duration);
         for e in events {
             let first = flow.watches[e.event.0];
             // Inside the band at an end, the point is the boundary's when the boundary was
