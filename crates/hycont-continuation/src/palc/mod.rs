@@ -41,6 +41,9 @@ pub(crate) use slots::{pd_test, tr_test};
 /// (quintic Hermite, see [`Palc::predictor`]).
 const PREDICTOR_CHARTS: usize = 3;
 
+/// The fraction of the largest angle a step is sized to turn by (see [`Palc::next_step`]).
+const ANGLE_ROOM: f64 = 0.9;
+
 /// Within this of an event's level (relative to `1 + |level|`), a directed run's start lies
 /// on the event: its first step does not locate it again ([`Palc::located_in_step`]).
 const START_EVENT_TOL: f64 = 1e-9;
@@ -296,10 +299,11 @@ impl<'p, 'a, P: ContinuationProblem<'a> + ?Sized> Palc<'p, 'a, P> {
         }
     }
 
-    /// The next chart from `a` by a step `h` from the predictor `pred`: `Ok(None)` when the
-    /// step is rejected (the corrector fails or the tangent turns by more than the largest
-    /// angle) and may be retried shorter; an error when it fails at the smallest step.
-    fn step(&mut self, a: &Chart, pred: &[f64], h: f64) -> Result<Option<Chart>> {
+    /// The next chart from `a` by a step `h` from the predictor `pred`, with the angle its
+    /// tangent turned from `a`'s: `Ok(None)` when the step is rejected (the corrector fails or
+    /// the tangent turns by more than the largest angle) and may be retried shorter; an error
+    /// when it fails at the smallest step.
+    fn step(&mut self, a: &Chart, pred: &[f64], h: f64) -> Result<Option<(Chart, f64)>> {
         let at = self.row_of(&a.t);
         // Chord steps from `a`'s factorisation, if it is still the one factorised.
         let generation = self.generation;
@@ -311,18 +315,19 @@ impl<'p, 'a, P: ContinuationProblem<'a> + ?Sized> Palc<'p, 'a, P> {
         self.chord = None;
         let h_min = self.settings.h_min;
         match corrected.and_then(|(u, it)| self.chart(u, &at, it)) {
-            Ok(mut b)
-                if h <= h_min
-                    || self.wdot(&b.t, &a.t).clamp(-1.0, 1.0).acos() <= self.settings.max_angle =>
-            {
+            Ok(mut b) => {
+                let cos = self.wdot(&b.t, &a.t);
+                if h > h_min && cos.clamp(-1.0, 1.0).acos() > self.settings.max_angle {
+                    return Ok(None);
+                }
                 // Orient the new tangent along the run.
-                if self.wdot(&b.t, &a.t) < 0.0 {
+                if cos < 0.0 {
                     b.t.iter_mut().for_each(|x| *x = -*x);
                 }
-                Ok(Some(b))
+                Ok(Some((b, cos.abs().min(1.0).acos())))
             }
             Err(e) if h <= h_min => Err(e),
-            _ => Ok(None),
+            Err(_) => Ok(None),
         }
     }
 
@@ -357,7 +362,7 @@ impl<'p, 'a, P: ContinuationProblem<'a> + ?Sized> Palc<'p, 'a, P> {
     /// the step) where Newton's contract quadratically, and they take about one more to the
     /// tolerance.
     ///
-    /// Either way no longer than a turn of the tangent by 90 % of the largest angle, at
+    /// Either way no longer than a turn of the tangent by [`ANGLE_ROOM`] of the largest angle, at
     /// `bending` (the turn per unit step expected over the next step): where the branch's
     /// curvature bounds the steps (an easy corrector, as the high-order predictor makes it),
     /// they follow it below the angle instead of growing into a rejection, halving and growing
@@ -371,15 +376,15 @@ impl<'p, 'a, P: ContinuationProblem<'a> + ?Sized> Palc<'p, 'a, P> {
         } else {
             h
         };
-        next.min(0.9 * s.max_angle / bending)
+        next.min(ANGLE_ROOM * s.max_angle / bending)
             .clamp(s.h_min, s.h_max)
     }
 
-    /// The turn of the tangent per unit step expected over the next step, from the step `h`
-    /// from `a` to `b` and the step before it (`last`, updated): this step's, times its rise
+    /// The turn of the tangent per unit step expected over the next step, from this step's
+    /// (`turned` over `h`) and the one before it (`last`, updated): this step's, times its rise
     /// since the last (a rising curvature rises on), by at most the growth factor.
-    fn bending_ahead(&self, (a, b): (&Chart, &Chart), h: f64, last: &mut Option<f64>) -> f64 {
-        let now = self.wdot(&b.t, &a.t).clamp(-1.0, 1.0).acos() / h;
+    fn bending_ahead(&self, turned: f64, h: f64, last: &mut Option<f64>) -> f64 {
+        let now = turned / h;
         let trend = match *last {
             Some(before) if before > 0.0 => (now / before).clamp(1.0, self.settings.growth),
             _ => 1.0,
@@ -439,15 +444,15 @@ impl<'p, 'a, P: ContinuationProblem<'a> + ?Sized> Palc<'p, 'a, P> {
         let mut bending: Option<f64> = None;
         while branch.points.len() < self.settings.max_points {
             let pred = self.predictor(&a, &previous, h);
-            let b = match self.step(&a, &pred, h) {
-                Ok(Some(b)) => {
+            let (b, turned) = match self.step(&a, &pred, h) {
+                Ok(Some(stepped)) => {
                     // `b`'s chart factorised [J(b); W t_a] last: the next step's chords.
                     self.held = Some(chord::Held {
                         generation: self.generation,
                         row: self.row_of(&a.t),
                         z: std::mem::take(&mut self.z),
                     });
-                    b
+                    stepped
                 }
                 Ok(None) => {
                     self.stats.rejected_steps += 1;
@@ -482,7 +487,7 @@ impl<'p, 'a, P: ContinuationProblem<'a> + ?Sized> Palc<'p, 'a, P> {
                 branch.end = EndReason::Closed;
                 break;
             }
-            let bend = self.bending_ahead((&a, &b), h, &mut bending);
+            let bend = self.bending_ahead(turned, h, &mut bending);
             h = self.next_step(h, b.iterations - usize::from(self.chord_converged), bend);
             previous.truncate(PREDICTOR_CHARTS - 2);
             previous.insert(0, (std::mem::take(&mut a.u), std::mem::take(&mut a.t)));
