@@ -36,6 +36,22 @@ pub(crate) fn eliminate_above(
     pivots: &mut [f64],
     tiny: f64,
 ) -> Option<f64> {
+    super::vectorized(
+        #[inline(always)]
+        || eliminate_dispatched(a, (m, c, w), perm, pivots, tiny),
+    )
+}
+
+/// [`eliminate_above`]'s body, by row count (inlined into [`super::vectorized`]'s context with
+/// every kernel it calls).
+#[inline(always)]
+fn eliminate_dispatched(
+    a: &mut [f64],
+    (m, c, w): (usize, usize, usize),
+    perm: &mut [usize],
+    pivots: &mut [f64],
+    tiny: f64,
+) -> Option<f64> {
     match m {
         4 => eliminate_rows::<4>(a, (c, w), perm, pivots, tiny),
         8 => eliminate_rows::<8>(a, (c, w), perm, pivots, tiny),
@@ -54,6 +70,7 @@ pub(crate) fn eliminate_above(
 /// update runs over the 4-row chunks from the one holding row `k + 1` down, in loops the
 /// compiler unrolls, with the multipliers padded by zeros above the pivot (`x - 0 a = x`: the
 /// same numbers as [`eliminate_any`] for finite entries).
+#[inline(always)]
 fn eliminate_rows<const M: usize>(
     a: &mut [f64],
     (c, w): (usize, usize),
@@ -61,25 +78,33 @@ fn eliminate_rows<const M: usize>(
     pivots: &mut [f64],
     tiny: f64,
 ) -> Option<f64> {
-    pivoted_steps(a, (M, c, w), perm, pivots, tiny, |a, k, inv| {
-        let mut l = [0.0; M];
-        for (li, v) in l[k + 1..]
-            .iter_mut()
-            .zip(&mut a[k * M + k + 1..(k + 1) * M])
-        {
-            *v *= inv;
-            *li = *v;
-        }
-        match (k + 1) / 4 {
-            0 => update_from::<M, 0>(a, k, w, &l),
-            1 => update_from::<M, 4>(a, k, w, &l),
-            2 => update_from::<M, 8>(a, k, w, &l),
-            3 => update_from::<M, 12>(a, k, w, &l),
-            4 => update_from::<M, 16>(a, k, w, &l),
-            5 => update_from::<M, 20>(a, k, w, &l),
-            _ => {} // k + 1 >= 24 >= M: no rows below the pivot.
-        }
-    })
+    pivoted_steps(
+        a,
+        (M, c, w),
+        perm,
+        pivots,
+        tiny,
+        #[inline(always)]
+        |a, k, inv| {
+            let mut l = [0.0; M];
+            for (li, v) in l[k + 1..]
+                .iter_mut()
+                .zip(&mut a[k * M + k + 1..(k + 1) * M])
+            {
+                *v *= inv;
+                *li = *v;
+            }
+            match (k + 1) / 4 {
+                0 => update_from::<M, 0>(a, k, w, &l),
+                1 => update_from::<M, 4>(a, k, w, &l),
+                2 => update_from::<M, 8>(a, k, w, &l),
+                3 => update_from::<M, 12>(a, k, w, &l),
+                4 => update_from::<M, 16>(a, k, w, &l),
+                5 => update_from::<M, 20>(a, k, w, &l),
+                _ => {} // k + 1 >= 24 >= M: no rows below the pivot.
+            }
+        },
+    )
 }
 
 /// The update of columns `k + 1..w` by pivot row `k` on rows `S..M` (multipliers `l`, zero
@@ -102,6 +127,7 @@ fn update_from<const M: usize, const S: usize>(a: &mut [f64], k: usize, w: usize
 }
 
 /// [`eliminate`] for any row count.
+#[inline(always)]
 fn eliminate_any(
     a: &mut [f64],
     (m, c, w): (usize, usize, usize),
@@ -109,21 +135,29 @@ fn eliminate_any(
     pivots: &mut [f64],
     tiny: f64,
 ) -> Option<f64> {
-    pivoted_steps(a, (m, c, w), perm, pivots, tiny, |a, k, inv| {
-        for v in &mut a[k * m + k + 1..(k + 1) * m] {
-            *v *= inv;
-        }
-        let (left, right) = a.split_at_mut((k + 1) * m);
-        let lk = &left[k * m + k + 1..];
-        for col in right.chunks_exact_mut(m) {
-            let akj = col[k];
-            if akj != 0.0 {
-                for (x, l) in col[k + 1..].iter_mut().zip(lk) {
-                    *x -= l * akj;
+    pivoted_steps(
+        a,
+        (m, c, w),
+        perm,
+        pivots,
+        tiny,
+        #[inline(always)]
+        |a, k, inv| {
+            for v in &mut a[k * m + k + 1..(k + 1) * m] {
+                *v *= inv;
+            }
+            let (left, right) = a.split_at_mut((k + 1) * m);
+            let lk = &left[k * m + k + 1..];
+            for col in right.chunks_exact_mut(m) {
+                let akj = col[k];
+                if akj != 0.0 {
+                    for (x, l) in col[k + 1..].iter_mut().zip(lk) {
+                        *x -= l * akj;
+                    }
                 }
             }
-        }
-    })
+        },
+    )
 }
 
 /// The elimination's outer loop: for each of the first `c` columns, partial pivoting (the row
@@ -241,7 +275,8 @@ mod tests {
     proptest! {
         /// Both kernels choose the textbook's pivots, in the textbook's order, among entries
         /// with many ties of magnitude (small integers of both signs, zeros among them), and
-        /// give its numbers exactly.
+        /// give its numbers exactly, as `linalg::vectorized` runs them (with AVX2 where
+        /// the processor has it: the wider vectors change no number).
         #[test]
         fn kernels_pivot_as_the_textbook(
             values in proptest::collection::vec(-3i32..=3, 16 * 22),
