@@ -172,6 +172,8 @@ pub(super) struct Condensed {
     /// Work space: right-hand sides.
     rhs: Vec<f64>,
     red_rhs: Vec<f64>,
+    /// One block's right-hand side (as many places as the tallest block has rows).
+    work: Vec<f64>,
     top: Vec<f64>,
     /// The blocks' pivots (at each block's `top`), then the pins'.
     pivots: Vec<f64>,
@@ -353,29 +355,23 @@ impl Condensed {
             let (m, c) = (blk.m(), blk.c());
             let a = &self.dense[blk.at..blk.at + m * blk.w()];
             let t = &mut self.top[blk.top..blk.top + c];
-            // Forward elimination: the pivot rows into `top`, the rows left into the reduced
-            // right-hand side.
-            let rest = &mut self.red_rhs[blk.schur_row..blk.schur_row + m - c];
-            for (i, &p) in blk.perm.iter().enumerate() {
-                let v = self.rhs[blk.rows[p]];
-                if i < c {
-                    t[i] = v;
-                } else {
-                    rest[i - c] = v;
-                }
+            // Forward elimination of the block's rows in pivot order (one loop per step over
+            // the rows below it); then the pivot rows go into `top`, the rows left into the
+            // reduced right-hand side.
+            let v = &mut self.work[..m];
+            for (x, &p) in v.iter_mut().zip(&blk.perm) {
+                *x = self.rhs[blk.rows[p]];
             }
             for k in 0..c {
-                let tk = t[k];
-                if tk != 0.0 {
-                    let col = &a[k * m..(k + 1) * m];
-                    for (ti, l) in t[k + 1..].iter_mut().zip(&col[k + 1..c]) {
-                        *ti -= l * tk;
-                    }
-                    for (ri, l) in rest.iter_mut().zip(&col[c..]) {
-                        *ri -= l * tk;
+                let vk = v[k];
+                if vk != 0.0 {
+                    for (x, l) in v[k + 1..].iter_mut().zip(&a[k * m + k + 1..(k + 1) * m]) {
+                        *x -= l * vk;
                     }
                 }
             }
+            t.copy_from_slice(&v[..c]);
+            self.red_rhs[blk.schur_row..blk.schur_row + m - c].copy_from_slice(&v[c..]);
         }
         for &(i, r) in &self.free_rows {
             self.red_rhs[r] = self.rhs[i];
