@@ -238,7 +238,10 @@ pub(crate) fn reciprocals(pivots: &[f64], inv: &mut [f64]) {
 
 #[cfg(test)]
 mod tests {
-    use super::{eliminate_above, eliminate_any, eliminate_rows, reciprocals, solve_upper};
+    use super::{
+        eliminate_above, eliminate_any, eliminate_dispatched, eliminate_rows, reciprocals,
+        solve_upper,
+    };
     use proptest::prelude::*;
 
     /// Gaussian elimination with partial pivoting as a textbook states it, entry by entry: at
@@ -302,6 +305,44 @@ mod tests {
                 prop_assert_eq!(&piv, &piv_r);
                 prop_assert_eq!(&a, &reference);
             }
+        }
+    }
+
+    proptest! {
+        /// The elimination as run (inside `linalg::vectorized`: with AVX2 on a processor that
+        /// has it) and the same code compiled for the baseline instruction set (called here
+        /// directly) give the same pivots, row order and factors to the bit, for every row
+        /// count kernel and the general one, on blocks with many zeros: wider vectors change
+        /// no number (no contraction into fused multiply-adds, no reordering).
+        #[test]
+        fn vector_width_changes_no_number(
+            values in proptest::collection::vec(-1.0f64..1.0, 24 * 30),
+            zeros in proptest::collection::vec(proptest::bool::weighted(0.4), 24 * 30),
+            m in prop_oneof![Just(4usize), Just(8), Just(16), Just(24), Just(15), Just(7)],
+            c_frac in 0.0f64..1.0,
+        ) {
+            let w = 30;
+            let c = 1 + ((m - 1) as f64 * c_frac) as usize;
+            let block: Vec<f64> = values[..m * w]
+                .iter()
+                .zip(&zeros)
+                .map(|(&v, &z)| if z { 0.0 } else { v })
+                .collect();
+            let (mut wide, mut base) = (block.clone(), block);
+            let (mut perm_w, mut perm_b) = (vec![0; m], vec![0; m]);
+            let (mut piv_w, mut piv_b) = (vec![0.0; c], vec![0.0; c]);
+            let ok_w = eliminate_above(&mut wide, (m, c, w), &mut perm_w, &mut piv_w, 0.0);
+            let ok_b = eliminate_dispatched(&mut base, (m, c, w), &mut perm_b, &mut piv_b, 0.0);
+            prop_assert_eq!(ok_w, ok_b);
+            prop_assert_eq!(perm_w, perm_b);
+            prop_assert_eq!(
+                piv_w.iter().map(|v| v.to_bits()).collect::<Vec<_>>(),
+                piv_b.iter().map(|v| v.to_bits()).collect::<Vec<_>>()
+            );
+            prop_assert_eq!(
+                wide.iter().map(|v| v.to_bits()).collect::<Vec<_>>(),
+                base.iter().map(|v| v.to_bits()).collect::<Vec<_>>()
+            );
         }
     }
 
