@@ -7,6 +7,24 @@ pub(crate) fn dot(a: &[f64], b: &[f64]) -> f64 {
     a.iter().zip(b).map(|(x, y)| x * y).sum()
 }
 
+/// Runs `f` compiled for the widest vector instructions this processor has (AVX2 on x86-64
+/// when present, detected at run time; the baseline otherwise): the small dense kernels'
+/// loops vectorise over 4 lanes instead of 2. `f` and what it calls must be inlined into it
+/// (`#[inline(always)]`) to be compiled so. Floating-point operations are not contracted or
+/// reordered on either path, so the numbers are the same.
+#[inline(always)]
+fn vectorized<R>(f: impl FnOnce() -> R) -> R {
+    struct Run<F>(F);
+    impl<R, F: FnOnce() -> R> pulp::WithSimd for Run<F> {
+        type Output = R;
+        #[inline(always)]
+        fn with_simd<S: pulp::Simd>(self, _: S) -> R {
+            (self.0)()
+        }
+    }
+    pulp::Arch::new().dispatch(Run(f))
+}
+
 /// Gaussian elimination with partial pivoting of the first `c` columns of the column-major
 /// `m x w` matrix `a` (`c <= m`, `c <= w`), applied to all `w` columns: afterwards rows `0..c`
 /// hold $U$ (columns `0..c`) and $L^{-1} P$ applied to the other columns, the multipliers of
@@ -36,13 +54,13 @@ pub(crate) fn eliminate_above(
     pivots: &mut [f64],
     tiny: f64,
 ) -> Option<f64> {
-    super::vectorized(
+    vectorized(
         #[inline(always)]
         || eliminate_dispatched(a, (m, c, w), perm, pivots, tiny),
     )
 }
 
-/// [`eliminate_above`]'s body, by row count (inlined into [`super::vectorized`]'s context with
+/// [`eliminate_above`]'s body, by row count (inlined into [`vectorized`]'s context with
 /// every kernel it calls).
 #[inline(always)]
 fn eliminate_dispatched(
@@ -278,7 +296,7 @@ mod tests {
     proptest! {
         /// Both kernels choose the textbook's pivots, in the textbook's order, among entries
         /// with many ties of magnitude (small integers of both signs, zeros among them), and
-        /// give its numbers exactly, as `linalg::vectorized` runs them (with AVX2 where
+        /// give its numbers exactly, as `vectorized` runs them (with AVX2 where
         /// the processor has it: the wider vectors change no number).
         #[test]
         fn kernels_pivot_as_the_textbook(
@@ -309,7 +327,7 @@ mod tests {
     }
 
     proptest! {
-        /// The elimination as run (inside `linalg::vectorized`: with AVX2 on a processor that
+        /// The elimination as run (inside `vectorized`: with AVX2 on a processor that
         /// has it) and the same code compiled for the baseline instruction set (called here
         /// directly) give the same pivots, row order and factors to the bit, for every row
         /// count kernel and the general one, on blocks with many zeros: wider vectors change

@@ -412,24 +412,6 @@ pub fn max_norm(v: &[f64]) -> f64 {
         .fold(0.0, |s, l| if l > s { l } else { s })
 }
 
-/// Runs `f` compiled for the widest vector instructions this processor has (AVX2 on x86-64
-/// when present, detected at run time; the baseline otherwise): the small dense kernels'
-/// loops vectorise over 4 lanes instead of 2. `f` and what it calls must be inlined into it
-/// (`#[inline(always)]`) to be compiled so. Floating-point operations are not contracted or
-/// reordered on either path, so the numbers are the same.
-#[inline(always)]
-pub(crate) fn vectorized<R>(f: impl FnOnce() -> R) -> R {
-    struct Run<F>(F);
-    impl<R, F: FnOnce() -> R> pulp::WithSimd for Run<F> {
-        type Output = R;
-        #[inline(always)]
-        fn with_simd<S: pulp::Simd>(self, _: S) -> R {
-            (self.0)()
-        }
-    }
-    pulp::Arch::new().dispatch(Run(f))
-}
-
 /// Sign and $\ln|\prod_k p_k|$ of a product of factors (pivots), accumulated as a mantissa
 /// in $[1, 2)$ and a binary exponent: one multiplication per factor instead of a logarithm,
 /// without overflow or underflow.
