@@ -382,6 +382,11 @@ impl Block {
 /// intervals eliminating the nodes between them, and the levels that follow reduce the chain
 /// again: AUTO's reduction, as nested condensation. Greedy in column order; columns that fit
 /// no group stay for the next level.
+///
+/// No level (an empty list) when the groups would eliminate fewer than a quarter of the
+/// `nred` unknowns: such a level (at the end of a chain, two groups merged into one that
+/// eliminates a single shared column, every other row a border row) costs more in its copies,
+/// fills and border solves than it saves the dense or sparse LU of the system it leaves.
 fn next_level(
     blocks: &[Block],
     nred: usize,
@@ -433,7 +438,7 @@ fn next_level(
             _ => {}
         }
     }
-    groups
+    let level: Vec<EliminationBlock> = groups
         .into_iter()
         .map(|(mut members, cols)| {
             members.sort_unstable();
@@ -443,5 +448,10 @@ fn next_level(
             }
         })
         .filter(|g| g.rows.len() >= g.cols.len())
-        .collect()
+        .collect();
+    let eliminated: usize = level.iter().map(|g| g.cols.len()).sum();
+    if 4 * eliminated < nred {
+        return Vec::new();
+    }
+    level
 }
