@@ -9,6 +9,7 @@ mod dense_blocked;
 mod dense_lu;
 mod eigen;
 mod entries;
+mod log_product;
 mod sparse_lu;
 
 use crate::error::{Error, Result};
@@ -18,6 +19,7 @@ use dense_lu::{DenseLu, dense_pattern};
 pub use eigen::{eigenvalues, eigenvectors};
 use entries::Entries;
 use faer::sparse::SparseColMat;
+use log_product::LogProduct;
 use sparse_lu::SparseLu;
 
 /// Unknowns (`cols`) that only the equations `rows` read, apart from a few other rows (*border
@@ -412,54 +414,6 @@ pub fn max_norm(v: &[f64]) -> f64 {
         .fold(0.0, |s, l| if l > s { l } else { s })
 }
 
-/// Sign and $\ln|\prod_k p_k|$ of a product of factors (pivots), accumulated as a mantissa
-/// in $[1, 2)$ and a binary exponent: one multiplication per factor instead of a logarithm,
-/// without overflow or underflow.
-#[derive(Debug, Clone, Copy)]
-pub(crate) struct LogProduct {
-    sign: f64,
-    mantissa: f64,
-    exponent: i64,
-}
-
-impl LogProduct {
-    pub(crate) fn new() -> Self {
-        Self {
-            sign: 1.0,
-            mantissa: 1.0,
-            exponent: 0,
-        }
-    }
-
-    /// Multiplies by `p` (a zero gives `ln = -inf`, a non-finite factor `inf` or NaN, as the
-    /// sum of logarithms would).
-    pub(crate) fn push(&mut self, p: f64) {
-        self.sign *= p.signum();
-        let mut m = self.mantissa * p.abs();
-        if !(m.is_finite() && m > 0.0) {
-            self.mantissa = m;
-            return;
-        }
-        if m < f64::MIN_POSITIVE {
-            // Subnormal: scale into the normal range first (2^54 is exact).
-            m *= 18_014_398_509_481_984.0;
-            self.exponent -= 54;
-        }
-        let bits = m.to_bits();
-        let e = ((bits >> 52) & 0x7ff) as i64 - 1023;
-        self.exponent += e;
-        self.mantissa = f64::from_bits((bits & !(0x7ff << 52)) | (1023 << 52));
-    }
-
-    /// `(sign, ln|product|)`.
-    pub(crate) fn finish(self) -> (f64, f64) {
-        (
-            self.sign,
-            self.mantissa.ln() + self.exponent as f64 * std::f64::consts::LN_2,
-        )
-    }
-}
-
 /// Parity sign of a permutation given as an index array.
 fn permutation_sign(perm: &[usize]) -> f64 {
     if perm.len() <= 64 {
@@ -502,7 +456,7 @@ fn permutation_sign(perm: &[usize]) -> f64 {
 
 #[cfg(test)]
 mod tests {
-    use super::{LogProduct, max_norm, permutation_sign};
+    use super::{max_norm, permutation_sign};
     use proptest::prelude::*;
 
     /// The parity by definition: the number of inversions.
@@ -537,46 +491,5 @@ mod tests {
         ) {
             prop_assert_eq!(permutation_sign(&perm), inversion_sign(&perm));
         }
-
-        /// Sign and logarithm of a product agree with the sum of logarithms (to a few units of
-        /// roundoff per factor), over magnitudes from subnormal to 1e300 whose product would
-        /// overflow or underflow.
-        #[test]
-        fn log_product_is_the_sum_of_logarithms(
-            factors in proptest::collection::vec((-300.0f64..300.0, any::<bool>()), 1..200),
-            subnormal in any::<bool>(),
-        ) {
-            let mut values: Vec<f64> = factors
-                .iter()
-                .map(|&(e, neg)| if neg { -(10f64.powf(e)) } else { 10f64.powf(e) })
-                .collect();
-            if subnormal {
-                values.push(1e-310);
-            }
-            let mut p = LogProduct::new();
-            for &v in &values {
-                p.push(v);
-            }
-            let (sign, log) = p.finish();
-            let want_sign: f64 = values.iter().map(|v| v.signum()).product();
-            let want_log: f64 = values.iter().map(|v| v.abs().ln()).sum();
-            let scale: f64 = values.iter().map(|v| v.abs().ln().abs()).sum::<f64>() + 1.0;
-            prop_assert_eq!(sign, want_sign);
-            prop_assert!((log - want_log).abs() <= 4.0 * f64::EPSILON * scale, "{} vs {}", log, want_log);
-        }
-    }
-
-    #[test]
-    fn log_product_of_a_zero_or_non_finite_factor() {
-        for (bad, want) in [(0.0, f64::NEG_INFINITY), (f64::INFINITY, f64::INFINITY)] {
-            let mut p = LogProduct::new();
-            p.push(2.0);
-            p.push(bad);
-            p.push(3.0);
-            assert_eq!(p.finish().1, want);
-        }
-        let mut p = LogProduct::new();
-        p.push(f64::NAN);
-        assert!(p.finish().1.is_nan());
     }
 }

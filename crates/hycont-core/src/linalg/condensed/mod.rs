@@ -325,11 +325,7 @@ impl Condensed {
     /// Sign and $\ln|\det|$ of the factorised matrix.
     pub(super) fn determinant(&self) -> Result<(f64, f64)> {
         let (sign, log) = self.reduced.determinant()?;
-        let mut det = LogProduct::new();
-        for &p in &self.pivots {
-            det.push(p);
-        }
-        let (pivot_sign, pivot_log) = det.finish();
+        let (pivot_sign, pivot_log) = LogProduct::of(&self.pivots).finish();
         let order_sign = self.blocks.iter().fold(self.order_sign, |s, b| s * b.sign);
         Ok((sign * pivot_sign * order_sign, log + pivot_log))
     }
