@@ -11,9 +11,10 @@
 
 use super::Mesh;
 use super::basis::Basis;
+use super::transfer::Transfer;
 use crate::error::{Error, Result};
 use crate::linalg::SparsePattern;
-use crate::linalg::dense::{eliminate, reciprocals, solve_upper};
+use crate::linalg::dense::eliminate;
 use crate::orbit::PeriodicOrbit;
 use crate::orbit::floquet::{Floquet, matmul_into, matmul_rect, saltation};
 use crate::system::HybridJacobians;
@@ -140,73 +141,9 @@ pub(super) fn factorised_floquet<S: HybridJacobians + ?Sized>(
     floquet_from_transfers(system, orbit, meshes, nodes, transfer).map(Some)
 }
 
-fn singular(k: usize, j: usize) -> Error {
+pub(super) fn singular(k: usize, j: usize) -> Error {
     Error::SingularMatrix {
         reason: format!("collocation block {j} of segment {k} is singular"),
-    }
-}
-
-/// Work space for $Y = -S_1^{-1} S_0$ from the rows $[S_0\ S_1]$.
-struct Transfer {
-    n: usize,
-    small: Vec<f64>,
-    perm: Vec<usize>,
-    pivots: Vec<f64>,
-    /// The pivots' reciprocals.
-    inv: Vec<f64>,
-}
-
-impl Transfer {
-    fn new(n: usize) -> Self {
-        Self {
-            n,
-            small: vec![0.0; 2 * n * n],
-            perm: vec![0; n],
-            pivots: vec![0.0; n],
-            inv: vec![0.0; n],
-        }
-    }
-
-    /// The work space for $n \times n$ transfers (segments of modes of their own dimension).
-    fn resize(&mut self, n: usize) {
-        if n != self.n {
-            *self = Self::new(n);
-        }
-    }
-
-    /// `s(i, col)`: row `i`, column `col` of $[S_0\ S_1]$ (`col < 2n`).
-    fn solve(
-        &mut self,
-        s: impl Fn(usize, usize) -> f64,
-        k: usize,
-        j: usize,
-        y: &mut [f64],
-    ) -> Result<()> {
-        let n = self.n;
-        // [S_1 | -S_0], then U Y = L^{-1} P (-S_0).
-        for i in 0..n {
-            for col in 0..n {
-                self.small[i + col * n] = s(i, n + col);
-                self.small[i + (n + col) * n] = -s(i, col);
-            }
-        }
-        if eliminate(
-            &mut self.small,
-            (n, n, 2 * n),
-            &mut self.perm,
-            &mut self.pivots,
-        )
-        .is_none()
-        {
-            return Err(singular(k, j));
-        }
-        reciprocals(&self.pivots, &mut self.inv);
-        let (u, rhs) = self.small.split_at_mut(n * n);
-        for col in rhs.chunks_exact_mut(n) {
-            solve_upper(u, n, &self.inv, col);
-        }
-        y.copy_from_slice(rhs);
-        Ok(())
     }
 }
 

@@ -14,6 +14,7 @@ mod columns;
 mod condense;
 mod mesh;
 mod solve;
+mod transfer;
 
 use super::end_condition::EndConditions;
 use super::signature::Signature;

@@ -1,0 +1,201 @@
+//! One mesh interval's transfer matrix $Y = -S_1^{-1} S_0$ from its condensed rows
+//! $[S_0\ S_1]$ ($n \times 2n$): Gaussian elimination with partial pivoting of $S_1$ and
+//! back-substitution, for any $n$ or, where $n \le 8$, with $n$ known at compile time (the
+//! whole interval's work in registers and stack arrays: a Floquet analysis does this on every
+//! interval of every point). Both do the same operations in the same order (those of
+//! [`crate::linalg::dense::eliminate`] and [`crate::linalg::dense::solve_upper`]), so they give
+//! the same numbers (up to the sign of a zero).
+
+use super::condense::singular;
+use crate::error::Result;
+use crate::linalg::dense::{eliminate, reciprocals, solve_upper};
+use crate::linalg::max_norm;
+
+/// Work space for $Y = -S_1^{-1} S_0$ from the rows $[S_0\ S_1]$.
+pub(super) struct Transfer {
+    n: usize,
+    small: Vec<f64>,
+    perm: Vec<usize>,
+    pivots: Vec<f64>,
+    /// The pivots' reciprocals.
+    inv: Vec<f64>,
+}
+
+impl Transfer {
+    pub(super) fn new(n: usize) -> Self {
+        Self {
+            n,
+            small: vec![0.0; 2 * n * n],
+            perm: vec![0; n],
+            pivots: vec![0.0; n],
+            inv: vec![0.0; n],
+        }
+    }
+
+    /// The work space for $n \times n$ transfers (segments of modes of their own dimension).
+    pub(super) fn resize(&mut self, n: usize) {
+        if n != self.n {
+            *self = Self::new(n);
+        }
+    }
+
+    /// Writes $Y$ (column-major) into `y`; `s(i, col)` is row `i`, column `col` of
+    /// $[S_0\ S_1]$ (`col < 2n`); `k`, `j` (segment, interval) name a singular $S_1$.
+    pub(super) fn solve(
+        &mut self,
+        s: impl Fn(usize, usize) -> f64,
+        k: usize,
+        j: usize,
+        y: &mut [f64],
+    ) -> Result<()> {
+        let solved = match self.n {
+            1 => solve_fixed::<1>(&s, y),
+            2 => solve_fixed::<2>(&s, y),
+            3 => solve_fixed::<3>(&s, y),
+            4 => solve_fixed::<4>(&s, y),
+            5 => solve_fixed::<5>(&s, y),
+            6 => solve_fixed::<6>(&s, y),
+            7 => solve_fixed::<7>(&s, y),
+            8 => solve_fixed::<8>(&s, y),
+            _ => self.solve_any(&s, y),
+        };
+        solved.ok_or_else(|| singular(k, j))
+    }
+
+    /// [`Transfer::solve`] for any $n$, in the work space.
+    fn solve_any(&mut self, s: &impl Fn(usize, usize) -> f64, y: &mut [f64]) -> Option<()> {
+        let n = self.n;
+        // [S_1 | -S_0], then U Y = L^{-1} P (-S_0).
+        for i in 0..n {
+            for col in 0..n {
+                self.small[i + col * n] = s(i, n + col);
+                self.small[i + (n + col) * n] = -s(i, col);
+            }
+        }
+        eliminate(
+            &mut self.small,
+            (n, n, 2 * n),
+            &mut self.perm,
+            &mut self.pivots,
+        )?;
+        reciprocals(&self.pivots, &mut self.inv);
+        let (u, rhs) = self.small.split_at_mut(n * n);
+        for col in rhs.chunks_exact_mut(n) {
+            solve_upper(u, n, &self.inv, col);
+        }
+        y.copy_from_slice(rhs);
+        Some(())
+    }
+}
+
+/// [`Transfer::solve`] with `N` known at compile time: $S_1$ and $-S_0$ by columns in stack
+/// arrays, the pivot the first row with the largest magnitude (NaNs passed over, refused on
+/// the diagonal), refused unless larger than `N` units of roundoff of $S_1$'s largest entry;
+/// multipliers as products with the pivot's reciprocal; back-substitution by the reciprocals.
+#[inline(always)]
+fn solve_fixed<const N: usize>(s: &impl Fn(usize, usize) -> f64, y: &mut [f64]) -> Option<()> {
+    let mut u = [[0.0f64; N]; N];
+    let mut r = [[0.0f64; N]; N];
+    for (col, (uc, rc)) in u.iter_mut().zip(&mut r).enumerate() {
+        for i in 0..N {
+            uc[i] = s(i, N + col);
+            rc[i] = -s(i, col);
+        }
+    }
+    let tiny = max_norm(u.as_flattened()) * f64::EPSILON * N as f64;
+    let mut inv = [0.0; N];
+    for k in 0..N {
+        let col = &u[k][k..];
+        let largest = max_norm(col);
+        let p = k + col.iter().position(|v| v.abs() == largest).unwrap_or(0);
+        let piv = if col[0].is_nan() { col[0] } else { u[k][p] };
+        if !(piv.abs() > tiny && piv.is_finite()) {
+            return None;
+        }
+        if p != k {
+            for c in u.iter_mut().chain(r.iter_mut()) {
+                c.swap(k, p);
+            }
+        }
+        inv[k] = 1.0 / piv;
+        for v in &mut u[k][k + 1..] {
+            *v *= inv[k];
+        }
+        let (done, rest) = u.split_at_mut(k + 1);
+        let l = &done[k];
+        for c in rest.iter_mut().chain(r.iter_mut()) {
+            let akj = c[k];
+            if akj != 0.0 {
+                for i in k + 1..N {
+                    c[i] -= l[i] * akj;
+                }
+            }
+        }
+    }
+    for c in &mut r {
+        for k in (0..N).rev() {
+            let xk = c[k] * inv[k];
+            c[k] = xk;
+            if xk != 0.0 {
+                for i in 0..k {
+                    c[i] -= u[k][i] * xk;
+                }
+            }
+        }
+    }
+    y.copy_from_slice(r.as_flattened());
+    Some(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::Transfer;
+    use proptest::prelude::*;
+
+    proptest! {
+        /// The compile-time kernels (every `n` up to 8) give the general path's transfer
+        /// matrix to the last bit, on rows with a third of their entries zero (skipped
+        /// updates), and refuse the same singular $S_1$ (a zero column).
+        #[test]
+        fn fixed_sizes_give_the_general_numbers(
+            n in 1usize..=8,
+            entries in proptest::collection::vec(
+                prop_oneof![2 => -10.0f64..10.0, 1 => Just(0.0)], 128),
+            singular_column in proptest::option::of(0usize..8),
+        ) {
+            let mut rows = entries[..2 * n * n].to_vec();
+            if let Some(c) = singular_column.filter(|&c| c < n) {
+                for i in 0..n {
+                    rows[i + (n + c) * n] = 0.0;
+                }
+            }
+            // Row i, column col of [S_0 S_1], column-major n x 2n.
+            let s = |i: usize, col: usize| rows[i + col * n];
+            let mut fixed = vec![f64::NAN; n * n];
+            let mut any = vec![f64::NAN; n * n];
+            let mut t = Transfer::new(n);
+            let fixed_ok = t.solve(s, 0, 0, &mut fixed).is_ok();
+            let any_ok = t.solve_any(&s, &mut any).is_some();
+            prop_assert_eq!(fixed_ok, any_ok);
+            if fixed_ok {
+                // Equal values; a zero's sign may differ (the general kernel updates the rows
+                // above the pivot with zero multipliers: -0 - 0 * a is +0 for a < 0).
+                prop_assert_eq!(&fixed, &any);
+            }
+        }
+    }
+
+    /// $Y = -S_1^{-1} S_0$ for a small case by hand: $S_1 = \mathrm{diag}(2, 4)$ after a row
+    /// swap ($S_1 = [[0, 4], [2, 0]]$), $S_0 = [[1, 2], [3, 4]]$; then
+    /// $S_1^{-1} = [[0, 1/2], [1/4, 0]]$ and $Y = -[[3/2, 2], [1/4, 1/2]]$.
+    #[test]
+    fn transfer_of_a_swapped_block_by_hand() {
+        // Column-major [S_0 S_1]: S_0 = [[1, 2], [3, 4]], S_1 = [[0, 4], [2, 0]].
+        let rows = [1.0, 3.0, 2.0, 4.0, 0.0, 2.0, 4.0, 0.0];
+        let mut y = [0.0; 4];
+        Transfer::new(2)
+            .solve(|i, col| rows[i + 2 * col], 0, 0, &mut y)
+            .unwrap();
+        assert_eq!(y, [-1.5, -0.25, -2.0, -0.5]);
+    }
+}
