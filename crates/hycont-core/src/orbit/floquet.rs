@@ -145,8 +145,33 @@ pub(crate) fn matmul(n: usize, a: &[f64], b: &[f64]) -> Vec<f64> {
     c
 }
 
-/// [`matmul`] into `c` (no allocation).
+/// [`matmul`] into `c` (no allocation); up to $n = 8$ with nalgebra's fixed-size matrices
+/// (the collocation monodromy does one such product per mesh interval).
 pub(crate) fn matmul_into(n: usize, a: &[f64], b: &[f64], c: &mut [f64]) {
+    match n {
+        1 => matmul_fixed::<1>(a, b, c),
+        2 => matmul_fixed::<2>(a, b, c),
+        3 => matmul_fixed::<3>(a, b, c),
+        4 => matmul_fixed::<4>(a, b, c),
+        5 => matmul_fixed::<5>(a, b, c),
+        6 => matmul_fixed::<6>(a, b, c),
+        7 => matmul_fixed::<7>(a, b, c),
+        8 => matmul_fixed::<8>(a, b, c),
+        _ => matmul_dynamic(n, a, b, c),
+    }
+}
+
+/// [`matmul_into`] for `N` known at compile time: for $n \le 5$ the same sums in the same
+/// order as the dynamic product (nalgebra's column-by-column `gemv` below its `matrixmultiply`
+/// threshold), so the same numbers.
+fn matmul_fixed<const N: usize>(a: &[f64], b: &[f64], c: &mut [f64]) {
+    let a = nalgebra::SMatrix::<f64, N, N>::from_column_slice(a);
+    let b = nalgebra::SMatrix::<f64, N, N>::from_column_slice(b);
+    c.copy_from_slice((a * b).as_slice());
+}
+
+/// [`matmul_into`] for any `n`.
+fn matmul_dynamic(n: usize, a: &[f64], b: &[f64], c: &mut [f64]) {
     let a = nalgebra::DMatrixView::from_slice(a, n, n);
     let b = nalgebra::DMatrixView::from_slice(b, n, n);
     // beta = 0: `c` is not read.
@@ -219,4 +244,32 @@ pub(crate) fn saltation<S: HybridJacobians + ?Sized>(
         }
     }
     s
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{matmul_dynamic, matmul_into};
+    use proptest::prelude::*;
+
+    proptest! {
+        /// The fixed-size products give the dynamic product's numbers: to the bit up to
+        /// $n = 5$ (the same sums in the same order), within roundoff of the sums' magnitudes
+        /// where the dynamic product goes to `matrixmultiply` (6 to 8).
+        #[test]
+        fn fixed_size_products_agree_with_the_dynamic_one(
+            n in 1usize..=8,
+            entries in proptest::collection::vec(-10.0f64..10.0, 128),
+        ) {
+            let (a, b) = (&entries[..n * n], &entries[64..64 + n * n]);
+            let (mut fixed, mut dynamic) = (vec![0.0; n * n], vec![0.0; n * n]);
+            matmul_into(n, a, b, &mut fixed);
+            matmul_dynamic(n, a, b, &mut dynamic);
+            for (k, (x, y)) in fixed.iter().zip(&dynamic).enumerate() {
+                let (i, j) = (k % n, k / n);
+                let magnitude: f64 = (0..n).map(|l| (a[i + l * n] * b[l + j * n]).abs()).sum();
+                let tol = if n <= 5 { 0.0 } else { 4.0 * n as f64 * f64::EPSILON * magnitude };
+                prop_assert!((x - y).abs() <= tol, "n = {}, entry {}: {} vs {}", n, k, x, y);
+            }
+        }
+    }
 }
