@@ -1,14 +1,36 @@
 //! Sign and logarithm of a product of many factors (a determinant from its pivots), without
 //! overflow or underflow and without a logarithm per factor.
 
-/// Sign and $\ln|\prod_k p_k|$ of a product of factors (pivots), accumulated as a mantissa
-/// in $[1, 2)$ and a binary exponent: one multiplication per factor instead of a logarithm,
-/// without overflow or underflow.
+/// Sign and $\ln|\prod_k p_k|$ of a product of factors (pivots), accumulated as a scaled
+/// product in $[2^{-511}, 2^{512})$ and a binary exponent: one multiplication and a range
+/// check per factor instead of a logarithm, without overflow or underflow. The product is
+/// renormalised (by exact powers of two) only when it leaves that range, so each factor costs
+/// one rounding, as in the plain product.
 #[derive(Debug, Clone, Copy)]
 pub(crate) struct LogProduct {
     sign: f64,
+    /// The scaled product (or, once a factor was zero or not finite, 0, inf or NaN).
     mantissa: f64,
     exponent: i64,
+}
+
+/// $2^{-511}$ and $2^{512}$: a product of two values in this range is a normal number.
+const LOW: f64 = f64::from_bits((1023 - 511) << 52);
+const HIGH: f64 = f64::from_bits((1023 + 512) << 52);
+
+/// `x = m 2^e` with `m` in $[1, 2)$, for a finite positive `x` (subnormals included).
+fn split(x: f64) -> (f64, i64) {
+    let (x, shift) = if x < f64::MIN_POSITIVE {
+        (x * 18_014_398_509_481_984.0, -54) // 2^54, exact
+    } else {
+        (x, 0)
+    };
+    let bits = x.to_bits();
+    let e = ((bits >> 52) & 0x7ff) as i64 - 1023;
+    (
+        f64::from_bits((bits & !(0x7ff << 52)) | (1023 << 52)),
+        e + shift,
+    )
 }
 
 impl LogProduct {
@@ -22,22 +44,31 @@ impl LogProduct {
 
     /// Multiplies by `p` (a zero gives `ln = -inf`, a non-finite factor `inf` or NaN, as the
     /// sum of logarithms would).
+    #[inline]
     pub(crate) fn push(&mut self, p: f64) {
         self.sign *= p.signum();
-        let mut m = self.mantissa * p.abs();
-        if !(m.is_finite() && m > 0.0) {
+        let m = self.mantissa * p.abs();
+        if (LOW..HIGH).contains(&m) {
             self.mantissa = m;
+        } else {
+            self.push_rescaled(p.abs());
+        }
+    }
+
+    /// [`LogProduct::push`] of `a = |p|` where the plain product left the range: the product
+    /// of the two mantissas in $[1, 2)$, renormalised; or the flag of a zero or non-finite
+    /// factor.
+    #[cold]
+    fn push_rescaled(&mut self, a: f64) {
+        let finite = |x: f64| x.is_finite() && x > 0.0;
+        if !(finite(self.mantissa) && finite(a)) {
+            self.mantissa *= a;
             return;
         }
-        if m < f64::MIN_POSITIVE {
-            // Subnormal: scale into the normal range first (2^54 is exact).
-            m *= 18_014_398_509_481_984.0;
-            self.exponent -= 54;
-        }
-        let bits = m.to_bits();
-        let e = ((bits >> 52) & 0x7ff) as i64 - 1023;
-        self.exponent += e;
-        self.mantissa = f64::from_bits((bits & !(0x7ff << 52)) | (1023 << 52));
+        let ((mm, em), (ma, ea)) = (split(self.mantissa), split(a));
+        let (m, e) = split(mm * ma);
+        self.mantissa = m;
+        self.exponent += em + ea + e;
     }
 
     /// The product of `factors`, accumulated in four interleaved partial products that are
@@ -66,9 +97,14 @@ impl LogProduct {
 
     /// `(sign, ln|product|)`.
     pub(crate) fn finish(self) -> (f64, f64) {
+        let (m, e) = if self.mantissa.is_finite() && self.mantissa > 0.0 {
+            split(self.mantissa)
+        } else {
+            (self.mantissa, 0)
+        };
         (
             self.sign,
-            self.mantissa.ln() + self.exponent as f64 * std::f64::consts::LN_2,
+            m.ln() + (self.exponent + e) as f64 * std::f64::consts::LN_2,
         )
     }
 }
@@ -105,6 +141,47 @@ mod tests {
                 prop_assert_eq!(sign, want_sign);
                 prop_assert!((log - want_log).abs() <= 4.0 * f64::EPSILON * scale, "{} vs {}", log, want_log);
             }
+        }
+    }
+
+    /// The range bounds are the powers of two they stand for.
+    #[test]
+    fn range_bounds_are_powers_of_two() {
+        assert_eq!(super::LOW, 2f64.powi(-511));
+        assert_eq!(super::HIGH, 2f64.powi(512));
+    }
+
+    /// Products that leave the range either way, many times over, and a factor beside the
+    /// largest and smallest magnitudes: the plain sum of logarithms to roundoff.
+    #[test]
+    fn rescaling_keeps_the_logarithm() {
+        let factors = [
+            1e300,
+            1e300,
+            1e-310,
+            3.0,
+            1e-300,
+            1e-300,
+            f64::MAX,
+            5e-324,
+            0.5,
+        ];
+        let want: f64 = factors.iter().map(|v: &f64| v.ln()).sum();
+        for (sign, log) in [
+            LogProduct::of(&factors).finish(),
+            factors
+                .iter()
+                .fold(LogProduct::new(), |mut p, &v| {
+                    p.push(v);
+                    p
+                })
+                .finish(),
+        ] {
+            assert_eq!(sign, 1.0);
+            assert!(
+                (log - want).abs() <= 1e-12 * want.abs().max(1.0),
+                "{log} vs {want}"
+            );
         }
     }
 
