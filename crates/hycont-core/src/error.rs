@@ -349,17 +349,31 @@ pub fn check_len(what: &'static str, values: &[f64], expected: usize) -> Result<
 ///
 /// # Errors
 /// That error, if an entry is not finite.
-#[inline]
+#[inline(always)]
 pub(crate) fn finite_derivative(
+    m: &[f64],
+    rows: usize,
+    columns: (&'static str, usize),
+    of: impl FnOnce() -> String,
+    state: &[f64],
+) -> Result<()> {
+    // The check inline (every collocation point of every Jacobian), the error out of line.
+    if all_finite(m) {
+        return Ok(());
+    }
+    non_finite_derivative(m, rows, columns, of, state)
+}
+
+/// [`finite_derivative`]'s error.
+#[cold]
+#[inline(never)]
+fn non_finite_derivative(
     m: &[f64],
     rows: usize,
     (columns, first_column): (&'static str, usize),
     of: impl FnOnce() -> String,
     state: &[f64],
 ) -> Result<()> {
-    if all_finite(m) {
-        return Ok(());
-    }
     match m.iter().position(|v| !v.is_finite()) {
         None => Ok(()),
         Some(k) => Err(Error::NonFiniteDerivative {
