@@ -18,10 +18,10 @@ use hycont_continuation::SpecialKind;
 use hycont_continuation::observe::Silent;
 use hycont_continuation::{BranchPoint, EndReason, OrbitBranch, RunDirection};
 use hycont_core::SimulationSettings;
-use hycont_core::orbit::PeriodicOrbit;
-use rocking_block::RockingBlock;
+use hycont_core::orbit::{PeriodicOrbit, SegmentEnd};
 use rocking_block::block::Block;
 use rocking_block::continuation::{AMP, Free, GRAZED, default_method, study_branches, study_run};
+use rocking_block::{IMPACT_MINUS, IMPACT_PLUS, RockingBlock};
 
 /// How far the orbit, simulated for a period from the middle of its first segment, is from
 /// where it started, and the impacts on the way ([`PeriodicOrbit::simulated_return`]).
@@ -29,6 +29,19 @@ fn returns(orbit: &PeriodicOrbit) -> (f64, usize) {
     let settings = SimulationSettings::default().rtol(1e-12).atol(1e-13);
     let back = orbit.simulated_return(&RockingBlock, &settings).unwrap();
     (back.gap, back.events)
+}
+
+/// Impacts per period by `orbit`'s signature (its segments that end at an impact). At the
+/// grazing orbit itself this is the reference: a simulation of it may or may not register the
+/// dip's tangential touch of phi = 0 as two impacts more (it did, or did not, for grazing
+/// points located 1e-11 apart).
+fn impacts(orbit: &PeriodicOrbit) -> usize {
+    orbit
+        .signature
+        .segments()
+        .iter()
+        .filter(|s| matches!(s.end, SegmentEnd::Event(e) if e == IMPACT_PLUS || e == IMPACT_MINUS))
+        .count()
 }
 
 /// The zero-length segments of the grazing orbit (the flights on the other corner).
@@ -86,7 +99,7 @@ fn figures_3_and_4_go_on_past_grazing_with_the_dips_impacts() {
         let zeros = zero_length(&first);
         assert_eq!(zeros.len(), 2, "{free:?}: {:?}", first.durations);
         assert_eq!(first.segment_count(), old.segment_count() + 4);
-        let (_, old_impacts) = returns(&old);
+        let old_impacts = impacts(&old);
         // Up to the family's own grazing, where it ends: there another dip touches phi = 0,
         // which the simulation of the located orbit may or may not meet.
         let inner = match grazed.branch.end {
