@@ -63,8 +63,9 @@ impl<'a, P: ContinuationProblem<'a> + ?Sized> Palc<'_, 'a, P> {
     /// `s_lo < s_hi` on chart `a`'s hyperplanes, by the ITP method (Oliveira and Takahashi,
     /// 2020: regula falsi, truncated towards the midpoint and projected into a shrinking
     /// interval around it; once trials shrink the bracket fast, inverse quadratic interpolation
-    /// through three points in place of regula falsi, see [`Itp::trial`]). It converges superlinearly for smooth test functions, from both
-    /// sides (the truncation steps over the root, so the bracket, not just one end, shrinks),
+    /// through three points in place of regula falsi, see [`Itp::trial`]). It converges
+    /// superlinearly for smooth test functions, from both sides (the truncation steps over the
+    /// root, so the bracket, not just one end, shrinks),
     /// and never needs more than one evaluation beyond bisection's
     /// $\lceil \log_2 (w_0 / \mathrm{tol}) \rceil$. A trial whose corrector fails (next to a
     /// branch point the augmented Jacobian is singular) is retried at the midpoint. Returns the
@@ -205,10 +206,11 @@ impl<'a, P: ContinuationProblem<'a> + ?Sized> Palc<'_, 'a, P> {
 ///
 /// The small $\kappa_1$ keeps the early trials near the regula falsi point (5 to 6 corrector
 /// solves per located point on the rocking block's branches with regula falsi alone, against 7
-/// to 8 with the paper's $0.2 / w_0$; 4 to 5 with the three-point interpolation). Once the interpolation is accurate the overshoot $\kappa_1 w^2$ falls to
-/// roundoff; the floor keeps trials off the interpolated zero itself (where the augmented
-/// Jacobian of a branch point can be exactly singular: a symmetry-breaking point at parameter 0
-/// to the last bit) while the located point stays far more accurate than the tolerance.
+/// to 8 with the paper's $0.2 / w_0$; 4 to 5 with the three-point interpolation). Once the
+/// interpolation is accurate the overshoot $\kappa_1 w^2$ falls to roundoff; the floor keeps
+/// trials off the interpolated zero itself (where the augmented Jacobian of a branch point can
+/// be exactly singular: a symmetry-breaking point at parameter 0 to the last bit), far below
+/// the tolerance.
 struct Itp {
     eps: f64,
     kappa1: f64,
