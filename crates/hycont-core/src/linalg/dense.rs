@@ -144,6 +144,21 @@ fn update_from<const M: usize, const S: usize>(a: &mut [f64], k: usize, w: usize
     }
 }
 
+/// [`eliminate`] without the run-time vector dispatch or the row-count kernels, inlined where
+/// it is called: for blocks so small (a few rows, sizes known at compile time there) that the
+/// dispatch would cost more than the arithmetic. The same numbers as [`eliminate`] (a zero's
+/// sign aside, see [`eliminate_rows`]).
+#[inline(always)]
+pub(crate) fn eliminate_inline(
+    a: &mut [f64],
+    (m, c, w): (usize, usize, usize),
+    perm: &mut [usize],
+    pivots: &mut [f64],
+) -> Option<f64> {
+    let scale = super::max_norm(&a[..c * m]);
+    eliminate_any(a, (m, c, w), perm, pivots, scale * f64::EPSILON * m as f64)
+}
+
 /// [`eliminate`] for any row count.
 #[inline(always)]
 fn eliminate_any(

@@ -2,14 +2,13 @@
 //! $[S_0\ S_1]$ ($n \times 2n$): Gaussian elimination with partial pivoting of $S_1$ and
 //! back-substitution, for any $n$ or, where $n \le 8$, with $n$ known at compile time (the
 //! whole interval's work in registers and stack arrays: a Floquet analysis does this on every
-//! interval of every point). Both do the same operations in the same order (those of
-//! [`crate::linalg::dense::eliminate`] and [`crate::linalg::dense::solve_upper`]), so they give
-//! the same numbers (up to the sign of a zero).
+//! interval of every point). Both run the same elimination and back-substitution
+//! (`linalg::dense`), the fixed one without the run-time dispatch and with constant sizes, so
+//! they give the same numbers (up to the sign of a zero).
 
 use super::condense::singular;
 use crate::error::Result;
-use crate::linalg::dense::{eliminate, reciprocals, solve_upper};
-use crate::linalg::max_norm;
+use crate::linalg::dense::{eliminate, eliminate_inline, reciprocals, solve_upper};
 
 /// Work space for $Y = -S_1^{-1} S_0$ from the rows $[S_0\ S_1]$.
 pub(super) struct Transfer {
@@ -88,62 +87,27 @@ impl Transfer {
     }
 }
 
-/// [`Transfer::solve`] with `N` known at compile time: $S_1$ and $-S_0$ by columns in stack
-/// arrays, the pivot the first row with the largest magnitude (NaNs passed over, refused on
-/// the diagonal), refused unless larger than `N` units of roundoff of $S_1$'s largest entry;
-/// multipliers as products with the pivot's reciprocal; back-substitution by the reciprocals.
+/// [`Transfer::solve`] with `N` known at compile time: $[S_1\ {-S_0}]$ in a stack array,
+/// eliminated by [`eliminate_inline`] (the same pivoting and steps as the general path, with
+/// the sizes constant), then the back-substitution of each column of $-S_0$.
 #[inline(always)]
 fn solve_fixed<const N: usize>(s: &impl Fn(usize, usize) -> f64, y: &mut [f64]) -> Option<()> {
-    let mut u = [[0.0f64; N]; N];
-    let mut r = [[0.0f64; N]; N];
-    for (col, (uc, rc)) in u.iter_mut().zip(&mut r).enumerate() {
+    let mut buf = [0.0f64; 2 * 8 * 8];
+    let a = &mut buf[..2 * N * N];
+    for col in 0..N {
         for i in 0..N {
-            uc[i] = s(i, N + col);
-            rc[i] = -s(i, col);
+            a[i + col * N] = s(i, N + col);
+            a[i + (N + col) * N] = -s(i, col);
         }
     }
-    let tiny = max_norm(u.as_flattened()) * f64::EPSILON * N as f64;
-    let mut inv = [0.0; N];
-    for k in 0..N {
-        let col = &u[k][k..];
-        let largest = max_norm(col);
-        let p = k + col.iter().position(|v| v.abs() == largest).unwrap_or(0);
-        let piv = if col[0].is_nan() { col[0] } else { u[k][p] };
-        if !(piv.abs() > tiny && piv.is_finite()) {
-            return None;
-        }
-        if p != k {
-            for c in u.iter_mut().chain(r.iter_mut()) {
-                c.swap(k, p);
-            }
-        }
-        inv[k] = 1.0 / piv;
-        for v in &mut u[k][k + 1..] {
-            *v *= inv[k];
-        }
-        let (done, rest) = u.split_at_mut(k + 1);
-        let l = &done[k];
-        for c in rest.iter_mut().chain(r.iter_mut()) {
-            let akj = c[k];
-            if akj != 0.0 {
-                for i in k + 1..N {
-                    c[i] -= l[i] * akj;
-                }
-            }
-        }
+    let (mut perm, mut pivots) = ([0usize; N], [0.0f64; N]);
+    eliminate_inline(a, (N, N, 2 * N), &mut perm, &mut pivots)?;
+    let inv = pivots.map(|p| 1.0 / p);
+    let (u, rhs) = a.split_at_mut(N * N);
+    for col in rhs.chunks_exact_mut(N) {
+        solve_upper(u, N, &inv, col);
     }
-    for c in &mut r {
-        for k in (0..N).rev() {
-            let xk = c[k] * inv[k];
-            c[k] = xk;
-            if xk != 0.0 {
-                for i in 0..k {
-                    c[i] -= u[k][i] * xk;
-                }
-            }
-        }
-    }
-    y.copy_from_slice(r.as_flattened());
+    y.copy_from_slice(rhs);
     Some(())
 }
 
