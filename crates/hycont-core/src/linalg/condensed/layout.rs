@@ -135,7 +135,7 @@ impl Condensed {
             order_sign: 1.0,
             rhs: vec![0.0; n],
             red_rhs: vec![0.0; kept.len()],
-            work: vec![0.0; blocks.iter().map(Block::m).max().unwrap_or(0)],
+            work: vec![0.0; super::sweep::RUN * blocks.iter().map(Block::m).max().unwrap_or(0)],
             top: vec![0.0; top],
             pivots: vec![0.0; top + pins.len()],
             inv_pivots: vec![0.0; top],

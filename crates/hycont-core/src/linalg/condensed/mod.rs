@@ -17,13 +17,15 @@
 //! arclength row): each gets $-\,g^\top X_b^{-1} Y_b$ on the kept columns $O_b$ its block reads.
 //! Each block is a small dense matrix $|R_b| \times (|C_b| + |O_b|)$ factorised in place; $S$ is
 //! factorised by [`super::sparse_lu::SparseLu`] (symbolic analysis once). Solves fix the pinned
-//! unknowns, forward-eliminate block by block, solve with $S$ and back-substitute.
+//! unknowns, forward-eliminate block by block (two blocks of one shape at a time, see `sweep`),
+//! solve with $S$ and back-substitute.
 
 mod layout;
+mod sweep;
 
 use super::LogProduct;
 use super::SparsePattern;
-use super::dense::{dot, eliminate, reciprocals, solve_upper, solve_upper_transpose};
+use super::dense::{dot, eliminate, reciprocals, solve_upper_transpose};
 use crate::error::Result;
 
 /// Where an entry's value goes.
@@ -172,7 +174,7 @@ pub(super) struct Condensed {
     /// Work space: right-hand sides.
     rhs: Vec<f64>,
     red_rhs: Vec<f64>,
-    /// One block's right-hand side (as many places as the tallest block has rows).
+    /// Two blocks' right-hand sides (twice as many places as the tallest block has rows).
     work: Vec<f64>,
     top: Vec<f64>,
     /// The blocks' pivots (at each block's `top`), then the pins'.
@@ -347,28 +349,15 @@ impl Condensed {
                 }
             }
         }
-        for blk in &self.blocks {
-            let (m, c) = (blk.m(), blk.c());
-            let a = &self.dense[blk.at..blk.at + m * blk.w()];
-            let t = &mut self.top[blk.top..blk.top + c];
-            // Forward elimination of the block's rows in pivot order (one loop per step over
-            // the rows below it); then the pivot rows go into `top`, the rows left into the
-            // reduced right-hand side.
-            let v = &mut self.work[..m];
-            for (x, &p) in v.iter_mut().zip(&blk.perm) {
-                *x = self.rhs[blk.rows[p]];
-            }
-            for k in 0..c {
-                let vk = v[k];
-                if vk != 0.0 {
-                    for (x, l) in v[k + 1..].iter_mut().zip(&a[k * m + k + 1..(k + 1) * m]) {
-                        *x -= l * vk;
-                    }
-                }
-            }
-            t.copy_from_slice(&v[..c]);
-            self.red_rhs[blk.schur_row..blk.schur_row + m - c].copy_from_slice(&v[c..]);
-        }
+        // Forward elimination of each block's rows in pivot order (one loop per step over the
+        // rows below it), two blocks at a time (see `sweep`); the pivot rows go into `top`, the
+        // rows left into the reduced right-hand side.
+        let (dense, rhs, work) = (&self.dense, &self.rhs, &mut self.work);
+        let out = (&mut self.top[..], &mut self.red_rhs[..]);
+        sweep::in_runs(&self.blocks, |blks| match blks.len() {
+            2 => sweep::forward::<2>(blks, dense, rhs, work, (&mut *out.0, &mut *out.1)),
+            _ => sweep::forward::<1>(blks, dense, rhs, work, (&mut *out.0, &mut *out.1)),
+        });
         for &(i, r) in &self.free_rows {
             self.red_rhs[r] = self.rhs[i];
         }
@@ -382,24 +371,13 @@ impl Condensed {
         for (k, &j) in self.kept.iter().enumerate() {
             b[j] = self.red_rhs[k];
         }
-        for blk in &self.blocks {
-            let (m, c) = (blk.m(), blk.c());
-            let a = &self.dense[blk.at..blk.at + m * blk.w()];
-            let t = &mut self.top[blk.top..blk.top + c];
-            // t <- t - W' x_O, then U x_C = t.
-            for (k, &rc) in blk.other.iter().enumerate() {
-                let xo = self.red_rhs[rc];
-                if xo != 0.0 {
-                    for (ti, wi) in t.iter_mut().zip(&a[(c + k) * m..(c + k) * m + c]) {
-                        *ti -= wi * xo;
-                    }
-                }
-            }
-            solve_upper(a, m, &self.inv_pivots[blk.top..blk.top + c], t);
-            for (&j, &x) in blk.cols.iter().zip(t.iter()) {
-                b[j] = x;
-            }
-        }
+        // t <- t - W' x_O, then U x_C = t; two blocks at a time.
+        let (dense, red_x, work) = (&self.dense, &self.red_rhs, &mut self.work);
+        let factors = (&self.top[..], &self.inv_pivots[..]);
+        sweep::in_runs(&self.blocks, |blks| match blks.len() {
+            2 => sweep::back::<2>(blks, dense, factors, red_x, work, b),
+            _ => sweep::back::<1>(blks, dense, factors, red_x, work, b),
+        });
         Ok(())
     }
 
