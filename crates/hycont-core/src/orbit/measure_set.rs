@@ -1,10 +1,11 @@
 //! [`MeasureSet`]: named measures of an orbit evaluated together, one scan for all.
 
 use super::measure::Measure;
-use super::scan::{OrbitScan, ScanNeeds, scan};
+use super::scan::{OrbitScan, ScanNeeds, scan, scan_simulator, scan_with};
 use super::{Closure, PeriodicOrbit, Touch};
 use crate::error::{Error, Result, check_finite};
-use crate::simulate::SimulationSettings;
+use crate::simulate::{SimulationSettings, Simulator};
+use std::sync::Mutex;
 use crate::system::HybridJacobians;
 
 /// Named measures evaluated together: one scan of the orbit serves all of them.
@@ -16,6 +17,9 @@ pub struct MeasureSet<'a, S: ?Sized> {
     names: Vec<String>,
     measures: Vec<Box<dyn Measure<S> + 'a>>,
     settings: SimulationSettings,
+    /// The scans' simulator, kept for its work space (a scan that finds it in use, e.g. from
+    /// a measure that evaluates measures, makes its own).
+    scanner: Mutex<Option<Simulator>>,
 }
 
 impl<S: ?Sized> std::fmt::Debug for MeasureSet<'_, S> {
@@ -40,6 +44,7 @@ impl<'a, S: ?Sized> MeasureSet<'a, S> {
             names: Vec::new(),
             measures: Vec::new(),
             settings: SimulationSettings::default().rtol(1e-10).atol(1e-12),
+            scanner: Mutex::new(None),
         }
     }
 
@@ -47,6 +52,7 @@ impl<'a, S: ?Sized> MeasureSet<'a, S> {
     #[must_use]
     pub fn with_settings(mut self, settings: SimulationSettings) -> Self {
         self.settings = settings;
+        self.scanner = Mutex::new(None);
         self
     }
 
@@ -178,9 +184,25 @@ impl<S: HybridJacobians + ?Sized> MeasureSet<'_, S> {
         let scanned = if needs.is_empty() {
             OrbitScan::default()
         } else {
-            scan(system, orbit, &needs, &self.settings)?
+            self.scan(system, orbit, &needs)?
         };
         Ok(Some((m.as_ref(), scanned)))
+    }
+
+    /// [`scan`] at the set's settings, with the kept simulator where it is free.
+    fn scan(&self, system: &S, orbit: &PeriodicOrbit, needs: &ScanNeeds) -> Result<OrbitScan>
+    where
+        S: HybridJacobians,
+    {
+        if let Ok(mut kept) = self.scanner.try_lock() {
+            if kept.is_none() {
+                *kept = Some(scan_simulator(&self.settings)?);
+            }
+            if let Some(sim) = kept.as_mut() {
+                return scan_with(sim, system, orbit, needs);
+            }
+        }
+        scan(system, orbit, needs, &self.settings)
     }
 
     fn evaluate_indices(
@@ -208,7 +230,7 @@ impl<S: HybridJacobians + ?Sized> MeasureSet<'_, S> {
         let scanned = if needs.is_empty() {
             OrbitScan::default()
         } else {
-            scan(system, orbit, &needs, &self.settings)?
+            self.scan(system, orbit, &needs)?
         };
         indices
             .map(|i| self.measures[i].value(system, orbit, &scanned))

@@ -312,7 +312,16 @@ pub fn scan<S: HybridJacobians + ?Sized>(
     settings: &SimulationSettings,
 ) -> Result<OrbitScan> {
     check_needs(system, needs)?;
-    let mut sim = Simulator::new(
+    scan_with(&mut scan_simulator(settings)?, system, orbit, needs)
+}
+
+/// The simulator [`scan`] integrates with at `settings` (events recorded, not conditioned, no
+/// Zeno detection: a scan follows one segment's flow).
+///
+/// # Errors
+/// Invalid settings.
+pub(crate) fn scan_simulator(settings: &SimulationSettings) -> Result<Simulator> {
+    Simulator::new(
         settings
             .clone()
             .record_events(true)
@@ -322,7 +331,21 @@ pub fn scan<S: HybridJacobians + ?Sized>(
                 min_interval: 0.0,
                 ..ZenoSettings::default()
             }),
-    )?;
+    )
+}
+
+/// [`scan`] with a simulator made by [`scan_simulator`], which keeps its work space from one
+/// scan to the next (a run starts afresh from its inputs: the results are those of a new one).
+///
+/// # Errors
+/// As [`scan`].
+pub(crate) fn scan_with<S: HybridJacobians + ?Sized>(
+    sim: &mut Simulator,
+    system: &S,
+    orbit: &PeriodicOrbit,
+    needs: &ScanNeeds,
+) -> Result<OrbitScan> {
+    check_needs(system, needs)?;
     let mut out = OrbitScan {
         integrated: needs.integrals.clone(),
         ..OrbitScan::default()

@@ -164,6 +164,34 @@ fn extrema_averages_and_margins_of_a_circle() {
     }
 }
 
+/// A set keeps its scans' simulator from one evaluation to the next: what it measures after
+/// other orbits (of other segment counts, a larger and a smaller one) is what a new set
+/// measures, to the bit.
+#[test]
+fn a_set_measures_each_orbit_as_a_new_set_does() {
+    let set_of = || {
+        let mut set = MeasureSet::new();
+        set.add("max", Extremum::max(0)).unwrap();
+        set.add("max_abs", Extremum::max_abs(1)).unwrap();
+        set.add("mean", TimeAverage::new(0)).unwrap();
+        set.add("low", GrazingMargin::new([LOW])).unwrap();
+        set
+    };
+    let orbits = [
+        circle(0.3, 1.2, 1.0),
+        split_circle(-0.2, 0.4, 1.0),
+        circle(0.1, 0.05, 1.0),
+        split_circle(0.3, 1.2, 1.0),
+    ];
+    let kept = set_of();
+    for orbit in &orbits {
+        let again = kept.evaluate(&Walls, orbit).unwrap();
+        let fresh = set_of().evaluate(&Walls, orbit).unwrap();
+        let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+        assert_eq!(bits(&again), bits(&fresh));
+    }
+}
+
 #[test]
 fn critical_points_inside_segments_and_at_interior_boundaries() {
     let settings = SimulationSettings::default();
