@@ -103,26 +103,38 @@ fn eliminate_rows<const M: usize>(
         pivots,
         tiny,
         #[inline(always)]
-        |a, k, inv| {
-            let mut l = [0.0; M];
-            for (li, v) in l[k + 1..]
-                .iter_mut()
-                .zip(&mut a[k * M + k + 1..(k + 1) * M])
-            {
-                *v *= inv;
-                *li = *v;
-            }
-            match (k + 1) / 4 {
-                0 => update_from::<M, 0>(a, k, w, &l),
-                1 => update_from::<M, 4>(a, k, w, &l),
-                2 => update_from::<M, 8>(a, k, w, &l),
-                3 => update_from::<M, 12>(a, k, w, &l),
-                4 => update_from::<M, 16>(a, k, w, &l),
-                5 => update_from::<M, 20>(a, k, w, &l),
-                _ => {} // k + 1 >= 24 >= M: no rows below the pivot.
-            }
+        |a, k, inv| match (k + 1) / 4 {
+            0 => step_from::<M, 0>(a, k, w, inv),
+            1 => step_from::<M, 4>(a, k, w, inv),
+            2 => step_from::<M, 8>(a, k, w, inv),
+            3 => step_from::<M, 12>(a, k, w, inv),
+            4 => step_from::<M, 16>(a, k, w, inv),
+            5 => step_from::<M, 20>(a, k, w, inv),
+            _ => {} // k + 1 >= 24 >= M: no rows below the pivot.
         },
     )
+}
+
+/// Step `k` on the 4-row chunks from `S` (the one holding row `k + 1`) down: the multipliers
+/// (column `k` below the pivot times `inv`, stored in place) and the update of the columns to
+/// the right. The multipliers are formed whole chunks at a time, zeros at and above row `k`,
+/// so that the update reads each chunk as it was written. (Written from row `k + 1`, at any
+/// place within a chunk, they made the update's whole-chunk reads wait for the writes to
+/// reach the cache; forming them so made a collocation branch 2-3 % faster.)
+#[inline(always)]
+fn step_from<const M: usize, const S: usize>(a: &mut [f64], k: usize, w: usize, inv: f64) {
+    if S >= M {
+        return;
+    }
+    let mut l = [0.0; M];
+    let col = &mut a[k * M..(k + 1) * M];
+    for ((li, v), i) in l[S..].iter_mut().zip(&mut col[S..]).zip(S..) {
+        let scaled = *v * inv;
+        let below = i > k;
+        *li = if below { scaled } else { 0.0 };
+        *v = if below { scaled } else { *v };
+    }
+    update_from::<M, S>(a, k, w, &l);
 }
 
 /// The update of columns `k + 1..w` by pivot row `k` on rows `S..M` (multipliers `l`, zero

@@ -5,8 +5,8 @@ use super::scan::{OrbitScan, ScanNeeds, scan, scan_simulator, scan_with};
 use super::{Closure, PeriodicOrbit, Touch};
 use crate::error::{Error, Result, check_finite};
 use crate::simulate::{SimulationSettings, Simulator};
-use std::sync::Mutex;
 use crate::system::HybridJacobians;
+use std::sync::Mutex;
 
 /// Named measures evaluated together: one scan of the orbit serves all of them.
 ///
