@@ -1,6 +1,9 @@
 //! The collocation basis: Gauss-Legendre points and the Lagrange polynomials on equidistant
 //! nodes of an interval, tabulated at those points.
 
+use std::borrow::Cow;
+use std::sync::OnceLock;
+
 /// Gauss-Legendre points on $(0, 1)$.
 #[must_use]
 pub fn gauss_legendre_points(m: usize) -> Vec<f64> {
@@ -95,5 +98,39 @@ impl Basis {
             })
             .collect();
         Self { ncol, l, dl, dn }
+    }
+
+    /// The basis for `ncol` points, made once per process for the degrees collocation takes
+    /// (1 to 7; others are made afresh): a Gauss point search and the Lagrange tables cost
+    /// more than a point's error estimate.
+    pub(super) fn shared(ncol: usize) -> Cow<'static, Self> {
+        static BASES: [OnceLock<Basis>; 8] = [const { OnceLock::new() }; 8];
+        match BASES.get(ncol) {
+            Some(cell) if ncol >= 1 => Cow::Borrowed(cell.get_or_init(|| Self::new(ncol))),
+            _ => Cow::Owned(Self::new(ncol)),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::Basis;
+
+    /// The shared bases are the ones made afresh, to the bit, on first use and after, for
+    /// every degree collocation takes and for one beyond them (made afresh).
+    #[test]
+    fn shared_bases_are_fresh_ones() {
+        let bits = |b: &Basis| {
+            let rows = b.l.iter().chain(&b.dl).chain(std::iter::once(&b.dn));
+            (
+                b.ncol,
+                rows.flatten().map(|v| v.to_bits()).collect::<Vec<_>>(),
+            )
+        };
+        for ncol in 1..=9 {
+            let fresh = bits(&Basis::new(ncol));
+            assert_eq!(bits(&Basis::shared(ncol)), fresh);
+            assert_eq!(bits(&Basis::shared(ncol)), fresh);
+        }
     }
 }

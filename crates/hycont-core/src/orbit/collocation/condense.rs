@@ -27,7 +27,7 @@ pub(super) fn condensed_floquet<S: HybridJacobians + ?Sized>(
     nodes: &[Vec<f64>],
     ncol: usize,
 ) -> Result<Floquet> {
-    let basis = Basis::new(ncol);
+    let basis = Basis::shared(ncol);
     let (mut block, mut perm, mut pivots) = (Vec::new(), Vec::new(), Vec::new());
     let (mut xi, mut a) = (Vec::new(), Vec::new());
     let mut small = Transfer::new(0);

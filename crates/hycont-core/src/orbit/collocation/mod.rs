@@ -144,7 +144,7 @@ impl<'a, S: HybridJacobians + ?Sized> Collocation<'a, S> {
         Ok(Self {
             system,
             signature,
-            basis: Basis::new(ncol),
+            basis: Basis::shared(ncol).into_owned(),
             meshes,
             dims,
             np,

@@ -176,7 +176,7 @@ fn per_segment<T>(
     u: &[f64],
     f: fn(&[f64], &[f64], &Basis, usize) -> T,
 ) -> Vec<T> {
-    let basis = Basis::new(ncol);
+    let basis = Basis::shared(ncol);
     // Each segment's nodes, read in place (as `unpack_nodes` lays them out).
     let mut pos = 0;
     meshes
@@ -240,7 +240,7 @@ pub fn collocation_refined_meshes(
         return collocation_adapted_meshes(like, meshes, ncol, u);
     }
     let factor = (2.0 * estimate / tolerance).powf(1.0 / (ncol + 1) as f64);
-    let basis = Basis::new(ncol);
+    let basis = Basis::shared(ncol);
     let (nodes, _) = collocation_unpack(like, meshes, ncol, u);
     nodes
         .iter()
@@ -393,7 +393,7 @@ pub(crate) fn solve_collocation_unchecked<S: HybridJacobians + ?Sized>(
     let mut meshes: Vec<Mesh> = (0..kk).map(|_| uniform_mesh(settings.ntst)).collect();
     let mut nodes = initial_nodes(system, guess, &meshes, settings.ncol)?;
     let mut orbit = guess.clone();
-    let basis = Basis::new(settings.ncol);
+    let basis = Basis::shared(settings.ncol);
     let sizes = vec![settings.ntst * settings.ncol + 1; kk];
     let mut history = Vec::new();
     let mut residual = 0.0;
