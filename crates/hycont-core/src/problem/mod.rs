@@ -47,6 +47,9 @@ struct Part<'a> {
     /// The number of its Jacobian's entries (the entries themselves are asked of the function
     /// when a pattern is built: a large system's are millions, not kept per part).
     entries: usize,
+    /// Where its unknowns are consecutive global ones (e.g. a discretised orbit's), their
+    /// range: the part reads them in place instead of gathered.
+    span: Option<std::ops::Range<usize>>,
 }
 
 struct Monitor<'a> {
@@ -153,11 +156,15 @@ impl<'a> Problem<'a> {
         self.check_indices("part unknowns", &unknowns, function.unknowns())?;
         let row = self.parts.iter().map(|p| p.function.equations()).sum();
         let entries = function.jacobian_len();
+        let first = unknowns.first().copied().unwrap_or(0);
+        let span = (unknowns.iter().enumerate().all(|(k, &i)| i == first + k))
+            .then(|| first..first + unknowns.len());
         self.parts.push(Part {
             function,
             unknowns,
             row,
             entries,
+            span,
         });
         self.pattern = None;
         Ok(PartId(self.parts.len() - 1))
@@ -369,8 +376,14 @@ impl<'a> Problem<'a> {
         let mut local_u = Vec::new();
         let mut start = 0;
         for part in &mut self.parts {
-            local_u.clear();
-            local_u.extend(part.unknowns.iter().map(|&i| u[i]));
+            let local: &[f64] = match &part.span {
+                Some(span) => &u[span.clone()],
+                None => {
+                    local_u.clear();
+                    local_u.extend(part.unknowns.iter().map(|&i| u[i]));
+                    &local_u
+                }
+            };
             let rows = part.function.equations();
             let res = &mut residual[part.row..part.row + rows];
             match jac.as_deref_mut() {
@@ -389,12 +402,12 @@ impl<'a> Problem<'a> {
                             held: &self.held_local,
                             purpose,
                         };
-                        part.function.evaluate_hinted(&local_u, res, out, hints)?;
+                        part.function.evaluate_hinted(local, res, out, hints)?;
                     } else {
-                        part.function.evaluate(&local_u, res, out)?;
+                        part.function.evaluate(local, res, out)?;
                     }
                 }
-                None => part.function.evaluate(&local_u, res, None)?,
+                None => part.function.evaluate(local, res, None)?,
             }
         }
         let row0 = residual.len() - self.monitors.len();

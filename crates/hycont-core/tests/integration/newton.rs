@@ -107,3 +107,47 @@ fn newton_failures_say_why() {
         other => panic!("{other}"),
     }
 }
+
+/// $r = x_0 - 2 x_1$ over a part's two unknowns, with its gradient.
+struct Difference;
+
+impl ZeroFunction for Difference {
+    fn unknowns(&self) -> usize {
+        2
+    }
+    fn equations(&self) -> usize {
+        1
+    }
+    fn jacobian_pattern(&self) -> Vec<(usize, usize)> {
+        vec![(0, 0), (0, 1)]
+    }
+    fn evaluate(
+        &mut self,
+        u: &[f64],
+        r: &mut [f64],
+        j: Option<&mut [f64]>,
+    ) -> hycont_core::Result<()> {
+        r[0] = u[0] - 2.0 * u[1];
+        if let Some(j) = j {
+            j.copy_from_slice(&[1.0, -2.0]);
+        }
+        Ok(())
+    }
+}
+
+/// Each part reads its unknowns in its own order, whether they are consecutive global ones
+/// (read in place: from the start, at an offset) or not (gathered: out of order, apart).
+#[test]
+fn parts_read_their_unknowns_in_their_own_order() {
+    let mut problem = Problem::new(4);
+    for unknowns in [vec![0, 1], vec![2, 3], vec![3, 0], vec![1, 3]] {
+        problem.add_part(Box::new(Difference), unknowns).unwrap();
+    }
+    let u = [1.0, 10.0, 100.0, 1000.0];
+    let (mut r, mut j) = (vec![0.0; 4], Vec::new());
+    problem.evaluate(&u, &mut r, Some(&mut j)).unwrap();
+    assert_eq!(r, [1.0 - 20.0, 100.0 - 2000.0, 1000.0 - 2.0, 10.0 - 2000.0]);
+    assert_eq!(j, [1.0, -2.0].repeat(4));
+    problem.evaluate(&u, &mut r, None).unwrap();
+    assert_eq!(r, [1.0 - 20.0, 100.0 - 2000.0, 1000.0 - 2.0, 10.0 - 2000.0]);
+}
