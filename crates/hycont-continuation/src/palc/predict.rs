@@ -84,12 +84,17 @@ pub(super) fn hermite_graph(nodes: &[GraphNode<'_>], x: f64) -> Vec<f64> {
 fn hermite_weights(z: &[f64], x: f64) -> Vec<(f64, f64)> {
     let m = 2 * z.len();
     let at = |j: usize| z[j / 2];
+    // The divided differences' work space, for every unit datum in turn.
+    let (mut level, mut coef) = (vec![0.0; m], Vec::with_capacity(m));
     // The interpolant of unit data: value (`slope == false`) or slope 1 at `node`, 0 elsewhere.
-    let unit = |node: usize, slope: bool| {
+    let mut unit = |node: usize, slope: bool| {
         let one =
             |j: usize, of_slope: bool| f64::from(u8::from(j / 2 == node && slope == of_slope));
-        let mut level: Vec<f64> = (0..m).map(|j| one(j, false)).collect();
-        let mut coef = vec![level[0]];
+        for (j, v) in level.iter_mut().enumerate() {
+            *v = one(j, false);
+        }
+        coef.clear();
+        coef.push(level[0]);
         for l in 1..m {
             for j in 0..m - l {
                 // At l = 1 an even j pairs a node with itself: the slope datum.
