@@ -1,7 +1,7 @@
 //! The corrector: chord Newton on the augmented system, its factorisation (left for the
 //! tangent, the determinant and the analysis) and the charts built from it.
 
-use super::predict::{dot, max_abs};
+use super::predict::{add_with_max, dot, max_abs};
 use super::{Chart, Palc};
 use crate::error::{Error, Result};
 use crate::{ContinuationProblem, PointInfo};
@@ -11,7 +11,8 @@ use hycont_core::problem::JacobianUse;
 const RECENT: usize = 4;
 
 impl<'a, P: ContinuationProblem<'a> + ?Sized> Palc<'_, 'a, P> {
-    /// Assembles and factorises $[J(u); r^\top]$ and writes $[F(u); r \cdot (u - u_0) - s]$.
+    /// Assembles and factorises $[J(u); r^\top]$ and writes $[F(u); r \cdot u - r_0 - s]$,
+    /// `r0` $= r \cdot u_0$ (the same through a correction: taken once).
     ///
     /// `purpose` tells the problem whether the Jacobian must be exact (at a solution: tangent,
     /// determinant, multipliers) or only gives chord directions (it may then be computed more
@@ -20,7 +21,7 @@ impl<'a, P: ContinuationProblem<'a> + ?Sized> Palc<'_, 'a, P> {
         &mut self,
         u: &[f64],
         row: &[f64],
-        u0: &[f64],
+        r0: f64,
         s: f64,
         purpose: JacobianUse,
     ) -> Result<()> {
@@ -40,7 +41,7 @@ impl<'a, P: ContinuationProblem<'a> + ?Sized> Palc<'_, 'a, P> {
         // grown by doubling would hold twice a large system's millions).
         values.reserve_exact(row.len());
         values.extend_from_slice(row);
-        self.res[n - 1] = dot(row, u) - dot(row, u0) - s;
+        self.res[n - 1] = dot(row, u) - r0 - s;
         let out = self.pattern.factorize(&values);
         self.values = values;
         Ok(out?)
@@ -72,7 +73,9 @@ impl<'a, P: ContinuationProblem<'a> + ?Sized> Palc<'_, 'a, P> {
         let ns = self.settings.newton;
         let max_it = 2 * self.settings.target_iterations;
         let n = self.n;
+        let r0 = dot(row, u0);
         let mut u = u_pred.to_vec();
+        let mut u_max = max_abs(&u);
         let mut du = vec![0.0; n];
         let mut last_step = f64::INFINITY;
         let mut last_res = f64::INFINITY;
@@ -90,14 +93,14 @@ impl<'a, P: ContinuationProblem<'a> + ?Sized> Palc<'_, 'a, P> {
         // Whether the last factorisation was the exact one that chord steps led to.
         let mut via_chord = false;
         if exact {
-            self.factor(&u, row, u0, s, JacobianUse::Exact)?;
+            self.factor(&u, row, r0, s, JacobianUse::Exact)?;
             if max_abs(&self.res) <= ns.residual_tol {
                 return Ok((u, 0));
             }
         } else if chord.is_some() {
-            self.residual(&u, row, u0, s)?;
+            self.residual(&u, row, r0, s)?;
         } else {
-            self.factor(&u, row, u0, s, JacobianUse::NewtonDirection)?;
+            self.factor(&u, row, r0, s, JacobianUse::NewtonDirection)?;
         }
         let mut fresh = true;
         let mut expect_solution = false;
@@ -113,15 +116,15 @@ impl<'a, P: ContinuationProblem<'a> + ?Sized> Palc<'_, 'a, P> {
         for it in 0..=max_it {
             if !fresh {
                 if expect_solution {
-                    self.factor(&u, row, u0, s, JacobianUse::Exact)?;
+                    self.factor(&u, row, r0, s, JacobianUse::Exact)?;
                     via_chord = chord.take().is_some();
                 } else {
-                    self.residual(&u, row, u0, s)?;
+                    self.residual(&u, row, r0, s)?;
                 }
                 exact = expect_solution;
             }
             let res = max_abs(&self.res);
-            let scale = 1.0 + max_abs(&u);
+            let scale = 1.0 + u_max;
             if it > 0
                 && (res <= ns.residual_tol
                     || (last_step <= ns.tol * scale && res <= 1e3 * last_step.max(ns.residual_tol)))
@@ -129,7 +132,7 @@ impl<'a, P: ContinuationProblem<'a> + ?Sized> Palc<'_, 'a, P> {
                 // Converged: the tangent and the determinant need the factorisation there.
                 if !exact {
                     via_chord = chord.take().is_some();
-                    self.factor(&u, row, u0, s, JacobianUse::Exact)?;
+                    self.factor(&u, row, r0, s, JacobianUse::Exact)?;
                 }
                 self.chord_converged = via_chord;
                 return Ok((u, it));
@@ -140,7 +143,7 @@ impl<'a, P: ContinuationProblem<'a> + ?Sized> Palc<'_, 'a, P> {
             }
             if !fresh && !exact && res > 0.2 * last_res {
                 // Slow contraction: refresh the Jacobian.
-                self.factor(&u, row, u0, s, JacobianUse::NewtonDirection)?;
+                self.factor(&u, row, r0, s, JacobianUse::NewtonDirection)?;
                 chord = None;
             }
             // A chord iteration contracts the residual by about the same factor each step.
@@ -164,9 +167,7 @@ impl<'a, P: ContinuationProblem<'a> + ?Sized> Palc<'_, 'a, P> {
             if last_step > 1e3 * scale {
                 break;
             }
-            for (x, d) in u.iter_mut().zip(&du) {
-                *x += d;
-            }
+            u_max = add_with_max(&mut u, &du);
             fresh = false;
         }
         let history: Vec<_> = (done.saturating_sub(RECENT)..done)
@@ -191,12 +192,12 @@ impl<'a, P: ContinuationProblem<'a> + ?Sized> Palc<'_, 'a, P> {
         }))
     }
 
-    /// Writes $[F(u); r \cdot (u - u_0) - s]$.
-    fn residual(&mut self, u: &[f64], row: &[f64], u0: &[f64], s: f64) -> Result<()> {
+    /// Writes $[F(u); r \cdot u - r_0 - s]$ (see [`Palc::factor`]).
+    fn residual(&mut self, u: &[f64], row: &[f64], r0: f64, s: f64) -> Result<()> {
         let n = self.n;
         self.count_residual();
         self.p.problem().evaluate(u, &mut self.res[..n - 1], None)?;
-        self.res[n - 1] = dot(row, u) - dot(row, u0) - s;
+        self.res[n - 1] = dot(row, u) - r0 - s;
         Ok(())
     }
 
@@ -229,7 +230,7 @@ impl<'a, P: ContinuationProblem<'a> + ?Sized> Palc<'_, 'a, P> {
     /// determinant of $[J(u); row]$ (factorises afresh).
     pub(super) fn tangent(&mut self, u: &[f64], row: &[f64]) -> Result<(Vec<f64>, (f64, f64))> {
         let zero = vec![0.0; self.n];
-        self.factor(u, row, &zero, dot(row, u), JacobianUse::Exact)?;
+        self.factor(u, row, dot(row, &zero), dot(row, u), JacobianUse::Exact)?;
         self.tangent_from_factorization()
     }
 

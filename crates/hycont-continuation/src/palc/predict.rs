@@ -24,6 +24,30 @@ pub(super) fn dot(a: &[f64], b: &[f64]) -> f64 {
     (s[0] + s[1]) + (s[2] + s[3]) + tail
 }
 
+/// `u += du`, returning the new `max_abs(u)` (the same value, from the same pass).
+pub(super) fn add_with_max(u: &mut [f64], du: &[f64]) -> f64 {
+    let mut lanes = [0.0_f64; 4];
+    let more = |l: &mut f64, x: f64| {
+        let y = x.abs();
+        *l = if y > *l { y } else { *l };
+    };
+    let mut cu = u.chunks_exact_mut(4);
+    let mut cd = du.chunks_exact(4);
+    for (x, d) in (&mut cu).zip(&mut cd) {
+        for ((l, xi), di) in lanes.iter_mut().zip(x).zip(d) {
+            *xi += di;
+            more(l, *xi);
+        }
+    }
+    for (xi, di) in cu.into_remainder().iter_mut().zip(cd.remainder()) {
+        *xi += di;
+        more(&mut lanes[0], *xi);
+    }
+    lanes
+        .into_iter()
+        .fold(0.0, |s, l| if l > s { l } else { s })
+}
+
 /// A fixed, generic unit vector of length `n`.
 pub(super) fn generic(n: usize) -> Vec<f64> {
     let mut v: Vec<f64> = (0..n)
@@ -116,6 +140,25 @@ fn hermite_weights(z: &[f64], x: f64) -> Vec<(f64, f64)> {
 #[cfg(test)]
 mod tests {
     use super::{GraphNode, hermite_graph, hermite_weights};
+
+    /// `add_with_max` adds as a loop does and returns `max_abs` of the sum, for every length
+    /// and remainder, NaNs among the entries (ignored by the maximum, as by `max_abs`).
+    #[test]
+    fn add_with_max_is_the_sum_and_its_max_abs() {
+        for len in 0..11 {
+            let u: Vec<f64> = (0..len).map(|i| (i as f64 * 0.37).sin() * 3.0).collect();
+            let mut du: Vec<f64> = (0..len).map(|i| (i as f64 * 1.3).cos()).collect();
+            if len > 5 {
+                du[len / 2] = f64::NAN;
+            }
+            let mut fused = u.clone();
+            let max = super::add_with_max(&mut fused, &du);
+            let sum: Vec<f64> = u.iter().zip(&du).map(|(x, d)| x + d).collect();
+            let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+            assert_eq!(bits(&fused), bits(&sum));
+            assert_eq!(max.to_bits(), super::max_abs(&sum).to_bits());
+        }
+    }
 
     /// $p(\sigma) = \sum_{j \le d} c_j \sigma^j$ and $p'(\sigma)$.
     fn poly(c: &[f64], x: f64) -> (f64, f64) {
