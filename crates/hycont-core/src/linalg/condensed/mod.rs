@@ -17,8 +17,8 @@
 //! arclength row): each gets $-\,g^\top X_b^{-1} Y_b$ on the kept columns $O_b$ its block reads.
 //! Each block is a small dense matrix $|R_b| \times (|C_b| + |O_b|)$ factorised in place; $S$ is
 //! factorised by [`super::sparse_lu::SparseLu`] (symbolic analysis once). Solves fix the pinned
-//! unknowns, forward-eliminate block by block (two blocks of one shape at a time, see `sweep`),
-//! solve with $S$ and back-substitute.
+//! unknowns, forward-eliminate block by block (two blocks of one shape at a time, see `sweep`,
+//! as the factorisation's Schur updates), solve with $S$ and back-substitute.
 
 mod layout;
 mod sweep;
@@ -296,8 +296,15 @@ impl Condensed {
             blk.sign = sign;
             let inv = &mut self.inv_pivots[blk.top..blk.top + blk.c()];
             reciprocals(pivots, inv);
-            schur_into(blk, &self.dense, inv, &mut self.border, &mut self.red_vals);
         }
+        // Each block's contributions to the reduced system, two blocks at a time (their
+        // border rows' triangular solves are chains of dependent dot products).
+        let (dense, inv) = (&self.dense, &self.inv_pivots);
+        let (border, red) = (&mut self.border, &mut self.red_vals);
+        sweep::in_runs(&self.blocks, |blks| match blks.len() {
+            2 => sweep::schur::<2>(blks, dense, inv, border, red),
+            _ => sweep::schur::<1>(blks, dense, inv, border, red),
+        });
         self.reduced.factorize(&self.red_vals)?;
         Ok(Condensation::Done)
     }
@@ -439,27 +446,5 @@ impl Condensed {
             d[p.row] /= self.pivots[pin0 + k];
         }
         Ok(())
-    }
-}
-
-/// The block's contributions to the reduced system: its rows left after elimination, and the
-/// border rows' updates $-y^\top W'$ with $U^\top y = g$ (`y` kept for the solves).
-fn schur_into(blk: &Block, dense: &[f64], inv: &[f64], border: &mut [f64], red: &mut [f64]) {
-    let (m, c, o) = (blk.m(), blk.c(), blk.other.len());
-    let a = &dense[blk.at..blk.at + m * blk.w()];
-    // The rows left, column by column (`m - c` entries each, as listed in the reduced system).
-    let left = &mut red[blk.schur_entries..blk.schur_entries + o * (m - c)];
-    for (k, col) in left.chunks_exact_mut((m - c).max(1)).enumerate() {
-        for (x, v) in col.iter_mut().zip(&a[(c + k) * m + c..(c + k + 1) * m]) {
-            *x += v;
-        }
-    }
-    for bd in &blk.borders {
-        let y = &mut border[bd.at..bd.at + c];
-        solve_upper_transpose(a, m, inv, y);
-        let row = &mut red[bd.entries..bd.entries + o];
-        for (k, x) in row.iter_mut().enumerate() {
-            *x -= dot(&a[(c + k) * m..(c + k) * m + c], y);
-        }
     }
 }

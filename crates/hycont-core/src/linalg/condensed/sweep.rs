@@ -1,12 +1,15 @@
-//! The solves' sweeps over the blocks, two blocks of the same shape at a time.
+//! The sweeps over the blocks, two blocks of the same shape at a time: the solves' forward
+//! elimination and back substitution, and the factorisation's Schur updates.
 //!
-//! A block's forward elimination and back substitution are chains of short dependent loops:
-//! each step waits for the one before, and one block's chain is longer than the processor looks
-//! ahead. Blocks are independent of each other in both sweeps, so two of them advanced step by
-//! step together keep two chains in flight. Each block sees exactly the operations of a sweep
-//! over it alone, in the same order: the numbers do not depend on the pairing.
+//! A block's forward elimination, back substitution and border rows' triangular solves are
+//! chains of short dependent loops: each step waits for the one before, and one block's chain
+//! is longer than the processor looks ahead. Blocks are independent of each other in all of
+//! them, so two of them advanced step by step together keep two chains in flight. Each block
+//! sees exactly the operations of a sweep over it alone, in the same order: the numbers do not
+//! depend on the pairing.
 
 use super::Block;
+use crate::linalg::dense::{dot, solve_upper_transpose};
 
 /// Whether blocks `a` and `b` can be swept together (the same rows, eliminated columns and
 /// kept columns read).
@@ -180,18 +183,92 @@ pub(super) fn back<const B: usize>(
     }
 }
 
+/// The contributions of `B` blocks of one shape to the reduced system (see the module docs of
+/// `condensed`): each block's rows left after elimination, and its border rows' updates
+/// $-y^\top W'$ with $U^\top y = g$ (`y` kept in `border` for the solves). The border rows'
+/// triangular solves of the blocks advance step by step together where the blocks have as
+/// many border rows; each gets the numbers of a solve alone.
+#[inline(always)]
+pub(super) fn schur<const B: usize>(
+    blks: &[Block],
+    dense: &[f64],
+    inv_pivots: &[f64],
+    border: &mut [f64],
+    red: &mut [f64],
+) {
+    let (m, c, o) = (blks[0].m(), blks[0].c(), blks[0].other.len());
+    let a = factors::<B>(blks, dense);
+    for (blk, ai) in blks.iter().zip(&a) {
+        // The rows left, column by column (`m - c` entries each, as the reduced system lists
+        // them).
+        let left = &mut red[blk.schur_entries..blk.schur_entries + o * (m - c)];
+        for (k, col) in left.chunks_exact_mut((m - c).max(1)).enumerate() {
+            for (x, v) in col.iter_mut().zip(&ai[(c + k) * m + c..(c + k + 1) * m]) {
+                *x += v;
+            }
+        }
+    }
+    let inv: [&[f64]; B] = std::array::from_fn(|i| &inv_pivots[blks[i].top..blks[i].top + c]);
+    let rows = blks.iter().map(|b| b.borders.len()).max().unwrap_or(0);
+    let together = blks.iter().all(|b| b.borders.len() == rows);
+    for r in 0..rows {
+        let places: [std::ops::Range<usize>; B] =
+            std::array::from_fn(|i| blks[i].borders.get(r).map_or(0..0, |bd| bd.at..bd.at + c));
+        match border.get_disjoint_mut(places.clone()) {
+            Ok(mut ys) if together => upper_transpose(&a, m, &inv, &mut ys),
+            _ => {
+                for (i, place) in places
+                    .into_iter()
+                    .enumerate()
+                    .filter(|(_, p)| !p.is_empty())
+                {
+                    solve_upper_transpose(a[i], m, inv[i], &mut border[place]);
+                }
+            }
+        }
+    }
+    for (blk, ai) in blks.iter().zip(&a) {
+        for bd in &blk.borders {
+            let y = &border[bd.at..bd.at + c];
+            let row = &mut red[bd.entries..bd.entries + o];
+            for (k, x) in row.iter_mut().enumerate() {
+                *x -= dot(&ai[(c + k) * m..(c + k) * m + c], y);
+            }
+        }
+    }
+}
+
+/// `dense::solve_upper_transpose` on `B` blocks' right-hand sides (the factors `a` with `m`
+/// rows, the pivots' reciprocals `inv`), step by step together.
+#[inline(always)]
+fn upper_transpose<const B: usize>(
+    a: &[&[f64]; B],
+    m: usize,
+    inv: &[&[f64]; B],
+    ys: &mut [&mut [f64]; B],
+) {
+    let c = ys[0].len();
+    for k in 0..c {
+        for ((y, ai), inv) in ys.iter_mut().zip(a).zip(inv) {
+            y[k] = (y[k] - dot(&ai[k * m..k * m + k], &y[..k])) * inv[k];
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
-    use super::{back, forward, in_runs, lower_any, lower_rows};
+    use super::{back, forward, in_runs, lower_any, lower_rows, schur};
     use crate::linalg::{EliminationBlock, SparsePattern};
     use proptest::prelude::*;
 
     /// A chain like a collocation system's: block `b` has `c` unknowns of its own and `c + r`
-    /// rows that also read the kept columns `K_b` and `K_{b+1}` (`r` each); `r` closing rows
-    /// read `K_0` and `K_nb`. Returns the size, the entries and the blocks.
+    /// rows that also read the kept columns `K_b` and `K_{b+1}` (`r` each) and a parameter
+    /// (the last column); `r` closing rows read `K_0` and `K_nb`; a last row (as an
+    /// arclength row: every block's border row) reads every column. Returns the size, the
+    /// entries and the blocks.
     fn chain(nb: usize, c: usize, r: usize) -> (usize, Vec<(usize, usize)>, Vec<EliminationBlock>) {
         let kept0 = nb * c;
-        let n = kept0 + (nb + 1) * r;
+        let n = kept0 + (nb + 1) * r + 1;
         let kept = |k: usize| kept0 + k * r..kept0 + (k + 1) * r;
         let (mut entries, mut blocks) = (Vec::new(), Vec::new());
         for b in 0..nb {
@@ -204,12 +281,14 @@ mod tests {
                         .map(|&j| (i, j)),
                 );
                 entries.extend(kept(b + 1).map(|j| (i, j)));
+                entries.push((i, n - 1));
             }
             blocks.push(EliminationBlock { rows, cols });
         }
-        for i in nb * (c + r)..n {
+        for i in nb * (c + r)..n - 1 {
             entries.extend(kept(0).chain(kept(nb)).map(|j| (i, j)));
         }
+        entries.extend((0..n).map(|j| (n - 1, j)));
         (n, entries, blocks)
     }
 
@@ -232,7 +311,8 @@ mod tests {
         }
 
         /// Blocks swept two at a time get the numbers a sweep over each alone gets, to the bit
-        /// (the same operations in the same order per block), in both sweeps.
+        /// (the same operations in the same order per block), in both sweeps and in the Schur
+        /// updates of the factorisation (each block has one border row, the last).
         /// Blocks of 5 rows take the general loops, blocks of 16 (4 states, 4 collocation
         /// points) the kernel for a row count known at compile time.
         #[test]
@@ -283,6 +363,21 @@ mod tests {
                 back::<1>(blk, &cd.dense, (&top1, &cd.inv_pivots), &red_x, &mut work, &mut x1);
             }
             prop_assert_eq!(x1.iter().map(|x| x.to_bits()).collect::<Vec<_>>(), x2.iter().map(|x| x.to_bits()).collect::<Vec<_>>());
+            // The Schur updates, on any border values and reduced entries.
+            let border0: Vec<f64> = (0..cd.border.len()).map(|k| rhs[(5 * k + 2) % n]).collect();
+            let red0: Vec<f64> = (0..cd.red_vals.len()).map(|k| vals[(7 * k + 3) % vals.len()]).collect();
+            let (mut border1, mut red1) = (border0.clone(), red0.clone());
+            let (mut border2, mut red2) = (border0, red0);
+            in_runs(&cd.blocks, |blks| match blks.len() {
+                2 => schur::<2>(blks, &cd.dense, &cd.inv_pivots, &mut border2, &mut red2),
+                _ => schur::<1>(blks, &cd.dense, &cd.inv_pivots, &mut border2, &mut red2),
+            });
+            for k in 0..nb {
+                schur::<1>(&cd.blocks[k..=k], &cd.dense, &cd.inv_pivots, &mut border1, &mut red1);
+            }
+            prop_assert_eq!(border1.iter().map(|x| x.to_bits()).collect::<Vec<_>>(), border2.iter().map(|x| x.to_bits()).collect::<Vec<_>>());
+            prop_assert_eq!(red1.iter().map(|x| x.to_bits()).collect::<Vec<_>>(), red2.iter().map(|x| x.to_bits()).collect::<Vec<_>>());
+            prop_assert!(cd.blocks.iter().all(|b| b.borders.len() == 1));
         }
     }
 }
