@@ -449,25 +449,25 @@ impl Discretisation {
         match image {
             Some(sym) => {
                 // Segment by segment: its values are states of its mode's dimension, mapped by
-                // S's leading block (the sums of `Z2Symmetry::apply`, in its order).
-                out.resize(2 * nv, -0.0);
+                // S's leading block (the sums of `Z2Symmetry::apply`, in its order, from -0).
                 let mut at = 0;
                 for (k, x0) in like.starts.iter().enumerate() {
                     let (n, len) = (x0.len(), self.values_of_segment(like, k));
                     let s = sym.block(n);
-                    let (x, y) = (&v[at..at + len], &mut out[nv + at..nv + at + len]);
+                    let x = &v[at..at + len];
                     // A diagonal S (e.g. -I) maps each component alone: the values of the full
                     // product, whose other terms are exact zeros for finite states (a zero's
-                    // sign aside).
+                    // sign aside); `-0 + p = p` for every product.
                     let diagonal = (0..n * n).all(|k| k % (n + 1) == 0 || s[k] == 0.0);
                     if diagonal && crate::error::all_finite(x) {
                         let d: Vec<f64> = (0..n).map(|i| s[i * (n + 1)]).collect();
-                        for (x, y) in x.chunks_exact(n.max(1)).zip(y.chunks_exact_mut(n.max(1))) {
-                            for ((o, xi), di) in y.iter_mut().zip(x).zip(&d) {
-                                *o += di * xi;
-                            }
-                        }
+                        out.extend(
+                            x.chunks_exact(n.max(1))
+                                .flat_map(|x| x.iter().zip(&d).map(|(xi, di)| di * xi)),
+                        );
                     } else {
+                        out.resize(nv + at + len, -0.0);
+                        let y = &mut out[nv + at..nv + at + len];
                         for (x, y) in x.chunks_exact(n.max(1)).zip(y.chunks_exact_mut(n.max(1))) {
                             for (col, &xj) in s.chunks_exact(n).zip(x) {
                                 for (o, sij) in y.iter_mut().zip(col) {
