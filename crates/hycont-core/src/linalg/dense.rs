@@ -41,8 +41,15 @@ pub(crate) fn eliminate(
     perm: &mut [usize],
     pivots: &mut [f64],
 ) -> Option<f64> {
-    let scale = super::max_norm(&a[..c * m]);
-    eliminate_above(a, (m, c, w), perm, pivots, scale * f64::EPSILON * m as f64)
+    let tiny = smallest_pivot(a, (m, c));
+    eliminate_above(a, (m, c, w), perm, pivots, tiny)
+}
+
+/// The smallest pivot [`eliminate`] accepts: `m` units of roundoff of the largest entry of
+/// the first `c` columns of the column-major `a` (`m` rows).
+#[inline(always)]
+fn smallest_pivot(a: &[f64], (m, c): (usize, usize)) -> f64 {
+    super::max_norm(&a[..c * m]) * f64::EPSILON * m as f64
 }
 
 /// [`eliminate`] with the smallest acceptable pivot magnitude given: `0` refuses only zero
@@ -167,8 +174,8 @@ pub(crate) fn eliminate_inline(
     perm: &mut [usize],
     pivots: &mut [f64],
 ) -> Option<f64> {
-    let scale = super::max_norm(&a[..c * m]);
-    eliminate_any(a, (m, c, w), perm, pivots, scale * f64::EPSILON * m as f64)
+    let tiny = smallest_pivot(a, (m, c));
+    eliminate_any(a, (m, c, w), perm, pivots, tiny)
 }
 
 /// [`eliminate`] for any row count.
