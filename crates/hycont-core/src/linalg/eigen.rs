@@ -1,7 +1,8 @@
 //! Eigenvalues and eigenvectors of small dense real matrices (monodromy matrices).
 
 use crate::error::{Error, Result};
-use nalgebra::{Complex, DMatrix};
+use nalgebra::allocator::Allocator;
+use nalgebra::{Complex, DMatrix, DefaultAllocator, DimDiff, DimSub, OMatrix, SMatrix, U1};
 
 /// A complex number of `f64` (as nalgebra's and faer's).
 type Complex64 = Complex<f64>;
@@ -29,16 +30,37 @@ pub fn eigenvalues(n: usize, a: &[f64]) -> Result<Vec<(f64, f64)>> {
     if n == 0 {
         return Ok(Vec::new());
     }
-    let m = DMatrix::from_column_slice(n, n, a);
-    let schur = nalgebra::linalg::Schur::try_new(m, f64::EPSILON, 30 * n.max(10))
-        .ok_or_else(|| fail("no convergence"))?;
-    let mut out: Vec<(f64, f64)> = schur
-        .complex_eigenvalues()
-        .iter()
-        .map(|z| (z.re, z.im))
-        .collect();
+    let limit = 30 * n.max(10);
+    // Sizes up to 8 on the stack (a Floquet analysis at every point of a branch): the same
+    // algorithm, generic over the dimension, gives the same numbers without its allocations.
+    macro_rules! fixed {
+        ($($k:literal)*) => {
+            match n {
+                $($k => schur_eigenvalues(SMatrix::<f64, $k, $k>::from_column_slice(a), limit),)*
+                _ => schur_eigenvalues(DMatrix::from_column_slice(n, n, a), limit),
+            }
+        };
+    }
+    let mut out = fixed!(1 2 3 4 5 6 7 8).ok_or_else(|| fail("no convergence"))?;
     out.sort_by(|a, b| (b.0.hypot(b.1)).total_cmp(&a.0.hypot(a.1)));
     Ok(out)
+}
+
+/// The eigenvalues of `m` from its real Schur form (at most `limit` iterations), unsorted.
+fn schur_eigenvalues<D>(m: OMatrix<f64, D, D>, limit: usize) -> Option<Vec<(f64, f64)>>
+where
+    D: DimSub<U1>,
+    DefaultAllocator:
+        Allocator<D, DimDiff<D, U1>> + Allocator<DimDiff<D, U1>> + Allocator<D, D> + Allocator<D>,
+{
+    let schur = nalgebra::linalg::Schur::try_new(m, f64::EPSILON, limit)?;
+    Some(
+        schur
+            .complex_eigenvalues()
+            .iter()
+            .map(|z| (z.re, z.im))
+            .collect(),
+    )
 }
 
 /// Eigenvalues and eigenvectors (columns, unit Euclidean norm) of a small dense real matrix
@@ -101,6 +123,25 @@ mod tests {
             let trace: f64 = (0..n).map(|i| a[i + i * n]).sum();
             let sum: f64 = ev.iter().map(|z| z.0).sum();
             prop_assert!((sum - trace).abs() <= 1e-12 * norm * n as f64);
+        }
+
+        /// The sizes kept on the stack give the heap path's eigenvalues to the bit (the same
+        /// algorithm, generic over the dimension), on matrices with some entries zero.
+        #[test]
+        fn stack_sizes_give_the_general_numbers(
+            n in 1usize..=8,
+            values in proptest::collection::vec(
+                prop_oneof![3 => -1.0f64..1.0, 1 => Just(0.0)], 64),
+        ) {
+            let a = &values[..n * n];
+            let stack = eigenvalues(n, a).unwrap();
+            let m = nalgebra::DMatrix::from_column_slice(n, n, a);
+            let mut heap = super::schur_eigenvalues(m, 30 * n.max(10)).unwrap();
+            heap.sort_by(|a, b| (b.0.hypot(b.1)).total_cmp(&a.0.hypot(a.1)));
+            let bits = |v: &[(f64, f64)]| -> Vec<(u64, u64)> {
+                v.iter().map(|z| (z.0.to_bits(), z.1.to_bits())).collect()
+            };
+            prop_assert_eq!(bits(&stack), bits(&heap));
         }
     }
 

@@ -23,6 +23,8 @@ pub(crate) struct EndConditions {
     hx: Vec<f64>,
     hp: Vec<f64>,
     gy: Vec<f64>,
+    /// Work space: the state a segment must reach (see [`EndConditions::residual`]).
+    target: Vec<f64>,
 }
 
 impl EndConditions {
@@ -41,6 +43,7 @@ impl EndConditions {
             hx: vec![0.0; n],
             hp: vec![0.0; np],
             gy: vec![0.0; n],
+            target: vec![0.0; n],
         }
     }
 
@@ -49,20 +52,30 @@ impl EndConditions {
         self.closure.is_some()
     }
 
-    /// The state segment `k` must reach, from the next segment's start (`x_0` when `wrap`).
-    pub(crate) fn target(&self, wrap: bool, next_start: &[f64]) -> Vec<f64> {
+    /// Writes the state a segment must reach into `out`: the next segment's start, through
+    /// the symmetry ($S x_0$) when `wrap` closes a symmetric orbit.
+    fn target(
+        closure: Option<&[f64]>,
+        stride: usize,
+        wrap: bool,
+        next_start: &[f64],
+        out: &mut [f64],
+    ) {
         // S's leading block on a first segment of fewer states than the system's largest.
-        let (n, stride) = (next_start.len(), self.n);
-        match (&self.closure, wrap) {
-            (Some(sm), true) => (0..n)
-                .map(|i| (0..n).map(|j| sm[i + j * stride] * next_start[j]).sum())
-                .collect(),
-            _ => next_start.to_vec(),
+        let n = next_start.len();
+        match (closure, wrap) {
+            (Some(sm), true) => {
+                for (i, o) in out.iter_mut().enumerate() {
+                    *o = (0..n).map(|j| sm[i + j * stride] * next_start[j]).sum();
+                }
+            }
+            _ => out.copy_from_slice(next_start),
         }
     }
 
     /// The $n_{k+1} + 1$ residual rows of a segment in `mode` ending in `y` with `end`,
-    /// reaching `target` (of the next segment's dimension $n_{k+1}$).
+    /// reaching the next segment's start `next_start` (of its dimension $n_{k+1}$; through the
+    /// symmetry when `wrap` closes a symmetric orbit).
     ///
     /// # Errors
     /// [`Error::NonFiniteReset`] or [`Error::NonFiniteEvent`] (at the segment's end, `t` 0)
@@ -73,10 +86,13 @@ impl EndConditions {
         (mode, end): (Mode, SegmentEnd),
         y: &[f64],
         p: &[f64],
-        target: &[f64],
+        (wrap, next_start): (bool, &[f64]),
         out: &mut [f64],
     ) -> Result<()> {
-        let n = target.len();
+        let n = next_start.len();
+        let target = &mut self.target[..n];
+        Self::target(self.closure.as_deref(), self.n, wrap, next_start, target);
+        let target = &self.target[..n];
         match end {
             SegmentEnd::Event(e) => {
                 // NaN marks a component the reset leaves unwritten.

@@ -155,9 +155,8 @@ fn applies<S: HybridSystem + ?Sized>(system: &S, watch: Watch, mode: Mode) -> bo
 /// [`Error::InvalidMeasure`] naming the bad component or event.
 pub fn check_needs<S: HybridSystem + ?Sized>(system: &S, needs: &ScanNeeds) -> Result<()> {
     let n = system.state_dim();
-    let events = (0..system.mode_count())
-        .flat_map(|m| system.events(Mode(m)).to_vec())
-        .collect::<Vec<_>>();
+    let monitored =
+        |e: &EventId| (0..system.mode_count()).any(|m| system.events(Mode(m)).contains(e));
     for w in &needs.watches {
         match *w {
             Watch::Component(c) if c >= n => {
@@ -165,7 +164,7 @@ pub fn check_needs<S: HybridSystem + ?Sized>(system: &S, needs: &ScanNeeds) -> R
                     reason: format!("state component {c} does not exist (dimension {n})"),
                 });
             }
-            Watch::Event(e) if !events.contains(&e) => {
+            Watch::Event(e) if !monitored(&e) => {
                 return Err(Error::InvalidMeasure {
                     reason: format!("{e} is not monitored in any mode of the system"),
                 });
@@ -475,6 +474,8 @@ impl SegmentScan<'_> {
         let mode = flow.mode;
         let segments = orbit.signature.segments().len();
         let margin = boundary_margin(duration);
+        // Work space: the field and a gradient at an event's state.
+        let mut work = vec![0.0; 2 * n];
         for e in events {
             let first = flow.watches[e.event.0];
             // Inside the band at an end, the point is the boundary's when the boundary was
@@ -495,8 +496,8 @@ impl SegmentScan<'_> {
             push_unique(critical, system, orbit, first, turn, (k, e.t), state);
             let scale = 1.0 + state.iter().fold(0.0f64, |m, v| m.max(v.abs()));
             for &w in self.watches.iter().filter(|&&w| w != first) {
-                let (mut f, mut g) = (vec![0.0; n], vec![0.0; n]);
-                let rate = watched(system, w, mode, state, &orbit.params, &mut f, &mut g).1;
+                let (f, g) = work.split_at_mut(n);
+                let rate = watched(system, w, mode, state, &orbit.params, f, g).1;
                 if rate.abs() <= 1e-9 * scale {
                     let turn = classify(system, w, mode, state, &orbit.params);
                     push_unique(critical, system, orbit, w, turn, (k, e.t), state);
@@ -562,15 +563,21 @@ fn classify<S: HybridJacobians + ?Sized>(
     p: &[f64],
 ) -> Turn {
     let n = x.len();
-    let (mut f, mut g) = (vec![0.0; n], vec![0.0; n]);
-    system.vector_field(mode, x, p, &mut f);
-    let fnorm = f.iter().map(|v| v * v).sum::<f64>().sqrt();
+    // Work space: the direction (the field at x), the field and a gradient at a shifted state,
+    // the shifted state.
+    let mut work = vec![0.0; 4 * n];
+    let (dir, rest) = work.split_at_mut(n);
+    let (f, rest) = rest.split_at_mut(n);
+    let (g, shifted) = rest.split_at_mut(n);
+    system.vector_field(mode, x, p, dir);
+    let fnorm = dir.iter().map(|v| v * v).sum::<f64>().sqrt();
     let scale = x.iter().fold(1.0f64, |m, v| m.max(v.abs()));
     let dt = 1e-6 * scale / fnorm.max(f64::MIN_POSITIVE);
-    let dir = f.clone();
     let mut rate_at = |sign: f64| {
-        let shifted: Vec<f64> = x.iter().zip(&dir).map(|(a, b)| a + sign * dt * b).collect();
-        watched(system, watch, mode, &shifted, p, &mut f, &mut g).1
+        for ((s, a), b) in shifted.iter_mut().zip(x).zip(&*dir) {
+            *s = a + sign * dt * b;
+        }
+        watched(system, watch, mode, shifted, p, f, g).1
     };
     if rate_at(1.0) - rate_at(-1.0) > 0.0 {
         Turn::Min

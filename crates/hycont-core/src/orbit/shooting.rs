@@ -377,11 +377,11 @@ impl<S: HybridJacobians + ?Sized> Shooting<'_, S> {
             let y = &traj.state_final;
             let wrap = k + 1 == kk;
             let next_start = self.start_index((k + 1) % kk);
-            let target = self.ends.target(wrap, &u[next_start..next_start + n_to]);
+            let next = (wrap, &u[next_start..next_start + n_to]);
             let r0 = self.first_row(k);
             let end = self.signature.segments()[k].end;
             let rows = &mut residual[r0..=r0 + n_to];
-            (self.ends).residual(self.system, (mode, end), y, &p, &target, rows)?;
+            (self.ends).residual(self.system, (mode, end), y, &p, next, rows)?;
             let Some(jac) = jac.as_deref_mut() else {
                 continue;
             };

@@ -91,6 +91,9 @@ pub struct Problem<'a> {
     /// Work space: unknowns held by inactive single-unknown monitors (global, then one part's).
     held: Vec<bool>,
     held_local: Vec<bool>,
+    /// Work space: a part's or monitor's unknowns gathered, a monitor's gradient.
+    local_u: Vec<f64>,
+    grad: Vec<f64>,
 }
 
 impl std::fmt::Debug for Problem<'_> {
@@ -123,6 +126,8 @@ impl<'a> Problem<'a> {
             values: Vec::new(),
             held: Vec::new(),
             held_local: Vec::new(),
+            local_u: Vec::new(),
+            grad: Vec::new(),
         }
     }
 
@@ -373,7 +378,9 @@ impl<'a> Problem<'a> {
         }
         let any_held = jac.is_some() && use_held && self.mark_held(u)?;
         let hinted = any_held || purpose != JacobianUse::Exact;
-        let mut local_u = Vec::new();
+        // The work spaces are taken for the evaluation (an error returns without them: the
+        // next evaluation makes new ones).
+        let mut local_u = std::mem::take(&mut self.local_u);
         let mut start = 0;
         for part in &mut self.parts {
             let local: &[f64] = match &part.span {
@@ -411,8 +418,9 @@ impl<'a> Problem<'a> {
             }
         }
         let row0 = residual.len() - self.monitors.len();
-        let slots = self.active_slots();
-        let mut grad = Vec::new();
+        let mut grad = std::mem::take(&mut self.grad);
+        // Active monitors' unknowns follow the base unknowns, in the monitors' order.
+        let mut slot = self.base_unknowns;
         for (k, m) in self.monitors.iter_mut().enumerate() {
             local_u.clear();
             local_u.extend(m.unknowns.iter().map(|&i| u[i]));
@@ -421,19 +429,23 @@ impl<'a> Problem<'a> {
             let value = m
                 .function
                 .evaluate(&local_u, if want { Some(&mut grad) } else { None })?;
-            let target = match (m.activity, slots[k]) {
-                (Activity::Inactive(v), _) => v,
-                (Activity::Active(_), Some(slot)) => u[slot],
-                (Activity::Active(_), None) => unreachable!("active monitors have a slot"),
+            let (target, active) = match m.activity {
+                Activity::Inactive(v) => (v, false),
+                Activity::Active(_) => {
+                    slot += 1;
+                    (u[slot - 1], true)
+                }
             };
             residual[row0 + k] = value - target;
             if let Some(j) = jac.as_deref_mut() {
                 j.extend_from_slice(&grad);
-                if slots[k].is_some() {
+                if active {
                     j.push(-1.0);
                 }
             }
         }
+        self.local_u = local_u;
+        self.grad = grad;
         Ok(())
     }
 

@@ -312,7 +312,7 @@ impl<S: HybridJacobians + ?Sized> ZeroFunction for Collocation<'_, S> {
         jacobian: Option<&mut [f64]>,
     ) -> Result<()> {
         let (np, ncol) = (self.np, self.basis.ncol);
-        let p = u[self.param_index(0)..self.param_index(0) + np].to_vec();
+        let p = &u[self.param_index(0)..self.param_index(0) + np];
         let mut jac = jacobian;
         let mut pos = 0usize;
         for k in 0..self.signature.len() {
@@ -338,7 +338,7 @@ impl<S: HybridJacobians + ?Sized> ZeroFunction for Collocation<'_, S> {
                         t: t_k,
                     };
                     let res = &mut residual[row..row + n];
-                    self.collocation_point(point, nodes, &p, res, out.as_deref_mut())?;
+                    self.collocation_point(point, nodes, p, res, out.as_deref_mut())?;
                 }
                 if jac.is_some() {
                     pos += block;
@@ -348,7 +348,7 @@ impl<S: HybridJacobians + ?Sized> ZeroFunction for Collocation<'_, S> {
             self.segment_end(
                 k,
                 u,
-                &p,
+                p,
                 &mut residual[rb..=rb + n_to],
                 jac.as_deref_mut(),
                 &mut pos,
@@ -480,10 +480,10 @@ impl<S: HybridJacobians + ?Sized> Collocation<'_, S> {
         let y = &u[last..last + n];
         let next_off = self.segment_offset((k + 1) % kk);
         let wrap = k + 1 == kk;
-        let target = self.ends.target(wrap, &u[next_off..next_off + n_to]);
+        let next = (wrap, &u[next_off..next_off + n_to]);
         let segment = self.signature.segments()[k];
         let end = segment.end;
-        (self.ends).residual(self.system, (segment.mode, end), y, p, &target, res)?;
+        (self.ends).residual(self.system, (segment.mode, end), y, p, next, res)?;
         let Some(jac) = jac else {
             return Ok(());
         };
