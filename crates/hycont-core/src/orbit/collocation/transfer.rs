@@ -3,7 +3,8 @@
 //! back-substitution, for any $n$ or, where $n \le 8$, with $n$ known at compile time (the
 //! whole interval's work in registers and stack arrays: a Floquet analysis does this on every
 //! interval of every point). Both run the same elimination and back-substitution
-//! (`linalg::dense`), the fixed one without the run-time dispatch and with constant sizes, so
+//! (`linalg::dense`; the fixed one's back-substitution is written out with constant sizes,
+//! the same operations in the same order), the fixed one without the run-time dispatch, so
 //! they give the same numbers (up to the sign of a zero).
 
 use super::condense::singular;
@@ -105,10 +106,25 @@ fn solve_fixed<const N: usize>(s: &impl Fn(usize, usize) -> f64, y: &mut [f64]) 
     let inv = pivots.map(|p| 1.0 / p);
     let (u, rhs) = a.split_at_mut(N * N);
     for col in rhs.chunks_exact_mut(N) {
-        solve_upper(u, N, &inv, col);
+        upper_fixed::<N>(u, &inv, col);
     }
     y.copy_from_slice(rhs);
     Some(())
+}
+
+/// `dense::solve_upper` with `N` known at compile time (the same operations in the same
+/// order; inlined into [`solve_fixed`], where the general one is a call per column).
+#[inline(always)]
+fn upper_fixed<const N: usize>(u: &[f64], inv: &[f64; N], t: &mut [f64]) {
+    for k in (0..N).rev() {
+        let xk = t[k] * inv[k];
+        t[k] = xk;
+        if xk != 0.0 {
+            for i in 0..k {
+                t[i] -= u[k * N + i] * xk;
+            }
+        }
+    }
 }
 
 #[cfg(test)]
