@@ -35,7 +35,7 @@ impl<'a, P: ContinuationProblem<'a> + ?Sized> Palc<'_, 'a, P> {
         self.wnormalize(&mut t);
         let row = self.row_of(&t);
         let corrected = self
-            .correct(&u, &row, &u, 0.0, false)
+            .correct(u.clone(), &row, &u, 0.0, false)
             .and_then(|(u, it)| self.chart(u, &row, it));
         match corrected {
             Ok(mut c) => {

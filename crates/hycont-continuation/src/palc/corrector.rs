@@ -47,7 +47,7 @@ impl<'a, P: ContinuationProblem<'a> + ?Sized> Palc<'_, 'a, P> {
         Ok(out?)
     }
 
-    /// Newton on the augmented system from `u_pred`; returns the solution and the iterations,
+    /// Newton on the augmented system from `u_pred` (taken: it becomes the solution); returns the solution and the iterations,
     /// and leaves the augmented Jacobian at the solution factorised (with `row` as last row).
     ///
     /// Converged when the residual is below the tolerance after at least one step, or the step
@@ -64,7 +64,7 @@ impl<'a, P: ContinuationProblem<'a> + ?Sized> Palc<'_, 'a, P> {
     /// until the contraction is slow or a solution is expected.
     pub(super) fn correct(
         &mut self,
-        u_pred: &[f64],
+        u_pred: Vec<f64>,
         row: &[f64],
         u0: &[f64],
         s: f64,
@@ -74,9 +74,11 @@ impl<'a, P: ContinuationProblem<'a> + ?Sized> Palc<'_, 'a, P> {
         let max_it = 2 * self.settings.target_iterations;
         let n = self.n;
         let r0 = dot(row, u0);
-        let mut u = u_pred.to_vec();
+        let mut u = u_pred;
         let mut u_max = max_abs(&u);
-        let mut du = vec![0.0; n];
+        // The step's work space (an error returns without it: the next correction makes one).
+        let mut du = std::mem::take(&mut self.du);
+        du.resize(n, 0.0);
         let mut last_step = f64::INFINITY;
         let mut last_res = f64::INFINITY;
         // Chord iterations: the Jacobian is factorised at the predictor (and again only if the
@@ -95,6 +97,7 @@ impl<'a, P: ContinuationProblem<'a> + ?Sized> Palc<'_, 'a, P> {
         if exact {
             self.factor(&u, row, r0, s, JacobianUse::Exact)?;
             if max_abs(&self.res) <= ns.residual_tol {
+                self.du = du;
                 return Ok((u, 0));
             }
         } else if chord.is_some() {
@@ -135,6 +138,7 @@ impl<'a, P: ContinuationProblem<'a> + ?Sized> Palc<'_, 'a, P> {
                     self.factor(&u, row, r0, s, JacobianUse::Exact)?;
                 }
                 self.chord_converged = via_chord;
+                self.du = du;
                 return Ok((u, it));
             }
             via_chord = false;

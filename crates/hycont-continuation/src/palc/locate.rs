@@ -45,7 +45,7 @@ impl<'a, P: ContinuationProblem<'a> + ?Sized> Palc<'_, 'a, P> {
                 .collect()
         };
         let row = self.row_of(&a.t);
-        let (u, it) = self.correct(&pred, &row, &a.u.clone(), s, true)?;
+        let (u, it) = self.correct(pred, &row, &a.u, s, true)?;
         if analyse {
             return self.chart(u, &row, it);
         }

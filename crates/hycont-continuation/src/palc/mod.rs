@@ -85,6 +85,8 @@ pub(crate) struct Palc<'p, 'a, P: ContinuationProblem<'a> + ?Sized> {
     chord: Option<chord::Chord>,
     /// $A^{-1} e_n$ of the last tangent, before normalisation.
     z: Vec<f64>,
+    /// Work space: the corrector's step.
+    du: Vec<f64>,
     /// Whether the last correction converged by chord steps alone: one of its iterations
     /// counts for the step control's growth what a Newton iteration it replaced does not (a
     /// linear contraction takes one more iteration from the same start; see
@@ -167,6 +169,7 @@ impl<'p, 'a, P: ContinuationProblem<'a> + ?Sized> Palc<'p, 'a, P> {
             held: None,
             chord: None,
             z: Vec::new(),
+            du: Vec::new(),
             chord_converged: false,
             _marker: std::marker::PhantomData,
         })
@@ -303,7 +306,7 @@ impl<'p, 'a, P: ContinuationProblem<'a> + ?Sized> Palc<'p, 'a, P> {
     /// tangent turned from `a`'s: `Ok(None)` when the step is rejected (the corrector fails or
     /// the tangent turns by more than the largest angle) and may be retried shorter; an error
     /// when it fails at the smallest step.
-    fn step(&mut self, a: &Chart, pred: &[f64], h: f64) -> Result<Option<(Chart, f64)>> {
+    fn step(&mut self, a: &Chart, pred: Vec<f64>, h: f64) -> Result<Option<(Chart, f64)>> {
         let at = self.row_of(&a.t);
         // Chord steps from `a`'s factorisation, if it is still the one factorised.
         let generation = self.generation;
@@ -444,7 +447,7 @@ impl<'p, 'a, P: ContinuationProblem<'a> + ?Sized> Palc<'p, 'a, P> {
         let mut bending: Option<f64> = None;
         while branch.points.len() < self.settings.max_points {
             let pred = self.predictor(&a, &previous, h);
-            let (b, turned) = match self.step(&a, &pred, h) {
+            let (b, turned) = match self.step(&a, pred, h) {
                 Ok(Some(stepped)) => {
                     // `b`'s chart factorised [J(b); W t_a] last: the next step's chords.
                     self.held = Some(chord::Held {

@@ -34,7 +34,7 @@ impl<'a, P: ContinuationProblem<'a> + ?Sized> Palc<'_, 'a, P> {
             let h0 = self.settings.first_step();
             let pred: Vec<f64> = u0.iter().zip(&dir).map(|(x, t)| x + h0 * t).collect();
             let row = self.row_of(&dir);
-            let (u, it) = self.correct(&pred, &row, u0, h0, false)?;
+            let (u, it) = self.correct(pred, &row, u0, h0, false)?;
             self.p.check_start(&u)?;
             let mut c = self.chart(u, &row, it)?;
             if self.wdot(&c.t, &dir) < 0.0 {
@@ -99,23 +99,25 @@ impl<'a, P: ContinuationProblem<'a> + ?Sized> Palc<'_, 'a, P> {
         // put): Newton then fails, or lands on a point the problem refuses, or where the
         // branch is (nearly) orthogonal to the parameter. Then on a generic hyperplane
         // through `u0`.
-        let fixed = self.correct(u0, &row, u0, 0.0, false).and_then(|(u, it)| {
-            let c = self.chart(u, &row, it)?;
-            if c.t[pi].abs() < PARAMETER_FIXED_MIN_SLOPE {
-                return Err(Error::InvalidSetting {
-                    name: "start",
-                    value: c.t[pi],
-                    reason: "the branch does not move in the parameter at the start",
-                });
-            }
-            self.p.check_start(&c.u)?;
-            Ok(c)
-        });
+        let fixed = self
+            .correct(u0.to_vec(), &row, u0, 0.0, false)
+            .and_then(|(u, it)| {
+                let c = self.chart(u, &row, it)?;
+                if c.t[pi].abs() < PARAMETER_FIXED_MIN_SLOPE {
+                    return Err(Error::InvalidSetting {
+                        name: "start",
+                        value: c.t[pi],
+                        reason: "the branch does not move in the parameter at the start",
+                    });
+                }
+                self.p.check_start(&c.u)?;
+                Ok(c)
+            });
         if fixed.is_ok() {
             return fixed;
         }
         let g = generic(self.n);
-        let (u, it) = self.correct(u0, &g, u0, 0.0, false)?;
+        let (u, it) = self.correct(u0.to_vec(), &g, u0, 0.0, false)?;
         self.p.check_start(&u)?;
         self.chart(u, &g, it)
     }
