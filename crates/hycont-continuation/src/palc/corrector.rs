@@ -47,8 +47,9 @@ impl<'a, P: ContinuationProblem<'a> + ?Sized> Palc<'_, 'a, P> {
         Ok(out?)
     }
 
-    /// Newton on the augmented system from `u_pred` (taken: it becomes the solution); returns the solution and the iterations,
-    /// and leaves the augmented Jacobian at the solution factorised (with `row` as last row).
+    /// Newton on the augmented system from `u_pred` (taken: it becomes the solution); returns
+    /// the solution and the iterations, and leaves the augmented Jacobian at the solution
+    /// factorised (with `row` as last row).
     ///
     /// Converged when the residual is below the tolerance after at least one step, or the step
     /// is below the tolerance with a residual of the same order. The residual criterion matters
