@@ -461,10 +461,13 @@ impl Discretisation {
                     let diagonal = (0..n * n).all(|k| k % (n + 1) == 0 || s[k] == 0.0);
                     if diagonal && crate::error::all_finite(x) {
                         let d: Vec<f64> = (0..n).map(|i| s[i * (n + 1)]).collect();
-                        out.extend(
-                            x.chunks_exact(n.max(1))
-                                .flat_map(|x| x.iter().zip(&d).map(|(xi, di)| di * xi)),
-                        );
+                        out.resize(nv + at + len, 0.0);
+                        let y = &mut out[nv + at..nv + at + len];
+                        for (y, x) in y.chunks_exact_mut(n.max(1)).zip(x.chunks_exact(n.max(1))) {
+                            for ((o, xi), di) in y.iter_mut().zip(x).zip(&d) {
+                                *o = di * xi;
+                            }
+                        }
                     } else {
                         out.resize(nv + at + len, -0.0);
                         let y = &mut out[nv + at..nv + at + len];

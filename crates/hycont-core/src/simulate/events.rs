@@ -27,17 +27,21 @@ use super::Dop853;
 use crate::system::{Direction, EventId, HybridSystem};
 
 /// Fractions of a step probed for an excursion to the pre-crossing side of an event function
-/// that starts a segment on its zero (restart guard): $2^{-40}, \dots, 2^{-1}$ and $j/8$.
-pub(super) fn probe_fractions() -> [f64; 47] {
-    let mut out = [0.0; 47];
-    for (k, o) in out.iter_mut().take(40).enumerate() {
-        *o = 2f64.powi(k as i32 - 40);
-    }
-    for j in 1..8 {
-        out[39 + j] = j as f64 / 8.0;
-    }
-    out.sort_by(f64::total_cmp);
-    out
+/// that starts a segment on its zero (restart guard): $2^{-40}, \dots, 2^{-1}$ and $j/8$, in
+/// increasing order (made once: every segment start on a zero probes them).
+pub(super) fn probe_fractions() -> &'static [f64; 47] {
+    static FRACTIONS: std::sync::LazyLock<[f64; 47]> = std::sync::LazyLock::new(|| {
+        let mut out = [0.0; 47];
+        for (k, o) in out.iter_mut().take(40).enumerate() {
+            *o = 2f64.powi(k as i32 - 40);
+        }
+        for j in 1..8 {
+            out[39 + j] = j as f64 / 8.0;
+        }
+        out.sort_by(f64::total_cmp);
+        out
+    });
+    &FRACTIONS
 }
 
 /// Relative step of central differences (about the cube root of the machine epsilon).
@@ -236,7 +240,7 @@ impl<S: HybridSystem + ?Sized> DenseStep<'_, S> {
             Check::Crossing => Some((t, ev.value, t_new, ev.value_new)),
             Check::Probe { want, at_start } => {
                 let mut found = None;
-                for fr in probe_fractions() {
+                for &fr in probe_fractions() {
                     let tp = t + fr * (t_new - t);
                     let gp = self.g(ev.id, tp, probe);
                     match found {

@@ -407,17 +407,24 @@ fn a_symmetry_that_mixes_a_modes_states_with_others_is_refused() {
 /// dimension (as [`hycont_core::Z2Symmetry::apply`] maps it), the durations twice, then the
 /// parameters; by shooting (the starts) and by collocation (every node). The symmetry is an
 /// involution that is not a signed permutation ($S = [[-1, 0], [c, 1]]$, $S^2 = I$), so every
-/// entry of its 2 x 2 block counts.
+/// entry of its 2 x 2 block counts; and a diagonal one ($S = \mathrm{diag}(-1, 1)$, which maps
+/// each component alone: the same numbers by a shorter path).
 #[test]
 fn repeated_unknowns_map_each_state_by_its_modes_block() {
+    for matrix in [vec![-1.0, 0.7, 0.0, 1.0], vec![-1.0, 0.0, 0.0, 1.0]] {
+        repeated_unknowns_by(hycont_core::Z2Symmetry {
+            matrix,
+            modes: vec![A2, B2, A, B],
+            events: vec![UP2, DOWN2, UP, DOWN],
+        });
+    }
+}
+
+/// [`repeated_unknowns_map_each_state_by_its_modes_block`] for one symmetry.
+fn repeated_unknowns_by(sym: hycont_core::Z2Symmetry) {
     use hycont_core::orbit::Discretisation;
     let system = AutoDiff::new(SymmetricShuttle);
     let like = half_orbit_guess(&system, 1.3);
-    let sym = hycont_core::Z2Symmetry {
-        matrix: vec![-1.0, 0.7, 0.0, 1.0],
-        modes: vec![A2, B2, A, B],
-        events: vec![UP2, DOWN2, UP, DOWN],
-    };
     let collocation = Discretisation::Collocation {
         meshes: vec![vec![0.0, 0.5, 1.0], vec![0.0, 0.2, 0.6, 1.0]],
         ncol: 3,
