@@ -3,17 +3,19 @@
 //! its factors.
 
 /// Dot product.
+#[inline(always)]
 pub(crate) fn dot(a: &[f64], b: &[f64]) -> f64 {
     a.iter().zip(b).map(|(x, y)| x * y).sum()
 }
 
 /// Runs `f` compiled for the widest vector instructions this processor has (AVX2 on x86-64
 /// when present, detected at run time; the baseline otherwise): the small dense kernels'
-/// loops vectorise over 4 lanes instead of 2. `f` and what it calls must be inlined into it
+/// loops vectorise over 4 lanes instead of 2 (used by the eliminations here, the condensed
+/// sweeps and collocation's evaluation). `f` and what it calls must be inlined into it
 /// (`#[inline(always)]`) to be compiled so. Floating-point operations are not contracted or
 /// reordered on either path, so the numbers are the same.
 #[inline(always)]
-fn vectorized<R>(f: impl FnOnce() -> R) -> R {
+pub(crate) fn vectorized<R>(f: impl FnOnce() -> R) -> R {
     struct Run<F>(F);
     impl<R, F: FnOnce() -> R> pulp::WithSimd for Run<F> {
         type Output = R;

@@ -301,10 +301,14 @@ impl Condensed {
         // border rows' triangular solves are chains of dependent dot products).
         let (dense, inv) = (&self.dense, &self.inv_pivots);
         let (border, red) = (&mut self.border, &mut self.red_vals);
-        sweep::in_runs(&self.blocks, |blks| match blks.len() {
-            2 => sweep::schur::<2>(blks, dense, inv, border, red),
-            _ => sweep::schur::<1>(blks, dense, inv, border, red),
-        });
+        sweep::in_runs_vectorized(
+            &self.blocks,
+            #[inline(always)]
+            |blks| match blks.len() {
+                2 => sweep::schur::<2>(blks, dense, inv, border, red),
+                _ => sweep::schur::<1>(blks, dense, inv, border, red),
+            },
+        );
         self.reduced.factorize(&self.red_vals)?;
         Ok(Condensation::Done)
     }
@@ -361,10 +365,14 @@ impl Condensed {
         // rows left into the reduced right-hand side.
         let (dense, rhs, work) = (&self.dense, &self.rhs, &mut self.work);
         let out = (&mut self.top[..], &mut self.red_rhs[..]);
-        sweep::in_runs(&self.blocks, |blks| match blks.len() {
-            2 => sweep::forward::<2>(blks, dense, rhs, work, (&mut *out.0, &mut *out.1)),
-            _ => sweep::forward::<1>(blks, dense, rhs, work, (&mut *out.0, &mut *out.1)),
-        });
+        sweep::in_runs_vectorized(
+            &self.blocks,
+            #[inline(always)]
+            |blks| match blks.len() {
+                2 => sweep::forward::<2>(blks, dense, rhs, work, (&mut *out.0, &mut *out.1)),
+                _ => sweep::forward::<1>(blks, dense, rhs, work, (&mut *out.0, &mut *out.1)),
+            },
+        );
         for &(i, r) in &self.free_rows {
             self.red_rhs[r] = self.rhs[i];
         }
@@ -381,10 +389,14 @@ impl Condensed {
         // t <- t - W' x_O, then U x_C = t; two blocks at a time.
         let (dense, red_x, work) = (&self.dense, &self.red_rhs, &mut self.work);
         let factors = (&self.top[..], &self.inv_pivots[..]);
-        sweep::in_runs(&self.blocks, |blks| match blks.len() {
-            2 => sweep::back::<2>(blks, dense, factors, red_x, work, b),
-            _ => sweep::back::<1>(blks, dense, factors, red_x, work, b),
-        });
+        sweep::in_runs_vectorized(
+            &self.blocks,
+            #[inline(always)]
+            |blks| match blks.len() {
+                2 => sweep::back::<2>(blks, dense, factors, red_x, work, b),
+                _ => sweep::back::<1>(blks, dense, factors, red_x, work, b),
+            },
+        );
         Ok(())
     }
 

@@ -9,7 +9,7 @@
 //! depend on the pairing.
 
 use super::Block;
-use crate::linalg::dense::{dot, solve_upper_transpose};
+use crate::linalg::dense::{dot, solve_upper_transpose, vectorized};
 
 /// Whether blocks `a` and `b` can be swept together (the same rows, eliminated columns and
 /// kept columns read).
@@ -18,6 +18,7 @@ fn same_shape(a: &Block, b: &Block) -> bool {
 }
 
 /// Calls `sweep` on the blocks in runs of up to [`RUN`] of the same shape.
+#[inline(always)]
 pub(super) fn in_runs(blocks: &[Block], mut sweep: impl FnMut(&[Block])) {
     let mut b = 0;
     while b < blocks.len() {
@@ -28,6 +29,17 @@ pub(super) fn in_runs(blocks: &[Block], mut sweep: impl FnMut(&[Block])) {
         sweep(&blocks[b..b + len]);
         b += len;
     }
+}
+
+/// [`in_runs`] compiled for the widest vectors the processor has (AVX2 on x86-64 where
+/// present, see `dense::vectorized`): the factorisation and the solves sweep so. `sweep` must
+/// be inlined (`#[inline(always)]` on the closure) to be compiled so; the numbers are the same.
+#[inline(always)]
+pub(super) fn in_runs_vectorized(blocks: &[Block], sweep: impl FnMut(&[Block])) {
+    vectorized(
+        #[inline(always)]
+        || in_runs(blocks, sweep),
+    );
 }
 
 /// The most blocks swept together (runs of 4 measured no faster than single blocks on the
@@ -292,6 +304,52 @@ mod tests {
         (n, entries, blocks)
     }
 
+    /// The right-hand sides and the factorisation's starting values [`all_sweeps`] uses.
+    struct SweepInputs<'a> {
+        rhs: &'a [f64],
+        red_x: &'a [f64],
+        border: &'a [f64],
+        red_vals: &'a [f64],
+    }
+
+    /// The forward, back and Schur sweeps over every block of `cd`, as the solves and the
+    /// factorisation run them: the bits of (top, reduced right-hand side, x, border, reduced
+    /// values). Inlined where it is called, so that it is compiled for that context's vectors.
+    #[inline(always)]
+    fn all_sweeps(cd: &super::super::Condensed, input: &SweepInputs<'_>) -> [Vec<u64>; 5] {
+        let m = cd.blocks.iter().map(super::Block::m).max().unwrap_or(0);
+        let mut work = vec![0.0; 2 * m];
+        let (mut top, mut red) = (vec![0.0; cd.top.len()], vec![0.0; cd.red_rhs.len()]);
+        let mut x = vec![0.0; cd.rhs.len()];
+        let (mut border, mut red_vals) = (input.border.to_vec(), input.red_vals.to_vec());
+        let (dense, inv) = (&cd.dense, &cd.inv_pivots);
+        in_runs(
+            &cd.blocks,
+            #[inline(always)]
+            |blks| match blks.len() {
+                2 => forward::<2>(blks, dense, input.rhs, &mut work, (&mut top, &mut red)),
+                _ => forward::<1>(blks, dense, input.rhs, &mut work, (&mut top, &mut red)),
+            },
+        );
+        in_runs(
+            &cd.blocks,
+            #[inline(always)]
+            |blks| match blks.len() {
+                2 => back::<2>(blks, dense, (&top, inv), input.red_x, &mut work, &mut x),
+                _ => back::<1>(blks, dense, (&top, inv), input.red_x, &mut work, &mut x),
+            },
+        );
+        in_runs(
+            &cd.blocks,
+            #[inline(always)]
+            |blks| match blks.len() {
+                2 => schur::<2>(blks, dense, inv, &mut border, &mut red_vals),
+                _ => schur::<1>(blks, dense, inv, &mut border, &mut red_vals),
+            },
+        );
+        [top, red, x, border, red_vals].map(|v| v.iter().map(|x| x.to_bits()).collect())
+    }
+
     proptest! {
         /// The kernel for 16 rows gives the general loops' numbers to the bit (zeros of
         /// both signs among the entries, which the loops skip), for every count of eliminated
@@ -378,6 +436,42 @@ mod tests {
             prop_assert_eq!(border1.iter().map(|x| x.to_bits()).collect::<Vec<_>>(), border2.iter().map(|x| x.to_bits()).collect::<Vec<_>>());
             prop_assert_eq!(red1.iter().map(|x| x.to_bits()).collect::<Vec<_>>(), red2.iter().map(|x| x.to_bits()).collect::<Vec<_>>());
             prop_assert!(cd.blocks.iter().all(|b| b.borders.len() == 1));
+        }
+
+        /// The sweeps as the factorisation and the solves run them (inside
+        /// `dense::vectorized`: with AVX2 on a processor that has it) and compiled for the
+        /// baseline instruction set (called here directly) give the same numbers to the bit:
+        /// wider vectors change no number (no contraction into fused multiply-adds, no
+        /// reordering).
+        #[test]
+        fn vector_width_changes_no_sweep_number(
+            vals in prop::collection::vec(-1.0..1.0f64, 400),
+            rhs in prop::collection::vec(-1.0..1.0f64, 40),
+            nb in 2usize..5,
+            (c, r) in prop_oneof![Just((3usize, 2usize)), Just((12, 4))],
+        ) {
+            let (n, entries, blocks) = chain(nb, c, r);
+            let mut a = SparsePattern::with_blocks(n, n, &entries, &blocks).unwrap();
+            let values: Vec<f64> = entries
+                .iter()
+                .enumerate()
+                .map(|(k, &(i, j))| vals[k % vals.len()] + if i % (c + r) == j % c && j < nb * c { 4.0 } else { 0.0 })
+                .collect();
+            a.factorize(&values).unwrap();
+            let cd = a.condensed.as_mut().unwrap();
+            let rhs: Vec<f64> = (0..n).map(|i| rhs[i % rhs.len()]).collect();
+            let red_x: Vec<f64> = (0..cd.red_rhs.len()).map(|k| rhs[(3 * k + 1) % n]).collect();
+            let border0: Vec<f64> = (0..cd.border.len()).map(|k| rhs[(5 * k + 2) % n]).collect();
+            let red0: Vec<f64> = (0..cd.red_vals.len()).map(|k| vals[(7 * k + 3) % vals.len()]).collect();
+            let cd = &*cd;
+            // Forward, back and Schur sweeps over every block: (top, reduced rhs, x, border,
+            // reduced values).
+            let inputs = SweepInputs { rhs: &rhs, red_x: &red_x, border: &border0, red_vals: &red0 };
+            let wide = crate::linalg::dense::vectorized(
+                #[inline(always)]
+                || all_sweeps(cd, &inputs),
+            );
+            prop_assert_eq!(wide, all_sweeps(cd, &inputs));
         }
     }
 }

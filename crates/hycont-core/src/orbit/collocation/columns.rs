@@ -19,6 +19,7 @@ pub(super) struct NodeColumns<'b> {
 impl NodeColumns<'_> {
     /// Column (node, comp) on the point's rows: $L_i'(z_c) e_{comp} - h T L_i(z_c) A_{:, comp}$,
     /// with the state dimension `N` known at compile time (whole columns of `A` at once).
+    #[inline(always)]
     pub(super) fn write<const N: usize>(self) {
         let ncol = self.l.len() - 1;
         let mut a = [[0.0; N]; N];

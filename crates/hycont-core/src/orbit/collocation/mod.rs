@@ -311,6 +311,24 @@ impl<S: HybridJacobians + ?Sized> ZeroFunction for Collocation<'_, S> {
         residual: &mut [f64],
         jacobian: Option<&mut [f64]>,
     ) -> Result<()> {
+        crate::linalg::dense::vectorized(
+            #[inline(always)]
+            || self.evaluate_intervals(u, residual, jacobian),
+        )
+    }
+}
+
+impl<S: HybridJacobians + ?Sized> Collocation<'_, S> {
+    /// [`ZeroFunction::evaluate`]'s body, which it runs compiled for the widest vectors the
+    /// processor has (`linalg::dense::vectorized`: the interpolation and the node columns in
+    /// 4-lane operations for 4 states; the same numbers).
+    #[inline(always)]
+    fn evaluate_intervals(
+        &mut self,
+        u: &[f64],
+        residual: &mut [f64],
+        jacobian: Option<&mut [f64]>,
+    ) -> Result<()> {
         let (np, ncol) = (self.np, self.basis.ncol);
         let p = &u[self.param_index(0)..self.param_index(0) + np];
         let mut jac = jacobian;
@@ -378,6 +396,7 @@ impl<S: HybridJacobians + ?Sized> Collocation<'_, S> {
     /// [`crate::Error::NonFiniteVectorField`] or [`crate::Error::NonFiniteDerivative`] where
     /// the vector field or its Jacobian is not finite at the point (`t` there is the
     /// segment's duration).
+    #[inline(always)]
     fn collocation_point(
         &mut self,
         at: Point,
