@@ -1,6 +1,8 @@
-//! Unit tests of the collocation part's block layout, column writers and interpolation kernels.
+//! Unit tests of the collocation part's block layout, column writers and interpolation kernels,
+//! and of its evaluation compiled for wider vectors.
 
 use super::columns::{NodeColumns, group_of_node, interpolate, interpolate_any, node_of_group};
+use crate::system::{Direction, EventAction, EventId, EventSpec, HybridModel, Mode, Scalar};
 
 /// The block's column groups list every node once: interior nodes first, then the first
 /// and the last node.
@@ -117,7 +119,7 @@ fn interpolation_at_the_collocation_points_reproduces_polynomials() {
 /// $(x_2, x_3)$ at frequency $p_3$ on its unit circle; an impact at $x_0 = 0$.
 struct ForcedStop;
 
-impl crate::system::HybridModel for ForcedStop {
+impl HybridModel for ForcedStop {
     fn state_dim(&self) -> usize {
         4
     }
@@ -127,35 +129,27 @@ impl crate::system::HybridModel for ForcedStop {
     fn mode_count(&self) -> usize {
         1
     }
-    fn mode_name(&self, _: crate::system::Mode) -> &'static str {
+    fn mode_name(&self, _: Mode) -> &'static str {
         "flight"
     }
-    fn events(&self, _: crate::system::Mode) -> &[crate::system::EventId] {
-        &[crate::system::EventId(0)]
+    fn events(&self, _: Mode) -> &[EventId] {
+        &[EventId(0)]
     }
-    fn event_spec(&self, _: crate::system::EventId) -> crate::system::EventSpec {
-        crate::system::EventSpec {
+    fn event_spec(&self, _: EventId) -> EventSpec {
+        EventSpec {
             name: "impact",
-            direction: crate::system::Direction::Falling,
-            action: crate::system::EventAction::Jump {
-                to: crate::system::Mode(0),
-            },
+            direction: Direction::Falling,
+            action: EventAction::Jump { to: Mode(0) },
         }
     }
-    fn vector_field<T: crate::system::Scalar>(
-        &self,
-        _: crate::system::Mode,
-        x: &[T],
-        p: &[T],
-        f: &mut [T],
-    ) {
+    fn vector_field<T: Scalar>(&self, _: Mode, x: &[T], p: &[T], f: &mut [T]) {
         let rho2 = x[2] * x[2] + x[3] * x[3];
         f[0] = x[1];
         f[1] = -p[0] * x[0].sin() - p[1] * x[1] + p[2] * x[2];
         f[2] = x[2] + p[3] * x[3] - x[2] * rho2;
         f[3] = x[3] - p[3] * x[2] - x[3] * rho2;
     }
-    fn event<T: crate::system::Scalar>(&self, _: crate::system::EventId, x: &[T], _: &[T]) -> T {
+    fn event<T: Scalar>(&self, _: EventId, x: &[T], _: &[T]) -> T {
         x[0]
     }
 }
@@ -169,7 +163,7 @@ impl crate::system::HybridModel for ForcedStop {
 fn vector_width_changes_no_collocation_number() {
     use crate::orbit::{SegmentEnd, SegmentSpec, Signature};
     use crate::problem::ZeroFunction;
-    use crate::system::{AutoDiff, EventId, Mode};
+    use crate::system::AutoDiff;
     let system = AutoDiff::new(ForcedStop);
     let segments = vec![SegmentSpec {
         mode: Mode(0),
