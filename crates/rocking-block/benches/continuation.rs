@@ -127,7 +127,8 @@ fn symmetric_omega_branch(c: &mut Criterion) {
 
 /// Per point, both discretisations, on the symmetric omega branch at alpha = 0.66 (issue 13's
 /// targets: collocation with NTST 20 per segment and NCOL 4 at <= 0.25 ms/point, shooting at
-/// <= 0.1 ms/point). AUTO-07p on the same model and branch (2-segment stacked BVP, analytic
+/// <= 0.1 ms/point; issue 39's: <= 0.12 and <= 0.08 ms/point on the developers' machine, the
+/// criterion median of a branch divided by its 103 points). AUTO-07p on the same model and branch (2-segment stacked BVP, analytic
 /// Jacobians, this machine, one thread, medians of 11 runs): 0.75 ms/point at NTST 20,
 /// 1.34 ms/point at NTST 40, fixed cost of a run (start and 2 points) 10 ms. Prints ms/point and
 /// corrector iterations per point; the criterion medians are of whole branches.
