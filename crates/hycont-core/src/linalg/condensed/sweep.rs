@@ -304,6 +304,21 @@ mod tests {
         (n, entries, blocks)
     }
 
+    /// [`chain`] factorised, its values from `vals` (repeated) with dominant diagonal entries
+    /// on the blocks' own columns (nonsingular blocks); returns its size and pattern.
+    fn factorised_chain(vals: &[f64], nb: usize, c: usize, r: usize) -> (usize, SparsePattern) {
+        let (n, entries, blocks) = chain(nb, c, r);
+        let mut a = SparsePattern::with_blocks(n, n, &entries, &blocks).unwrap();
+        let values: Vec<f64> = (entries.iter().enumerate())
+            .map(|(k, &(i, j))| {
+                let dominant = i % (c + r) == j % c && j < nb * c;
+                vals[k % vals.len()] + if dominant { 4.0 } else { 0.0 }
+            })
+            .collect();
+        a.factorize(&values).unwrap();
+        (n, a)
+    }
+
     /// The right-hand sides and the factorisation's starting values [`all_sweeps`] uses.
     struct SweepInputs<'a> {
         rhs: &'a [f64],
@@ -380,15 +395,7 @@ mod tests {
             nb in 2usize..5,
             (c, r) in prop_oneof![Just((3usize, 2usize)), Just((12, 4))],
         ) {
-            let (n, entries, blocks) = chain(nb, c, r);
-            let mut a = SparsePattern::with_blocks(n, n, &entries, &blocks).unwrap();
-            // Dominant diagonal entries on the blocks' own columns: nonsingular blocks.
-            let values: Vec<f64> = entries
-                .iter()
-                .enumerate()
-                .map(|(k, &(i, j))| vals[k % vals.len()] + if i % (c + r) == j % c && j < nb * c { 4.0 } else { 0.0 })
-                .collect();
-            a.factorize(&values).unwrap();
+            let (n, mut a) = factorised_chain(&vals, nb, c, r);
             let cd = a.condensed.as_mut().unwrap();
             let rhs: Vec<f64> = (0..n).map(|i| rhs[i % rhs.len()]).collect();
             let (len_top, len_red) = (cd.top.len(), cd.red_rhs.len());
@@ -450,14 +457,7 @@ mod tests {
             nb in 2usize..5,
             (c, r) in prop_oneof![Just((3usize, 2usize)), Just((12, 4))],
         ) {
-            let (n, entries, blocks) = chain(nb, c, r);
-            let mut a = SparsePattern::with_blocks(n, n, &entries, &blocks).unwrap();
-            let values: Vec<f64> = entries
-                .iter()
-                .enumerate()
-                .map(|(k, &(i, j))| vals[k % vals.len()] + if i % (c + r) == j % c && j < nb * c { 4.0 } else { 0.0 })
-                .collect();
-            a.factorize(&values).unwrap();
+            let (n, mut a) = factorised_chain(&vals, nb, c, r);
             let cd = a.condensed.as_mut().unwrap();
             let rhs: Vec<f64> = (0..n).map(|i| rhs[i % rhs.len()]).collect();
             let red_x: Vec<f64> = (0..cd.red_rhs.len()).map(|k| rhs[(3 * k + 1) % n]).collect();
