@@ -40,29 +40,44 @@ pub(super) fn eval_piecewise(
 fn high_derivatives(nodes: &[f64], mesh: &[f64], basis: &Basis, n: usize) -> Vec<f64> {
     let ncol = basis.ncol;
     let ntst = mesh.len() - 1;
-    // ncol-th derivative (in tau) on each interval, `n` per interval.
+    let dn = &basis.dn[..=ncol];
+    // ncol-th derivative (in tau) on each interval, `n` per interval: the sum over the
+    // interval's nodes in node order, component by component.
     let mut d = vec![0.0; ntst * n];
-    for (j, dj) in d.chunks_exact_mut(n).enumerate() {
+    for (j, dj) in d.chunks_exact_mut(n.max(1)).enumerate() {
         let scale = (mesh[j + 1] - mesh[j]).powi(ncol as i32);
         let interval = &nodes[j * ncol * n..(j * ncol + ncol + 1) * n];
-        for (comp, x) in dj.iter_mut().enumerate() {
-            let sum: f64 = (0..=ncol)
-                .map(|i| basis.dn[i] * interval[i * n + comp])
-                .sum();
-            *x = sum / scale;
+        let mut states = interval.chunks_exact(n.max(1)).zip(dn);
+        if let Some((x, &c)) = states.next() {
+            for (o, xi) in dj.iter_mut().zip(x) {
+                *o = c * xi;
+            }
+        }
+        for (x, &c) in states {
+            for (o, xi) in dj.iter_mut().zip(x) {
+                *o += c * xi;
+            }
+        }
+        for o in dj.iter_mut() {
+            *o /= scale;
         }
     }
-    let d = |j: usize| &d[j * n..(j + 1) * n];
-    let jump = |a: usize, b: usize| -> f64 {
-        let dist = 0.5 * (mesh[a + 1] - mesh[a] + mesh[b + 1] - mesh[b]);
-        (0..n)
-            .map(|c| ((d(b)[c] - d(a)[c]) / dist).abs())
-            .fold(0.0, f64::max)
-    };
+    // The jump between intervals j and j + 1, once for both.
+    let jumps: Vec<f64> = (1..ntst)
+        .map(|b| {
+            let a = b - 1;
+            let dist = 0.5 * (mesh[a + 1] - mesh[a] + mesh[b + 1] - mesh[b]);
+            let (da, db) = (&d[a * n..(a + 1) * n], &d[b * n..(b + 1) * n]);
+            da.iter()
+                .zip(db)
+                .map(|(x, y)| ((y - x) / dist).abs())
+                .fold(0.0, f64::max)
+        })
+        .collect();
     (0..ntst)
         .map(|j| {
-            let left = if j > 0 { jump(j - 1, j) } else { 0.0 };
-            let right = if j + 1 < ntst { jump(j, j + 1) } else { 0.0 };
+            let left = if j > 0 { jumps[j - 1] } else { 0.0 };
+            let right = if j + 1 < ntst { jumps[j] } else { 0.0 };
             if j > 0 && j + 1 < ntst {
                 0.5 * (left + right)
             } else {
@@ -202,4 +217,51 @@ pub(super) fn adapted_mesh_of_size(
     }
     out.push(1.0);
     out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::high_derivatives;
+    use crate::orbit::collocation::basis::Basis;
+
+    /// The estimate of $x^{(m+1)}$ is exact for $x(\tau) = c\,\tau^{m+1}$ on any mesh. On an
+    /// interval with equally spaced nodes $\tau_0, \dots, \tau_m$, the interpolant's $m$-th
+    /// derivative is $m!$ times the divided difference $x[\tau_0, \dots, \tau_m]$, which for
+    /// $\tau^{m+1}$ is $\sum_i \tau_i = (m + 1)\,\bar\tau$ ($\bar\tau$ the interval's
+    /// midpoint): $(m+1)!\,c\,\bar\tau$. Neighbouring midpoints lie half the two widths
+    /// apart, the distance the jump is divided by, so every jump, and every interval's
+    /// estimate, is $(m+1)!\,|c|$ (largest over the components). Tolerance: the rounding of
+    /// the node values, amplified by the $m$-th derivative weights over $h^m$ and by the
+    /// division by the midpoints' distance.
+    #[test]
+    fn the_high_derivative_is_exact_for_a_polynomial_of_degree_ncol_plus_1() {
+        let mesh = [0.0, 0.15, 0.35, 0.5, 0.8, 1.0];
+        let coefficients = [1.0, -2.5, 0.5];
+        let n = coefficients.len();
+        for ncol in 1..=7 {
+            let basis = Basis::new(ncol);
+            let mut nodes = Vec::new();
+            for w in mesh.windows(2) {
+                for i in 0..ncol {
+                    let tau = w[0] + (i as f64 / ncol as f64) * (w[1] - w[0]);
+                    nodes.extend(coefficients.iter().map(|c| c * tau.powi(ncol as i32 + 1)));
+                }
+            }
+            nodes.extend(coefficients.iter().copied());
+            let factorial: f64 = (1..=ncol + 1).map(|k| k as f64).product();
+            let expected = factorial * 2.5;
+            let weights: f64 = basis.dn[..=ncol].iter().map(|d| d.abs()).sum();
+            let h_min = 0.15f64;
+            let tol = 64.0 * f64::EPSILON * 2.5 * weights / (h_min.powi(ncol as i32) * h_min);
+            for (j, d) in high_derivatives(&nodes, &mesh, &basis, n)
+                .iter()
+                .enumerate()
+            {
+                assert!(
+                    (d - expected).abs() <= tol,
+                    "ncol {ncol}, interval {j}: {d} against {expected} (tolerance {tol:e})"
+                );
+            }
+        }
+    }
 }
