@@ -254,6 +254,11 @@ impl<S: HybridJacobians + ?Sized> HybridSystem for ScanFlow<'_, S> {
             }
         }
     }
+    /// A watch whose rate is a state component is that component's surface: the simulator
+    /// then interpolates that component alone and takes the rate from the vector field.
+    fn event_component(&self, event: EventId) -> Option<usize> {
+        self.rate_of.get(event.0).copied().flatten()
+    }
     fn event(&self, event: EventId, x: &[f64], p: &[f64]) -> f64 {
         if let Some(j) = self.rate_of[event.0] {
             return x[j];
