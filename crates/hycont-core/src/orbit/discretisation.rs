@@ -105,7 +105,8 @@ impl Discretisation {
             }
             OrbitMethod::Collocation(settings) => {
                 // The continuation watches admissibility along the branch (or is asked not to).
-                let sol = super::collocation::solve_collocation_unchecked(
+                // (Its multipliers are not needed: the continuation analyses its points.)
+                let sol = super::collocation::solve_collocation_nodes(
                     system,
                     orbit,
                     settings,
@@ -117,7 +118,7 @@ impl Discretisation {
                         meshes: sol.meshes,
                         ncol: settings.ncol,
                     },
-                    sol.solution.orbit,
+                    sol.orbit,
                     u,
                 ))
             }

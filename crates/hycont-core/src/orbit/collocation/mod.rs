@@ -30,7 +30,7 @@ pub use solve::{
     collocation_floquet, collocation_floquet_factorised, collocation_pack, collocation_problem,
     collocation_refined_meshes, collocation_transfer, collocation_unpack, solve_collocation,
 };
-pub(crate) use solve::{initial_nodes, solve_collocation_admissible, solve_collocation_unchecked};
+pub(crate) use solve::{initial_nodes, solve_collocation_admissible, solve_collocation_nodes};
 
 /// Settings of the collocation discretisation.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]

@@ -378,14 +378,59 @@ pub(crate) fn solve_collocation_admissible<S: HybridJacobians + ?Sized>(
     Ok(sol)
 }
 
-/// [`solve_collocation`] without the admissibility check (a continuation that watches
-/// admissibility itself, or has it switched off, starts from any solution).
-pub(crate) fn solve_collocation_unchecked<S: HybridJacobians + ?Sized>(
+/// [`solve_collocation`] without the admissibility check.
+fn solve_collocation_unchecked<S: HybridJacobians + ?Sized>(
     system: &S,
     guess: &PeriodicOrbit,
     settings: CollocationSettings,
     newton_settings: &NewtonSettings,
 ) -> Result<CollocationSolution> {
+    let solved = solve_collocation_nodes(system, guess, settings, newton_settings)?;
+    let floquet = condensed_floquet(
+        system,
+        &solved.orbit,
+        &solved.meshes,
+        &solved.nodes,
+        settings.ncol,
+    )?;
+    Ok(CollocationSolution {
+        solution: OrbitSolution {
+            orbit: solved.orbit,
+            floquet,
+            newton: solved.newton,
+            residual: solved.residual,
+        },
+        meshes: solved.meshes,
+        nodes: solved.nodes,
+        settings,
+    })
+}
+
+/// A collocation solution without its multipliers (what a continuation starts from: it
+/// analyses its points itself).
+pub(crate) struct SolvedNodes {
+    pub(crate) meshes: Vec<Mesh>,
+    pub(crate) nodes: Vec<Vec<f64>>,
+    pub(crate) orbit: PeriodicOrbit,
+    newton: Vec<crate::problem::NewtonIteration>,
+    residual: f64,
+}
+
+impl SolvedNodes {
+    /// The solution as the unknowns of [`collocation_problem`].
+    pub(crate) fn unknowns(&self) -> Vec<f64> {
+        pack_nodes(&self.nodes, &self.orbit)
+    }
+}
+
+/// [`solve_collocation_unchecked`] without the multipliers (a continuation that watches
+/// admissibility itself, or has it switched off, starts from any solution).
+pub(crate) fn solve_collocation_nodes<S: HybridJacobians + ?Sized>(
+    system: &S,
+    guess: &PeriodicOrbit,
+    settings: CollocationSettings,
+    newton_settings: &NewtonSettings,
+) -> Result<SolvedNodes> {
     settings.validate()?;
     guess.validate(system)?;
     let kk = guess.segment_count();
@@ -438,16 +483,11 @@ pub(crate) fn solve_collocation_unchecked<S: HybridJacobians + ?Sized>(
         residual = sol.residual;
         history.extend(sol.history);
     }
-    let floquet = condensed_floquet(system, &orbit, &meshes, &nodes, settings.ncol)?;
-    Ok(CollocationSolution {
-        solution: OrbitSolution {
-            orbit,
-            floquet,
-            newton: history,
-            residual,
-        },
+    Ok(SolvedNodes {
         meshes,
         nodes,
-        settings,
+        orbit,
+        newton: history,
+        residual,
     })
 }
