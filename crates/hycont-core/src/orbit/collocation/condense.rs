@@ -53,22 +53,21 @@ pub(super) fn condensed_floquet<S: HybridJacobians + ?Sized>(
                     .sum();
             }
             system.vector_field_jacobian(mode, &xi, &orbit.params, &mut a, None);
-            for node in 0..=ncol {
+            let scale = -h * t_k;
+            for (node, (&l, &dl)) in basis.l[c].iter().zip(&basis.dl[c]).enumerate() {
                 // Interior nodes first, then the first and the last node.
                 let col0 = match node {
                     0 => inner,
                     _ if node == ncol => inner + n,
                     _ => (node - 1) * n,
                 };
-                for comp in 0..n {
-                    let col = &mut block[(col0 + comp) * rows..(col0 + comp + 1) * rows];
-                    for i in 0..n {
-                        let mut v = -h * t_k * a[i + comp * n] * basis.l[c][node];
-                        if comp == i {
-                            v += basis.dl[c][node];
-                        }
-                        col[c * n + i] = v;
+                // Rows c n.. of the node's columns: -h T A l, plus dl on the diagonal.
+                for (comp, a_col) in a.chunks_exact(n).enumerate() {
+                    let at = (col0 + comp) * rows + c * n;
+                    for (v, &aij) in block[at..at + n].iter_mut().zip(a_col) {
+                        *v = scale * aij * l;
                     }
+                    block[at + comp] += dl;
                 }
             }
         }
