@@ -27,23 +27,7 @@ impl<'a, P: ContinuationProblem<'a> + ?Sized> Palc<'_, 'a, P> {
         s: f64,
         analyse: bool,
     ) -> Result<Chart> {
-        let w = s_hi - s_lo;
-        let x = (s - s_lo) / w;
-        let (d_lo, d_hi) = (self.wdot(&a.t, &lo.t), self.wdot(&a.t, &hi.t));
-        let pred: Vec<f64> = if d_lo > 0.5 && d_hi > 0.5 {
-            let nodes = [(lo, s_lo, d_lo), (hi, s_hi, d_hi)].map(|(c, sigma, along)| GraphNode {
-                sigma,
-                u: &c.u,
-                t: &c.t,
-                along,
-            });
-            hermite_graph(&nodes, s)
-        } else {
-            lo.u.iter()
-                .zip(&hi.u)
-                .map(|(p, q)| p + x * (q - p))
-                .collect()
-        };
+        let pred = self.bracket_predictor(a, (lo, s_lo), (hi, s_hi), s);
         let row = self.row_of(&a.t);
         let (u, it) = self.correct(pred, &row, &a.u, s, true)?;
         if analyse {
@@ -57,6 +41,32 @@ impl<'a, P: ContinuationProblem<'a> + ?Sized> Palc<'_, 'a, P> {
             iterations: it,
             det,
         })
+    }
+
+    /// The predictor of [`Palc::chart_at`]: the bracket's charts interpolated at arclength `s`.
+    pub(super) fn bracket_predictor(
+        &self,
+        a: &Chart,
+        (lo, s_lo): (&Chart, f64),
+        (hi, s_hi): (&Chart, f64),
+        s: f64,
+    ) -> Vec<f64> {
+        let x = (s - s_lo) / (s_hi - s_lo);
+        let (d_lo, d_hi) = (self.wdot(&a.t, &lo.t), self.wdot(&a.t, &hi.t));
+        if d_lo > 0.5 && d_hi > 0.5 {
+            let nodes = [(lo, s_lo, d_lo), (hi, s_hi, d_hi)].map(|(c, sigma, along)| GraphNode {
+                sigma,
+                u: &c.u,
+                t: &c.t,
+                along,
+            });
+            hermite_graph(&nodes, s)
+        } else {
+            lo.u.iter()
+                .zip(&hi.u)
+                .map(|(p, q)| p + x * (q - p))
+                .collect()
+        }
     }
 
     /// Locates the zero of test slot `slot` between the charts `lo` and `hi` at arclengths
@@ -78,6 +88,9 @@ impl<'a, P: ContinuationProblem<'a> + ?Sized> Palc<'_, 'a, P> {
         (hi_chart, s_hi): (&Chart, f64),
         slot: usize,
     ) -> (Chart, bool, f64) {
+        if let Some(found) = self.locate_level(a, (lo_chart, s_lo), (hi_chart, s_hi), slot) {
+            return found;
+        }
         let det_ref = a.det.1;
         let tol = self.settings.locate_tol;
         let (mut lo, mut hi) = (s_lo, s_hi);

@@ -27,6 +27,7 @@ mod adapt;
 mod chord;
 mod corrector;
 pub(crate) mod critical;
+mod level;
 mod locate;
 mod predict;
 mod slots;

@@ -363,6 +363,46 @@ fn monitor_events_are_located() {
     assert_eq!(sb[0].level, Some(0.7));
 }
 
+/// Levels of the continued parameter are located on the level itself, not within a bracket
+/// around it: on $x^2 = l$ from $(1, 1)$ down through the fold and back up, the user point at
+/// $l = 0.49$ on both sheets ($x = \pm 0.7$) and the end point at the bound $l = 2$
+/// ($x = -\sqrt 2$) have $l$ at the level to a few units of roundoff (the corrector holds
+/// it), $x$ at its root to the corrector's tolerance, an arclength uncertainty of roundoff,
+/// and the branch's tangent there, $(t_x, t_l) \propto (1, 2x)$, oriented along the run.
+#[test]
+fn levels_of_the_continued_parameter_are_located_on_the_level() {
+    let mut t = Test::new(1, parabola, no_multipliers);
+    t.events = vec![MonitorEvent {
+        kind: SpecialKind::UserPoint,
+        on: Quantity::Parameter(hycont_core::ParamId(0)),
+        level: 0.49,
+        terminal: false,
+    }];
+    let b = parabola_down(&mut t, &settings().parameter_bounds(-1.0, 2.0));
+    let kinds: Vec<_> = b.special_points.iter().map(|s| s.kind).collect();
+    assert_eq!(
+        kinds,
+        [
+            SpecialKind::UserPoint,
+            SpecialKind::Fold,
+            SpecialKind::UserPoint,
+            SpecialKind::EndPoint
+        ]
+    );
+    let levels = [(0, 0.49, 0.7), (2, 0.49, -0.7), (3, 2.0, -(2.0f64.sqrt()))];
+    for (i, level, x) in levels {
+        let sp = &b.special_points[i];
+        let (u, t) = (&sp.point.u, &sp.point.tangent);
+        assert!(sp.located, "{sp:?}");
+        assert!((u[1] - level).abs() <= 4.0 * f64::EPSILON * level, "{sp:?}");
+        assert!(sp.accuracy <= 1e-14, "{sp:?}");
+        assert_abs_diff_eq!(u[0], x, epsilon = 1e-9);
+        assert_abs_diff_eq!(t[1], 2.0 * u[0] * t[0], epsilon = 1e-9);
+        // Along the run: l falls on the upper sheet and rises on the lower one.
+        assert!(t[1] * x < 0.0, "{sp:?}");
+    }
+}
+
 /// A bound on a monitor ends the branch with an end point located on it: on x^2 = l, past the
 /// fold, the monitor x reaches -0.5 at l = 0.25.
 #[test]
