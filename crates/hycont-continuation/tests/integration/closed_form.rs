@@ -129,12 +129,7 @@ fn steep_multiplier(u: &[f64]) -> Vec<(f64, f64)> {
 #[test]
 fn a_switched_branch_tests_its_first_step() {
     let mut t = Test::new(1, pitchfork, steep_multiplier);
-    t.events = vec![MonitorEvent {
-        kind: SpecialKind::UserPoint,
-        on: Quantity::Parameter(hycont_core::ParamId(0)),
-        level: 4e-5,
-        terminal: false,
-    }];
+    t.events = vec![user_point_on_l(4e-5)];
     let s = settings().parameter_bounds(-2.0, 1.0);
     let u0 = t.start(&[0.0], -1.0);
     let trivial = continue_branch(&mut t, "trivial", &u0, 1.0, &s, &mut Silent).unwrap();
@@ -372,12 +367,7 @@ fn monitor_events_are_located() {
 #[test]
 fn levels_of_the_continued_parameter_are_located_on_the_level() {
     let mut t = Test::new(1, parabola, no_multipliers);
-    t.events = vec![MonitorEvent {
-        kind: SpecialKind::UserPoint,
-        on: Quantity::Parameter(hycont_core::ParamId(0)),
-        level: 0.49,
-        terminal: false,
-    }];
+    t.events = vec![user_point_on_l(0.49)];
     let b = parabola_down(&mut t, &settings().parameter_bounds(-1.0, 2.0));
     let kinds: Vec<_> = b.special_points.iter().map(|s| s.kind).collect();
     assert_eq!(
@@ -589,4 +579,14 @@ fn a_run_that_starts_on_its_bound_and_steps_out_ends_there() {
     assert_eq!(up.end, EndReason::Bound);
     let ep = up.special(SpecialKind::EndPoint).next().unwrap();
     assert!((ep.point.params[0] - 2.0).abs() < 1e-9);
+}
+
+/// A (non-terminal) user point where the continued parameter $l$ reaches `level`.
+fn user_point_on_l(level: f64) -> MonitorEvent {
+    MonitorEvent {
+        kind: SpecialKind::UserPoint,
+        on: Quantity::Parameter(hycont_core::ParamId(0)),
+        level,
+        terminal: false,
+    }
 }
