@@ -454,7 +454,7 @@ impl Discretisation {
                 let mut at = 0;
                 for (k, x0) in like.starts.iter().enumerate() {
                     let (n, len) = (x0.len(), self.values_of_segment(like, k));
-                    let s = sym.block(n);
+                    let s = sym.block_ref(n);
                     let x = &v[at..at + len];
                     // A diagonal S (e.g. -I) maps each component alone: the values of the full
                     // product, whose other terms are exact zeros for finite states (a zero's

@@ -212,7 +212,8 @@ pub(crate) fn saltation<S: HybridJacobians + ?Sized>(
     k: usize,
     end_state: &[f64],
 ) -> Vec<f64> {
-    let (n, m) = (end_state.len(), next_dim(system, orbit, k));
+    let next_mode = orbit.signature.next_mode(system, k);
+    let (n, m) = (end_state.len(), system.mode_dim(next_mode));
     let p = &orbit.params;
     let segs = orbit.signature.segments();
     let mut s = vec![0.0; m * n];
@@ -223,18 +224,18 @@ pub(crate) fn saltation<S: HybridJacobians + ?Sized>(
             }
         }
         SegmentEnd::Event(e) => {
-            let next_mode = orbit.signature.next_mode(system, k);
-            let mut fm = vec![0.0; n];
-            let mut fp = vec![0.0; m];
-            let mut hx = vec![0.0; n];
-            let mut gx = vec![0.0; m * n];
-            let mut xp = vec![0.0; m];
-            system.vector_field(segs[k].mode, end_state, p, &mut fm);
-            system.event_gradient(e, end_state, p, &mut hx, None);
-            system.reset(e, end_state, p, &mut xp);
-            system.reset_jacobian(e, end_state, p, &mut gx, None);
-            system.vector_field(next_mode, &xp, p, &mut fp);
-            let denom: f64 = hx.iter().zip(&fm).map(|(a, b)| a * b).sum();
+            // One work space for f^-, f^+, h_x, g_x and g(x).
+            let mut work = vec![0.0; 2 * (n + m) + m * n];
+            let (fm, rest) = work.split_at_mut(n);
+            let (fp, rest) = rest.split_at_mut(m);
+            let (hx, rest) = rest.split_at_mut(n);
+            let (xp, gx) = rest.split_at_mut(m);
+            system.vector_field(segs[k].mode, end_state, p, fm);
+            system.event_gradient(e, end_state, p, hx, None);
+            system.reset(e, end_state, p, xp);
+            system.reset_jacobian(e, end_state, p, gx, None);
+            system.vector_field(next_mode, xp, p, fp);
+            let denom: f64 = hx.iter().zip(fm.iter()).map(|(a, b)| a * b).sum();
             for j in 0..n {
                 for i in 0..m {
                     let gxf: f64 = (0..n).map(|l| gx[i + l * m] * fm[l]).sum();

@@ -192,7 +192,7 @@ pub fn symmetric_floquet<S: HybridSystem + ?Sized>(
         });
     }
     let sym = symmetry_of(system)?;
-    let half_map = floquet::matmul(n, &sym.block(n), half_monodromy);
+    let half_map = floquet::matmul(n, &sym.block_ref(n), half_monodromy);
     let full_map = floquet::matmul(n, &half_map, &half_map);
     let half_period = half.period();
     let half_floquet = Floquet::from_monodromy(system, &half.params, half_period, half_map)?;

@@ -86,11 +86,21 @@ impl Z2Symmetry {
     /// `n` states.
     #[must_use]
     pub fn block(&self, n: usize) -> Vec<f64> {
+        self.block_ref(n).into_owned()
+    }
+
+    /// [`Z2Symmetry::block`], borrowed from $S$ where it is the whole matrix (the common case:
+    /// a mode with the system's full state), built where it is not.
+    pub(crate) fn block_ref(&self, n: usize) -> std::borrow::Cow<'_, [f64]> {
         let stride = self.matrix.len().isqrt();
-        (0..n)
-            .flat_map(|j| (0..n).map(move |i| (i, j)))
-            .map(|(i, j)| self.matrix.get(i + j * stride).copied().unwrap_or(0.0))
-            .collect()
+        if n == stride && n * n == self.matrix.len() {
+            return std::borrow::Cow::Borrowed(&self.matrix);
+        }
+        let mut out = Vec::with_capacity(n * n);
+        for j in 0..n {
+            out.extend((0..n).map(|i| self.matrix.get(i + j * stride).copied().unwrap_or(0.0)));
+        }
+        std::borrow::Cow::Owned(out)
     }
 
     /// Checks the symmetry's structure against `system`: $S$ is a finite $n \times n$ matrix
