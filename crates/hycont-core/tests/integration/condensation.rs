@@ -216,6 +216,41 @@ fn nested_condensation_of_a_chain_matches_the_dense_lu() {
     }
 }
 
+/// A right-hand side that vanishes on every block's rows (a tangent's $e_n$ on an arclength
+/// row, or a closure row's unit vector) skips the forward elimination, whose result is zero
+/// there: each unit vector of a free row of the chain (closure rows, the dense row) and of the
+/// random case is solved to a backward error of roundoff, each after a solve with a full
+/// right-hand side (so that nothing of that solve's elimination is read again).
+#[test]
+fn right_hand_sides_on_rows_outside_the_blocks_are_solved() {
+    let mut rng = Rng(0x0f4e_e000_0000_0011);
+    let chain = chain_case(&mut rng, 16, 6, 2);
+    let random = random_case(&mut rng, 10, 6, 2, 6);
+    for case in [chain, random] {
+        let mut a =
+            SparsePattern::with_blocks(case.n, case.n, &case.entries, &case.blocks).unwrap();
+        a.factorize(&case.values).unwrap();
+        let dense_a = dense(&case, &case.values);
+        let in_block: Vec<usize> = case.blocks.iter().flat_map(|b| b.rows.clone()).collect();
+        let outside: Vec<usize> = (0..case.n).filter(|i| !in_block.contains(i)).collect();
+        assert!(
+            outside.len() >= 3,
+            "{} rows outside the blocks",
+            outside.len()
+        );
+        for &row in &outside {
+            let mut full: Vec<f64> = (0..case.n).map(|_| rng.next() - 0.5).collect();
+            a.solve_in_place(&mut full).unwrap();
+            let mut b = vec![0.0; case.n];
+            b[row] = 1.0 + rng.next();
+            let mut x = b.clone();
+            a.solve_in_place(&mut x).unwrap();
+            let err = backward_error(&dense_a, &x, &b, false);
+            assert!(err < 1e-13, "n = {}, row {row}: {err:e}", case.n);
+        }
+    }
+}
+
 /// A block whose own equations are singular on its unknowns (here: two rows of the block are
 /// equal on the block's columns and its other rows vanish there) while the matrix is not: the
 /// pattern factorises the whole matrix instead and the solve is still exact.

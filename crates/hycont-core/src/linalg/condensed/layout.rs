@@ -132,6 +132,8 @@ impl Condensed {
             dense: vec![0.0; dense_len],
             border: vec![0.0; border_len],
             free_rows: free.iter().map(|&i| (i, red_row[i])).collect(),
+            in_block: row_owner.iter().map(|&o| o != NONE).collect(),
+            block_rows_left: schur_row,
             order_sign: 1.0,
             rhs: vec![0.0; n],
             red_rhs: vec![0.0; kept.len()],

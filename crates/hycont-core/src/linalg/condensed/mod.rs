@@ -166,6 +166,10 @@ pub(super) struct Condensed {
     red_vals: Vec<f64>,
     /// `(row, reduced row)` of the rows outside every block.
     free_rows: Vec<(usize, usize)>,
+    /// Whether each row belongs to a block.
+    in_block: Vec<bool>,
+    /// The reduced rows the blocks leave (they come first in the reduced numbering).
+    block_rows_left: usize,
     /// Original column of each reduced column.
     kept: Vec<usize>,
     /// Sign of the row and column orders $\Pi_r, \Pi_c$ with every block's pivoting order the
@@ -362,17 +366,25 @@ impl Condensed {
         }
         // Forward elimination of each block's rows in pivot order (one loop per step over the
         // rows below it), two blocks at a time (see `sweep`); the pivot rows go into `top`, the
-        // rows left into the reduced right-hand side.
-        let (dense, rhs, work) = (&self.dense, &self.rhs, &mut self.work);
-        let out = (&mut self.top[..], &mut self.red_rhs[..]);
-        sweep::in_runs_vectorized(
-            &self.blocks,
-            #[inline(always)]
-            |blks| match blks.len() {
-                2 => sweep::forward::<2>(blks, dense, rhs, work, (&mut *out.0, &mut *out.1)),
-                _ => sweep::forward::<1>(blks, dense, rhs, work, (&mut *out.0, &mut *out.1)),
-            },
-        );
+        // rows left into the reduced right-hand side. A right-hand side that vanishes on every
+        // block row (a tangent's $e_n$ on an arclength row) stays zero: nothing to eliminate.
+        let on_blocks =
+            (self.rhs.iter().zip(&self.in_block)).any(|(&x, &in_block)| in_block && x != 0.0);
+        if on_blocks {
+            let (dense, rhs, work) = (&self.dense, &self.rhs, &mut self.work);
+            let out = (&mut self.top[..], &mut self.red_rhs[..]);
+            sweep::in_runs_vectorized(
+                &self.blocks,
+                #[inline(always)]
+                |blks| match blks.len() {
+                    2 => sweep::forward::<2>(blks, dense, rhs, work, (&mut *out.0, &mut *out.1)),
+                    _ => sweep::forward::<1>(blks, dense, rhs, work, (&mut *out.0, &mut *out.1)),
+                },
+            );
+        } else {
+            self.top.fill(0.0);
+            self.red_rhs[..self.block_rows_left].fill(0.0);
+        }
         for &(i, r) in &self.free_rows {
             self.red_rhs[r] = self.rhs[i];
         }
