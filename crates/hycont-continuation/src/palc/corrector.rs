@@ -231,12 +231,13 @@ impl<'a, P: ContinuationProblem<'a> + ?Sized> Palc<'_, 'a, P> {
         Ok((x, det))
     }
 
-    /// Tangent at a corrected `u` (reference row `row`, orientation `t·row > 0`), with the
-    /// determinant of $[J(u); row]$ (factorises afresh).
-    pub(super) fn tangent(&mut self, u: &[f64], row: &[f64]) -> Result<(Vec<f64>, (f64, f64))> {
-        let zero = vec![0.0; self.n];
-        self.factor(u, row, dot(row, &zero), dot(row, u), JacobianUse::Exact)?;
-        self.tangent_from_factorization()
+    /// The determinant of $[J; r]$ from `det` $= \det [J; q]$, the matrix left factorised with
+    /// [`Palc::tangent_from_factorization`] run on it: a change of the last row only, so
+    /// $\det [J; r] = \det [J; q]\,(r \cdot z)$ with $z = [J; q]^{-1} e_n$ (the matrix determinant
+    /// lemma; $q \cdot z = 1$). As (sign, log of the magnitude).
+    pub(super) fn det_with_row(&self, (sign, log): (f64, f64), r: &[f64]) -> (f64, f64) {
+        let rz = dot(r, &self.z);
+        (sign * rz.signum(), log + rz.abs().ln())
     }
 
     /// The chart at a corrected `u`, using the factorisation the corrector left (also for the

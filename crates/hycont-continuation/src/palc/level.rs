@@ -2,7 +2,6 @@
 //! with the parameter at the level, by one correction with that level as the last equation (as
 //! COCO locates events on continuation parameters), instead of a root bracket in arclength.
 
-use super::predict::dot;
 use super::slots::{Slot, Source};
 use super::{Chart, Palc};
 use crate::ContinuationProblem;
@@ -57,7 +56,7 @@ impl<'a, P: ContinuationProblem<'a> + ?Sized> Palc<'_, 'a, P> {
         // The hyperplane u_mu - 0 = level (its reference point the origin).
         let origin = vec![0.0; self.n];
         let (u, iterations) = self.correct(pred, &row, &origin, level, true).ok()?;
-        let (mut t, (sign, log)) = self.tangent_from_factorization().ok()?;
+        let (mut t, det) = self.tangent_from_factorization().ok()?;
         let (s, slope) = (self.wdot(&a.t, &u) - self.wdot(&a.t, &a.u), t[pi]);
         let accuracy = (u[pi] - level).abs() / slope.abs();
         if !(s_lo..=s_hi).contains(&s) || !(accuracy <= self.settings.locate_tol) {
@@ -66,8 +65,7 @@ impl<'a, P: ContinuationProblem<'a> + ?Sized> Palc<'_, 'a, P> {
         if self.wdot(&t, &a.t) < 0.0 {
             t.iter_mut().for_each(|v| *v = -*v);
         }
-        let rz = dot(&self.row_of(&a.t), &self.z);
-        let det = (sign * rz.signum(), log + rz.abs().ln());
+        let det = self.det_with_row(det, &self.row_of(&a.t));
         self.stats.analyses += 1;
         let info = self.p.analyse_factorised(&u, &self.pattern).ok()?;
         let chart = Chart {

@@ -1,6 +1,7 @@
 //! A run's start: its checks and its first chart (shared by the two directions of a run from
 //! the same start).
 
+use super::chord::Held;
 use super::predict::{generic, orientation};
 use super::slots::{Slot, Source};
 use super::{Chart, Palc};
@@ -25,7 +26,8 @@ impl<'a, P: ContinuationProblem<'a> + ?Sized> Palc<'_, 'a, P> {
         direction: f64,
     ) -> Result<Chart> {
         let pi = self.p.parameter_index();
-        let mut a = if let Some(t) = initial_tangent {
+        // The chart, and the last row of the augmented Jacobian its correction left factorised.
+        let (mut a, factorised_row) = if let Some(t) = initial_tangent {
             let mut dir = t.to_vec();
             self.wnormalize(&mut dir);
             if direction < 0.0 {
@@ -40,7 +42,7 @@ impl<'a, P: ContinuationProblem<'a> + ?Sized> Palc<'_, 'a, P> {
             if self.wdot(&c.t, &dir) < 0.0 {
                 c.t.iter_mut().for_each(|x| *x = -*x);
             }
-            c
+            (c, row)
         } else if let Some(mut c) = self.reusable_first_chart(u0) {
             // The other direction from the same start: the same chart, the tangent reversed.
             if orientation(&c.t, pi) * direction < 0.0 {
@@ -50,17 +52,24 @@ impl<'a, P: ContinuationProblem<'a> + ?Sized> Palc<'_, 'a, P> {
             }
             return Ok(c);
         } else {
-            let mut c = self.held_start(u0)?;
+            let (mut c, row) = self.held_start(u0)?;
             if orientation(&c.t, pi) * direction < 0.0 {
                 c.t.iter_mut().for_each(|x| *x = -*x);
             }
-            c
+            (c, row)
         };
         self.check_start_bounds(&a)?;
         // The determinant with the chart's own oriented tangent as the last row, consistent with
-        // the following charts (each uses its predecessor's tangent).
+        // the following charts (each uses its predecessor's tangent), from the factorisation
+        // left (see `Palc::det_with_row`); and that factorisation held for the first step's
+        // chords, as a step's chart leaves its own.
         let own = self.row_of(&a.t);
-        a.det = self.tangent(&a.u, &own)?.1;
+        a.det = self.det_with_row(a.det, &own);
+        self.held = Some(Held {
+            generation: self.generation,
+            row: factorised_row,
+            z: self.z.clone(),
+        });
         if initial_tangent.is_none() {
             let revision = self.p.discretisation_revision();
             self.first = Some((u0.to_vec(), revision, a.clone()));
@@ -89,8 +98,10 @@ impl<'a, P: ContinuationProblem<'a> + ?Sized> Palc<'_, 'a, P> {
     }
 
     /// The first chart from `u0` without a direction: corrected with the continued parameter
-    /// held, or on a generic hyperplane where it cannot be held.
-    fn held_start(&mut self, u0: &[f64]) -> Result<Chart> {
+    /// held, or on a generic hyperplane where it cannot be held; with the row it was corrected
+    /// on. A start is usually a solution already (a problem's own solve): its first
+    /// factorisation is then the chart's (see [`Palc::correct`]'s accurate predictor).
+    fn held_start(&mut self, u0: &[f64]) -> Result<(Chart, Vec<f64>)> {
         let pi = self.p.parameter_index();
         let mut row = vec![0.0; self.n];
         row[pi] = 1.0;
@@ -100,7 +111,7 @@ impl<'a, P: ContinuationProblem<'a> + ?Sized> Palc<'_, 'a, P> {
         // branch is (nearly) orthogonal to the parameter. Then on a generic hyperplane
         // through `u0`.
         let fixed = self
-            .correct(u0.to_vec(), &row, u0, 0.0, false)
+            .correct(u0.to_vec(), &row, u0, 0.0, true)
             .and_then(|(u, it)| {
                 let c = self.chart(u, &row, it)?;
                 if c.t[pi].abs() < PARAMETER_FIXED_MIN_SLOPE {
@@ -113,13 +124,13 @@ impl<'a, P: ContinuationProblem<'a> + ?Sized> Palc<'_, 'a, P> {
                 self.p.check_start(&c.u)?;
                 Ok(c)
             });
-        if fixed.is_ok() {
-            return fixed;
+        if let Ok(c) = fixed {
+            return Ok((c, row));
         }
         let g = generic(self.n);
         let (u, it) = self.correct(u0.to_vec(), &g, u0, 0.0, false)?;
         self.p.check_start(&u)?;
-        self.chart(u, &g, it)
+        Ok((self.chart(u, &g, it)?, g))
     }
 
     /// Checks that the first chart lies inside every bound (of the continued parameter, other
