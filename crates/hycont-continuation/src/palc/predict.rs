@@ -90,13 +90,26 @@ pub(super) struct GraphNode<'c> {
 /// of the tangent predictor; a location between two charts, $O(w^4)$ in the bracket's width.
 /// The interpolant's $\sigma$-component is the line itself (every slope has $\sigma$-component
 /// 1), so the predictor lies on the hyperplane.
+///
+/// A component with the same value and zero slope at every node (an unknown held by a
+/// monitor) is that value exactly: the interpolant of constant data is the constant, which the
+/// weights' rounding would move by an ulp (and the corrector would then correct it back,
+/// through every equation that reads it).
 pub(super) fn hermite_graph(nodes: &[GraphNode<'_>], x: f64) -> Vec<f64> {
     let weights = hermite_weights(&nodes.iter().map(|nd| nd.sigma).collect::<Vec<_>>(), x);
     let mut p = vec![0.0; nodes.first().map_or(0, |nd| nd.u.len())];
-    for (nd, (wv, ws)) in nodes.iter().zip(weights) {
+    for (nd, (wv, ws)) in nodes.iter().zip(&weights) {
         let ws = ws / nd.along;
         for ((pi, u), t) in p.iter_mut().zip(nd.u).zip(nd.t) {
             *pi += wv * u + ws * t;
+        }
+    }
+    if let Some((first, rest)) = nodes.split_first() {
+        for (i, pi) in p.iter_mut().enumerate() {
+            let v = first.u[i];
+            if first.t[i] == 0.0 && rest.iter().all(|nd| nd.u[i] == v && nd.t[i] == 0.0) {
+                *pi = v;
+            }
         }
     }
     p
@@ -278,5 +291,52 @@ mod tests {
             along: 1.0,
         };
         assert_eq!(hermite_graph(&[one], x), vec![x, 1.0]);
+    }
+
+    /// A component with one value and zero slopes at every node (an unknown a monitor holds) is
+    /// predicted as that value to the bit, on uneven nodes and at points inside and outside
+    /// them, where the weights' sum is 1 only to rounding; the other components interpolate.
+    #[test]
+    fn held_components_are_predicted_exactly() {
+        let sigmas = [0.0, -0.093, -0.2117];
+        let held = [0.8795, 2.2e-4, -3.7];
+        let us: Vec<Vec<f64>> = sigmas
+            .iter()
+            .map(|&s| [vec![s, s * s], held.to_vec()].concat())
+            .collect();
+        let ts: Vec<Vec<f64>> = sigmas
+            .iter()
+            .map(|&s| vec![1.0, 2.0 * s, 0.0, 0.0, 0.0])
+            .collect();
+        let nodes: Vec<GraphNode<'_>> = (0..3)
+            .map(|i| GraphNode {
+                sigma: sigmas[i],
+                u: &us[i],
+                t: &ts[i],
+                along: 1.0,
+            })
+            .collect();
+        let mut moved = 0;
+        for k in 1..40 {
+            let x = 0.0123 * f64::from(k) - 0.25;
+            let p = hermite_graph(&nodes, x);
+            approx::assert_abs_diff_eq!(p[1], x * x, epsilon = 1e-14);
+            for (i, v) in held.iter().enumerate() {
+                assert_eq!(
+                    p[2 + i].to_bits(),
+                    v.to_bits(),
+                    "x = {x}: {} for {v}",
+                    p[2 + i]
+                );
+            }
+            // The same sums without the held components' rule.
+            let weights = hermite_weights(&sigmas, x);
+            let sum: f64 = weights.iter().map(|(wv, _)| wv * held[0]).sum();
+            moved += usize::from(sum != held[0]);
+        }
+        assert!(
+            moved > 0,
+            "the weights sum to 1 exactly at every x: nothing tested"
+        );
     }
 }
