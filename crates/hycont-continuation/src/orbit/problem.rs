@@ -424,8 +424,10 @@ impl<S: HybridJacobians + ?Sized> OrbitContinuation<'_, S> {
     }
 }
 
+/// `t` scaled to unit Euclidean norm (the norm in four interleaved partial sums: a full
+/// orbit's tangent has thousands of entries).
 fn normalize(t: &mut [f64]) {
-    let norm = t.iter().map(|x| x * x).sum::<f64>().sqrt();
+    let norm = crate::palc::dot(t, t).sqrt();
     if norm > 0.0 {
         t.iter_mut().for_each(|x| *x /= norm);
     }

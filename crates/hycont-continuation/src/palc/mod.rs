@@ -34,7 +34,8 @@ mod slots;
 mod special;
 mod start;
 
-use predict::{GraphNode, hermite_graph, max_abs};
+pub(crate) use predict::dot;
+use predict::{GraphNode, hermite_graph, max_abs_diff};
 use slots::{Crossing, Slot, Source};
 pub(crate) use slots::{pd_test, tr_test};
 
@@ -293,13 +294,11 @@ impl<'p, 'a, P: ContinuationProblem<'a> + ?Sized> Palc<'p, 'a, P> {
     /// analysis, on discretisation `revision`): of the unknowns on the start's discretisation;
     /// on another one (the unknowns do not compare), of the parameters and monitors.
     fn distance_to_start(&self, b: &Chart, start: &(Vec<f64>, PointInfo), revision: usize) -> f64 {
-        let diff = |x: &[f64], y: &[f64]| {
-            max_abs(&x.iter().zip(y).map(|(p, q)| p - q).collect::<Vec<_>>())
-        };
         if self.p.discretisation_revision() == revision {
-            diff(&b.u, &start.0)
+            max_abs_diff(&b.u, &start.0)
         } else {
-            diff(&b.info.params, &start.1.params).max(diff(&b.info.monitors, &start.1.monitors))
+            let params = max_abs_diff(&b.info.params, &start.1.params);
+            params.max(max_abs_diff(&b.info.monitors, &start.1.monitors))
         }
     }
 

@@ -5,7 +5,7 @@ pub(super) use hycont_core::linalg::max_norm as max_abs;
 
 /// $\sum_i a_i b_i$ in four interleaved partial sums (independent additions: the vectors
 /// have as many entries as the problem has unknowns).
-pub(super) fn dot(a: &[f64], b: &[f64]) -> f64 {
+pub(crate) fn dot(a: &[f64], b: &[f64]) -> f64 {
     let n = a.len().min(b.len());
     let (a, b) = (&a[..n], &b[..n]);
     let mut s = [0.0f64; 4];
@@ -42,6 +42,27 @@ pub(super) fn add_with_max(u: &mut [f64], du: &[f64]) -> f64 {
     for (xi, di) in cu.into_remainder().iter_mut().zip(cd.remainder()) {
         *xi += di;
         more(&mut lanes[0], *xi);
+    }
+    lanes
+        .into_iter()
+        .fold(0.0, |s, l| if l > s { l } else { s })
+}
+
+/// `max_abs(x - y)` over the common length, without forming the difference (the same value: the
+/// maximum is exact, in any order).
+pub(super) fn max_abs_diff(x: &[f64], y: &[f64]) -> f64 {
+    let n = x.len().min(y.len());
+    let (cx, cy) = (x[..n].chunks_exact(4), y[..n].chunks_exact(4));
+    let (tx, ty) = (cx.remainder(), cy.remainder());
+    let more = |m: &mut f64, d: f64| *m = if d > *m { d } else { *m };
+    let mut lanes = [0.0f64; 4];
+    for (a, b) in cx.zip(cy) {
+        for l in 0..4 {
+            more(&mut lanes[l], (a[l] - b[l]).abs());
+        }
+    }
+    for (a, b) in tx.iter().zip(ty) {
+        more(&mut lanes[0], (a - b).abs());
     }
     lanes
         .into_iter()
@@ -155,7 +176,8 @@ mod tests {
     use super::{GraphNode, hermite_graph, hermite_weights};
 
     /// `add_with_max` adds as a loop does and returns `max_abs` of the sum, for every length
-    /// and remainder, NaNs among the entries (ignored by the maximum, as by `max_abs`).
+    /// and remainder, NaNs among the entries (ignored by the maximum, as by `max_abs`); and
+    /// `max_abs_diff` is `max_abs` of the difference.
     #[test]
     fn add_with_max_is_the_sum_and_its_max_abs() {
         for len in 0..11 {
@@ -164,6 +186,9 @@ mod tests {
             if len > 5 {
                 du[len / 2] = f64::NAN;
             }
+            let difference: Vec<f64> = u.iter().zip(&du).map(|(x, d)| x - d).collect();
+            let max_diff = super::max_abs_diff(&u, &du);
+            assert_eq!(max_diff.to_bits(), super::max_abs(&difference).to_bits());
             let mut fused = u.clone();
             let max = super::add_with_max(&mut fused, &du);
             let sum: Vec<f64> = u.iter().zip(&du).map(|(x, d)| x + d).collect();
