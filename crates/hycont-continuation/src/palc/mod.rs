@@ -406,6 +406,9 @@ impl<'p, 'a, P: ContinuationProblem<'a> + ?Sized> Palc<'p, 'a, P> {
     ) -> Result<Branch> {
         self.check_start(u0, initial_tangent, direction)?;
         self.stats = RunStatistics::default();
+        // A factorisation held from an earlier run (its last chart, far from this start) is
+        // not this run's: the first chart holds its own where it makes one.
+        self.held = None;
         let revision = self.p.discretisation_revision();
         let mut a = self.first_chart(u0, initial_tangent, direction)?;
         let mut label = 1;
